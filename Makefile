@@ -1,0 +1,47 @@
+# Patina's two commands (see README.md):
+#   make demo   set everything up, then import a bundled table, summarise, evaluate and plot it
+#   make test   set everything up, then run the C++ tests (ctest) and the Python tests (pytest)
+# and a few more for developers: make bench, make setup, make clean.
+
+PY        := .venv/bin/python
+PATINA    := .venv/bin/patina
+STAMP     := .venv/.patina-installed
+CPP_BUILD := build/cpp
+SOURCES   := $(shell find core brdf python -name '*.cpp' -o -name '*.h' -o -name '*.py' 2>/dev/null) \
+             CMakeLists.txt pyproject.toml tools/setup.sh tools/requirements-build.txt
+DEMO_OUT  := demo-out
+DEMO_TABLE := materials/red-plastic-iso.ptab
+
+.PHONY: demo test test-cpp test-python bench setup clean
+
+setup: $(STAMP)
+
+$(STAMP): $(SOURCES)
+	bash tools/setup.sh
+	@touch $@
+
+demo: setup
+	@mkdir -p $(DEMO_OUT)
+	$(PATINA) info $(DEMO_TABLE)
+	$(PATINA) convert materials/red-plastic-iso.astm $(DEMO_OUT)/from-astm.ptab
+	$(PATINA) eval $(DEMO_TABLE) --wi 30 0 --wo 30 180
+	$(PATINA) eval $(DEMO_TABLE) --wi 30 0 --wo 60 90
+	$(PATINA) slices $(DEMO_TABLE) --out $(DEMO_OUT)/red-plastic-slices.png
+	@echo "demo: in-plane slices written to $(DEMO_OUT)/red-plastic-slices.png"
+
+test: test-cpp test-python
+
+test-cpp: setup
+	cmake -S . -B $(CPP_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release \
+	      -DPATINA_BUILD_PYTHON=OFF -DPATINA_BUILD_TESTS=ON -DPATINA_WERROR=ON
+	cmake --build $(CPP_BUILD) -j 2
+	ctest --test-dir $(CPP_BUILD) --output-on-failure -j 2
+
+test-python: setup
+	$(PY) -m pytest -q tests/python
+
+bench: setup
+	$(PATINA) bench --json bench-out.json
+
+clean:
+	rm -rf build .venv $(DEMO_OUT) bench-out.json

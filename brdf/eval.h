@@ -1,0 +1,232 @@
+// The tabulated-BRDF evaluator, written once for every SIMD width.
+//
+// For N direction pairs in the surface's local frame (z = normal):
+//   1. directions -> the table's angles, with the fast inverse trigonometry;
+//   2. per axis, the coherent binary search finds the cell and its fraction
+//      (angles outside an axis clamp to its ends);
+//   3. multilinear interpolation of the 2^D cell corners, channel by channel.
+// Pairs with either direction at or below the horizon give 0. Missing grid
+// points (coverage 0) get no weight; the others are renormalized, and a cell
+// with no measured corner gives 0.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "brdf/search.h"
+#include "brdf/table.h"
+#include "core/simd/fastmath.h"
+
+PATINA_BEGIN_TARGET
+
+template <int N>
+struct Dir {
+    vfloat<N> x, y, z;
+};
+
+// Loads N directions from an (n, 3) row-major array.
+template <int N>
+PATINA_INLINE Dir<N> load_dirs(const float* p) {
+    if constexpr (N == 1) {
+        return {p[0], p[1], p[2]};
+    } else {
+        alignas(32) int32_t idx[N];
+        for (int j = 0; j < N; ++j) idx[j] = 3 * j;
+        const vint<N> rows = vint<N>::load(idx);
+        return {gather(p, rows), gather(p + 1, rows), gather(p + 2, rows)};
+    }
+}
+
+namespace eval_detail {
+constexpr float kPi = 3.14159265358979323846f;
+constexpr float kTwoPi = 6.28318530717958647692f;
+constexpr float kHalfPi = 1.57079632679489661923f;
+
+template <int N>
+PATINA_INLINE vfloat<N> acos_clamped(vfloat<N> c) {
+    return fast_acos(clamp(c, vfloat<N>(-1.0f), vfloat<N>(1.0f)));
+}
+
+// Rusinkiewicz half/difference angles, computed without forward trigonometry:
+// the rotations that take the half vector to the pole use cos/sin read off h itself.
+template <int N>
+PATINA_INLINE void halfdiff_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t symmetry, vfloat<N>* coord) {
+    using F = vfloat<N>;
+    F hx = wi.x + wo.x, hy = wi.y + wo.y, hz = wi.z + wo.z;
+    const F inv_len = F(1.0f) / sqrt_exact(hx * hx + hy * hy + hz * hz);
+    hx = hx * inv_len;
+    hy = hy * inv_len;
+    hz = hz * inv_len;
+    coord[0] = acos_clamped<N>(hz);
+    coord[1] = acos_clamped<N>(wi.x * hx + wi.y * hy + wi.z * hz);
+    const F r = sqrt_exact(hx * hx + hy * hy);  // sin(theta_h)
+    const vbool<N> tilted = r > F(1e-7f);
+    const F inv_r = F(1.0f) / select(tilted, r, F(1.0f));
+    const F cos_phi_h = select(tilted, hx * inv_r, F(1.0f));
+    const F sin_phi_h = select(tilted, hy * inv_r, F(0.0f));
+    const F tx = cos_phi_h * wi.x + sin_phi_h * wi.y;  // rotate by -phi_h about z
+    const F ty = cos_phi_h * wi.y - sin_phi_h * wi.x;
+    const F dx = hz * tx - r * wi.z;  // rotate by -theta_h about y
+    F phi_d = fast_atan2(ty, dx);
+    if (symmetry & kSymReciprocity) phi_d = select(phi_d < F(0.0f), phi_d + F(kPi), phi_d);
+    if (symmetry & kSymPhiMirror) {
+        phi_d = abs(phi_d);
+        phi_d = select(phi_d > F(kHalfPi), F(kPi) - phi_d, phi_d);
+    }
+    coord[2] = phi_d;
+}
+
+template <int N>
+PATINA_INLINE void isotropic_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t symmetry, vfloat<N>* coord) {
+    using F = vfloat<N>;
+    F ti = acos_clamped<N>(wi.z), to = acos_clamped<N>(wo.z);
+    if (symmetry & kSymReciprocity) {
+        const vbool<N> swap = ti > to;
+        const F lo = select(swap, to, ti);
+        to = select(swap, ti, to);
+        ti = lo;
+    }
+    const F cross = abs(wi.x * wo.y - wi.y * wo.x);
+    const F dot = wi.x * wo.x + wi.y * wo.y;
+    coord[0] = ti;
+    coord[1] = to;
+    coord[2] = fast_atan2(cross, dot);  // in [0, pi]: the phi mirror of isotropy
+}
+
+template <int N>
+PATINA_INLINE vfloat<N> azimuth(const Dir<N>& w) {
+    using F = vfloat<N>;
+    const F phi = fast_atan2(w.y, w.x);
+    return select(phi < F(0.0f), phi + F(kTwoPi), phi);
+}
+
+template <int N>
+PATINA_INLINE void anisotropic_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t symmetry, vfloat<N>* coord) {
+    using F = vfloat<N>;
+    F ti = acos_clamped<N>(wi.z), to = acos_clamped<N>(wo.z);
+    F pi = azimuth<N>(wi), po = azimuth<N>(wo);
+    if (symmetry & kSymReciprocity) {
+        const vbool<N> swap = ti > to;
+        const F t = select(swap, to, ti), p = select(swap, po, pi);
+        to = select(swap, ti, to);
+        po = select(swap, pi, po);
+        ti = t;
+        pi = p;
+    }
+    coord[0] = ti;
+    coord[1] = pi;
+    coord[2] = to;
+    coord[3] = po;
+}
+
+template <int N, Parametrization P>
+PATINA_INLINE void coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t symmetry, vfloat<N>* coord) {
+    if constexpr (P == Parametrization::HalfDiff) halfdiff_coords<N>(wi, wo, symmetry, coord);
+    else if constexpr (P == Parametrization::Isotropic) isotropic_coords<N>(wi, wo, symmetry, coord);
+    else anisotropic_coords<N>(wi, wo, symmetry, coord);
+}
+
+constexpr int dims_of(Parametrization p) { return p == Parametrization::Anisotropic ? 4 : 3; }
+}  // namespace eval_detail
+
+// Evaluates N direction pairs and writes the first `lanes` rows of out (rows of t.channels floats).
+template <int N, Parametrization P>
+PATINA_INLINE void eval_block(const TableView& t, const Dir<N>& wi, const Dir<N>& wo, float* out, int lanes) {
+    using F = vfloat<N>;
+    using I = vint<N>;
+    using B = vbool<N>;
+    constexpr int D = eval_detail::dims_of(P);
+    constexpr int kCorners = 1 << D;
+
+    const B above = (wi.z > F(0.0f)) & (wo.z > F(0.0f));
+    F coord[D];
+    eval_detail::coords<N, P>(wi, wo, t.symmetry, coord);
+
+    I base(0);
+    F frac[D];
+    for (int a = 0; a < D; ++a) {
+        const I cell = coherent_search<N>(t.knots[a], t.lengths[a], coord[a], above);
+        const F k0 = gather(t.knots[a], cell), k1 = gather(t.knots[a], cell + I(1));
+        frac[a] = clamp((coord[a] - k0) / (k1 - k0), F(0.0f), F(1.0f));
+        base += cell * I(t.strides[a]);
+    }
+
+    F weight[kCorners];
+    int32_t offset[kCorners];
+    for (int k = 0; k < kCorners; ++k) {
+        F w(1.0f);
+        int32_t off = 0;
+        for (int a = 0; a < D; ++a) {
+            const bool upper = (k >> (D - 1 - a)) & 1;
+            w = w * (upper ? frac[a] : F(1.0f) - frac[a]);
+            off += upper ? t.strides[a] : 0;
+        }
+        weight[k] = w;
+        offset[k] = off;
+    }
+    F norm = select(above, F(1.0f), F(0.0f));
+    if (t.coverage) {
+        F covered(0.0f);
+        for (int k = 0; k < kCorners; ++k) {
+            weight[k] = weight[k] * gather(t.coverage, base + I(offset[k]));
+            covered += weight[k];
+        }
+        norm = select(above & (covered > F(0.0f)), F(1.0f) / covered, F(0.0f));
+    }
+
+    const int C = t.channels;
+    const I row = base * I(C);
+    for (int c = 0; c < C; ++c) {
+        const float* channel = t.values + c;
+        F acc(0.0f);
+        for (int k = 0; k < kCorners; ++k) acc = madd(weight[k], gather(channel, row + I(offset[k] * C)), acc);
+        acc = acc * norm;
+        if constexpr (N == 1) {
+            out[c] = acc;
+        } else {
+            alignas(32) float lane_values[N];
+            acc.store(lane_values);
+            for (int j = 0; j < lanes; ++j) out[j * C + c] = lane_values[j];
+        }
+    }
+}
+
+// Evaluates pairs [begin, end) of (n, 3) arrays wi, wo into out (n, channels); any length.
+template <int N, Parametrization P>
+inline void eval_range(const TableView& t, const float* wi, const float* wo, float* out, size_t begin, size_t end) {
+    const int C = t.channels;
+    size_t i = begin;
+    for (; i + N <= end; i += N)
+        eval_block<N, P>(t, load_dirs<N>(wi + 3 * i), load_dirs<N>(wo + 3 * i), out + i * C, N);
+    if (i < end) {
+        // The tail goes through the same width-N code, padded with normal-incidence pairs.
+        float pad_i[3 * N], pad_o[3 * N];
+        for (int j = 0; j < N; ++j) {
+            pad_i[3 * j] = pad_i[3 * j + 1] = pad_o[3 * j] = pad_o[3 * j + 1] = 0.0f;
+            pad_i[3 * j + 2] = pad_o[3 * j + 2] = 1.0f;
+        }
+        const int lanes = static_cast<int>(end - i);
+        for (int j = 0; j < 3 * lanes; ++j) {
+            pad_i[j] = wi[3 * i + j];
+            pad_o[j] = wo[3 * i + j];
+        }
+        eval_block<N, P>(t, load_dirs<N>(pad_i), load_dirs<N>(pad_o), out + i * C, lanes);
+    }
+}
+
+template <int N>
+inline void eval_range(const TableView& t, const float* wi, const float* wo, float* out, size_t begin, size_t end) {
+    switch (t.parametrization) {
+        case Parametrization::Isotropic:
+            eval_range<N, Parametrization::Isotropic>(t, wi, wo, out, begin, end);
+            break;
+        case Parametrization::Anisotropic:
+            eval_range<N, Parametrization::Anisotropic>(t, wi, wo, out, begin, end);
+            break;
+        case Parametrization::HalfDiff:
+            eval_range<N, Parametrization::HalfDiff>(t, wi, wo, out, begin, end);
+            break;
+    }
+}
+
+PATINA_END_TARGET

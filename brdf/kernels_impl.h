@@ -1,0 +1,94 @@
+// The body of kernels_w{1,4,8}.cpp: defines kernels_wN() for PATINA_KERNEL_WIDTH.
+#pragma once
+
+#include <cmath>
+
+#include "brdf/eval.h"
+#include "brdf/kernels.h"
+#include "brdf/search.h"
+#include "core/simd/fastmath.h"
+#include "core/simd/upper_state.h"
+
+#ifndef PATINA_KERNEL_WIDTH
+#error "define PATINA_KERNEL_WIDTH before including kernels_impl.h"
+#endif
+
+PATINA_BEGIN_TARGET
+namespace {
+
+constexpr int W = PATINA_KERNEL_WIDTH;
+
+template <class Op>
+inline void map_unary(const float* a, float* out, size_t n, Op op) {
+    size_t i = 0;
+    for (; i + W <= n; i += W) store_n<W>(out + i, op(load_n<W>(a + i)));
+    if (i < n) {
+        float pa[W] = {}, po[W];
+        for (size_t j = i; j < n; ++j) pa[j - i] = a[j];
+        store_n<W>(po, op(load_n<W>(pa)));
+        for (size_t j = i; j < n; ++j) out[j] = po[j - i];
+    }
+}
+
+template <class Op>
+inline void map_binary(const float* a, const float* b, float* out, size_t n, Op op) {
+    size_t i = 0;
+    for (; i + W <= n; i += W) store_n<W>(out + i, op(load_n<W>(a + i), load_n<W>(b + i)));
+    if (i < n) {
+        float pa[W] = {}, pb[W] = {}, po[W];
+        for (size_t j = i; j < n; ++j) {
+            pa[j - i] = a[j];
+            pb[j - i] = b[j];
+        }
+        store_n<W>(po, op(load_n<W>(pa), load_n<W>(pb)));
+        for (size_t j = i; j < n; ++j) out[j] = po[j - i];
+    }
+}
+
+// Legacy-SSE code (widths 1 and 4) first clears the AVX upper state: see upper_state.h.
+inline void enter_kernel() {
+    if constexpr (W < 8) clear_upper_state();
+}
+
+void math_kernel(MathOp op, const float* a, const float* b, float* out, size_t n) {
+    using F = vfloat<W>;
+    enter_kernel();
+    switch (op) {
+        case MathOp::Acos: map_unary(a, out, n, [](F x) { return fast_acos(x); }); break;
+        case MathOp::Asin: map_unary(a, out, n, [](F x) { return fast_asin(x); }); break;
+        case MathOp::Atan: map_unary(a, out, n, [](F x) { return fast_atan(x); }); break;
+        case MathOp::Atan2: map_binary(a, b, out, n, [](F y, F x) { return fast_atan2(y, x); }); break;
+        case MathOp::Sqrt: map_unary(a, out, n, [](F x) { return fast_sqrt(x); }); break;
+        case MathOp::Rcp: map_unary(a, out, n, [](F x) { return fast_rcp(x); }); break;
+        case MathOp::Rsqrt: map_unary(a, out, n, [](F x) { return fast_rsqrt(x); }); break;
+        // The C library, one value at a time: the baseline the fast versions are measured against.
+        case MathOp::LibcAcos:
+            for (size_t i = 0; i < n; ++i) out[i] = std::acos(a[i]);
+            break;
+        case MathOp::LibcAtan2:
+            for (size_t i = 0; i < n; ++i) out[i] = std::atan2(a[i], b[i]);
+            break;
+    }
+}
+
+void search_kernel(const float* knots, int count, const float* x, int32_t* cells, size_t n) {
+    enter_kernel();
+    size_t i = 0;
+    for (; i + W <= n; i += W)
+        store_n<W>(cells + i, coherent_search<W>(knots, count, load_n<W>(x + i), vbool<W>(true)));
+    if (i < n) {
+        float px[W] = {};
+        int32_t pc[W];
+        for (size_t j = i; j < n; ++j) px[j - i] = x[j];
+        store_n<W>(pc, coherent_search<W>(knots, count, load_n<W>(px), vbool<W>(true)));
+        for (size_t j = i; j < n; ++j) cells[j] = pc[j - i];
+    }
+}
+
+void eval_kernel(const TableView& t, const float* wi, const float* wo, float* out, size_t begin, size_t end) {
+    enter_kernel();
+    eval_range<W>(t, wi, wo, out, begin, end);
+}
+
+}  // namespace
+PATINA_END_TARGET

@@ -1,0 +1,12 @@
+// Kernels at width 1.
+#define PATINA_KERNEL_WIDTH 1
+#include "brdf/kernels_impl.h"
+
+namespace patina {
+
+const Kernels& kernels_w1() {
+    static const Kernels k{1, &math_kernel, &search_kernel, &eval_kernel};
+    return k;
+}
+
+}  // namespace patina

@@ -1,0 +1,12 @@
+// Kernels at width 4 (compiled with -msse4.1).
+#define PATINA_KERNEL_WIDTH 4
+#include "brdf/kernels_impl.h"
+
+namespace patina {
+
+const Kernels& kernels_w4() {
+    static const Kernels k{4, &math_kernel, &search_kernel, &eval_kernel};
+    return k;
+}
+
+}  // namespace patina

@@ -1,0 +1,12 @@
+// Kernels at width 8 (compiled with -mavx2 -mfma).
+#define PATINA_KERNEL_WIDTH 8
+#include "brdf/kernels_impl.h"
+
+namespace patina {
+
+const Kernels& kernels_w8() {
+    static const Kernels k{8, &math_kernel, &search_kernel, &eval_kernel};
+    return k;
+}
+
+}  // namespace patina

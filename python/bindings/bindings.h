@@ -1,0 +1,35 @@
+// Shared helpers of the nanobind module patina._core.
+#pragma once
+
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+
+#include <cstddef>
+#include <cstring>
+
+namespace patina_py {
+
+namespace nb = nanobind;
+
+// A numpy array that owns a fresh buffer of `count` elements (freed with the array).
+template <class T, size_t Dims>
+nb::ndarray<nb::numpy, T, nb::ndim<Dims>> new_array(const size_t (&shape)[Dims], T** data) {
+    size_t count = 1;
+    for (size_t d : shape) count *= d;
+    T* buffer = new T[count > 0 ? count : 1];
+    nb::capsule owner(buffer, [](void* p) noexcept { delete[] static_cast<T*>(p); });
+    *data = buffer;
+    return nb::ndarray<nb::numpy, T, nb::ndim<Dims>>(buffer, Dims, shape, owner);
+}
+
+template <class T>
+nb::ndarray<nb::numpy, T, nb::ndim<1>> copy_vector(const T* src, size_t n) {
+    T* dst;
+    auto a = new_array<T, 1>({n}, &dst);
+    if (n) std::memcpy(dst, src, n * sizeof(T));
+    return a;
+}
+
+void bind_table(nb::module_& m);
+
+}  // namespace patina_py

@@ -1,0 +1,199 @@
+"""The `patina` command.
+
+    patina info FILE [--json]
+    patina convert IN OUT.ptab
+    patina eval FILE --wi THETA PHI --wo THETA PHI [--json] [--width 1|4|8]
+    patina slices FILE --out PNG
+    patina bench [--only GROUP] [--json FILE]
+
+Bad input ends with one line naming the file, the place and the problem, and exit status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from typing import Any
+
+import numpy as np
+
+from .errors import FormatError
+
+
+class UsageError(Exception):
+    """A bad option value: reported like argparse does, exit status 2."""
+
+
+def _print_json(obj: Any) -> None:
+    json.dump(obj, sys.stdout, indent=2)
+    sys.stdout.write("\n")
+
+
+def _channel_labels(brdf: Any) -> list[str]:
+    kind = brdf.channel_kind
+    if kind == "rgb":
+        return ["R", "G", "B"]
+    if kind == "xyz":
+        return ["X", "Y", "Z"]
+    if kind == "spectral":
+        return [f"{w:g}nm" for w in brdf.wavelengths]
+    return ["value"]
+
+
+def cmd_info(args: argparse.Namespace) -> int:
+    from . import load_brdf
+
+    brdf = load_brdf(args.file)
+    info = brdf.info()
+    if args.json:
+        _print_json(info)
+        return 0
+    print(f"{info['source']}  ({info['format']})")
+    print(f"  parametrization  {info['parametrization']}" + (f"  symmetry: {', '.join(info['symmetry'])}" if info["symmetry"] else ""))
+    for a in info["axes"]:
+        spacing = "uniform" if a["uniform"] else f"irregular, steps {a['min_step_deg']:.3g}-{a['max_step_deg']:.3g} deg"
+        print(f"  {a['name']:<8} {a['knots']:>5} knots  {a['min_deg']:8.3f} .. {a['max_deg']:8.3f} deg  ({spacing})")
+    labels = _channel_labels(brdf)
+    shown = ", ".join(labels) if len(labels) <= 8 else f"{labels[0]} .. {labels[-1]}"
+    print(f"  channels         {info['channels']} {info['channel_kind']} ({shown})")
+    print(f"  grid points      {info['grid_points']}  missing: {info['missing_points']}")
+    if info["value_max"]:
+        rng = ", ".join(f"{lo:.4g}..{hi:.4g}" for lo, hi in zip(info["value_min"][:3], info["value_max"][:3]))
+        print(f"  values           {rng} {info['units']}" + (" (first 3 channels)" if info["channels"] > 3 else ""))
+    if info["provenance"]:
+        print(f"  provenance       {info['provenance']}")
+    return 0
+
+
+def cmd_convert(args: argparse.Namespace) -> int:
+    from . import load_brdf
+
+    if not args.output.endswith(".ptab"):
+        raise UsageError(f"convert: {args.output}: the output must be a .ptab file")
+    brdf = load_brdf(args.input)
+    brdf.save(args.output)
+    print(f"wrote {args.output} ({brdf.parametrization}, {'x'.join(str(a.size) for a in brdf.axes)}, "
+          f"{brdf.channels} channels)")
+    return 0
+
+
+def _angle_pair(name: str, values: list[float]) -> tuple[float, float]:
+    theta, phi = values
+    if not (np.isfinite(theta) and np.isfinite(phi)):
+        raise UsageError(f"eval: {name} angles must be finite numbers")
+    if not 0.0 <= theta <= 90.0:
+        raise UsageError(f"eval: {name} theta={theta:g} deg is outside [0, 90]")
+    return theta, phi
+
+
+def cmd_eval(args: argparse.Namespace) -> int:
+    from . import load_brdf
+
+    ti, pi = _angle_pair("--wi", args.wi)
+    to, po = _angle_pair("--wo", args.wo)
+    brdf = load_brdf(args.file)
+    values = brdf.eval_angles(*np.radians([ti, pi, to, po]), width=args.width)
+    labels = _channel_labels(brdf)
+    if args.json:
+        _print_json(
+            {
+                "file": args.file,
+                "wi_deg": [ti, pi],
+                "wo_deg": [to, po],
+                "channel_kind": brdf.channel_kind,
+                "channels": labels,
+                "values": [float(v) for v in values],
+                "units": brdf.info()["units"],
+            }
+        )
+    else:
+        print(f"f(wi=({ti:g}, {pi:g}) deg, wo=({to:g}, {po:g}) deg) =")
+        for label, v in zip(labels, values):
+            print(f"  {label:>8}  {v:.6g}")
+    return 0
+
+
+def cmd_slices(args: argparse.Namespace) -> int:
+    from . import load_brdf
+    from .plots import plot_inplane_slices
+
+    brdf = load_brdf(args.file)
+    plot_inplane_slices(brdf, args.out, incidence_deg=args.incidence)
+    print(f"wrote {args.out}")
+    return 0
+
+
+def cmd_bench(args: argparse.Namespace) -> int:
+    from .bench import run_bench
+
+    return run_bench(only=args.only, json_path=args.json, repeat=args.repeat, quick=args.quick)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="patina", description="Measured-material appearance workbench.")
+    p.add_argument("--version", action="store_true", help="print the version and exit")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+
+    s = sub.add_parser("info", help="summarise a BRDF table")
+    s.add_argument("file")
+    s.add_argument("--json", action="store_true", help="machine-readable output")
+    s.set_defaults(func=cmd_info)
+
+    s = sub.add_parser("convert", help="convert any supported table to .ptab")
+    s.add_argument("input")
+    s.add_argument("output")
+    s.set_defaults(func=cmd_convert)
+
+    s = sub.add_parser("eval", help="evaluate a table at one direction pair (degrees)")
+    s.add_argument("file")
+    s.add_argument("--wi", nargs=2, type=float, required=True, metavar=("THETA", "PHI"))
+    s.add_argument("--wo", nargs=2, type=float, required=True, metavar=("THETA", "PHI"))
+    s.add_argument("--json", action="store_true")
+    s.add_argument("--width", type=int, choices=(1, 4, 8), default=None, help="force a SIMD path")
+    s.set_defaults(func=cmd_eval)
+
+    s = sub.add_parser("slices", help="plot in-plane slices of a table to a PNG")
+    s.add_argument("file")
+    s.add_argument("--out", required=True)
+    s.add_argument("--incidence", type=float, nargs="+", default=[0, 20, 40, 60, 75], metavar="DEG")
+    s.set_defaults(func=cmd_slices)
+
+    s = sub.add_parser("bench", help="measure kernel speed (ratios against baselines in the same run)")
+    s.add_argument("--only", default=None, help="a group: math, brdf (default: all)")
+    s.add_argument("--json", default=None, metavar="FILE", help="also write the records as JSON")
+    s.add_argument("--repeat", type=int, default=7, help="repetitions; medians are reported")
+    s.add_argument("--quick", action="store_true", help="small inputs, for a smoke test")
+    s.set_defaults(func=cmd_bench)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.version:
+        from . import __version__
+
+        print(f"patina {__version__}")
+        return 0
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 2
+    try:
+        return int(args.func(args) or 0)
+    except UsageError as e:
+        print(f"patina {e}", file=sys.stderr)
+        return 2
+    except FormatError as e:
+        print(f"patina: error: {e}", file=sys.stderr)
+        return 2
+    except (ValueError, OSError) as e:
+        print(f"patina: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("patina: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

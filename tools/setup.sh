@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Sets up everything `make demo` and `make test` need, idempotently:
+#   - from Debian, only what pip cannot give: a C++ compiler, CMake, Ninja, GoogleTest;
+#   - a virtual environment in .venv with the pinned Python packages;
+#   - Patina itself (the C++ core and the Python package) built into that venv.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+need_apt=()
+command -v g++ >/dev/null || need_apt+=(g++)
+command -v cmake >/dev/null || need_apt+=(cmake)
+command -v ninja >/dev/null || need_apt+=(ninja-build)
+[ -f /usr/include/gtest/gtest.h ] || need_apt+=(libgtest-dev)
+python3 -c 'import venv, ensurepip' 2>/dev/null || need_apt+=(python3-venv)
+if [ ${#need_apt[@]} -gt 0 ]; then
+  echo "setup: installing from Debian: ${need_apt[*]}"
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${need_apt[@]}"
+fi
+
+if [ ! -x .venv/bin/python ]; then
+  echo "setup: creating .venv"
+  python3 -m venv .venv
+fi
+PIP=".venv/bin/python -m pip"
+$PIP install -q --upgrade pip==25.1.1 >/dev/null 2>&1 || true
+# Build requirements installed once, so rebuilds need no isolated environment.
+$PIP install -q -r tools/requirements-build.txt
+echo "setup: building and installing Patina into .venv"
+$PIP install -q --no-build-isolation ".[test]"
