@@ -27,14 +27,9 @@ struct Dir {
 // Loads N directions from an (n, 3) row-major array.
 template <int N>
 PATINA_INLINE Dir<N> load_dirs(const float* p) {
-    if constexpr (N == 1) {
-        return {p[0], p[1], p[2]};
-    } else {
-        alignas(32) int32_t idx[N];
-        for (int j = 0; j < N; ++j) idx[j] = 3 * j;
-        const vint<N> rows = vint<N>::load(idx);
-        return {gather(p, rows), gather(p + 1, rows), gather(p + 2, rows)};
-    }
+    Dir<N> d;
+    load_xyz(p, d.x, d.y, d.z);
+    return d;
 }
 
 namespace eval_detail {
@@ -146,8 +141,7 @@ PATINA_INLINE void eval_block(const TableView& t, const Dir<N>& wi, const Dir<N>
     F frac[D];
     for (int a = 0; a < D; ++a) {
         const I cell = coherent_search<N>(t.knots[a], t.lengths[a], coord[a], above);
-        const F k0 = gather(t.knots[a], cell), k1 = gather(t.knots[a], cell + I(1));
-        frac[a] = clamp((coord[a] - k0) / (k1 - k0), F(0.0f), F(1.0f));
+        frac[a] = clamp((coord[a] - gather(t.knots[a], cell)) * gather(t.inv_widths[a], cell), F(0.0f), F(1.0f));
         base += cell * I(t.strides[a]);
     }
 
@@ -175,12 +169,23 @@ PATINA_INLINE void eval_block(const TableView& t, const Dir<N>& wi, const Dir<N>
     }
 
     const int C = t.channels;
+    I corner[kCorners];  // index of each corner's first channel
     const I row = base * I(C);
-    for (int c = 0; c < C; ++c) {
+    for (int k = 0; k < kCorners; ++k) corner[k] = row + I(offset[k] * C);
+    auto channel_value = [&](int c) {
         const float* channel = t.values + c;
         F acc(0.0f);
-        for (int k = 0; k < kCorners; ++k) acc = madd(weight[k], gather(channel, row + I(offset[k] * C)), acc);
-        acc = acc * norm;
+        for (int k = 0; k < kCorners; ++k) acc = madd(weight[k], gather(channel, corner[k]), acc);
+        return acc * norm;
+    };
+    if (C == 3 && lanes == N) {
+        // the common RGB case: three vectors to 3N contiguous floats in one go
+        const F r = channel_value(0), g = channel_value(1), b = channel_value(2);
+        store_xyz(out, r, g, b);
+        return;
+    }
+    for (int c = 0; c < C; ++c) {
+        const F acc = channel_value(c);
         if constexpr (N == 1) {
             out[c] = acc;
         } else {

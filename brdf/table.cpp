@@ -110,13 +110,18 @@ PreparedTable prepare(const Table& table) {
     v.channels = table.channels;
     int32_t stride = 1;
     for (int a = v.dims - 1; a >= 0; --a) {
-        v.knots[a] = table.axes[a].data();
-        v.lengths[a] = static_cast<int>(table.axes[a].size());
+        const auto& k = table.axes[a];
+        v.knots[a] = k.data();
+        p.inv_widths[a].resize(k.size() - 1);
+        for (size_t i = 0; i + 1 < k.size(); ++i) p.inv_widths[a][i] = 1.0f / (k[i + 1] - k[i]);
+        v.inv_widths[a] = p.inv_widths[a].data();
+        v.lengths[a] = static_cast<int>(k.size());
         v.strides[a] = stride;
         stride *= v.lengths[a];
     }
     for (int a = v.dims; a < kMaxAxes; ++a) {
         v.knots[a] = nullptr;
+        v.inv_widths[a] = nullptr;
         v.lengths[a] = 0;
         v.strides[a] = 0;
     }

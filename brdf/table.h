@@ -58,16 +58,18 @@ struct TableView {
     int dims;
     int channels;
     const float* knots[kMaxAxes];
+    const float* inv_widths[kMaxAxes];  // 1 / (knots[i + 1] - knots[i]), one per cell
     int lengths[kMaxAxes];
     int32_t strides[kMaxAxes];  // in grid points
     const float* values;
     const float* coverage;  // 1 where measured, 0 where missing; nullptr when nothing is missing
 };
 
-// Keeps the coverage array alive next to the view.
+// Keeps the arrays derived from the table alive next to the view.
 struct PreparedTable {
     TableView view;
     std::vector<float> coverage;
+    std::vector<float> inv_widths[kMaxAxes];
 };
 
 PreparedTable prepare(const Table& table);

@@ -59,6 +59,18 @@ PATINA_INLINE float gather(const float* base, int32_t index, bool active) {
 }
 
 PATINA_INLINE float lane(float v, int) { return v; }
+
+// Three-component rows (x y z x y z ...) to and from one value per lane.
+PATINA_INLINE void load_xyz(const float* p, float& x, float& y, float& z) {
+    x = p[0];
+    y = p[1];
+    z = p[2];
+}
+PATINA_INLINE void store_xyz(float* p, float x, float y, float z) {
+    p[0] = x;
+    p[1] = y;
+    p[2] = z;
+}
 PATINA_INLINE int32_t lane(int32_t v, int) { return v; }
 PATINA_INLINE bool lane(bool v, int) { return v; }
 

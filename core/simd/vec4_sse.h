@@ -120,6 +120,32 @@ PATINA_INLINE vfloat4 to_float(vint4 a) { return vfloat4(_mm_cvtepi32_ps(a.v)); 
 PATINA_INLINE float lane(vfloat4 v, int i) { return v[i]; }
 PATINA_INLINE int32_t lane(vint4 v, int i) { return v[i]; }
 
+// Four rows x y z (12 floats) to x, y, z vectors and back: three loads and five shuffles
+// instead of twelve scalar loads.
+PATINA_INLINE void load_xyz(const float* p, vfloat4& x, vfloat4& y, vfloat4& z) {
+    const __m128 m0 = _mm_loadu_ps(p), m1 = _mm_loadu_ps(p + 4), m2 = _mm_loadu_ps(p + 8);
+    const __m128 xy = _mm_shuffle_ps(m1, m2, _MM_SHUFFLE(2, 1, 3, 2));  // x2 y2 x3 y3
+    const __m128 yz = _mm_shuffle_ps(m0, m1, _MM_SHUFFLE(1, 0, 2, 1));  // y0 z0 y1 z1
+    x = vfloat4(_mm_shuffle_ps(m0, xy, _MM_SHUFFLE(2, 0, 3, 0)));
+    y = vfloat4(_mm_shuffle_ps(yz, xy, _MM_SHUFFLE(3, 1, 2, 0)));
+    z = vfloat4(_mm_shuffle_ps(yz, m2, _MM_SHUFFLE(3, 0, 3, 1)));
+}
+PATINA_INLINE void xyz_rows(vfloat4 x, vfloat4 y, vfloat4 z, __m128& m0, __m128& m1, __m128& m2) {
+    const __m128 rxy = _mm_shuffle_ps(x.v, y.v, _MM_SHUFFLE(2, 0, 2, 0));  // x0 x2 y0 y2
+    const __m128 ryz = _mm_shuffle_ps(y.v, z.v, _MM_SHUFFLE(3, 1, 3, 1));  // y1 y3 z1 z3
+    const __m128 rzx = _mm_shuffle_ps(z.v, x.v, _MM_SHUFFLE(3, 1, 2, 0));  // z0 z2 x1 x3
+    m0 = _mm_shuffle_ps(rxy, rzx, _MM_SHUFFLE(2, 0, 2, 0));               // x0 y0 z0 x1
+    m1 = _mm_shuffle_ps(ryz, rxy, _MM_SHUFFLE(3, 1, 2, 0));               // y1 z1 x2 y2
+    m2 = _mm_shuffle_ps(rzx, ryz, _MM_SHUFFLE(3, 1, 3, 1));               // z2 x3 y3 z3
+}
+PATINA_INLINE void store_xyz(float* p, vfloat4 x, vfloat4 y, vfloat4 z) {
+    __m128 m0, m1, m2;
+    xyz_rows(x, y, z, m0, m1, m2);
+    _mm_storeu_ps(p, m0);
+    _mm_storeu_ps(p + 4, m1);
+    _mm_storeu_ps(p + 8, m2);
+}
+
 // SSE4.1 has no gather: four scalar loads, which is what a 4-wide gather costs anyway.
 PATINA_INLINE vfloat4 gather(const float* base, vint4 idx) {
     const int32_t i0 = _mm_cvtsi128_si32(idx.v), i1 = _mm_extract_epi32(idx.v, 1);

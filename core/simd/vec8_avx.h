@@ -126,6 +126,30 @@ PATINA_INLINE vfloat8 to_float(vint8 a) { return vfloat8(_mm256_cvtepi32_ps(a.v)
 PATINA_INLINE float lane(vfloat8 v, int i) { return v[i]; }
 PATINA_INLINE int32_t lane(vint8 v, int i) { return v[i]; }
 
+// Eight rows x y z (24 floats) to x, y, z vectors and back: the 4-wide shuffles on both
+// 128-bit halves (rows 0-3 low, 4-7 high).
+PATINA_INLINE void load_xyz(const float* p, vfloat8& x, vfloat8& y, vfloat8& z) {
+    const __m256 m03 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p)), _mm_loadu_ps(p + 12), 1);
+    const __m256 m14 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p + 4)), _mm_loadu_ps(p + 16), 1);
+    const __m256 m25 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p + 8)), _mm_loadu_ps(p + 20), 1);
+    const __m256 xy = _mm256_shuffle_ps(m14, m25, _MM_SHUFFLE(2, 1, 3, 2));
+    const __m256 yz = _mm256_shuffle_ps(m03, m14, _MM_SHUFFLE(1, 0, 2, 1));
+    x = vfloat8(_mm256_shuffle_ps(m03, xy, _MM_SHUFFLE(2, 0, 3, 0)));
+    y = vfloat8(_mm256_shuffle_ps(yz, xy, _MM_SHUFFLE(3, 1, 2, 0)));
+    z = vfloat8(_mm256_shuffle_ps(yz, m25, _MM_SHUFFLE(3, 0, 3, 1)));
+}
+PATINA_INLINE void store_xyz(float* p, vfloat8 x, vfloat8 y, vfloat8 z) {
+    const __m256 rxy = _mm256_shuffle_ps(x.v, y.v, _MM_SHUFFLE(2, 0, 2, 0));
+    const __m256 ryz = _mm256_shuffle_ps(y.v, z.v, _MM_SHUFFLE(3, 1, 3, 1));
+    const __m256 rzx = _mm256_shuffle_ps(z.v, x.v, _MM_SHUFFLE(3, 1, 2, 0));
+    const __m256 m03 = _mm256_shuffle_ps(rxy, rzx, _MM_SHUFFLE(2, 0, 2, 0));
+    const __m256 m14 = _mm256_shuffle_ps(ryz, rxy, _MM_SHUFFLE(3, 1, 2, 0));
+    const __m256 m25 = _mm256_shuffle_ps(rzx, ryz, _MM_SHUFFLE(3, 1, 3, 1));
+    _mm256_storeu_ps(p, _mm256_permute2f128_ps(m03, m14, 0x20));       // floats 0-3 | 4-7
+    _mm256_storeu_ps(p + 8, _mm256_permute2f128_ps(m25, m03, 0x30));   // floats 8-11 | 12-15
+    _mm256_storeu_ps(p + 16, _mm256_permute2f128_ps(m14, m25, 0x31));  // floats 16-19 | 20-23
+}
+
 PATINA_INLINE vfloat8 gather(const float* base, vint8 idx) { return vfloat8(_mm256_i32gather_ps(base, idx.v, 4)); }
 PATINA_INLINE vint8 gather(const int32_t* base, vint8 idx) {
     return vint8(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), idx.v, 4));
