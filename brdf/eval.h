@@ -32,19 +32,34 @@ PATINA_INLINE Dir<N> load_dirs(const float* p) {
     return d;
 }
 
+// The inverse trigonometry the evaluator uses: Patina's fast SIMD polynomials...
+struct FastTrig {
+    template <class F>
+    static PATINA_INLINE F acos(F x) { return fast_acos(x); }
+    template <class F>
+    static PATINA_INLINE F atan2(F y, F x) { return fast_atan2(y, x); }
+};
+// ...or, at width 1 only, the C library's: the straightforward scalar evaluator that
+// `patina bench` also measures against (what a scalar implementation without SIMD math
+// would cost, as in the thesis's comparisons).
+struct LibmTrig {
+    static PATINA_INLINE float acos(float x) { return std::acos(x); }
+    static PATINA_INLINE float atan2(float y, float x) { return std::atan2(y, x); }
+};
+
 namespace eval_detail {
 constexpr float kPi = 3.14159265358979323846f;
 constexpr float kTwoPi = 6.28318530717958647692f;
 constexpr float kHalfPi = 1.57079632679489661923f;
 
-template <int N>
+template <int N, class Trig>
 PATINA_INLINE vfloat<N> acos_clamped(vfloat<N> c) {
-    return fast_acos(clamp(c, vfloat<N>(-1.0f), vfloat<N>(1.0f)));
+    return Trig::acos(clamp(c, vfloat<N>(-1.0f), vfloat<N>(1.0f)));
 }
 
 // Rusinkiewicz half/difference angles, computed without forward trigonometry:
 // the rotations that take the half vector to the pole use cos/sin read off h itself.
-template <int N>
+template <int N, class Trig>
 PATINA_INLINE void halfdiff_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t symmetry, vfloat<N>* coord) {
     using F = vfloat<N>;
     F hx = wi.x + wo.x, hy = wi.y + wo.y, hz = wi.z + wo.z;
@@ -52,8 +67,8 @@ PATINA_INLINE void halfdiff_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t 
     hx = hx * inv_len;
     hy = hy * inv_len;
     hz = hz * inv_len;
-    coord[0] = acos_clamped<N>(hz);
-    coord[1] = acos_clamped<N>(wi.x * hx + wi.y * hy + wi.z * hz);
+    coord[0] = acos_clamped<N, Trig>(hz);
+    coord[1] = acos_clamped<N, Trig>(wi.x * hx + wi.y * hy + wi.z * hz);
     const F r = sqrt_exact(hx * hx + hy * hy);  // sin(theta_h)
     const vbool<N> tilted = r > F(1e-7f);
     const F inv_r = F(1.0f) / select(tilted, r, F(1.0f));
@@ -62,7 +77,7 @@ PATINA_INLINE void halfdiff_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t 
     const F tx = cos_phi_h * wi.x + sin_phi_h * wi.y;  // rotate by -phi_h about z
     const F ty = cos_phi_h * wi.y - sin_phi_h * wi.x;
     const F dx = hz * tx - r * wi.z;  // rotate by -theta_h about y
-    F phi_d = fast_atan2(ty, dx);
+    F phi_d = Trig::atan2(ty, dx);
     if (symmetry & kSymReciprocity) phi_d = select(phi_d < F(0.0f), phi_d + F(kPi), phi_d);
     if (symmetry & kSymPhiMirror) {
         phi_d = abs(phi_d);
@@ -71,10 +86,10 @@ PATINA_INLINE void halfdiff_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t 
     coord[2] = phi_d;
 }
 
-template <int N>
+template <int N, class Trig>
 PATINA_INLINE void isotropic_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t symmetry, vfloat<N>* coord) {
     using F = vfloat<N>;
-    F ti = acos_clamped<N>(wi.z), to = acos_clamped<N>(wo.z);
+    F ti = acos_clamped<N, Trig>(wi.z), to = acos_clamped<N, Trig>(wo.z);
     if (symmetry & kSymReciprocity) {
         const vbool<N> swap = ti > to;
         const F lo = select(swap, to, ti);
@@ -85,21 +100,21 @@ PATINA_INLINE void isotropic_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t
     const F dot = wi.x * wo.x + wi.y * wo.y;
     coord[0] = ti;
     coord[1] = to;
-    coord[2] = fast_atan2(cross, dot);  // in [0, pi]: the phi mirror of isotropy
+    coord[2] = Trig::atan2(cross, dot);  // in [0, pi]: the phi mirror of isotropy
 }
 
-template <int N>
+template <int N, class Trig>
 PATINA_INLINE vfloat<N> azimuth(const Dir<N>& w) {
     using F = vfloat<N>;
-    const F phi = fast_atan2(w.y, w.x);
+    const F phi = Trig::atan2(w.y, w.x);
     return select(phi < F(0.0f), phi + F(kTwoPi), phi);
 }
 
-template <int N>
+template <int N, class Trig>
 PATINA_INLINE void anisotropic_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t symmetry, vfloat<N>* coord) {
     using F = vfloat<N>;
-    F ti = acos_clamped<N>(wi.z), to = acos_clamped<N>(wo.z);
-    F pi = azimuth<N>(wi), po = azimuth<N>(wo);
+    F ti = acos_clamped<N, Trig>(wi.z), to = acos_clamped<N, Trig>(wo.z);
+    F pi = azimuth<N, Trig>(wi), po = azimuth<N, Trig>(wo);
     if (symmetry & kSymReciprocity) {
         const vbool<N> swap = ti > to;
         const F t = select(swap, to, ti), p = select(swap, po, pi);
@@ -114,18 +129,18 @@ PATINA_INLINE void anisotropic_coords(const Dir<N>& wi, const Dir<N>& wo, uint32
     coord[3] = po;
 }
 
-template <int N, Parametrization P>
+template <int N, Parametrization P, class Trig>
 PATINA_INLINE void coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t symmetry, vfloat<N>* coord) {
-    if constexpr (P == Parametrization::HalfDiff) halfdiff_coords<N>(wi, wo, symmetry, coord);
-    else if constexpr (P == Parametrization::Isotropic) isotropic_coords<N>(wi, wo, symmetry, coord);
-    else anisotropic_coords<N>(wi, wo, symmetry, coord);
+    if constexpr (P == Parametrization::HalfDiff) halfdiff_coords<N, Trig>(wi, wo, symmetry, coord);
+    else if constexpr (P == Parametrization::Isotropic) isotropic_coords<N, Trig>(wi, wo, symmetry, coord);
+    else anisotropic_coords<N, Trig>(wi, wo, symmetry, coord);
 }
 
 constexpr int dims_of(Parametrization p) { return p == Parametrization::Anisotropic ? 4 : 3; }
 }  // namespace eval_detail
 
 // Evaluates N direction pairs and writes the first `lanes` rows of out (rows of t.channels floats).
-template <int N, Parametrization P>
+template <int N, Parametrization P, class Trig = FastTrig>
 PATINA_INLINE void eval_block(const TableView& t, const Dir<N>& wi, const Dir<N>& wo, float* out, int lanes) {
     using F = vfloat<N>;
     using I = vint<N>;
@@ -135,7 +150,7 @@ PATINA_INLINE void eval_block(const TableView& t, const Dir<N>& wi, const Dir<N>
 
     const B above = (wi.z > F(0.0f)) & (wo.z > F(0.0f));
     F coord[D];
-    eval_detail::coords<N, P>(wi, wo, t.symmetry, coord);
+    eval_detail::coords<N, P, Trig>(wi, wo, t.symmetry, coord);
 
     I base(0);
     F frac[D];
@@ -178,10 +193,27 @@ PATINA_INLINE void eval_block(const TableView& t, const Dir<N>& wi, const Dir<N>
         for (int k = 0; k < kCorners; ++k) acc = madd(weight[k], gather(channel, corner[k]), acc);
         return acc * norm;
     };
-    if (C == 3 && lanes == N) {
-        // the common RGB case: three vectors to 3N contiguous floats in one go
-        const F r = channel_value(0), g = channel_value(1), b = channel_value(2);
-        store_xyz(out, r, g, b);
+    if (C == 3) {
+        // the common RGB case: each corner's three channels in one load per lane, and
+        // three vectors out to 3N contiguous floats in one go
+        F r(0.0f), g(0.0f), b(0.0f);
+        for (int k = 0; k < kCorners; ++k) {
+            F cr, cg, cb;
+            gather3(t.values, corner[k], cr, cg, cb);
+            r = madd(weight[k], cr, r);
+            g = madd(weight[k], cg, g);
+            b = madd(weight[k], cb, b);
+        }
+        r = r * norm;
+        g = g * norm;
+        b = b * norm;
+        if (N == 1 || lanes == N) {
+            store_xyz(out, r, g, b);
+        } else {
+            alignas(32) float rows[3 * N];
+            store_xyz(rows, r, g, b);
+            for (int j = 0; j < 3 * lanes && j < 3 * N; ++j) out[j] = rows[j];
+        }
         return;
     }
     for (int c = 0; c < C; ++c) {
@@ -197,12 +229,12 @@ PATINA_INLINE void eval_block(const TableView& t, const Dir<N>& wi, const Dir<N>
 }
 
 // Evaluates pairs [begin, end) of (n, 3) arrays wi, wo into out (n, channels); any length.
-template <int N, Parametrization P>
+template <int N, Parametrization P, class Trig>
 inline void eval_range(const TableView& t, const float* wi, const float* wo, float* out, size_t begin, size_t end) {
     const int C = t.channels;
     size_t i = begin;
     for (; i + N <= end; i += N)
-        eval_block<N, P>(t, load_dirs<N>(wi + 3 * i), load_dirs<N>(wo + 3 * i), out + i * C, N);
+        eval_block<N, P, Trig>(t, load_dirs<N>(wi + 3 * i), load_dirs<N>(wo + 3 * i), out + i * C, N);
     if (i < end) {
         // The tail goes through the same width-N code, padded with normal-incidence pairs.
         float pad_i[3 * N], pad_o[3 * N];
@@ -215,21 +247,21 @@ inline void eval_range(const TableView& t, const float* wi, const float* wo, flo
             pad_i[j] = wi[3 * i + j];
             pad_o[j] = wo[3 * i + j];
         }
-        eval_block<N, P>(t, load_dirs<N>(pad_i), load_dirs<N>(pad_o), out + i * C, lanes);
+        eval_block<N, P, Trig>(t, load_dirs<N>(pad_i), load_dirs<N>(pad_o), out + i * C, lanes);
     }
 }
 
-template <int N>
+template <int N, class Trig = FastTrig>
 inline void eval_range(const TableView& t, const float* wi, const float* wo, float* out, size_t begin, size_t end) {
     switch (t.parametrization) {
         case Parametrization::Isotropic:
-            eval_range<N, Parametrization::Isotropic>(t, wi, wo, out, begin, end);
+            eval_range<N, Parametrization::Isotropic, Trig>(t, wi, wo, out, begin, end);
             break;
         case Parametrization::Anisotropic:
-            eval_range<N, Parametrization::Anisotropic>(t, wi, wo, out, begin, end);
+            eval_range<N, Parametrization::Anisotropic, Trig>(t, wi, wo, out, begin, end);
             break;
         case Parametrization::HalfDiff:
-            eval_range<N, Parametrization::HalfDiff>(t, wi, wo, out, begin, end);
+            eval_range<N, Parametrization::HalfDiff, Trig>(t, wi, wo, out, begin, end);
             break;
     }
 }

@@ -23,6 +23,9 @@ struct Kernels {
     void (*search)(const float* knots, int count, const float* x, int32_t* cells, size_t n);
     // Evaluates pairs [begin, end) of (n, 3) arrays into out (n, channels).
     void (*eval)(const TableView& t, const float* wi, const float* wo, float* out, size_t begin, size_t end);
+    // Width 1 only (nullptr otherwise): the same evaluator with the C library's acos and
+    // atan2, the naive scalar baseline benchmarks also report against.
+    void (*eval_libm)(const TableView& t, const float* wi, const float* wo, float* out, size_t begin, size_t end);
 };
 
 const Kernels& kernels_w1();
@@ -33,6 +36,8 @@ const Kernels& kernels_w8();
 const Kernels& kernels_for(int width);
 
 // Evaluates n pairs, split over `threads` threads (0 = all) when the batch is large.
-void eval_batch(const TableView& t, const float* wi, const float* wo, float* out, size_t n, int width, int threads);
+// libm_trig selects the width-1 evaluator with the C library's trigonometry (a baseline).
+void eval_batch(const TableView& t, const float* wi, const float* wo, float* out, size_t n, int width, int threads,
+                bool libm_trig = false);
 
 }  // namespace patina

@@ -90,5 +90,11 @@ void eval_kernel(const TableView& t, const float* wi, const float* wo, float* ou
     eval_range<W>(t, wi, wo, out, begin, end);
 }
 
+[[maybe_unused]] void eval_libm_kernel(const TableView& t, const float* wi, const float* wo, float* out, size_t begin,
+                                       size_t end) {
+    enter_kernel();
+    eval_range<1, LibmTrig>(t, wi, wo, out, begin, end);
+}
+
 }  // namespace
 PATINA_END_TARGET

@@ -5,7 +5,7 @@
 namespace patina {
 
 const Kernels& kernels_w8() {
-    static const Kernels k{8, &math_kernel, &search_kernel, &eval_kernel};
+    static const Kernels k{8, &math_kernel, &search_kernel, &eval_kernel, nullptr};
     return k;
 }
 

@@ -125,7 +125,10 @@ PreparedTable prepare(const Table& table) {
         v.lengths[a] = 0;
         v.strides[a] = 0;
     }
-    v.values = table.values.data();
+    p.values.reserve(table.values.size() + kValuePadding);
+    p.values.assign(table.values.begin(), table.values.end());
+    p.values.resize(table.values.size() + kValuePadding, 0.0f);
+    v.values = p.values.data();
     v.coverage = nullptr;
     if (table.missing_count() > 0) {
         p.coverage.resize(table.valid.size());

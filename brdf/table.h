@@ -61,13 +61,18 @@ struct TableView {
     const float* inv_widths[kMaxAxes];  // 1 / (knots[i + 1] - knots[i]), one per cell
     int lengths[kMaxAxes];
     int32_t strides[kMaxAxes];  // in grid points
-    const float* values;
+    const float* values;    // followed by at least kValuePadding readable floats
     const float* coverage;  // 1 where measured, 0 where missing; nullptr when nothing is missing
 };
 
-// Keeps the arrays derived from the table alive next to the view.
+// Floats of slack after the values: the RGB kernels load 4 floats per 3-float row.
+constexpr int kValuePadding = 4;
+
+// The arrays the kernels read, derived from a checked table and kept alive with the view:
+// a padded copy of the values, the coverage (when points are missing), inverse cell widths.
 struct PreparedTable {
     TableView view;
+    std::vector<float> values;
     std::vector<float> coverage;
     std::vector<float> inv_widths[kMaxAxes];
 };

@@ -60,6 +60,13 @@ PATINA_INLINE float gather(const float* base, int32_t index, bool active) {
 
 PATINA_INLINE float lane(float v, int) { return v; }
 
+// Three consecutive floats at base[index]: one row of an RGB table.
+PATINA_INLINE void gather3(const float* base, int32_t index, float& a, float& b, float& c) {
+    a = base[index];
+    b = base[index + 1];
+    c = base[index + 2];
+}
+
 // Three-component rows (x y z x y z ...) to and from one value per lane.
 PATINA_INLINE void load_xyz(const float* p, float& x, float& y, float& z) {
     x = p[0];

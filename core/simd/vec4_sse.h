@@ -146,6 +146,21 @@ PATINA_INLINE void store_xyz(float* p, vfloat4 x, vfloat4 y, vfloat4 z) {
     _mm_storeu_ps(p + 8, m2);
 }
 
+// Three consecutive floats at base[idx] for each lane: one 4-float load per lane and a
+// 4x4 transpose instead of three 4-lane gathers. Reads one float past each row, so the
+// array needs one float of padding after its end.
+PATINA_INLINE void gather3(const float* base, vint4 idx, vfloat4& a, vfloat4& b, vfloat4& c) {
+    const __m128 r0 = _mm_loadu_ps(base + _mm_cvtsi128_si32(idx.v));
+    const __m128 r1 = _mm_loadu_ps(base + _mm_extract_epi32(idx.v, 1));
+    const __m128 r2 = _mm_loadu_ps(base + _mm_extract_epi32(idx.v, 2));
+    const __m128 r3 = _mm_loadu_ps(base + _mm_extract_epi32(idx.v, 3));
+    const __m128 t0 = _mm_unpacklo_ps(r0, r1), t1 = _mm_unpacklo_ps(r2, r3);  // a0 a1 b0 b1, a2 a3 b2 b3
+    const __m128 t2 = _mm_unpackhi_ps(r0, r1), t3 = _mm_unpackhi_ps(r2, r3);  // c0 c1 . ., c2 c3 . .
+    a = vfloat4(_mm_movelh_ps(t0, t1));
+    b = vfloat4(_mm_movehl_ps(t1, t0));
+    c = vfloat4(_mm_movelh_ps(t2, t3));
+}
+
 // SSE4.1 has no gather: four scalar loads, which is what a 4-wide gather costs anyway.
 PATINA_INLINE vfloat4 gather(const float* base, vint4 idx) {
     const int32_t i0 = _mm_cvtsi128_si32(idx.v), i1 = _mm_extract_epi32(idx.v, 1);

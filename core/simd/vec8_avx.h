@@ -150,6 +150,23 @@ PATINA_INLINE void store_xyz(float* p, vfloat8 x, vfloat8 y, vfloat8 z) {
     _mm256_storeu_ps(p + 16, _mm256_permute2f128_ps(m14, m25, 0x31));  // floats 16-19 | 20-23
 }
 
+// Three consecutive floats at base[idx] for each lane: eight 4-float loads and a 4x4
+// transpose in each 128-bit half, instead of three 8-lane gathers (24 loads). Reads one
+// float past each row, so the array needs one float of padding after its end.
+PATINA_INLINE void gather3(const float* base, vint8 idx, vfloat8& a, vfloat8& b, vfloat8& c) {
+    alignas(32) int32_t i[8];
+    idx.store(i);
+    auto row = [&](int lo, int hi) {
+        return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(base + i[lo])), _mm_loadu_ps(base + i[hi]), 1);
+    };
+    const __m256 r0 = row(0, 4), r1 = row(1, 5), r2 = row(2, 6), r3 = row(3, 7);
+    const __m256 t0 = _mm256_unpacklo_ps(r0, r1), t1 = _mm256_unpacklo_ps(r2, r3);
+    const __m256 t2 = _mm256_unpackhi_ps(r0, r1), t3 = _mm256_unpackhi_ps(r2, r3);
+    a = vfloat8(_mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(1, 0, 1, 0)));
+    b = vfloat8(_mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(3, 2, 3, 2)));
+    c = vfloat8(_mm256_shuffle_ps(t2, t3, _MM_SHUFFLE(1, 0, 1, 0)));
+}
+
 PATINA_INLINE vfloat8 gather(const float* base, vint8 idx) { return vfloat8(_mm256_i32gather_ps(base, idx.v, 4)); }
 PATINA_INLINE vint8 gather(const int32_t* base, vint8 idx) {
     return vint8(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), idx.v, 4));

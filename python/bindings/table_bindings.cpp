@@ -73,7 +73,8 @@ std::unique_ptr<TableHandle> from_arrays(const std::string& parametrization, con
 using Output = nb::ndarray<float, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 
 // Writes into `out` when given (no allocation: what benchmarks and renderers want).
-nb::object eval(const TableHandle& h, Directions wi, Directions wo, int width, int threads, nb::object out_obj) {
+nb::object eval(const TableHandle& h, Directions wi, Directions wo, int width, int threads, nb::object out_obj,
+                bool libm_trig) {
     const size_t n = wi.shape(0);
     if (wo.shape(0) != n) throw std::invalid_argument("wi and wo have different numbers of rows");
     const size_t shape[2] = {n, static_cast<size_t>(h.table.channels)};
@@ -91,7 +92,7 @@ nb::object eval(const TableHandle& h, Directions wi, Directions wo, int width, i
     const patina::TableView& view = h.prepared.view;
     {
         nb::gil_scoped_release release;
-        patina::eval_batch(view, wi.data(), wo.data(), out, n, width, threads);
+        patina::eval_batch(view, wi.data(), wo.data(), out, n, width, threads, libm_trig);
     }
     return result;
 }
@@ -162,8 +163,9 @@ void bind_table(nb::module_& m) {
         .def_prop_ro("point_count", [](const TableHandle& h) { return h.table.point_count(); })
         .def_prop_ro("missing_count", [](const TableHandle& h) { return h.table.missing_count(); })
         .def("eval", &eval, nb::arg("wi"), nb::arg("wo"), nb::arg("width") = 0, nb::arg("threads") = 0,
-             nb::arg("out") = nb::none(),
-             "Evaluates (n, 3) float32 local-frame directions; returns (n, channels) float32.");
+             nb::arg("out") = nb::none(), nb::arg("libm_trig") = false,
+             "Evaluates (n, 3) float32 local-frame directions; returns (n, channels) float32. "
+             "libm_trig=True runs the scalar evaluator with the C library's acos/atan2 (a benchmark baseline).");
 
     m.def("read_ptab", [](const std::string& path) { return std::make_unique<TableHandle>(patina::read_ptab(path)); },
           nb::arg("path"));

@@ -164,6 +164,12 @@ def bench_brdf(repeat: int, quick: bool) -> list[Record]:
             if t1 is not None:
                 records.append(Record(f"brdf.eval.{tname}.{dname}.w1", "evaluator width 1", "evaluator width 1",
                                       1.0, n / t1 / 1e6, "Mevals/s"))
+            # against a plain scalar evaluator using the C library's acosf / atan2f
+            for w in _widths():
+                tb, tc = _median_times([lambda: table.eval(wi, wo, width=1, threads=1, out=out, libm_trig=True),
+                                        lambda: table.eval(wi, wo, width=w, threads=1, out=out)], repeat)
+                records.append(Record(f"brdf.eval.{tname}.{dname}.w{w}_vs_libm", f"evaluator width {w}",
+                                      "scalar evaluator with C library acosf/atan2f", tb / tc, n / tc / 1e6, "Mevals/s"))
     return records
 
 

@@ -42,3 +42,19 @@ def test_search_matches_searchsorted():
         np.testing.assert_array_equal(_core.search(knots, x, width=w), want)
     with pytest.raises(ValueError, match="increasing"):
         _core.search(knots[::-1].copy(), x)
+
+
+def test_patina_simd_environment_variable():
+    import subprocess
+    import sys
+
+    code = "from patina import _core; print(_core.default_width())"
+    for value, width in (("scalar", 1), ("sse4", 4), ("avx2", 8)):
+        if not _core.width_supported(width):
+            continue
+        r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                           env={"PATINA_SIMD": value, "PATH": "/usr/bin:/bin"})
+        assert r.returncode == 0 and r.stdout.strip() == str(width), r.stderr
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       env={"PATINA_SIMD": "neon", "PATH": "/usr/bin:/bin"})
+    assert r.returncode != 0 and "PATINA_SIMD=neon" in r.stderr
