@@ -10,6 +10,7 @@
 // with no measured corner gives 0.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <vector>
 
@@ -139,26 +140,59 @@ PATINA_INLINE void coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t symmetry,
 constexpr int dims_of(Parametrization p) { return p == Parametrization::Anisotropic ? 4 : 3; }
 }  // namespace eval_detail
 
-// Evaluates N direction pairs and writes the first `lanes` rows of out (rows of t.channels floats).
-template <int N, Parametrization P, class Trig = FastTrig>
-PATINA_INLINE void eval_block(const TableView& t, const Dir<N>& wi, const Dir<N>& wo, float* out, int lanes) {
+namespace eval_detail {
+// Pairs go through the evaluator a chunk at a time, in three passes (angles, cells,
+// interpolation). Each pass is a loop of independent blocks of N pairs, which the CPU
+// overlaps far better than one long dependent chain per block: the branchy search no
+// longer stalls the arithmetic and the gathers of the blocks around it.
+constexpr int kChunkPairs = 64;
+
+template <int D>
+struct Chunk {
+    alignas(32) float coord[D][kChunkPairs];
+    alignas(32) float frac[D][kChunkPairs];
+    alignas(32) float above[kChunkPairs];  // 1 where both directions are above the horizon
+    alignas(32) int32_t base[kChunkPairs];  // grid point of each pair's lower cell corner
+};
+
+// Pass 1: N pairs (rows of wi, wo) to the table's angles.
+template <int N, Parametrization P, class Trig, int D>
+PATINA_INLINE void block_angles(const TableView& t, const float* wi, const float* wo, Chunk<D>& c, int at) {
+    using F = vfloat<N>;
+    const Dir<N> i = load_dirs<N>(wi), o = load_dirs<N>(wo);
+    store_n<N>(c.above + at, select((i.z > F(0.0f)) & (o.z > F(0.0f)), F(1.0f), F(0.0f)));
+    F coord[D];
+    coords<N, P, Trig>(i, o, t.symmetry, coord);
+    for (int a = 0; a < D; ++a) store_n<N>(c.coord[a] + at, coord[a]);
+}
+
+// Pass 2: per axis the coherent search, then the fraction within the cell.
+template <int N, int D>
+PATINA_INLINE void block_cells(const TableView& t, Chunk<D>& c, int at) {
     using F = vfloat<N>;
     using I = vint<N>;
-    using B = vbool<N>;
-    constexpr int D = eval_detail::dims_of(P);
-    constexpr int kCorners = 1 << D;
-
-    const B above = (wi.z > F(0.0f)) & (wo.z > F(0.0f));
-    F coord[D];
-    eval_detail::coords<N, P, Trig>(wi, wo, t.symmetry, coord);
-
+    const vbool<N> above = load_n<N>(c.above + at) > F(0.5f);
     I base(0);
-    F frac[D];
     for (int a = 0; a < D; ++a) {
-        const I cell = coherent_search<N>(t.knots[a], t.lengths[a], coord[a], above);
-        frac[a] = clamp((coord[a] - gather(t.knots[a], cell)) * gather(t.inv_widths[a], cell), F(0.0f), F(1.0f));
+        const F x = load_n<N>(c.coord[a] + at);
+        const I cell = coherent_search<N>(t.knots[a], t.lengths[a], x, above);
+        store_n<N>(c.frac[a] + at,
+                   clamp((x - gather(t.knots[a], cell)) * gather(t.inv_widths[a], cell), F(0.0f), F(1.0f)));
         base += cell * I(t.strides[a]);
     }
+    store_n<N>(c.base + at, base);
+}
+
+// Pass 3: multilinear interpolation of the 2^D corners; writes `lanes` rows of out.
+template <int N, int D>
+PATINA_INLINE void block_interpolate(const TableView& t, const Chunk<D>& c, int at, float* out, int lanes) {
+    using F = vfloat<N>;
+    using I = vint<N>;
+    constexpr int kCorners = 1 << D;
+    F frac[D];
+    for (int a = 0; a < D; ++a) frac[a] = load_n<N>(c.frac[a] + at);
+    const I base = load_n<N>(c.base + at);
+    const F above = load_n<N>(c.above + at);
 
     F weight[kCorners];
     int32_t offset[kCorners];
@@ -173,26 +207,20 @@ PATINA_INLINE void eval_block(const TableView& t, const Dir<N>& wi, const Dir<N>
         weight[k] = w;
         offset[k] = off;
     }
-    F norm = select(above, F(1.0f), F(0.0f));
+    F norm = above;
     if (t.coverage) {
         F covered(0.0f);
         for (int k = 0; k < kCorners; ++k) {
             weight[k] = weight[k] * gather(t.coverage, base + I(offset[k]));
             covered += weight[k];
         }
-        norm = select(above & (covered > F(0.0f)), F(1.0f) / covered, F(0.0f));
+        norm = select((above > F(0.5f)) & (covered > F(0.0f)), F(1.0f) / covered, F(0.0f));
     }
 
     const int C = t.channels;
     I corner[kCorners];  // index of each corner's first channel
     const I row = base * I(C);
     for (int k = 0; k < kCorners; ++k) corner[k] = row + I(offset[k] * C);
-    auto channel_value = [&](int c) {
-        const float* channel = t.values + c;
-        F acc(0.0f);
-        for (int k = 0; k < kCorners; ++k) acc = madd(weight[k], gather(channel, corner[k]), acc);
-        return acc * norm;
-    };
     if (C == 3) {
         // the common RGB case: each corner's three channels in one load per lane, and
         // three vectors out to 3N contiguous floats in one go
@@ -216,38 +244,53 @@ PATINA_INLINE void eval_block(const TableView& t, const Dir<N>& wi, const Dir<N>
         }
         return;
     }
-    for (int c = 0; c < C; ++c) {
-        const F acc = channel_value(c);
+    for (int ch = 0; ch < C; ++ch) {
+        const float* channel = t.values + ch;
+        F acc(0.0f);
+        for (int k = 0; k < kCorners; ++k) acc = madd(weight[k], gather(channel, corner[k]), acc);
+        acc = acc * norm;
         if constexpr (N == 1) {
-            out[c] = acc;
+            out[ch] = acc;
         } else {
             alignas(32) float lane_values[N];
             acc.store(lane_values);
-            for (int j = 0; j < lanes; ++j) out[j * C + c] = lane_values[j];
+            for (int j = 0; j < lanes; ++j) out[j * C + ch] = lane_values[j];
         }
     }
 }
+}  // namespace eval_detail
 
 // Evaluates pairs [begin, end) of (n, 3) arrays wi, wo into out (n, channels); any length.
+// The tail goes through the same width-N code, padded with normal-incidence pairs.
 template <int N, Parametrization P, class Trig>
 inline void eval_range(const TableView& t, const float* wi, const float* wo, float* out, size_t begin, size_t end) {
+    using namespace eval_detail;
+    constexpr int D = dims_of(P);
+    static_assert(kChunkPairs % N == 0, "chunks hold whole blocks");
     const int C = t.channels;
-    size_t i = begin;
-    for (; i + N <= end; i += N)
-        eval_block<N, P, Trig>(t, load_dirs<N>(wi + 3 * i), load_dirs<N>(wo + 3 * i), out + i * C, N);
-    if (i < end) {
-        // The tail goes through the same width-N code, padded with normal-incidence pairs.
-        float pad_i[3 * N], pad_o[3 * N];
-        for (int j = 0; j < N; ++j) {
-            pad_i[3 * j] = pad_i[3 * j + 1] = pad_o[3 * j] = pad_o[3 * j + 1] = 0.0f;
-            pad_i[3 * j + 2] = pad_o[3 * j + 2] = 1.0f;
+    Chunk<D> chunk;
+    for (size_t first = begin; first < end; first += kChunkPairs) {
+        const int count = static_cast<int>(std::min<size_t>(kChunkPairs, end - first));
+        const int whole = count / N * N;
+        const int blocks = (count + N - 1) / N * N;
+        const float* ci = wi + 3 * first;
+        const float* co = wo + 3 * first;
+        for (int at = 0; at < whole; at += N) block_angles<N, P, Trig, D>(t, ci + 3 * at, co + 3 * at, chunk, at);
+        if (whole < count) {
+            float pad_i[3 * N], pad_o[3 * N];
+            for (int j = 0; j < N; ++j) {
+                pad_i[3 * j] = pad_i[3 * j + 1] = pad_o[3 * j] = pad_o[3 * j + 1] = 0.0f;
+                pad_i[3 * j + 2] = pad_o[3 * j + 2] = 1.0f;
+            }
+            for (int j = 0; j < 3 * (count - whole); ++j) {
+                pad_i[j] = ci[3 * whole + j];
+                pad_o[j] = co[3 * whole + j];
+            }
+            block_angles<N, P, Trig, D>(t, pad_i, pad_o, chunk, whole);
         }
-        const int lanes = static_cast<int>(end - i);
-        for (int j = 0; j < 3 * lanes; ++j) {
-            pad_i[j] = wi[3 * i + j];
-            pad_o[j] = wo[3 * i + j];
-        }
-        eval_block<N, P, Trig>(t, load_dirs<N>(pad_i), load_dirs<N>(pad_o), out + i * C, lanes);
+        for (int at = 0; at < blocks; at += N) block_cells<N, D>(t, chunk, at);
+        for (int at = 0; at < blocks; at += N)
+            block_interpolate<N, D>(t, chunk, at, out + (first + at) * C, std::min(N, count - at));
     }
 }
 
