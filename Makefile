@@ -1,6 +1,6 @@
 # Patina's two commands (see README.md):
 #   make demo   set everything up, then import a bundled table, summarise, evaluate and plot it
-#   make test   set everything up, then run the C++ tests (ctest) and the Python tests (pytest)
+#   make test   set everything up, then lint (ruff) and run the C++ tests (ctest) and the Python tests (pytest)
 # and a few more for developers: make bench, make setup, make clean.
 
 PY        := .venv/bin/python
@@ -12,7 +12,7 @@ SOURCES   := $(shell find core brdf python -name '*.cpp' -o -name '*.h' -o -name
 DEMO_OUT  := demo-out
 DEMO_TABLE := materials/red-plastic-iso.ptab
 
-.PHONY: demo test test-cpp test-python bench setup clean
+.PHONY: demo test lint test-cpp test-python bench setup clean
 
 setup: $(STAMP)
 
@@ -29,7 +29,11 @@ demo: setup
 	$(PATINA) slices $(DEMO_TABLE) --out $(DEMO_OUT)/red-plastic-slices.png
 	@echo "demo: in-plane slices written to $(DEMO_OUT)/red-plastic-slices.png"
 
-test: test-cpp test-python
+test: lint test-cpp test-python
+
+lint: setup
+	.venv/bin/ruff check python tests tools
+	.venv/bin/ruff format --check python tests tools
 
 test-cpp: setup
 	cmake -S . -B $(CPP_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release \

@@ -55,8 +55,10 @@ def write_astm() -> None:
         f.write("SAMPLE red plastic: Lambert + GGX roughness 0.2\n")
         f.write(f"NUM_POINTS {ti.size}\n")
         f.write("VARS theta_i phi_i theta_s phi_s R G B\n")
-        for a, b, c, v in zip(ti.ravel(), to.ravel(), pd.ravel(), rgb):
-            f.write(f"{a:.9g} 0 {b:.9g} {c:.9g} {v[0]:.9g} {v[1]:.9g} {v[2]:.9g}\n")
+        f.writelines(
+            f"{a:.9g} 0 {b:.9g} {c:.9g} {v[0]:.9g} {v[1]:.9g} {v[2]:.9g}\n"
+            for a, b, c, v in zip(ti.ravel(), to.ravel(), pd.ravel(), rgb)
+        )
     os.replace(path + ".tmp", path)
 
 

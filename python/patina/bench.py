@@ -9,6 +9,7 @@ ratio honest on a shared, noisy machine.
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import platform
@@ -122,11 +123,19 @@ def bench_math(repeat: int, quick: bool) -> list[Record]:
     for op, libc, args in (("acos", "libc_acos", (x,)), ("atan2", "libc_atan2", (y, x))):
         out = np.empty(n, np.float32)
         for w in _widths():
-            base = lambda: _core.math(libc, *args, width=1, out=out)  # noqa: E731
-            cand = lambda: _core.math(op, *args, width=w, out=out)  # noqa: E731
+            base = functools.partial(_core.math, libc, *args, width=1, out=out)
+            cand = functools.partial(_core.math, op, *args, width=w, out=out)
             tb, tc = _median_times([base, cand], repeat)
-            records.append(Record(f"math.{op}.w{w}", f"fast_{op} width {w}", f"C library {op}f, scalar",
-                                  tb / tc, n / tc / 1e6, "Mvalues/s"))
+            records.append(
+                Record(
+                    f"math.{op}.w{w}",
+                    f"fast_{op} width {w}",
+                    f"C library {op}f, scalar",
+                    tb / tc,
+                    n / tc / 1e6,
+                    "Mvalues/s",
+                )
+            )
     return records
 
 
@@ -146,30 +155,77 @@ def bench_brdf(repeat: int, quick: bool) -> list[Record]:
         th = np.arccos(np.clip(h[:, 2] / np.linalg.norm(h, axis=1), -1, 1)).astype(np.float32)
         cells = np.empty(n, np.int32)
         for w in _widths():
-            tb, tc = _median_times([lambda: _core.search(knots, th, width=1, out=cells),
-                                    lambda: _core.search(knots, th, width=w, out=cells)], repeat)
-            records.append(Record(f"brdf.search{label}.w{w}", f"coherent search width {w}",
-                                  "binary search width 1", tb / tc, n / tc / 1e6, "Msearches/s"))
+            tb, tc = _median_times(
+                [
+                    functools.partial(_core.search, knots, th, width=1, out=cells),
+                    functools.partial(_core.search, knots, th, width=w, out=cells),
+                ],
+                repeat,
+            )
+            records.append(
+                Record(
+                    f"brdf.search{label}.w{w}",
+                    f"coherent search width {w}",
+                    "binary search width 1",
+                    tb / tc,
+                    n / tc / 1e6,
+                    "Msearches/s",
+                )
+            )
 
     for tname, table in (("merl", merl), ("iso", iso)):
         for dname, (wi, wo) in (("random", rnd), ("coherent", coh)):
             t1 = None
             out = np.empty((n, table.channels), np.float32)
             for w in _widths():
-                tb, tc = _median_times([lambda: table.eval(wi, wo, width=1, threads=1, out=out),
-                                        lambda: table.eval(wi, wo, width=w, threads=1, out=out)], repeat)
+                tb, tc = _median_times(
+                    [
+                        functools.partial(table.eval, wi, wo, width=1, threads=1, out=out),
+                        functools.partial(table.eval, wi, wo, width=w, threads=1, out=out),
+                    ],
+                    repeat,
+                )
                 t1 = tb if t1 is None else min(t1, tb)
-                records.append(Record(f"brdf.eval.{tname}.{dname}.w{w}", f"evaluator width {w}",
-                                      "evaluator width 1", tb / tc, n / tc / 1e6, "Mevals/s"))
+                records.append(
+                    Record(
+                        f"brdf.eval.{tname}.{dname}.w{w}",
+                        f"evaluator width {w}",
+                        "evaluator width 1",
+                        tb / tc,
+                        n / tc / 1e6,
+                        "Mevals/s",
+                    )
+                )
             if t1 is not None:
-                records.append(Record(f"brdf.eval.{tname}.{dname}.w1", "evaluator width 1", "evaluator width 1",
-                                      1.0, n / t1 / 1e6, "Mevals/s"))
+                records.append(
+                    Record(
+                        f"brdf.eval.{tname}.{dname}.w1",
+                        "evaluator width 1",
+                        "evaluator width 1",
+                        1.0,
+                        n / t1 / 1e6,
+                        "Mevals/s",
+                    )
+                )
             # against a plain scalar evaluator using the C library's acosf / atan2f
             for w in _widths():
-                tb, tc = _median_times([lambda: table.eval(wi, wo, width=1, threads=1, out=out, libm_trig=True),
-                                        lambda: table.eval(wi, wo, width=w, threads=1, out=out)], repeat)
-                records.append(Record(f"brdf.eval.{tname}.{dname}.w{w}_vs_libm", f"evaluator width {w}",
-                                      "scalar evaluator with C library acosf/atan2f", tb / tc, n / tc / 1e6, "Mevals/s"))
+                tb, tc = _median_times(
+                    [
+                        functools.partial(table.eval, wi, wo, width=1, threads=1, out=out, libm_trig=True),
+                        functools.partial(table.eval, wi, wo, width=w, threads=1, out=out),
+                    ],
+                    repeat,
+                )
+                records.append(
+                    Record(
+                        f"brdf.eval.{tname}.{dname}.w{w}_vs_libm",
+                        f"evaluator width {w}",
+                        "scalar evaluator with C library acosf/atan2f",
+                        tb / tc,
+                        n / tc / 1e6,
+                        "Mevals/s",
+                    )
+                )
     return records
 
 
@@ -200,8 +256,12 @@ def run_bench(only: str | None = None, json_path: str | None = None, repeat: int
     if json_path:
         doc = {
             "patina": _core.__version__,
-            "machine": {"platform": platform.platform(), "processor": platform.processor(),
-                        "cpu_count": os.cpu_count(), "default_width": _core.default_width()},
+            "machine": {
+                "platform": platform.platform(),
+                "processor": platform.processor(),
+                "cpu_count": os.cpu_count(),
+                "default_width": _core.default_width(),
+            },
             "repeat": repeat,
             "quick": quick,
             "records": [asdict(r) for r in records],

@@ -148,9 +148,7 @@ class Brdf:
             "units": self._table.units,
             "value_min": [float(v) for v in measured.reshape(-1, self.channels).min(axis=0)] if measured.size else [],
             "value_max": [float(v) for v in measured.reshape(-1, self.channels).max(axis=0)] if measured.size else [],
-            "value_mean": [float(v) for v in measured.reshape(-1, self.channels).mean(axis=0)]
-            if measured.size
-            else [],
+            "value_mean": [float(v) for v in measured.reshape(-1, self.channels).mean(axis=0)] if measured.size else [],
             "provenance": self._table.provenance,
         }
 

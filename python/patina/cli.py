@@ -50,7 +50,10 @@ def cmd_info(args: argparse.Namespace) -> int:
         _print_json(info)
         return 0
     print(f"{info['source']}  ({info['format']})")
-    print(f"  parametrization  {info['parametrization']}" + (f"  symmetry: {', '.join(info['symmetry'])}" if info["symmetry"] else ""))
+    print(
+        f"  parametrization  {info['parametrization']}"
+        + (f"  symmetry: {', '.join(info['symmetry'])}" if info["symmetry"] else "")
+    )
     for a in info["axes"]:
         spacing = "uniform" if a["uniform"] else f"irregular, steps {a['min_step_deg']:.3g}-{a['max_step_deg']:.3g} deg"
         print(f"  {a['name']:<8} {a['knots']:>5} knots  {a['min_deg']:8.3f} .. {a['max_deg']:8.3f} deg  ({spacing})")
@@ -73,8 +76,10 @@ def cmd_convert(args: argparse.Namespace) -> int:
         raise UsageError(f"convert: {args.output}: the output must be a .ptab file")
     brdf = load_brdf(args.input)
     brdf.save(args.output)
-    print(f"wrote {args.output} ({brdf.parametrization}, {'x'.join(str(a.size) for a in brdf.axes)}, "
-          f"{brdf.channels} channels)")
+    print(
+        f"wrote {args.output} ({brdf.parametrization}, {'x'.join(str(a.size) for a in brdf.axes)}, "
+        f"{brdf.channels} channels)"
+    )
     return 0
 
 

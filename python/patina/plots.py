@@ -37,7 +37,11 @@ def plot_inplane_slices(brdf: Brdf, out_path: str, incidence_deg: Sequence[float
             cols = [None] * len(picks)
         else:
             picks = range(brdf.channels)
-            labels = ["R", "G", "B"] if brdf.channel_kind == "rgb" else (["X", "Y", "Z"] if brdf.channel_kind == "xyz" else ["f"])
+            labels = (
+                ["R", "G", "B"]
+                if brdf.channel_kind == "rgb"
+                else (["X", "Y", "Z"] if brdf.channel_kind == "xyz" else ["f"])
+            )
             cols = colours or [None] * brdf.channels
         for i, label, col in zip(picks, labels, cols):
             ax.semilogy(signed, np.maximum(values[:, i], 1e-6), color=col, label=label, lw=1.2)

@@ -56,7 +56,9 @@ def isotropic_grid(theta_i: np.ndarray, theta_o: np.ndarray, phi_d: np.ndarray) 
     return wi, wo
 
 
-def halfdiff_to_directions(theta_h: np.ndarray, theta_d: np.ndarray, phi_d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def halfdiff_to_directions(
+    theta_h: np.ndarray, theta_d: np.ndarray, phi_d: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Rusinkiewicz (theta_h, phi_h = 0, theta_d, phi_d) to (wi, wo)."""
     th, td, pd = (np.asarray(v, dtype=np.float64).ravel() for v in (theta_h, theta_d, phi_d))
     d = angles_to_directions(td, pd)
@@ -68,7 +70,9 @@ def halfdiff_to_directions(theta_h: np.ndarray, theta_d: np.ndarray, phi_d: np.n
     return wi, wo
 
 
-def sample_isotropic(f: BrdfFunction, theta_i: np.ndarray, theta_o: np.ndarray, phi_d: np.ndarray, provenance: str) -> TableData:
+def sample_isotropic(
+    f: BrdfFunction, theta_i: np.ndarray, theta_o: np.ndarray, phi_d: np.ndarray, provenance: str
+) -> TableData:
     wi, wo = isotropic_grid(theta_i, theta_o, phi_d)
     values = f(wi, wo).reshape(theta_i.size, theta_o.size, phi_d.size, -1)
     return TableData(
@@ -113,5 +117,6 @@ def merl_table(f: BrdfFunction, provenance: str = "synthetic MERL-sized table") 
     g_th, g_td, g_pd = np.meshgrid(th, td, pd, indexing="ij")
     wi, wo = halfdiff_to_directions(g_th, g_td, g_pd)
     values = f(wi, wo).reshape(90, 90, 181, 3)
-    return TableData("halfdiff", [th, td, pd], values.astype(np.float32), "rgb", provenance=provenance,
-                     symmetry={"reciprocity"})
+    return TableData(
+        "halfdiff", [th, td, pd], values.astype(np.float32), "rgb", provenance=provenance, symmetry={"reciprocity"}
+    )

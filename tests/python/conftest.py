@@ -8,8 +8,8 @@ import pytest
 
 sys.path.insert(0, os.path.dirname(__file__))
 
-import patina  # noqa: E402
-from patina.synthetic import merl_raw, plastic, write_merl  # noqa: E402
+import patina
+from patina.synthetic import merl_raw, plastic, write_merl
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 WIDTHS = [w for w in (1, 4, 8) if patina._core.width_supported(w)]

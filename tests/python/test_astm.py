@@ -32,8 +32,11 @@ def _load_by_path(package_dir: Path) -> types.ModuleType:
         stub = types.ModuleType(name)
         stub.__path__ = [str(directory)]
         sys.modules[name] = stub
-    for name, file in (("errors", "errors.py"), ("formats.tabledata", "formats/tabledata.py"),
-                       ("formats.astm", "formats/astm.py")):
+    for name, file in (
+        ("errors", "errors.py"),
+        ("formats.tabledata", "formats/tabledata.py"),
+        ("formats.astm", "formats/astm.py"),
+    ):
         spec = importlib.util.spec_from_file_location(f"{base}.{name}", package_dir / file)
         assert spec is not None and spec.loader is not None
         module = importlib.util.module_from_spec(spec)
@@ -70,8 +73,15 @@ def analytic_rgb(theta_i: float, theta_o: float, phi_d: float) -> tuple[float, f
     return (0.2 / math.pi + lobe, 0.5 / math.pi + 0.5 * lobe, 0.1 / math.pi + 2.0 * lobe)
 
 
-def astm_text(vars_line: str, rows: list[list[float]], *, header: list[str] | None = None,
-              num_points: bool = True, sep: str = " ", newline: str = "\n") -> str:
+def astm_text(
+    vars_line: str,
+    rows: list[list[float]],
+    *,
+    header: list[str] | None = None,
+    num_points: bool = True,
+    sep: str = " ",
+    newline: str = "\n",
+) -> str:
     lines = ["#ASTM E1392-96"]
     lines += header if header is not None else ["SOURCE Patina tests", "DATE 2024-01-02"]
     if num_points:
@@ -103,10 +113,10 @@ def check_table(table: object) -> None:
 
 def base_lines() -> list[str]:
     """A valid 2x2x2 isotropic mono file; data rows are lines 5..12."""
-    rows = [f"{ti} 0 {to} {pd} {0.1 + ti + 2 * to + 3 * pd}"
-            for ti in (0.1, 0.5) for to in (0.2, 0.6) for pd in (0.0, 1.0)]
-    return ["#ASTM E1392-96", "SOURCE unit test", "NUM_POINTS 8",
-            "VARS theta_i phi_i theta_s phi_s BRDF", *rows]
+    rows = [
+        f"{ti} 0 {to} {pd} {0.1 + ti + 2 * to + 3 * pd}" for ti in (0.1, 0.5) for to in (0.2, 0.6) for pd in (0.0, 1.0)
+    ]
+    return ["#ASTM E1392-96", "SOURCE unit test", "NUM_POINTS 8", "VARS theta_i phi_i theta_s phi_s BRDF", *rows]
 
 
 def joined(lines: list[str]) -> str:
@@ -117,8 +127,7 @@ def joined(lines: list[str]) -> str:
 
 
 def test_isotropic_rgb_irregular_grid_shuffled(tmp_path: Path) -> None:
-    rows = [[ti, 0.0, to, pd, *analytic_rgb(ti, to, pd)]
-            for ti in THETAS for to in THETAS for pd in PHI_DS]
+    rows = [[ti, 0.0, to, pd, *analytic_rgb(ti, to, pd)] for ti in THETAS for to in THETAS for pd in PHI_DS]
     random.Random(7).shuffle(rows)
     path = write(tmp_path, astm_text("VARS theta_i phi_i theta_s phi_s R G B", rows))
 
@@ -128,8 +137,9 @@ def test_isotropic_rgb_irregular_grid_shuffled(tmp_path: Path) -> None:
     assert table.parametrization == "isotropic"
     assert table.channel_kind == "rgb" and table.wavelengths is None
     assert [a.tolist() for a in table.axes] == [THETAS, THETAS, PHI_DS]
-    expected = np.array([[[analytic_rgb(ti, to, pd) for pd in PHI_DS] for to in THETAS]
-                         for ti in THETAS], dtype=np.float32)
+    expected = np.array(
+        [[[analytic_rgb(ti, to, pd) for pd in PHI_DS] for to in THETAS] for ti in THETAS], dtype=np.float32
+    )
     np.testing.assert_array_equal(table.values, expected)
     assert table.provenance == "ASTM E1392-96; SOURCE=Patina tests; DATE=2024-01-02; file=sample.astm"
 
@@ -141,8 +151,7 @@ def test_read_astm_accepts_str_and_pathlike(tmp_path: Path) -> None:
 
 def test_cornell_style_commas_and_negative_phi(tmp_path: Path) -> None:
     """Cornell exports: comma separated VARS and rows, phi_s in [-pi, 0], phi_i = 0."""
-    rows = [[ti, 0.0, to, -pd, *analytic_rgb(ti, to, pd)]
-            for ti in THETAS[:3] for to in THETAS for pd in PHI_DS]
+    rows = [[ti, 0.0, to, -pd, *analytic_rgb(ti, to, pd)] for ti in THETAS[:3] for to in THETAS for pd in PHI_DS]
     path = write(tmp_path, astm_text("VARS theta_i,phi_i,theta_s,phi_s,R,G,B", rows, sep=","))
 
     table = read_astm(path)
@@ -156,8 +165,9 @@ def test_cornell_style_commas_and_negative_phi(tmp_path: Path) -> None:
 
 def test_constant_nonzero_phi_i_is_isotropic(tmp_path: Path) -> None:
     phi_i = 0.4
-    rows = [[ti, phi_i, to, phi_i + pd, ti + to + pd]
-            for ti in (0.2, 0.6) for to in (0.1, 0.9) for pd in (0.0, 0.5, 1.5)]
+    rows = [
+        [ti, phi_i, to, phi_i + pd, ti + to + pd] for ti in (0.2, 0.6) for to in (0.1, 0.9) for pd in (0.0, 0.5, 1.5)
+    ]
     table = read_astm(write(tmp_path, astm_text("VARS theta_i phi_i theta_s phi_s BRDF", rows)))
     assert table.parametrization == "isotropic"
     np.testing.assert_allclose(table.axes[2], [0.0, 0.5, 1.5], atol=1e-12)
@@ -171,8 +181,7 @@ def test_missing_phi_i_column_means_zero(tmp_path: Path) -> None:
 
 
 def test_anisotropic(tmp_path: Path) -> None:
-    theta_i, phi_i, theta_o, phi_o = [0.2, 0.9], [0.0, math.pi / 2, -math.pi / 2], [0.0, 0.5, 1.1], \
-        [0.0, 1.0, 2.5, 5.0]
+    theta_i, phi_i, theta_o, phi_o = [0.2, 0.9], [0.0, math.pi / 2, -math.pi / 2], [0.0, 0.5, 1.1], [0.0, 1.0, 2.5, 5.0]
 
     def f(ti: float, pi: float, to: float, po: float) -> float:
         return 0.1 + ti + 0.3 * math.cos(pi) + 0.2 * math.sin(pi) + to * po
@@ -197,8 +206,7 @@ def test_anisotropic(tmp_path: Path) -> None:
 
 
 def test_xyz_lowercase_keywords_reordered_columns(tmp_path: Path) -> None:
-    rows = [[ti, 0.0, to, pd, 3.0, 2.0, 1.0 + ti] for ti in (0.0, 0.4) for to in (0.0, 0.4)
-            for pd in (0.0, 3.0)]
+    rows = [[ti, 0.0, to, pd, 3.0, 2.0, 1.0 + ti] for ti in (0.0, 0.4) for to in (0.0, 0.4) for pd in (0.0, 3.0)]
     text = astm_text("vars Theta_I PHI_I theta_s phi_s Z Y X", rows, header=["source lab"])
     table = read_astm(write(tmp_path, text))
     assert table.channel_kind == "xyz"
@@ -206,11 +214,17 @@ def test_xyz_lowercase_keywords_reordered_columns(tmp_path: Path) -> None:
     assert "SOURCE=lab" in table.provenance
 
 
-@pytest.mark.parametrize("names", [("700nm", "450nm", "550nm"), ("brdf_700", "brdf_450", "brdf_550"),
-                                   ("700", "450", "550"), ("w700", "W450", "w550")])
+@pytest.mark.parametrize(
+    "names",
+    [
+        ("700nm", "450nm", "550nm"),
+        ("brdf_700", "brdf_450", "brdf_550"),
+        ("700", "450", "550"),
+        ("w700", "W450", "w550"),
+    ],
+)
 def test_spectral_sorted_by_wavelength(tmp_path: Path, names: tuple[str, ...]) -> None:
-    rows = [[ti, 0.0, to, -pd, 7.0 + ti, 4.5, 5.5] for ti in (0.1, 0.5) for to in (0.2, 0.6)
-            for pd in (0.0, 1.0, 2.0)]
+    rows = [[ti, 0.0, to, -pd, 7.0 + ti, 4.5, 5.5] for ti in (0.1, 0.5) for to in (0.2, 0.6) for pd in (0.0, 1.0, 2.0)]
     vars_line = "VARS theta_i,phi_i,theta_s,phi_s," + ",".join(names)
     table = read_astm(write(tmp_path, astm_text(vars_line, rows, sep=", ")))
     check_table(table)
@@ -242,8 +256,7 @@ def test_crlf_latin1_tabs_blank_lines_and_comments(tmp_path: Path) -> None:
 
     check_table(table)
     assert "SAMPLE=Probe M\xfcller" in table.provenance
-    np.testing.assert_array_equal(table.values, read_astm(write(tmp_path, joined(base_lines()),
-                                                                "plain.astm")).values)
+    np.testing.assert_array_equal(table.values, read_astm(write(tmp_path, joined(base_lines()), "plain.astm")).values)
 
 
 def test_utf8_bom(tmp_path: Path) -> None:
@@ -300,12 +313,14 @@ BAD_FILES = {
     "truncated": (truncated(), "NUM_POINTS", ["line 3", "8 data rows", "has 6", "line 10", "truncated"]),
     "extra column": (replace_line(7, "0.1 0 0.6 0.0 1.0 2.0"), "line 7", ["expected 5 numbers", "found 6"]),
     "missing column": (replace_line(7, "0.1 0 0.6 0.0"), "line 7", ["expected 5 numbers", "found 4"]),
-    "extra column, comma+blank": (replace_line(7, "0.1, 0, 0.6, 0.0, 1.0, 2.0"), "line 7",
-                                  ["expected 5 numbers", "found 6"]),
+    "extra column, comma+blank": (
+        replace_line(7, "0.1, 0, 0.6, 0.0, 1.0, 2.0"),
+        "line 7",
+        ["expected 5 numbers", "found 6"],
+    ),
     "short row, tabs": (replace_line(11, "0.5\t0\t0.6\t\t0.0"), "line 11", ["found 4"]),
     "trailing comma": (replace_line(12, "0.5,0,0.6,1.0,1.0,"), "line 12", ["empty field", "column 6"]),
-    "non-numeric": (replace_line(6, "0.1 0 abc 1.0 1.0"), "line 6", ["'abc'", "column 3 (theta_s)",
-                                                                    "not a number"]),
+    "non-numeric": (replace_line(6, "0.1 0 abc 1.0 1.0"), "line 6", ["'abc'", "column 3 (theta_s)", "not a number"]),
     "python-only number": (replace_line(6, "0.1 0 0.2 1_0 1.0"), "line 6", ["'1_0'", "not a number"]),
     "empty field": (replace_line(6, "0.1,0,,1.0,1.0"), "line 6", ["empty field", "column 3"]),
     "nan": (replace_line(8, "0.1 0 0.6 1.0 nan"), "line 8", ["NaN", "column 5 (BRDF)"]),
@@ -313,30 +328,45 @@ BAD_FILES = {
     "overflow": (replace_line(9, "0.5 0 0.2 0.0 1e999"), "line 9", ["overflows"]),
     "float32 overflow": (replace_line(10, "0.5 0 0.2 1.0 1e300"), "line 10", ["float32"]),
     "missing VARS": (delete_line(4), "line 4", ["VARS"]),
-    "duplicate row": (duplicated_row(), "line 12", ["duplicate grid point", "already given on line 5",
-                                                    "not on a tensor grid"]),
-    "missing grid point": (missing_point(), "grid", ["missing grid point",
-                                                     "(theta_i=0.1, theta_o=0.6, phi_d=1)",
-                                                     "not on a tensor grid",
-                                                     "resampling scattered data is not supported"]),
-    "theta out of range": (replace_line(9, "0.5 0 2.0 0.0 1.0"), "line 9", ["column 3 (theta_s) = 2",
-                                                                            "outside [0, pi/2]"]),
+    "duplicate row": (
+        duplicated_row(),
+        "line 12",
+        ["duplicate grid point", "already given on line 5", "not on a tensor grid"],
+    ),
+    "missing grid point": (
+        missing_point(),
+        "grid",
+        [
+            "missing grid point",
+            "(theta_i=0.1, theta_o=0.6, phi_d=1)",
+            "not on a tensor grid",
+            "resampling scattered data is not supported",
+        ],
+    ),
+    "theta out of range": (
+        replace_line(9, "0.5 0 2.0 0.0 1.0"),
+        "line 9",
+        ["column 3 (theta_s) = 2", "outside [0, pi/2]"],
+    ),
     "negative theta": (replace_line(5, "-0.1 0 0.2 0.0 1.0"), "line 5", ["theta_i", "outside"]),
     "degrees": (replace_line(11, "45 0 0.6 0.0 1.0"), "line 11", ["degrees"]),
     "phi out of range": (replace_line(12, "0.5 0 0.6 7.0 1.0"), "line 12", ["[-2 pi, 2 pi]"]),
     "header junk": (replace_line(2, "!!! not a header"), "line 2", ["KEYWORD value"]),
     "bad NUM_POINTS": (replace_line(3, "NUM_POINTS eight"), "line 3", ["non-negative integer"]),
-    "huge NUM_POINTS": (replace_line(3, "NUM_POINTS 999999999999999"), "NUM_POINTS",
-                        ["999999999999999", "has 8"]),
+    "huge NUM_POINTS": (replace_line(3, "NUM_POINTS 999999999999999"), "NUM_POINTS", ["999999999999999", "has 8"]),
     "absurd NUM_POINTS": (replace_line(3, "NUM_POINTS " + "9" * 5000), "line 3", ["implausibly large"]),
-    "unknown channels": (replace_line(4, "VARS theta_i phi_i theta_s phi_s R G Q"), "line 4",
-                         ["cannot tell", "R, G, Q"]),
-    "no theta_i column": (replace_line(4, "VARS incidence phi_i theta_s phi_s BRDF"), "line 4",
-                          ["no theta_i column"]),
-    "no value column": (replace_line(4, "VARS theta_i phi_i theta_s phi_s"), "line 4",
-                        ["no value column"]),
-    "two outgoing thetas": (replace_line(4, "VARS theta_i theta_o theta_s phi_s BRDF"), "line 4",
-                            ["both give theta_s"]),
+    "unknown channels": (
+        replace_line(4, "VARS theta_i phi_i theta_s phi_s R G Q"),
+        "line 4",
+        ["cannot tell", "R, G, Q"],
+    ),
+    "no theta_i column": (replace_line(4, "VARS incidence phi_i theta_s phi_s BRDF"), "line 4", ["no theta_i column"]),
+    "no value column": (replace_line(4, "VARS theta_i phi_i theta_s phi_s"), "line 4", ["no value column"]),
+    "two outgoing thetas": (
+        replace_line(4, "VARS theta_i theta_o theta_s phi_s BRDF"),
+        "line 4",
+        ["both give theta_s"],
+    ),
     "no data": (base_lines()[:4], "line 4", ["no data rows"]),
 }
 
@@ -391,8 +421,15 @@ def test_single_valued_axis(tmp_path: Path) -> None:
 def test_scattered_data_is_rejected_without_building_the_grid(tmp_path: Path) -> None:
     rng = np.random.default_rng(11)
     n = 3000
-    rows = np.column_stack([rng.uniform(0, 1.5, n), np.zeros(n), rng.uniform(0, 1.5, n),
-                            rng.uniform(-math.pi, math.pi, n), rng.uniform(0, 1, n)])
+    rows = np.column_stack(
+        [
+            rng.uniform(0, 1.5, n),
+            np.zeros(n),
+            rng.uniform(0, 1.5, n),
+            rng.uniform(-math.pi, math.pi, n),
+            rng.uniform(0, 1, n),
+        ]
+    )
     path = write(tmp_path, astm_text("VARS theta_i phi_i theta_s phi_s BRDF", rows.tolist()))
     with pytest.raises(FormatError) as info:  # 3000**3 grid points would not fit in memory
         read_astm(path)
@@ -400,8 +437,7 @@ def test_scattered_data_is_rejected_without_building_the_grid(tmp_path: Path) ->
 
 
 def test_anisotropic_missing_point(tmp_path: Path) -> None:
-    rows = [[a, b, c, d, 1.0] for a in (0.1, 0.2) for b in (0.0, 1.0) for c in (0.1, 0.2)
-            for d in (0.0, 1.0)]
+    rows = [[a, b, c, d, 1.0] for a in (0.1, 0.2) for b in (0.0, 1.0) for c in (0.1, 0.2) for d in (0.0, 1.0)]
     del rows[-1]
     with pytest.raises(FormatError) as info:
         read_astm(write(tmp_path, astm_text("VARS theta_i phi_i theta_s phi_s BRDF", rows)))
@@ -417,15 +453,16 @@ def test_missing_file_is_os_error(tmp_path: Path) -> None:
 
 
 def _valid_samples() -> list[bytes]:
-    iso = [[ti, 0.0, to, pd, *analytic_rgb(ti, to, pd)] for ti in (0.0, 0.7) for to in (0.3, 1.2)
-           for pd in (0.0, 3.0)]
-    aniso = [[a, b, c, d, a + b + c + d] for a in (0.1, 0.2) for b in (0.0, 1.0) for c in (0.1, 0.2)
-             for d in (0.0, 1.0)]
+    iso = [[ti, 0.0, to, pd, *analytic_rgb(ti, to, pd)] for ti in (0.0, 0.7) for to in (0.3, 1.2) for pd in (0.0, 3.0)]
+    aniso = [
+        [a, b, c, d, a + b + c + d] for a in (0.1, 0.2) for b in (0.0, 1.0) for c in (0.1, 0.2) for d in (0.0, 1.0)
+    ]
     return [
         astm_text("VARS theta_i,phi_i,theta_s,phi_s,R,G,B", iso, sep=",", newline="\r\n").encode(),
         astm_text("VARS theta_i phi_i theta_o phi_o BRDF", aniso).encode(),
-        astm_text("VARS theta_i phi_i theta_s phi_s 450nm 550nm 650nm", iso,
-                  header=["SAMPLE M\xfcller"]).encode("latin-1"),
+        astm_text("VARS theta_i phi_i theta_s phi_s 450nm 550nm 650nm", iso, header=["SAMPLE M\xfcller"]).encode(
+            "latin-1"
+        ),
         joined(base_lines()).encode(),
     ]
 
@@ -461,7 +498,7 @@ def test_mutated_valid_files_never_crash(tmp_path: Path, sample: bytes, data: st
         mutated = sample[: data.draw(st.integers(0, len(sample)))]
     elif kind == "flip":
         at = data.draw(st.integers(0, len(sample) - 1))
-        mutated = sample[:at] + bytes([sample[at] ^ data.draw(st.integers(1, 255))]) + sample[at + 1:]
+        mutated = sample[:at] + bytes([sample[at] ^ data.draw(st.integers(1, 255))]) + sample[at + 1 :]
     elif kind == "insert":
         at = data.draw(st.integers(0, len(sample)))
         mutated = sample[:at] + data.draw(st.binary(min_size=1, max_size=8)) + sample[at:]

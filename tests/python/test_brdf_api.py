@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import numpy as np
+import patina
 import pytest
 from conftest import WIDTHS
-from reference import evaluate, hemisphere
-
-import patina
 from patina.brdf import angles_to_directions
+from reference import evaluate, hemisphere
 
 
 def test_eval_shapes_and_widths_agree_bit_for_bit(bundled_ptab):
@@ -76,7 +75,7 @@ def test_bad_arguments_are_clear(bundled_ptab, tmp_path):
         brdf.eval(np.zeros((4, 3)), np.zeros((5, 3)))
     with pytest.raises(ValueError, match="width"):
         brdf.eval(np.zeros((4, 3)), np.zeros((4, 3)), width=3)
-    with pytest.raises(ValueError, match=".ptab"):
+    with pytest.raises(ValueError, match=r"\.ptab"):
         brdf.save(tmp_path / "x.binary")
     with pytest.raises(patina.FormatError, match="cannot open"):
         patina.load_brdf(tmp_path / "missing.ptab")

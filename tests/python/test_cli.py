@@ -8,9 +8,8 @@ import subprocess
 import sys
 
 import numpy as np
-import pytest
-
 import patina
+import pytest
 from patina.cli import main
 
 PATINA = [sys.executable, "-m", "patina.cli"]
@@ -58,7 +57,7 @@ def test_bad_files_exit_2_with_a_clear_message(tmp_path, content, message):
     if content == b"":
         path = tmp_path / "empty.xyz"
     path.write_bytes(content)
-    r = subprocess.run(PATINA + ["info", str(path)], capture_output=True, text=True, env=dict(os.environ))
+    r = subprocess.run([*PATINA, "info", str(path)], check=False, capture_output=True, text=True, env=dict(os.environ))
     assert r.returncode == 2
     assert str(path) in r.stderr and message in r.stderr
     assert "Traceback" not in r.stderr

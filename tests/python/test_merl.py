@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import numpy as np
+import patina
 import pytest
 from conftest import WIDTHS
-from reference import evaluate, hemisphere
-
-import patina
 from patina.synthetic import MERL_SCALE, write_merl
+from reference import evaluate, hemisphere
 
 
 def test_layout_scales_and_knots(merl_file, merl_raw_values):

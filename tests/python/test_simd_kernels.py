@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from conftest import WIDTHS
-
 from patina import _core
 
 SPECIALS = np.array([0.0, -0.0, 1.0, -1.0, np.inf, -np.inf, np.nan, 1e-40, -1e-40, 0.5, 2.0], np.float32)
@@ -52,9 +51,19 @@ def test_patina_simd_environment_variable():
     for value, width in (("scalar", 1), ("sse4", 4), ("avx2", 8)):
         if not _core.width_supported(width):
             continue
-        r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                           env={"PATINA_SIMD": value, "PATH": "/usr/bin:/bin"})
+        r = subprocess.run(
+            [sys.executable, "-c", code],
+            check=False,
+            capture_output=True,
+            text=True,
+            env={"PATINA_SIMD": value, "PATH": "/usr/bin:/bin"},
+        )
         assert r.returncode == 0 and r.stdout.strip() == str(width), r.stderr
-    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                       env={"PATINA_SIMD": "neon", "PATH": "/usr/bin:/bin"})
+    r = subprocess.run(
+        [sys.executable, "-c", code],
+        check=False,
+        capture_output=True,
+        text=True,
+        env={"PATINA_SIMD": "neon", "PATH": "/usr/bin:/bin"},
+    )
     assert r.returncode != 0 and "PATINA_SIMD=neon" in r.stderr

@@ -39,9 +39,7 @@ def detect_format(path: str) -> str:
         return "astm"
     if ext in (".astm", ".txt", ".brdf", ".dat"):
         return "astm"
-    raise FormatError(
-        path, "", "unrecognised file: expected .ptab (Patina), MERL .binary, or ASTM E1392 text"
-    )
+    raise FormatError(path, "", "unrecognised file: expected .ptab (Patina), MERL .binary, or ASTM E1392 text")
 
 
 def table_from_data(data: TableData) -> _core.Table:

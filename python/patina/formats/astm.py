@@ -62,9 +62,7 @@ _ROW_RE = re.compile(rf"{_NUMBER}(?:(?:{_SEP}){_NUMBER})*")
 _DATA_CHARS_RE = re.compile(r"[0-9eE+.,\- \t\f\v\n]*")
 _DOUBLE_COMMA_RE = re.compile(r",[ \t\f\v]*,")
 _KEY_RE = re.compile(r"([A-Za-z_][A-Za-z0-9_.\-]*)(?:(?:[ \t\f\v]*[,=:]|[ \t\f\v])(.*))?")
-_WAVELENGTH_RE = re.compile(
-    r"(?:brdf_?|wl_?|w|lambda_?)?([0-9]+(?:\.[0-9]+)?)[ \t]*(?:_?nm)?", re.IGNORECASE
-)
+_WAVELENGTH_RE = re.compile(r"(?:brdf_?|wl_?|w|lambda_?)?([0-9]+(?:\.[0-9]+)?)[ \t]*(?:_?nm)?", re.IGNORECASE)
 _NUM_POINTS_RE = re.compile(r"[0-9]{1,15}")
 
 # Canonical angle column -> accepted names (lower case).
@@ -213,10 +211,12 @@ def _parse_header(path: str, lines: list[str]) -> _Header:
         match = _KEY_RE.fullmatch(line)
         if match is None:
             if _ROW_RE.fullmatch(line):
-                _fail(path, f"line {lineno}", "data row before any VARS line "
-                      "(missing VARS line naming the columns)")
-            _fail(path, f"line {lineno}", "expected a header line 'KEYWORD value' or "
-                  f"'VARS column names' before the data, got {_show(line)}")
+                _fail(path, f"line {lineno}", "data row before any VARS line (missing VARS line naming the columns)")
+            _fail(
+                path,
+                f"line {lineno}",
+                f"expected a header line 'KEYWORD value' or 'VARS column names' before the data, got {_show(line)}",
+            )
         key = match.group(1).upper()
         value = (match.group(2) or "").strip(_WS)
         if key == "VARS":
@@ -229,8 +229,7 @@ def _parse_header(path: str, lines: list[str]) -> _Header:
         else:
             header.keywords.append((key, value))
     if not seen_anything:
-        _fail(path, "line 1", "file is empty (expected an ASTM E1392 header, "
-              "a VARS line and data rows)")
+        _fail(path, "line 1", "file is empty (expected an ASTM E1392 header, a VARS line and data rows)")
     _fail(path, "VARS", f"missing VARS line naming the columns (file ends at line {len(lines)})")
 
 
@@ -238,8 +237,7 @@ def _set_num_points(path: str, header: _Header, lineno: int, value: str) -> None
     if header.num_points is not None:
         _fail(path, f"line {lineno}", f"second NUM_POINTS (first on line {header.num_points_line})")
     if re.fullmatch(r"[0-9]+", value) is None:
-        _fail(path, f"line {lineno}",
-              f"NUM_POINTS must be a non-negative integer, got {_show(value)}")
+        _fail(path, f"line {lineno}", f"NUM_POINTS must be a non-negative integer, got {_show(value)}")
     if _NUM_POINTS_RE.fullmatch(value) is None:
         _fail(path, f"line {lineno}", f"NUM_POINTS {_show(value)} is implausibly large")
     header.num_points = int(value)
@@ -291,8 +289,7 @@ def _classify_columns(path: str, header: _Header) -> _Columns:
     return _Columns(angles, [channel_idx[i] for i in order], kind, wavelengths)
 
 
-def _channel_kind(path: str, where: str, names: list[str]
-                  ) -> tuple[str, list[int], np.ndarray | None]:
+def _channel_kind(path: str, where: str, names: list[str]) -> tuple[str, list[int], np.ndarray | None]:
     """(channel_kind, order of the channel columns, wavelengths or None)."""
     if len(names) == 1:
         return "mono", [0], None
@@ -303,8 +300,12 @@ def _channel_kind(path: str, where: str, names: list[str]
     wavelengths = [_wavelength(name) for name in names]
     if all(w is not None for w in wavelengths):
         return _spectral_order(path, where, names, [w for w in wavelengths if w is not None])
-    _fail(path, where, f"cannot tell what the value columns {', '.join(names)} are: expected "
-          "R G B, X Y Z, a single BRDF column or wavelength columns such as 450, 450nm, brdf_450")
+    _fail(
+        path,
+        where,
+        f"cannot tell what the value columns {', '.join(names)} are: expected "
+        "R G B, X Y Z, a single BRDF column or wavelength columns such as 450, 450nm, brdf_450",
+    )
 
 
 def _wavelength(name: str) -> float | None:
@@ -312,8 +313,9 @@ def _wavelength(name: str) -> float | None:
     return float(match.group(1)) if match else None
 
 
-def _spectral_order(path: str, where: str, names: list[str], wavelengths: list[float]
-                    ) -> tuple[str, list[int], np.ndarray]:
+def _spectral_order(
+    path: str, where: str, names: list[str], wavelengths: list[float]
+) -> tuple[str, list[int], np.ndarray]:
     order = sorted(range(len(names)), key=lambda i: wavelengths[i])
     sorted_wl = np.array([wavelengths[i] for i in order], dtype=np.float64)
     if sorted_wl[0] <= 0.0:
@@ -321,8 +323,9 @@ def _spectral_order(path: str, where: str, names: list[str], wavelengths: list[f
     repeats = np.flatnonzero(np.diff(sorted_wl) <= 0.0)
     if repeats.size:
         i = int(repeats[0])
-        _fail(path, where, f"columns {_show(names[order[i]])} and {_show(names[order[i + 1]])} "
-              "give the same wavelength")
+        _fail(
+            path, where, f"columns {_show(names[order[i]])} and {_show(names[order[i + 1]])} give the same wavelength"
+        )
     return "spectral", order, sorted_wl
 
 
@@ -346,9 +349,13 @@ def _check_row_count(path: str, header: _Header, rows: list[tuple[int, str]]) ->
     if header.num_points is None or header.num_points == len(rows):
         return
     hint = " (file truncated?)" if len(rows) < header.num_points else ""
-    _fail(path, "NUM_POINTS", f"NUM_POINTS on line {header.num_points_line} announces "
-          f"{header.num_points} data rows but the file has {len(rows)} "
-          f"(last data row on line {rows[-1][0]}){hint}")
+    _fail(
+        path,
+        "NUM_POINTS",
+        f"NUM_POINTS on line {header.num_points_line} announces "
+        f"{header.num_points} data rows but the file has {len(rows)} "
+        f"(last data row on line {rows[-1][0]}){hint}",
+    )
 
 
 def _parse_rows(path: str, header: _Header, rows: list[tuple[int, str]]) -> np.ndarray:
@@ -373,8 +380,13 @@ def _has_empty_field(block: str) -> bool:
     """A comma at the start or end of a (stripped) row, or two commas in a row."""
     if "," not in block:
         return False
-    return (block.startswith(",") or block.endswith(",") or ",\n" in block or "\n," in block
-            or _DOUBLE_COMMA_RE.search(block) is not None)
+    return (
+        block.startswith(",")
+        or block.endswith(",")
+        or ",\n" in block
+        or "\n," in block
+        or _DOUBLE_COMMA_RE.search(block) is not None
+    )
 
 
 def _convert(block: str, count: int, width: int) -> np.ndarray | None:
@@ -401,8 +413,11 @@ def _explain_bad_rows(path: str, header: _Header, rows: list[tuple[int, str]]) -
             _explain_bad_row(path, header.columns, lineno, line)
         found = len(_SEP_RE.split(line))
         if found != width:
-            _fail(path, f"line {lineno}", f"expected {width} numbers (the columns named on the "
-                  f"VARS line {header.vars_line}), found {found}")
+            _fail(
+                path,
+                f"line {lineno}",
+                f"expected {width} numbers (the columns named on the VARS line {header.vars_line}), found {found}",
+            )
     _fail(path, f"line {rows[0][0]}", "malformed data rows")
 
 
@@ -430,35 +445,46 @@ def _column_label(names: list[str], index: int) -> str:
     return f"column {index + 1} (more columns than VARS names)"
 
 
-def _check_finite(path: str, names: list[str], table: np.ndarray, line_numbers: np.ndarray,
-                  rows: list[tuple[int, str]]) -> None:
+def _check_finite(
+    path: str, names: list[str], table: np.ndarray, line_numbers: np.ndarray, rows: list[tuple[int, str]]
+) -> None:
     """Numbers like 1e999 parse as inf: reject them with their line."""
     bad = ~np.isfinite(table)
     if not bad.any():
         return
     row, col = (int(i) for i in np.argwhere(bad)[0])
     token = _SEP_RE.split(rows[row][1])[col]
-    _fail(path, f"line {line_numbers[row]}",
-          f"value {_show(token)} in {_column_label(names, col)} overflows to infinity")
+    _fail(
+        path, f"line {line_numbers[row]}", f"value {_show(token)} in {_column_label(names, col)} overflows to infinity"
+    )
 
 
-def _check_channels_fit_float32(path: str, names: list[str], table: np.ndarray,
-                                channels: list[int], line_numbers: np.ndarray) -> None:
+def _check_channels_fit_float32(
+    path: str, names: list[str], table: np.ndarray, channels: list[int], line_numbers: np.ndarray
+) -> None:
     limit = float(np.finfo(np.float32).max)
     bad = np.abs(table[:, channels]) > limit
     if not bad.any():
         return
     row, k = (int(i) for i in np.argwhere(bad)[0])
     col = channels[k]
-    _fail(path, f"line {line_numbers[row]}", f"value {table[row, col]:g} in "
-          f"{_column_label(names, col)} is too large for float32")
+    _fail(
+        path,
+        f"line {line_numbers[row]}",
+        f"value {table[row, col]:g} in {_column_label(names, col)} is too large for float32",
+    )
 
 
-def _check_angle_ranges(path: str, names: list[str], table: np.ndarray,
-                        angles: dict[str, int], line_numbers: np.ndarray) -> None:
+def _check_angle_ranges(
+    path: str, names: list[str], table: np.ndarray, angles: dict[str, int], line_numbers: np.ndarray
+) -> None:
     """theta in [0, pi/2], phi in [-2 pi, 2 pi] (radians), each with ANGLE_TOL slack."""
-    limits = {"theta_i": (0.0, HALF_PI), "theta_s": (0.0, HALF_PI),
-              "phi_i": (-TWO_PI, TWO_PI), "phi_s": (-TWO_PI, TWO_PI)}
+    limits = {
+        "theta_i": (0.0, HALF_PI),
+        "theta_s": (0.0, HALF_PI),
+        "phi_i": (-TWO_PI, TWO_PI),
+        "phi_s": (-TWO_PI, TWO_PI),
+    }
     first_bad: tuple[int, int, str] | None = None
     for canon, col in angles.items():
         low, high = limits[canon]
@@ -471,8 +497,7 @@ def _check_angle_ranges(path: str, names: list[str], table: np.ndarray,
     value = table[row, col]
     span = "[0, pi/2]" if canon.startswith("theta") else "[-2 pi, 2 pi]"
     hint = " (angles must be in radians; this looks like degrees)" if abs(value) > TWO_PI else ""
-    _fail(path, f"line {line_numbers[row]}", f"{_column_label(names, col)} = {value:g} is "
-          f"outside {span}{hint}")
+    _fail(path, f"line {line_numbers[row]}", f"{_column_label(names, col)} = {value:g} is outside {span}{hint}")
 
 
 # -------------------------------------------------------------------- grid
@@ -550,8 +575,12 @@ def _grid_positions(path: str, axes: list[_Axis], line_numbers: np.ndarray) -> n
     """Flat C-order grid index of every row; raises unless each grid point occurs once."""
     for axis in axes:
         if len(axis.values) < 2:
-            _fail(path, axis.name, f"the {axis.name} axis has only one value "
-                  f"({axis.values[0]:.6g} rad); a table needs at least 2 per axis")
+            _fail(
+                path,
+                axis.name,
+                f"the {axis.name} axis has only one value "
+                f"({axis.values[0]:.6g} rad); a table needs at least 2 per axis",
+            )
     labels = np.stack([axis.labels for axis in axes], axis=1)
     order = np.lexsort(labels.T[::-1])  # stable: equal points keep file order
     ordered = labels[order]
@@ -560,14 +589,19 @@ def _grid_positions(path: str, axes: list[_Axis], line_numbers: np.ndarray) -> n
     total = math.prod(dims)
     if total != len(labels):
         missing = _first_missing(ordered, dims)
-        _fail(path, "grid", f"missing grid point {_describe(axes, missing)}: {len(labels)} rows "
-              f"for a {' x '.join(map(str, dims))} grid of {total} points; {NOT_A_GRID}")
+        _fail(
+            path,
+            "grid",
+            f"missing grid point {_describe(axes, missing)}: {len(labels)} rows "
+            f"for a {' x '.join(map(str, dims))} grid of {total} points; {NOT_A_GRID}",
+        )
     flat: np.ndarray = np.ravel_multi_index(tuple(labels.T), dims)
     return flat
 
 
-def _check_no_duplicates(path: str, axes: list[_Axis], ordered: np.ndarray, order: np.ndarray,
-                         line_numbers: np.ndarray) -> None:
+def _check_no_duplicates(
+    path: str, axes: list[_Axis], ordered: np.ndarray, order: np.ndarray, line_numbers: np.ndarray
+) -> None:
     same_as_previous = np.all(ordered[1:] == ordered[:-1], axis=1)
     if not same_as_previous.any():
         return
@@ -580,8 +614,11 @@ def _check_no_duplicates(path: str, axes: list[_Axis], ordered: np.ndarray, orde
         first -= 1
     row, earlier = int(offenders[pick]), int(order[first])
     point = tuple(int(i) for i in ordered[position])
-    _fail(path, f"line {line_numbers[row]}", f"duplicate grid point {_describe(axes, point)} "
-          f"(already given on line {line_numbers[earlier]}); {NOT_A_GRID}")
+    _fail(
+        path,
+        f"line {line_numbers[row]}",
+        f"duplicate grid point {_describe(axes, point)} (already given on line {line_numbers[earlier]}); {NOT_A_GRID}",
+    )
 
 
 def _first_missing(ordered: np.ndarray, dims: list[int]) -> tuple[int, ...]:
