@@ -19,8 +19,10 @@ struct Kernels {
     int width;
     // out[i] = op(a[i]) or op(a[i], b[i]) (atan2: a = y, b = x).
     void (*math)(MathOp op, const float* a, const float* b, float* out, size_t n);
-    // cells[i] = coherent_search(knots, count, x[i]).
+    // cells[i] = coherent_search(knots, count, x[i]), with the masked split walk (Patina's)
+    // or the thesis's sequential one.
     void (*search)(const float* knots, int count, const float* x, int32_t* cells, size_t n);
+    void (*search_thesis)(const float* knots, int count, const float* x, int32_t* cells, size_t n);
     // Evaluates pairs [begin, end) of (n, 3) arrays into out (n, channels).
     void (*eval)(const TableView& t, const float* wi, const float* wo, float* out, size_t begin, size_t end);
     // Width 1 only (nullptr otherwise): the same evaluator with the C library's acos and

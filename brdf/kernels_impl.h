@@ -71,16 +71,17 @@ void math_kernel(MathOp op, const float* a, const float* b, float* out, size_t n
     }
 }
 
+template <SplitWalk Walk>
 void search_kernel(const float* knots, int count, const float* x, int32_t* cells, size_t n) {
     enter_kernel();
     size_t i = 0;
     for (; i + W <= n; i += W)
-        store_n<W>(cells + i, coherent_search<W>(knots, count, load_n<W>(x + i), vbool<W>(true)));
+        store_n<W>(cells + i, coherent_search<W, Walk>(knots, count, load_n<W>(x + i), vbool<W>(true)));
     if (i < n) {
         float px[W] = {};
         int32_t pc[W];
         for (size_t j = i; j < n; ++j) px[j - i] = x[j];
-        store_n<W>(pc, coherent_search<W>(knots, count, load_n<W>(px), vbool<W>(true)));
+        store_n<W>(pc, coherent_search<W, Walk>(knots, count, load_n<W>(px), vbool<W>(true)));
         for (size_t j = i; j < n; ++j) cells[j] = pc[j - i];
     }
 }

@@ -5,7 +5,8 @@
 namespace patina {
 
 const Kernels& kernels_w1() {
-    static const Kernels k{1, &math_kernel, &search_kernel, &eval_kernel, &eval_libm_kernel};
+    static const Kernels k{1, &math_kernel, &search_kernel<SplitWalk::Masked>,
+                           &search_kernel<SplitWalk::Sequential>, &eval_kernel, &eval_libm_kernel};
     return k;
 }
 

@@ -5,7 +5,8 @@
 namespace patina {
 
 const Kernels& kernels_w8() {
-    static const Kernels k{8, &math_kernel, &search_kernel, &eval_kernel, nullptr};
+    static const Kernels k{8, &math_kernel, &search_kernel<SplitWalk::Masked>,
+                           &search_kernel<SplitWalk::Sequential>, &eval_kernel, nullptr};
     return k;
 }
 

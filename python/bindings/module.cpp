@@ -67,7 +67,9 @@ nb::object math(const std::string& op_name, FloatVector a, nb::object b_obj, int
     return result;
 }
 
-nb::object search(FloatVector knots, FloatVector x, int width, nb::object out_obj) {
+nb::object search(FloatVector knots, FloatVector x, int width, nb::object out_obj, const std::string& split) {
+    if (split != "masked" && split != "sequential")
+        throw std::invalid_argument("split='" + split + "': expected 'masked' or 'sequential'");
     const size_t count = knots.shape(0);
     if (count < 2) throw std::invalid_argument("an axis needs at least 2 knots");
     for (size_t j = 1; j < count; ++j)
@@ -79,7 +81,7 @@ nb::object search(FloatVector knots, FloatVector x, int width, nb::object out_ob
     nb::object result = output<IntOut>(out_obj, n, &out);
     {
         nb::gil_scoped_release release;
-        k.search(knots.data(), static_cast<int>(count), x.data(), out, n);
+        (split == "masked" ? k.search : k.search_thesis)(knots.data(), static_cast<int>(count), x.data(), out, n);
     }
     return result;
 }
@@ -108,7 +110,9 @@ NB_MODULE(_core, m) {
           "Applies a fast-math op (acos, asin, atan, atan2, sqrt, rcp, rsqrt; libc_acos, libc_atan2 "
           "for the C library baseline) to float32 arrays at the given SIMD width (0 = default).");
     m.def("search", &search, nb::arg("knots"), nb::arg("x"), nb::arg("width") = 0, nb::arg("out") = nb::none(),
-          "Coherent binary search: the cell index of each x on the knot axis.");
+          nb::arg("split") = "masked",
+          "Coherent binary search: the cell index of each x on the knot axis. split='sequential' walks "
+          "diverging lanes one branch after the other, as the thesis does; 'masked' (default) all at once.");
 
     bind_table(m);
 }

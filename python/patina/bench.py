@@ -155,13 +155,10 @@ def bench_brdf(repeat: int, quick: bool) -> list[Record]:
         th = np.arccos(np.clip(h[:, 2] / np.linalg.norm(h, axis=1), -1, 1)).astype(np.float32)
         cells = np.empty(n, np.int32)
         for w in _widths():
-            tb, tc = _median_times(
-                [
-                    functools.partial(_core.search, knots, th, width=1, out=cells),
-                    functools.partial(_core.search, knots, th, width=w, out=cells),
-                ],
-                repeat,
-            )
+            scalar = functools.partial(_core.search, knots, th, width=1, out=cells)
+            masked = functools.partial(_core.search, knots, th, width=w, out=cells)
+            thesis = functools.partial(_core.search, knots, th, width=w, out=cells, split="sequential")
+            tb, tc, tt = _median_times([scalar, masked, thesis], repeat)
             records.append(
                 Record(
                     f"brdf.search{label}.w{w}",
@@ -169,6 +166,16 @@ def bench_brdf(repeat: int, quick: bool) -> list[Record]:
                     "binary search width 1",
                     tb / tc,
                     n / tc / 1e6,
+                    "Msearches/s",
+                )
+            )
+            records.append(
+                Record(
+                    f"brdf.search{label}.thesis.w{w}",
+                    f"coherent search width {w}, sequential split walk (thesis)",
+                    "binary search width 1",
+                    tb / tt,
+                    n / tt / 1e6,
                     "Msearches/s",
                 )
             )

@@ -344,13 +344,15 @@ TEST(Eval, SearchFindsTheCell) {
     for (int i = 0; i < 10000; ++i) xs.push_back(float(i) / 10000 * 1.6f);  // coherent
     for (int w : {1, 4, 8}) {
         if (!width_supported(w)) continue;
-        std::vector<int32_t> cells(xs.size(), -5);
-        kernels_for(w).search(knots.data(), int(knots.size()), xs.data(), cells.data(), xs.size());
-        for (size_t i = 0; i < xs.size(); ++i) {
-            int want = int(std::upper_bound(knots.begin(), knots.end(), xs[i]) - knots.begin()) - 1;
-            want = std::clamp(want, 0, int(knots.size()) - 2);
-            if (std::isnan(xs[i])) want = 0;
-            ASSERT_EQ(cells[i], want) << "width " << w << " x=" << xs[i];
+        for (auto search : {kernels_for(w).search, kernels_for(w).search_thesis}) {
+            std::vector<int32_t> cells(xs.size(), -5);
+            search(knots.data(), int(knots.size()), xs.data(), cells.data(), xs.size());
+            for (size_t i = 0; i < xs.size(); ++i) {
+                int want = int(std::upper_bound(knots.begin(), knots.end(), xs[i]) - knots.begin()) - 1;
+                want = std::clamp(want, 0, int(knots.size()) - 2);
+                if (std::isnan(xs[i])) want = 0;
+                ASSERT_EQ(cells[i], want) << "width " << w << " x=" << xs[i];
+            }
         }
     }
 }

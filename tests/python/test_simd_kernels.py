@@ -39,6 +39,7 @@ def test_search_matches_searchsorted():
     want[np.isnan(x)] = 0
     for w in WIDTHS:
         np.testing.assert_array_equal(_core.search(knots, x, width=w), want)
+        np.testing.assert_array_equal(_core.search(knots, x, width=w, split="sequential"), want)
     with pytest.raises(ValueError, match="increasing"):
         _core.search(knots[::-1].copy(), x)
 
