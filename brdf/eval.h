@@ -59,7 +59,11 @@ PATINA_INLINE vfloat<N> acos_clamped(vfloat<N> c) {
 }
 
 // Rusinkiewicz half/difference angles, computed without forward trigonometry:
-// the rotations that take the half vector to the pole use cos/sin read off h itself.
+// rotating wi by -phi_h about z and by -theta_h about y takes cos/sin of both angles
+// straight from h. phi_d = atan2(ty, dx) of the rotated wi; both arguments carry a
+// factor 1/sin(theta_h) that atan2 ignores, so they are used scaled by sin(theta_h):
+// no division and no square root for it. At the pole (h = n) phi_h is taken as 0,
+// as the MERL reference code does.
 template <int N, class Trig>
 PATINA_INLINE void halfdiff_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t symmetry, vfloat<N>* coord) {
     using F = vfloat<N>;
@@ -70,15 +74,11 @@ PATINA_INLINE void halfdiff_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t 
     hz = hz * inv_len;
     coord[0] = acos_clamped<N, Trig>(hz);
     coord[1] = acos_clamped<N, Trig>(wi.x * hx + wi.y * hy + wi.z * hz);
-    const F r = sqrt_exact(hx * hx + hy * hy);  // sin(theta_h)
-    const vbool<N> tilted = r > F(1e-7f);
-    const F inv_r = F(1.0f) / select(tilted, r, F(1.0f));
-    const F cos_phi_h = select(tilted, hx * inv_r, F(1.0f));
-    const F sin_phi_h = select(tilted, hy * inv_r, F(0.0f));
-    const F tx = cos_phi_h * wi.x + sin_phi_h * wi.y;  // rotate by -phi_h about z
-    const F ty = cos_phi_h * wi.y - sin_phi_h * wi.x;
-    const F dx = hz * tx - r * wi.z;  // rotate by -theta_h about y
-    F phi_d = Trig::atan2(ty, dx);
+    const F r2 = hx * hx + hy * hy;  // sin^2(theta_h)
+    const vbool<N> tilted = r2 > F(1e-14f);
+    const F y = select(tilted, hx * wi.y - hy * wi.x, wi.y);
+    const F x = select(tilted, hz * (hx * wi.x + hy * wi.y) - r2 * wi.z, hz * wi.x);
+    F phi_d = Trig::atan2(y, x);
     if (symmetry & kSymReciprocity) phi_d = select(phi_d < F(0.0f), phi_d + F(kPi), phi_d);
     if (symmetry & kSymPhiMirror) {
         phi_d = abs(phi_d);
