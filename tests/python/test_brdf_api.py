@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import numpy as np
-import patina
 import pytest
+
+import patina
 from conftest import WIDTHS
 from patina.brdf import angles_to_directions
 from reference import evaluate, hemisphere

@@ -8,8 +8,9 @@ import subprocess
 import sys
 
 import numpy as np
-import patina
 import pytest
+
+import patina
 from patina.cli import main
 
 PATINA = [sys.executable, "-m", "patina.cli"]

@@ -6,9 +6,10 @@ import os
 import tempfile
 
 import numpy as np
-import patina
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+
+import patina
 
 SETTINGS = settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 
