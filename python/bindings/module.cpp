@@ -115,4 +115,5 @@ NB_MODULE(_core, m) {
           "diverging lanes one branch after the other, as the thesis does; 'masked' (default) all at once.");
 
     bind_table(m);
+    bind_accel(m);
 }

@@ -1,0 +1,142 @@
+// patina._core.Accel: a kd-tree over triangles and its packet ray tracer.
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
+#include <nanobind/stl/unique_ptr.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "bindings.h"
+#include "render/accel/kdtree.h"
+#include "render/accel/trace_kernels.h"
+
+namespace nb = nanobind;
+
+namespace patina_py {
+namespace {
+
+using Vertices = nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+using Indices = nb::ndarray<const int32_t, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+using Rays3 = nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+using FloatVector = nb::ndarray<const float, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+
+struct Accel {
+    patina::KdTree tree;
+};
+
+std::unique_ptr<Accel> make_accel(Vertices vertices, Indices indices, int max_leaf, int max_depth, int threads) {
+    const size_t nv = vertices.shape(0), nt = indices.shape(0);
+    const float* v = vertices.data();
+    for (size_t i = 0; i < 3 * nv; ++i)
+        if (!std::isfinite(v[i]))
+            throw std::invalid_argument("vertex " + std::to_string(i / 3) + " is not finite");
+    const int32_t* f = indices.data();
+    for (size_t i = 0; i < 3 * nt; ++i)
+        if (f[i] < 0 || static_cast<size_t>(f[i]) >= nv)
+            throw std::invalid_argument("triangle " + std::to_string(i / 3) + " refers to vertex " +
+                                        std::to_string(f[i]) + ", the mesh has " + std::to_string(nv));
+    if (nt >= (size_t(1) << 30)) throw std::invalid_argument("more than 2^30 triangles");
+    patina::KdBuildOptions opt;
+    if (max_leaf > 0) opt.max_leaf = max_leaf;
+    if (max_depth > 0) opt.max_depth = std::min(max_depth, 100);
+    opt.threads = threads;
+    auto accel = std::make_unique<Accel>();
+    {
+        nb::gil_scoped_release release;
+        accel->tree = patina::build_kdtree(v, nv, f, nt, opt);
+    }
+    return accel;
+}
+
+patina::RayBatch ray_batch(Rays3 origins, Rays3 directions, float tmin, nb::object tmax) {
+    const size_t n = origins.shape(0);
+    if (directions.shape(0) != n)
+        throw std::invalid_argument("origins has " + std::to_string(n) + " rows but directions has " +
+                                    std::to_string(directions.shape(0)));
+    if (!(tmin >= 0.0f) || !std::isfinite(tmin)) throw std::invalid_argument("tmin must be finite and >= 0");
+    patina::RayBatch rays{origins.data(), directions.data(), tmin, nullptr, std::numeric_limits<float>::infinity()};
+    if (!tmax.is_none()) {
+        if (nb::isinstance<nb::float_>(tmax) || nb::isinstance<nb::int_>(tmax)) {
+            rays.tmax_all = nb::cast<float>(tmax);
+            if (std::isnan(rays.tmax_all)) throw std::invalid_argument("tmax is NaN");
+        } else {
+            auto arr = nb::cast<FloatVector>(tmax);
+            if (arr.shape(0) != n) throw std::invalid_argument("tmax must hold one value per ray");
+            rays.tmax = arr.data();
+        }
+    }
+    const size_t bad = patina::first_invalid_ray(rays, n);
+    if (bad < n)
+        throw std::invalid_argument("ray " + std::to_string(bad) +
+                                    ": origin and direction must be finite, the direction non-zero, tmax not NaN");
+    return rays;
+}
+
+nb::tuple intersect(const Accel& a, Rays3 origins, Rays3 directions, float tmin, nb::object tmax, int width,
+                    int threads) {
+    // keep a converted tmax array alive for the duration of the call
+    nb::object tmax_arr = tmax;
+    if (!tmax.is_none() && !nb::isinstance<nb::float_>(tmax) && !nb::isinstance<nb::int_>(tmax))
+        tmax_arr = nb::cast(nb::cast<FloatVector>(tmax));
+    const patina::RayBatch rays = ray_batch(origins, directions, tmin, tmax_arr);
+    const size_t n = origins.shape(0);
+    float *t, *u, *v, *normal;
+    int32_t* prim;
+    auto t_arr = new_array<float, 1>({n}, &t);
+    auto u_arr = new_array<float, 1>({n}, &u);
+    auto v_arr = new_array<float, 1>({n}, &v);
+    auto prim_arr = new_array<int32_t, 1>({n}, &prim);
+    const size_t shape[2] = {n, 3};
+    auto normal_arr = new_array<float, 2>(shape, &normal);
+    {
+        nb::gil_scoped_release release;
+        patina::trace_intersect(a.tree, rays, patina::HitBatch{t, prim, u, v}, n, width, threads);
+        patina::hit_normals(a.tree, prim, normal, n);
+    }
+    return nb::make_tuple(t_arr, prim_arr, u_arr, v_arr, normal_arr);
+}
+
+nb::object occluded(const Accel& a, Rays3 origins, Rays3 directions, nb::object tmax, float tmin, int width,
+                    int threads) {
+    nb::object tmax_arr = tmax;
+    if (!tmax.is_none() && !nb::isinstance<nb::float_>(tmax) && !nb::isinstance<nb::int_>(tmax))
+        tmax_arr = nb::cast(nb::cast<FloatVector>(tmax));
+    const patina::RayBatch rays = ray_batch(origins, directions, tmin, tmax_arr);
+    const size_t n = origins.shape(0);
+    bool* out;
+    auto result = new_array<bool, 1>({n}, &out);
+    static_assert(sizeof(bool) == sizeof(uint8_t), "bool arrays are written as bytes");
+    {
+        nb::gil_scoped_release release;
+        patina::trace_occluded(a.tree, rays, reinterpret_cast<uint8_t*>(out), n, width, threads);
+    }
+    return nb::cast(result);
+}
+
+}  // namespace
+
+void bind_accel(nb::module_& m) {
+    nb::class_<Accel>(m, "Accel", "A SAH kd-tree over triangles with single-ray and 4/8-ray packet traversal.")
+        .def(nb::new_(&make_accel), nb::arg("vertices"), nb::arg("indices"), nb::arg("max_leaf") = 0,
+             nb::arg("max_depth") = 0, nb::arg("threads") = 0,
+             "Builds the tree from float32 (V, 3) vertices and int32 (T, 3) indices; 0 means the default.")
+        .def_prop_ro("triangle_count", [](const Accel& a) { return a.tree.triangle_count(); })
+        .def_prop_ro("node_count", [](const Accel& a) { return a.tree.nodes.size(); })
+        .def_prop_ro("leaf_count", [](const Accel& a) { return a.tree.stats.leaves; })
+        .def_prop_ro("empty_leaf_count", [](const Accel& a) { return a.tree.stats.empty_leaves; })
+        .def_prop_ro("leaf_references", [](const Accel& a) { return a.tree.stats.leaf_refs; })
+        .def_prop_ro("depth", [](const Accel& a) { return a.tree.stats.depth; })
+        .def_prop_ro("build_seconds", [](const Accel& a) { return a.tree.stats.build_seconds; })
+        .def("intersect", &intersect, nb::arg("origins"), nb::arg("directions"), nb::arg("tmin") = 0.0f,
+             nb::arg("tmax") = nb::none(), nb::arg("width") = 0, nb::arg("threads") = 0,
+             "Closest hits: (t, prim, u, v, normal); t = inf and prim = -1 on a miss. Rays [i, i + width) "
+             "form one packet.")
+        .def("occluded", &occluded, nb::arg("origins"), nb::arg("directions"), nb::arg("tmax") = nb::none(),
+             nb::arg("tmin") = 0.0f, nb::arg("width") = 0, nb::arg("threads") = 0,
+             "True where something is hit with tmin < t < tmax.");
+}
+
+}  // namespace patina_py

@@ -1,0 +1,340 @@
+// SAH kd-tree construction in O(N log N) (Wald and Havran, "On building fast
+// kd-trees for ray tracing, and on doing that in O(N log N)", 2006).
+//
+// Every node keeps, per axis, its triangles' bound events (start, end, or planar for
+// flat bounds) sorted by position. One sweep per axis evaluates the SAH at every
+// event; the chosen split then divides the lists in order. Only triangles that
+// straddle the plane are clipped to each child's box ("perfect splits") and get new
+// events, which are sorted (few) and merged in, so no list is ever sorted again.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <future>
+#include <limits>
+#include <thread>
+
+#include "render/accel/kdtree.h"
+
+namespace patina {
+
+float Box3::area() const {
+    const float dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+    return 2.0f * (dx * dy + dy * dz + dz * dx);
+}
+
+namespace {
+
+enum EventType : uint8_t { kEnd = 0, kPlanar = 1, kStart = 2 };
+
+struct Event {
+    float pos;
+    uint32_t tri;
+    uint8_t type;
+};
+
+bool operator<(const Event& a, const Event& b) { return a.pos < b.pos || (a.pos == b.pos && a.type < b.type); }
+
+struct NodeEvents {
+    std::vector<Event> axis[3];
+};
+
+enum Side : uint8_t { kBoth = 0, kLeftOnly = 1, kRightOnly = 2 };
+
+struct Split {
+    int axis = -1;
+    float pos = 0;
+    bool planar_left = true;
+    float cost = std::numeric_limits<float>::infinity();
+};
+
+// Bounds of the part of triangle t inside `box` (Sutherland-Hodgman in double);
+// false if nothing of it is inside.
+bool clipped_bounds(const float* t, const Box3& box, Box3& out) {
+    double poly[2][16][3];
+    int n = 3;
+    for (int v = 0; v < 3; ++v)
+        for (int a = 0; a < 3; ++a) poly[0][v][a] = t[3 * v + a];
+    int cur = 0;
+    for (int a = 0; a < 3 && n > 0; ++a) {
+        for (int upper = 0; upper < 2 && n > 0; ++upper) {
+            const double plane = upper ? box.hi[a] : box.lo[a];
+            auto inside = [&](const double* p) { return upper ? p[a] <= plane : p[a] >= plane; };
+            double(*src)[3] = poly[cur];
+            double(*dst)[3] = poly[1 - cur];
+            int m = 0;
+            for (int i = 0; i < n; ++i) {
+                const double* p = src[i];
+                const double* q = src[(i + 1) % n];
+                const bool pin = inside(p), qin = inside(q);
+                if (pin) {
+                    for (int c = 0; c < 3; ++c) dst[m][c] = p[c];
+                    ++m;
+                }
+                if (pin != qin) {
+                    const double s = (plane - p[a]) / (q[a] - p[a]);
+                    for (int c = 0; c < 3; ++c) dst[m][c] = p[c] + s * (q[c] - p[c]);
+                    dst[m][a] = plane;
+                    ++m;
+                }
+            }
+            n = m;
+            cur = 1 - cur;
+        }
+    }
+    if (n == 0) return false;
+    for (int a = 0; a < 3; ++a) {
+        double lo = poly[cur][0][a], hi = lo;
+        for (int i = 1; i < n; ++i) {
+            lo = std::min(lo, poly[cur][i][a]);
+            hi = std::max(hi, poly[cur][i][a]);
+        }
+        // round outwards, then keep inside the box
+        out.lo[a] = std::max(box.lo[a], std::nextafter(static_cast<float>(lo), -std::numeric_limits<float>::infinity()));
+        out.hi[a] = std::min(box.hi[a], std::nextafter(static_cast<float>(hi), std::numeric_limits<float>::infinity()));
+        if (out.lo[a] > out.hi[a]) return false;
+    }
+    return true;
+}
+
+void add_events(uint32_t tri, const Box3& b, NodeEvents& ev) {
+    for (int a = 0; a < 3; ++a) {
+        if (b.lo[a] == b.hi[a]) {
+            ev.axis[a].push_back({b.lo[a], tri, kPlanar});
+        } else {
+            ev.axis[a].push_back({b.lo[a], tri, kStart});
+            ev.axis[a].push_back({b.hi[a], tri, kEnd});
+        }
+    }
+}
+
+class Builder {
+public:
+    Builder(const std::vector<float>& triangles, const KdBuildOptions& opt, int max_depth)
+        : m_tris(triangles), m_opt(opt), m_max_depth(max_depth), m_side(triangles.size() / 9, kBoth) {}
+
+    std::vector<KdNode> nodes;
+    std::vector<uint32_t> leaf_prims;
+    KdTreeStats stats;
+
+    // Builds the subtree of a node into `nodes` and returns its index. `parallel_depth`
+    // > 0 builds the two children in parallel (each in its own Builder), then splices.
+    uint32_t build(const Box3& box, NodeEvents& ev, size_t n, int depth, int parallel_depth) {
+        stats.depth = std::max(stats.depth, depth);
+        const uint32_t index = static_cast<uint32_t>(nodes.size());
+        nodes.push_back(KdNode{});
+        const Split split = (n <= static_cast<size_t>(m_opt.max_leaf) || depth >= m_max_depth)
+                                ? Split{}
+                                : find_split(ev, box, n);
+        if (split.axis < 0 || !(split.cost < m_opt.intersection_cost * static_cast<float>(n))) {
+            make_leaf(index, ev, n);
+            return index;
+        }
+        Box3 left_box = box, right_box = box;
+        left_box.hi[split.axis] = split.pos;
+        right_box.lo[split.axis] = split.pos;
+        NodeEvents left_ev, right_ev;
+        size_t nl = 0, nr = 0;
+        distribute(ev, split, left_box, right_box, left_ev, right_ev, nl, nr);
+        ev = NodeEvents{};  // free the parent's lists before going deeper
+        nodes[index].split = split.pos;
+        ++stats.nodes;
+
+        uint32_t above;
+        if (parallel_depth > 0 && nl + nr > 20000) {
+            Builder right(m_tris, m_opt, m_max_depth);
+            auto future = std::async(std::launch::async, [&] {
+                right.build(right_box, right_ev, nr, depth + 1, parallel_depth - 1);
+            });
+            build(left_box, left_ev, nl, depth + 1, parallel_depth - 1);
+            future.get();
+            above = splice(right);
+        } else {
+            build(left_box, left_ev, nl, depth + 1, parallel_depth - 1);
+            above = build(right_box, right_ev, nr, depth + 1, parallel_depth - 1);
+        }
+        nodes[index].bits = (above << 2) | static_cast<uint32_t>(split.axis);
+        return index;
+    }
+
+private:
+    const std::vector<float>& m_tris;
+    const KdBuildOptions& m_opt;
+    int m_max_depth;
+    std::vector<uint8_t> m_side;  // scratch, per triangle
+
+    float sah(const Box3& box, float inv_area, int axis, float pos, size_t nl, size_t nr) const {
+        Box3 l = box, r = box;
+        l.hi[axis] = pos;
+        r.lo[axis] = pos;
+        float cost = m_opt.traversal_cost + m_opt.intersection_cost * inv_area *
+                                                (l.area() * static_cast<float>(nl) + r.area() * static_cast<float>(nr));
+        if (nl == 0 || nr == 0) cost *= 1.0f - m_opt.empty_bonus;
+        return cost;
+    }
+
+    Split find_split(const NodeEvents& ev, const Box3& box, size_t n) const {
+        Split best;
+        const float area = box.area();
+        if (!(area > 0.0f)) return best;
+        const float inv_area = 1.0f / area;
+        for (int a = 0; a < 3; ++a) {
+            const std::vector<Event>& e = ev.axis[a];
+            size_t nl = 0, nr = n;
+            for (size_t i = 0; i < e.size();) {
+                const float p = e[i].pos;
+                size_t ends = 0, planars = 0, starts = 0;
+                for (; i < e.size() && e[i].pos == p && e[i].type == kEnd; ++i) ++ends;
+                for (; i < e.size() && e[i].pos == p && e[i].type == kPlanar; ++i) ++planars;
+                for (; i < e.size() && e[i].pos == p && e[i].type == kStart; ++i) ++starts;
+                nr -= planars + ends;
+                if (p > box.lo[a] && p < box.hi[a]) {
+                    const float with_left = sah(box, inv_area, a, p, nl + planars, nr);
+                    const float with_right = sah(box, inv_area, a, p, nl, nr + planars);
+                    if (with_left < best.cost) best = Split{a, p, true, with_left};
+                    if (with_right < best.cost) best = Split{a, p, false, with_right};
+                }
+                nl += starts + planars;
+            }
+        }
+        return best;
+    }
+
+    void make_leaf(uint32_t index, const NodeEvents& ev, size_t n) {
+        KdNode& node = nodes[index];
+        node.first = static_cast<uint32_t>(leaf_prims.size());
+        node.bits = (static_cast<uint32_t>(n) << 2) | 3u;
+        for (const Event& e : ev.axis[0])
+            if (e.type != kEnd) leaf_prims.push_back(e.tri);
+        ++stats.leaves;
+        if (n == 0) ++stats.empty_leaves;
+        stats.leaf_refs += n;
+    }
+
+    void distribute(const NodeEvents& ev, const Split& s, const Box3& left_box, const Box3& right_box,
+                    NodeEvents& left, NodeEvents& right, size_t& nl, size_t& nr) {
+        const std::vector<Event>& e = ev.axis[s.axis];
+        for (const Event& x : e) m_side[x.tri] = kBoth;
+        for (const Event& x : e) {
+            if (x.type == kEnd && x.pos <= s.pos) m_side[x.tri] = kLeftOnly;
+            else if (x.type == kStart && x.pos >= s.pos) m_side[x.tri] = kRightOnly;
+            else if (x.type == kPlanar) {
+                if (x.pos < s.pos || (x.pos == s.pos && s.planar_left)) m_side[x.tri] = kLeftOnly;
+                else m_side[x.tri] = kRightOnly;
+            }
+        }
+        // straddling triangles, clipped to each side
+        NodeEvents left_new, right_new;
+        nl = nr = 0;
+        for (const Event& x : e) {
+            if (x.type == kEnd) continue;  // one visit per triangle
+            const uint8_t side = m_side[x.tri];
+            if (side == kLeftOnly) ++nl;
+            else if (side == kRightOnly) ++nr;
+            else {
+                Box3 b;
+                const float* t = &m_tris[9 * size_t(x.tri)];
+                if (clipped_bounds(t, left_box, b)) {
+                    add_events(x.tri, b, left_new);
+                    ++nl;
+                }
+                if (clipped_bounds(t, right_box, b)) {
+                    add_events(x.tri, b, right_new);
+                    ++nr;
+                }
+            }
+        }
+        for (int a = 0; a < 3; ++a) {
+            std::vector<Event>& l = left.axis[a];
+            std::vector<Event>& r = right.axis[a];
+            l.reserve(ev.axis[a].size() / 2 + left_new.axis[a].size());
+            r.reserve(ev.axis[a].size() / 2 + right_new.axis[a].size());
+            for (const Event& x : ev.axis[a]) {
+                if (m_side[x.tri] == kLeftOnly) l.push_back(x);
+                else if (m_side[x.tri] == kRightOnly) r.push_back(x);
+            }
+            merge_in(l, left_new.axis[a]);
+            merge_in(r, right_new.axis[a]);
+        }
+    }
+
+    static void merge_in(std::vector<Event>& sorted, std::vector<Event>& extra) {
+        if (extra.empty()) return;
+        std::sort(extra.begin(), extra.end());
+        const size_t mid = sorted.size();
+        sorted.insert(sorted.end(), extra.begin(), extra.end());
+        std::inplace_merge(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(mid), sorted.end());
+    }
+
+    // Appends another builder's subtree; returns the index of its root here.
+    uint32_t splice(const Builder& other) {
+        const uint32_t node_offset = static_cast<uint32_t>(nodes.size());
+        const uint32_t prim_offset = static_cast<uint32_t>(leaf_prims.size());
+        for (KdNode n : other.nodes) {
+            if (n.is_leaf()) n.first += prim_offset;
+            else n.bits = ((n.above() + node_offset) << 2) | (n.bits & 3u);
+            nodes.push_back(n);
+        }
+        leaf_prims.insert(leaf_prims.end(), other.leaf_prims.begin(), other.leaf_prims.end());
+        stats.nodes += other.stats.nodes;
+        stats.leaves += other.stats.leaves;
+        stats.empty_leaves += other.stats.empty_leaves;
+        stats.leaf_refs += other.stats.leaf_refs;
+        stats.depth = std::max(stats.depth, other.stats.depth);
+        return node_offset;
+    }
+};
+
+}  // namespace
+
+KdTree build_kdtree(const float* vertices, size_t vertex_count, const int32_t* indices, size_t triangle_count,
+                    const KdBuildOptions& options) {
+    (void)vertex_count;
+    const auto start = std::chrono::steady_clock::now();
+    KdTree tree;
+    tree.triangles.resize(9 * triangle_count);
+    for (size_t t = 0; t < triangle_count; ++t)
+        for (int v = 0; v < 3; ++v)
+            for (int a = 0; a < 3; ++a)
+                tree.triangles[9 * t + 3 * v + a] = vertices[3 * size_t(indices[3 * t + v]) + a];
+
+    Box3& bounds = tree.bounds;
+    for (int a = 0; a < 3; ++a) {
+        bounds.lo[a] = std::numeric_limits<float>::infinity();
+        bounds.hi[a] = -std::numeric_limits<float>::infinity();
+    }
+    NodeEvents root;
+    for (int a = 0; a < 3; ++a) root.axis[a].reserve(2 * triangle_count);
+    for (size_t t = 0; t < triangle_count; ++t) {
+        Box3 b;
+        const float* v = &tree.triangles[9 * t];
+        for (int a = 0; a < 3; ++a) {
+            b.lo[a] = std::min({v[a], v[3 + a], v[6 + a]});
+            b.hi[a] = std::max({v[a], v[3 + a], v[6 + a]});
+            bounds.lo[a] = std::min(bounds.lo[a], b.lo[a]);
+            bounds.hi[a] = std::max(bounds.hi[a], b.hi[a]);
+        }
+        add_events(static_cast<uint32_t>(t), b, root);
+    }
+    if (triangle_count == 0) bounds = Box3{};
+    for (int a = 0; a < 3; ++a) std::sort(root.axis[a].begin(), root.axis[a].end());
+
+    KdBuildOptions opt = options;
+    opt.max_leaf = std::max(opt.max_leaf, 1);
+    int max_depth = opt.max_depth;
+    if (max_depth <= 0)
+        max_depth = std::min(64, static_cast<int>(std::lround(8 + 1.3 * std::log2(std::max<size_t>(triangle_count, 1)))));
+    const int threads = opt.threads > 0 ? opt.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    int parallel_depth = 0;
+    while ((1 << parallel_depth) < threads) ++parallel_depth;
+
+    Builder builder(tree.triangles, opt, max_depth);
+    builder.build(bounds, root, triangle_count, 0, parallel_depth);
+    tree.nodes = std::move(builder.nodes);
+    tree.leaf_prims = std::move(builder.leaf_prims);
+    tree.stats = builder.stats;
+    tree.stats.nodes = tree.nodes.size();
+    tree.stats.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return tree;
+}
+
+}  // namespace patina

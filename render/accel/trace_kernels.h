@@ -1,0 +1,48 @@
+// Run-time dispatch to the ray-tracing kernels compiled for each packet width
+// (trace_w1.cpp, trace_w4.cpp with -msse4.1, trace_w8.cpp with -mavx2 -mfma).
+// Rays [i, i + K) of the input arrays form one packet, so the caller's ray order
+// decides how coherent packets are.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "render/accel/kdtree.h"
+
+namespace patina {
+
+struct RayBatch {
+    const float* origins;     // n x 3
+    const float* directions;  // n x 3, not necessarily normalised (t is in units of |d|)
+    float tmin;
+    const float* tmax;  // n values, or nullptr to use tmax_all
+    float tmax_all;
+};
+
+struct HitBatch {
+    float* t;        // n; tmax (inf by default) where nothing is hit
+    int32_t* prim;   // n; -1 where nothing is hit
+    float* u;        // n; barycentric weight of v1
+    float* v;        // n; barycentric weight of v2
+};
+
+struct TraceKernels {
+    int width;
+    void (*intersect)(const KdTree& tree, const RayBatch& rays, const HitBatch& hits, size_t begin, size_t end);
+    void (*occluded)(const KdTree& tree, const RayBatch& rays, uint8_t* blocked, size_t begin, size_t end);
+};
+
+const TraceKernels& trace_kernels_w1();
+const TraceKernels& trace_kernels_w4();
+const TraceKernels& trace_kernels_w8();
+const TraceKernels& trace_kernels_for(int width);  // 0 = default; throws std::invalid_argument
+
+// Index of the first ray with a non-finite origin or a zero / non-finite direction, or n.
+size_t first_invalid_ray(const RayBatch& rays, size_t n);
+
+// Batches split over threads (0 = all). Unit geometric normals of the hits: n x 3.
+void trace_intersect(const KdTree& tree, const RayBatch& rays, const HitBatch& hits, size_t n, int width, int threads);
+void trace_occluded(const KdTree& tree, const RayBatch& rays, uint8_t* blocked, size_t n, int width, int threads);
+void hit_normals(const KdTree& tree, const int32_t* prim, float* normals, size_t n);
+
+}  // namespace patina

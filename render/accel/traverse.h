@@ -1,0 +1,240 @@
+// kd-tree traversal for K rays at once, written once for K = 1 (single rays), 4 and 8
+// (thesis, ch. 1: four-ray tracing). A packet walks the tree together with an
+// active-lane mask. At an interior node each lane classifies the children (near only,
+// far only, both); when all lanes agree one child is visited, otherwise both are,
+// each with the lanes that need it (the other lanes masked off), nearer child first
+// for most lanes. A packet reduced to one active lane continues as a single ray.
+//
+// Robustness: (plane - origin) / direction is rounded, and perfect splits make cells
+// far thinner than that rounding near shared vertices, so each plane distance is
+// widened by a margin proportional to its operands' magnitudes. Cells are then
+// entered conservatively (a ray through a vertex on a cell corner visits the cell);
+// the triangle test, not the cell interval, decides the hits.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+
+#include "render/accel/kdtree.h"
+#include "render/accel/triangle_test.h"
+
+PATINA_BEGIN_TARGET
+
+struct TreeView {
+    const KdNode* nodes;
+    const uint32_t* leaf_prims;
+    const float* triangles;
+    Box3 bounds;
+    int depth;
+};
+
+namespace traverse_detail {
+constexpr int kStackSize = 128;
+// Relative margin on plane distances: 16 float ulps of the operands' magnitudes.
+constexpr float kPlaneMargin = 16.0f / (1 << 23);
+
+// Distance along the rays to the plane x[a] = p, and its rounding margin.
+template <int K>
+PATINA_INLINE vfloat<K> plane_distance(const RayPacket<K>& r, int a, vfloat<K> p, vfloat<K>& margin) {
+    margin = (abs(p) + abs(r.org[a])) * r.margin_scale[a] * vfloat<K>(kPlaneMargin);
+    return (p - r.org[a]) * r.inv_dir[a];
+}
+
+template <int K>
+struct Entry {
+    uint32_t node;
+    vfloat<K> tmin, tmax;  // lanes that do not visit the node have tmin > tmax
+};
+
+// Clips the rays to the scene box (slab test); lanes that miss it get tmin > tmax.
+template <int K>
+PATINA_INLINE void clip_to_box(const RayPacket<K>& r, const Box3& b, vfloat<K>& t0, vfloat<K>& t1) {
+    using F = vfloat<K>;
+    t0 = r.tmin;
+    t1 = r.tmax;
+    for (int a = 0; a < 3; ++a) {
+        F mlo, mhi;
+        const F lo = plane_distance<K>(r, a, F(b.lo[a]), mlo);
+        const F hi = plane_distance<K>(r, a, F(b.hi[a]), mhi);
+        const F margin = max(mlo, mhi);
+        // min/max pick the non-NaN operand second, so a ray in the slab plane keeps its interval
+        t0 = max(min(lo, hi) - margin, t0);
+        t1 = min(max(lo, hi) + margin, t1);
+    }
+}
+
+template <int K>
+PATINA_INLINE int active_count(vbool<K> m) {
+    if constexpr (K == 1) return m ? 1 : 0;
+    else return __builtin_popcount(static_cast<unsigned>(movemask(m)));
+}
+
+// The mask with only lane j set.
+template <int K>
+PATINA_INLINE vbool<K> lane_mask(int j) {
+    alignas(32) int32_t m[K] = {};
+    m[j] = 1;
+    return vint<K>::load(m) == vint<K>(1);
+}
+
+template <int K>
+PATINA_INLINE RayPacket<1> extract_lane(const RayPacket<K>& r, int j) {
+    RayPacket<1> s;
+    for (int a = 0; a < 3; ++a) {
+        s.org[a] = lane(r.org[a], j);
+        s.dir[a] = lane(r.dir[a], j);
+        s.inv_dir[a] = lane(r.inv_dir[a], j);
+        s.margin_scale[a] = lane(r.margin_scale[a], j);
+    }
+    s.tmin = lane(r.tmin, j);
+    s.tmax = lane(r.tmax, j);
+    s.kx = lane(r.kx, j);
+    s.ky = lane(r.ky, j);
+    s.kz = lane(r.kz, j);
+    s.sx = lane(r.sx, j);
+    s.sy = lane(r.sy, j);
+    s.sz = lane(r.sz, j);
+    s.uniform_axes = true;
+    s.ukx = s.kx;
+    s.uky = s.ky;
+    s.ukz = s.kz;
+    return s;
+}
+}  // namespace traverse_detail
+
+// Walks the subtree at `root` for the lanes whose [t0, t1] is not empty. Closest hit:
+// updates `hit` (hit.t starts at the rays' tmax). Any hit (kAnyHit): returns the lanes
+// that hit something in (tmin, tmax) and stops as soon as all active lanes have.
+template <int K, bool kAnyHit>
+inline vbool<K> traverse_from(const TreeView& tree, const RayPacket<K>& r, uint32_t root, vfloat<K> t0, vfloat<K> t1,
+                              HitPacket<K>& hit) {
+    using F = vfloat<K>;
+    using B = vbool<K>;
+    using namespace traverse_detail;
+    const F inf(std::numeric_limits<float>::infinity());
+    Entry<K> stack[kStackSize];
+    int top = 0;
+    B occluded(false);
+    uint32_t index = root;
+    for (;;) {
+        B active = (t0 <= t1) & (t0 <= hit.t);
+        if (kAnyHit) active = andnot(occluded, active);
+        if constexpr (K > 1) {
+            if (active_count<K>(active) == 1) {
+                // one lane left: it continues alone, with the scalar path's arithmetic
+                const int j = __builtin_ctz(static_cast<unsigned>(movemask(active)));
+                const RayPacket<1> single = extract_lane<K>(r, j);
+                HitPacket<1> h{lane(hit.t, j), lane(hit.u, j), lane(hit.v, j), lane(hit.prim, j)};
+                const bool blocked = traverse_from<1, kAnyHit>(tree, single, index, lane(t0, j), lane(t1, j), h);
+                if (kAnyHit) {
+                    if (blocked) occluded = occluded | lane_mask<K>(j);
+                } else {
+                    const B here = lane_mask<K>(j);
+                    hit.t = select(here, F(h.t), hit.t);
+                    hit.u = select(here, F(h.u), hit.u);
+                    hit.v = select(here, F(h.v), hit.v);
+                    hit.prim = select(here, vint<K>(h.prim), hit.prim);
+                }
+                active = B(false);
+            }
+        }
+        if (any(active)) {
+            const KdNode* node = &tree.nodes[index];
+            while (!node->is_leaf()) {
+                const int a = node->axis();
+                const F split(node->split);
+                F margin;
+                const F ts = plane_distance<K>(r, a, split, margin);
+                const F ts_lo = ts - margin, ts_hi = ts + margin;
+                // The near child holds the origin (or, on the plane, the side the ray goes
+                // to); the ray leaves it at ts, if ts > 0. With ts only known within
+                // [ts_lo, ts_hi], each child gets every t it might cover. A NaN ts (a ray
+                // lying in the plane) keeps the whole interval on both sides.
+                const B below_first = (r.org[a] < split) | ((r.org[a] == split) & (r.dir[a] <= F(0.0f)));
+                const B in_plane = ts != ts;
+                const B need_near = andnot((ts_hi < t0) & (ts_lo > F(0.0f)), active);
+                const B need_far = active & (in_plane | ((ts_hi > F(0.0f)) & (ts_lo <= t1) & (ts_lo < inf)));
+                const F near_t1 = select(ts_lo > F(0.0f), min(ts_hi, t1), t1);
+                const F far_t0 = max(ts_lo, t0);  // t0 where ts_lo is NaN
+                const B need_below = select(below_first, need_near, need_far);
+                const B need_above = select(below_first, need_far, need_near);
+                const uint32_t below = static_cast<uint32_t>(node - tree.nodes) + 1;
+                const uint32_t above = node->above();
+                if (none(need_above)) {
+                    index = below;
+                    t1 = select(below_first, near_t1, t1);
+                    t0 = select(below_first, t0, far_t0);
+                    t0 = select(need_below, t0, inf);
+                } else if (none(need_below)) {
+                    index = above;
+                    t1 = select(below_first, t1, near_t1);
+                    t0 = select(below_first, far_t0, t0);
+                    t0 = select(need_above, t0, inf);
+                } else {
+                    const F below_t0 = select(need_below, select(below_first, t0, far_t0), inf);
+                    const F below_t1 = select(below_first, near_t1, t1);
+                    const F above_t0 = select(need_above, select(below_first, far_t0, t0), inf);
+                    const F above_t1 = select(below_first, t1, near_t1);
+                    // visit first the child that is nearer for most active lanes
+                    const bool below_nearer = 2 * active_count<K>(below_first & active) >= active_count<K>(active);
+                    if (top < kStackSize) {
+                        stack[top++] = below_nearer ? Entry<K>{above, above_t0, above_t1}
+                                                    : Entry<K>{below, below_t0, below_t1};
+                    }
+                    index = below_nearer ? below : above;
+                    t0 = below_nearer ? below_t0 : above_t0;
+                    t1 = below_nearer ? below_t1 : above_t1;
+                }
+                node = &tree.nodes[index];
+                active = (t0 <= t1) & (t0 <= hit.t);
+                if (kAnyHit) active = andnot(occluded, active);
+                if (none(active)) break;
+            }
+            if (node->is_leaf() && any(active)) {
+                const uint32_t first = node->first, count = node->count();
+                for (uint32_t i = 0; i < count; ++i) {
+                    const uint32_t prim = tree.leaf_prims[first + i];
+                    const B got = intersect_triangle<K, kAnyHit>(r, tree.triangles + 9 * size_t(prim),
+                                                                 static_cast<int32_t>(prim), active, hit);
+                    if (kAnyHit) {
+                        occluded = occluded | got;
+                        active = andnot(got, active);
+                        if (none(active)) break;
+                    }
+                }
+            }
+        }
+        if (kAnyHit && all(occluded)) return occluded;
+        if (top == 0) return occluded;
+        const Entry<K>& e = stack[--top];
+        index = e.node;
+        t0 = e.tmin;
+        t1 = min(e.tmax, hit.t);
+    }
+}
+
+// Closest hit for K rays (hit.t starts at the rays' tmax and stays there on a miss).
+template <int K>
+PATINA_INLINE void intersect_packet(const TreeView& tree, const RayPacket<K>& r, HitPacket<K>& hit) {
+    hit.t = r.tmax;
+    hit.u = vfloat<K>(0.0f);
+    hit.v = vfloat<K>(0.0f);
+    hit.prim = vint<K>(-1);
+    if (!tree.nodes) return;
+    vfloat<K> t0, t1;
+    traverse_detail::clip_to_box<K>(r, tree.bounds, t0, t1);
+    traverse_from<K, false>(tree, r, 0, t0, t1, hit);
+}
+
+// Lanes with any hit in (tmin, tmax).
+template <int K>
+PATINA_INLINE vbool<K> occluded_packet(const TreeView& tree, const RayPacket<K>& r) {
+    HitPacket<K> hit;
+    hit.t = r.tmax;
+    if (!tree.nodes) return vbool<K>(false);
+    vfloat<K> t0, t1;
+    traverse_detail::clip_to_box<K>(r, tree.bounds, t0, t1);
+    return traverse_from<K, true>(tree, r, 0, t0, t1, hit);
+}
+
+PATINA_END_TARGET

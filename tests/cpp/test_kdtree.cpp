@@ -1,0 +1,339 @@
+// The kd-tree: single rays against brute force, packets against single rays, a closed
+// mesh that must not leak, degenerate input, empty scenes, rays in splitting planes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <random>
+#include <vector>
+
+#include "core/cpu.h"
+#include "render/accel/kdtree.h"
+#include "render/accel/trace_kernels.h"
+
+using namespace patina;
+
+namespace {
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+struct Mesh {
+    std::vector<float> v;
+    std::vector<int32_t> f;
+    size_t triangles() const { return f.size() / 3; }
+};
+
+// A closed icosphere: shared vertices, so neighbouring triangles share exact edges.
+Mesh icosphere(int subdivisions) {
+    const double p = (1.0 + std::sqrt(5.0)) / 2.0;
+    std::vector<std::array<double, 3>> pts = {{-1, p, 0}, {1, p, 0}, {-1, -p, 0}, {1, -p, 0}, {0, -1, p}, {0, 1, p},
+                                              {0, -1, -p}, {0, 1, -p}, {p, 0, -1}, {p, 0, 1}, {-p, 0, -1}, {-p, 0, 1}};
+    std::vector<std::array<int, 3>> faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                             {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                             {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                             {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+    auto unit = [](std::array<double, 3> a) {
+        const double l = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        return std::array<double, 3>{a[0] / l, a[1] / l, a[2] / l};
+    };
+    for (auto& q : pts) q = unit(q);
+    for (int s = 0; s < subdivisions; ++s) {
+        std::map<std::pair<int, int>, int> mid;
+        auto midpoint = [&](int a, int b) {
+            const auto key = std::minmax(a, b);
+            auto it = mid.find(key);
+            if (it != mid.end()) return it->second;
+            pts.push_back(unit({(pts[a][0] + pts[b][0]) / 2, (pts[a][1] + pts[b][1]) / 2, (pts[a][2] + pts[b][2]) / 2}));
+            return mid[key] = static_cast<int>(pts.size()) - 1;
+        };
+        std::vector<std::array<int, 3>> next;
+        for (const auto& t : faces) {
+            const int a = midpoint(t[0], t[1]), b = midpoint(t[1], t[2]), c = midpoint(t[2], t[0]);
+            next.push_back({t[0], a, c});
+            next.push_back({t[1], b, a});
+            next.push_back({t[2], c, b});
+            next.push_back({a, b, c});
+        }
+        faces = next;
+    }
+    Mesh m;
+    for (const auto& q : pts)
+        for (double c : q) m.v.push_back(static_cast<float>(c));
+    for (const auto& t : faces)
+        for (int i : t) m.f.push_back(i);
+    return m;
+}
+
+Mesh soup(size_t n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f), s(-0.2f, 0.2f);
+    Mesh m;
+    for (size_t t = 0; t < n; ++t) {
+        const float cx = u(rng), cy = u(rng), cz = u(rng);
+        for (int k = 0; k < 3; ++k) {
+            m.v.insert(m.v.end(), {cx + s(rng), cy + s(rng), cz + s(rng)});
+            m.f.push_back(static_cast<int32_t>(3 * t + k));
+        }
+    }
+    return m;
+}
+
+KdTree build(const Mesh& m) {
+    return build_kdtree(m.v.data(), m.v.size() / 3, m.f.data(), m.triangles(), KdBuildOptions{});
+}
+
+struct Rays {
+    std::vector<float> o, d;
+    size_t size() const { return o.size() / 3; }
+    void add(std::array<float, 3> org, std::array<float, 3> dir) {
+        o.insert(o.end(), org.begin(), org.end());
+        d.insert(d.end(), dir.begin(), dir.end());
+    }
+};
+
+Rays random_rays(size_t n, unsigned seed, float spread = 1.5f) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-spread, spread);
+    std::normal_distribution<float> g;
+    Rays r;
+    for (size_t i = 0; i < n; ++i) r.add({u(rng), u(rng), u(rng)}, {g(rng), g(rng), g(rng) + 1e-3f});
+    return r;
+}
+
+// A pinhole camera's rays in 4 x 2 pixel tiles (so 4- and 8-ray packets are tiles).
+Rays camera_rays(int w, int h) {
+    Rays r;
+    for (int ty = 0; ty < h; ty += 2)
+        for (int tx = 0; tx < w; tx += 4)
+            for (int y = ty; y < ty + 2; ++y)
+                for (int x = tx; x < tx + 4; ++x) {
+                    const float px = (x + 0.5f) / w * 2 - 1, py = (y + 0.5f) / h * 2 - 1;
+                    r.add({0.1f, 0.2f, 3.0f}, {0.6f * px, 0.6f * py, -1.0f});
+                }
+    return r;
+}
+
+struct Result {
+    std::vector<float> t, u, v;
+    std::vector<int32_t> prim;
+};
+
+Result trace(const KdTree& tree, const Rays& rays, int width, float tmax = kInf) {
+    Result out;
+    const size_t n = rays.size();
+    out.t.resize(n);
+    out.u.resize(n);
+    out.v.resize(n);
+    out.prim.resize(n);
+    const RayBatch batch{rays.o.data(), rays.d.data(), 0.0f, nullptr, tmax};
+    trace_intersect(tree, batch, HitBatch{out.t.data(), out.prim.data(), out.u.data(), out.v.data()}, n, width, 1);
+    return out;
+}
+
+// Closest hit by testing every triangle (Moller-Trumbore in double).
+std::pair<double, int> brute_force(const Mesh& m, const float* o, const float* d) {
+    double best = kInf;
+    int prim = -1;
+    for (size_t t = 0; t < m.triangles(); ++t) {
+        double p[3][3];
+        for (int k = 0; k < 3; ++k)
+            for (int a = 0; a < 3; ++a) p[k][a] = m.v[3 * size_t(m.f[3 * t + k]) + a];
+        const double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+        const double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+        const double pv[3] = {d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2], d[0] * e2[1] - d[1] * e2[0]};
+        const double det = e1[0] * pv[0] + e1[1] * pv[1] + e1[2] * pv[2];
+        if (std::fabs(det) < 1e-300) continue;
+        const double tv[3] = {o[0] - p[0][0], o[1] - p[0][1], o[2] - p[0][2]};
+        const double u = (tv[0] * pv[0] + tv[1] * pv[1] + tv[2] * pv[2]) / det;
+        if (u < 0 || u > 1) continue;
+        const double q[3] = {tv[1] * e1[2] - tv[2] * e1[1], tv[2] * e1[0] - tv[0] * e1[2], tv[0] * e1[1] - tv[1] * e1[0]};
+        const double v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
+        if (v < 0 || u + v > 1) continue;
+        const double tt = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
+        if (tt > 0 && tt < best) {
+            best = tt;
+            prim = static_cast<int>(t);
+        }
+    }
+    return {best, prim};
+}
+
+void expect_same_hits(const Result& a, const Result& b, const char* what) {
+    for (size_t i = 0; i < a.t.size(); ++i) {
+        ASSERT_EQ(a.t[i] == kInf, b.t[i] == kInf) << what << " ray " << i;
+        if (a.prim[i] == b.prim[i]) {
+            ASSERT_EQ(a.t[i], b.t[i]) << what << " ray " << i;  // same arithmetic in every lane
+            ASSERT_EQ(a.u[i], b.u[i]) << what << " ray " << i;
+        } else {
+            ASSERT_NEAR(a.t[i], b.t[i], 1e-6f * a.t[i]) << what << " ray " << i << ": different primitives, not a tie";
+        }
+    }
+}
+}  // namespace
+
+TEST(KdTree, SingleRaysMatchBruteForce) {
+    for (const Mesh& m : {soup(400, 1), icosphere(2)}) {
+        const KdTree tree = build(m);
+        const Rays rays = random_rays(3000, 2);
+        const Result r = trace(tree, rays, 1);
+        int hits = 0;
+        for (size_t i = 0; i < rays.size(); ++i) {
+            const auto [t, prim] = brute_force(m, &rays.o[3 * i], &rays.d[3 * i]);
+            if (prim < 0) {
+                EXPECT_EQ(r.prim[i], -1) << "ray " << i;
+                continue;
+            }
+            ++hits;
+            ASSERT_GE(r.prim[i], 0) << "ray " << i << " missed, brute force hits " << prim << " at " << t;
+            EXPECT_NEAR(r.t[i], t, 1e-5 * t) << "ray " << i;
+            if (r.prim[i] != prim) {
+                EXPECT_NEAR(r.t[i], t, 1e-6 * t) << "ray " << i << ": not a tie";
+            }
+        }
+        EXPECT_GT(hits, 300);
+    }
+}
+
+TEST(KdTree, PacketsMatchSingleRays) {
+    const Mesh sphere = icosphere(4), pile = soup(2000, 3);
+    for (const Mesh* m : {&sphere, &pile}) {
+        const KdTree tree = build(*m);
+        for (const Rays& rays : {camera_rays(64, 48), random_rays(5001, 4)}) {
+            const Result single = trace(tree, rays, 1);
+            for (int w : {4, 8}) {
+                if (width_supported(w)) {
+                    expect_same_hits(single, trace(tree, rays, w), w == 4 ? "4-ray packets" : "8-ray packets");
+                }
+            }
+        }
+    }
+}
+
+TEST(KdTree, ClosedMeshNeverLeaks) {
+    const Mesh m = icosphere(3);
+    const KdTree tree = build(m);
+    // from inside, at every vertex, every edge midpoint, and at random
+    Rays rays;
+    const std::array<std::array<float, 3>, 3> origins = {{{0, 0, 0}, {0.1f, -0.2f, 0.05f}, {0.5f, 0.3f, -0.2f}}};
+    for (const auto& o : origins) {
+        for (size_t k = 0; k < m.v.size() / 3; ++k)
+            rays.add(o, {m.v[3 * k] - o[0], m.v[3 * k + 1] - o[1], m.v[3 * k + 2] - o[2]});
+        for (size_t t = 0; t < m.triangles(); ++t)
+            for (int e = 0; e < 3; ++e) {
+                const float* a = &m.v[3 * size_t(m.f[3 * t + e])];
+                const float* b = &m.v[3 * size_t(m.f[3 * t + (e + 1) % 3])];
+                rays.add(o, {(a[0] + b[0]) / 2 - o[0], (a[1] + b[1]) / 2 - o[1], (a[2] + b[2]) / 2 - o[2]});
+            }
+    }
+    const Rays random = random_rays(20000, 9, 0.3f);
+    rays.o.insert(rays.o.end(), random.o.begin(), random.o.end());
+    rays.d.insert(rays.d.end(), random.d.begin(), random.d.end());
+    for (int w : {1, 4, 8}) {
+        if (!width_supported(w)) continue;
+        const Result r = trace(tree, rays, w);
+        for (size_t i = 0; i < rays.size(); ++i) ASSERT_GE(r.prim[i], 0) << "width " << w << ": ray " << i << " leaked";
+        std::vector<uint8_t> blocked(rays.size());
+        const RayBatch batch{rays.o.data(), rays.d.data(), 0.0f, nullptr, kInf};
+        trace_occluded(tree, batch, blocked.data(), rays.size(), w, 1);
+        for (size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(blocked[i], 1) << "width " << w << ": ray " << i << " leaked";
+    }
+}
+
+TEST(KdTree, OccludedAgreesWithIntersect) {
+    const Mesh m = soup(1500, 5);
+    const KdTree tree = build(m);
+    const Rays rays = random_rays(4003, 6);
+    std::vector<float> tmax(rays.size());
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0.0f, 3.0f);
+    for (float& t : tmax) t = u(rng);
+    const Result r = trace(tree, rays, 1);
+    for (int w : {1, 4, 8}) {
+        if (!width_supported(w)) continue;
+        std::vector<uint8_t> blocked(rays.size());
+        const RayBatch batch{rays.o.data(), rays.d.data(), 0.0f, tmax.data(), 0.0f};
+        trace_occluded(tree, batch, blocked.data(), rays.size(), w, 1);
+        for (size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(blocked[i] != 0, r.t[i] < tmax[i]) << "width " << w << " ray " << i;
+    }
+}
+
+TEST(KdTree, DegenerateTrianglesAreHarmless) {
+    Mesh m = soup(300, 8);
+    const int32_t base = static_cast<int32_t>(m.v.size() / 3);
+    // zero area: repeated vertex, collinear points, a point
+    m.v.insert(m.v.end(), {0, 0, 0, 1, 1, 1, 0.5f, 0.5f, 0.5f, 0.2f, 0.3f, 0.4f});
+    m.f.insert(m.f.end(), {base, base, base + 1, base, base + 1, base + 2, base + 3, base + 3, base + 3});
+    const KdTree tree = build(m);
+    const Rays rays = random_rays(3000, 10);
+    for (int w : {1, 4, 8}) {
+        if (!width_supported(w)) continue;
+        const Result r = trace(tree, rays, w);
+        for (size_t i = 0; i < rays.size(); ++i) {
+            EXPECT_LT(r.prim[i], 300) << "hit a zero-area triangle";
+            const auto [t, prim] = brute_force(m, &rays.o[3 * i], &rays.d[3 * i]);
+            ASSERT_EQ(r.prim[i] >= 0, prim >= 0) << "ray " << i;
+        }
+    }
+}
+
+TEST(KdTree, EmptySceneMissesEverything) {
+    const Mesh m;
+    const KdTree tree = build(m);
+    const Rays rays = random_rays(100, 11);
+    for (int w : {1, 4, 8}) {
+        if (!width_supported(w)) continue;
+        const Result r = trace(tree, rays, w);
+        for (size_t i = 0; i < rays.size(); ++i) {
+            EXPECT_EQ(r.prim[i], -1);
+            EXPECT_EQ(r.t[i], kInf);
+        }
+    }
+}
+
+TEST(KdTree, RaysInAndAlongSplittingPlanes) {
+    // a unit cube of 12 triangles, its planes become the tree's splitting planes
+    Mesh m;
+    m.v = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+    m.f = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4, 3, 7, 6, 3, 6, 2, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5};
+    const Mesh pile = soup(200, 12);  // and clutter around it, so the tree has depth
+    const int32_t base = static_cast<int32_t>(m.v.size() / 3);
+    m.v.insert(m.v.end(), pile.v.begin(), pile.v.end());
+    for (int32_t i : pile.f) m.f.push_back(base + i);
+    const KdTree tree = build(m);
+    Rays rays;
+    const float axes[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (const auto& d : axes)
+        for (float a : {0.0f, 0.25f, 0.5f, 1.0f})
+            for (float b : {0.0f, 0.5f, 0.75f, 1.0f}) {
+                rays.add({a, b, 0.5f}, {d[0], d[1], d[2]});
+                rays.add({0.5f, a, b}, {d[0], d[1], d[2]});
+                rays.add({b, 0.5f, a}, {d[0], d[1], d[2]});
+            }
+    const Result single = trace(tree, rays, 1);
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const auto [t, prim] = brute_force(m, &rays.o[3 * i], &rays.d[3 * i]);
+        if (prim >= 0 && single.prim[i] >= 0) {
+            EXPECT_NEAR(single.t[i], t, 1e-5 * t + 1e-6) << "ray " << i;
+        }
+    }
+    for (int w : {4, 8}) {
+        if (width_supported(w)) expect_same_hits(single, trace(tree, rays, w), "axis-parallel rays");
+    }
+}
+
+TEST(KdTree, EveryTriangleIsInALeafAndLimitsHold) {
+    const Mesh m = soup(5000, 13);
+    KdBuildOptions opt;
+    opt.max_depth = 12;
+    const KdTree tree = build_kdtree(m.v.data(), m.v.size() / 3, m.f.data(), m.triangles(), opt);
+    EXPECT_LE(tree.stats.depth, 12);
+    std::vector<int> seen(m.triangles(), 0);
+    for (const KdNode& n : tree.nodes)
+        if (n.is_leaf())
+            for (uint32_t i = 0; i < n.count(); ++i) seen[tree.leaf_prims[n.first + i]] = 1;
+    for (size_t t = 0; t < seen.size(); ++t) ASSERT_EQ(seen[t], 1) << "triangle " << t << " is in no leaf";
+    EXPECT_GT(tree.stats.leaves, 100u);
+}
+
