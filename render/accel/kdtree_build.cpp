@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <future>
 #include <limits>
 #include <thread>
@@ -46,6 +47,17 @@ struct Split {
     bool planar_left = true;
     float cost = std::numeric_limits<float>::infinity();
 };
+
+// The next float towards -inf / +inf (finite inputs), without a libm call.
+float next_down(float x) {
+    if (x == 0.0f) return -std::numeric_limits<float>::denorm_min();
+    uint32_t u;
+    std::memcpy(&u, &x, 4);
+    u = x > 0.0f ? u - 1 : u + 1;
+    std::memcpy(&x, &u, 4);
+    return x;
+}
+float next_up(float x) { return -next_down(-x); }
 
 // Bounds of the part of triangle t inside `box` (Sutherland-Hodgman in double);
 // false if nothing of it is inside.
@@ -89,8 +101,8 @@ bool clipped_bounds(const float* t, const Box3& box, Box3& out) {
             hi = std::max(hi, poly[cur][i][a]);
         }
         // round outwards, then keep inside the box
-        out.lo[a] = std::max(box.lo[a], std::nextafter(static_cast<float>(lo), -std::numeric_limits<float>::infinity()));
-        out.hi[a] = std::min(box.hi[a], std::nextafter(static_cast<float>(hi), std::numeric_limits<float>::infinity()));
+        out.lo[a] = std::max(box.lo[a], next_down(static_cast<float>(lo)));
+        out.hi[a] = std::min(box.hi[a], next_up(static_cast<float>(hi)));
         if (out.lo[a] > out.hi[a]) return false;
     }
     return true;
@@ -162,22 +174,23 @@ private:
     int m_max_depth;
     std::vector<uint8_t> m_side;  // scratch, per triangle
 
-    float sah(const Box3& box, float inv_area, int axis, float pos, size_t nl, size_t nr) const {
-        Box3 l = box, r = box;
-        l.hi[axis] = pos;
-        r.lo[axis] = pos;
-        float cost = m_opt.traversal_cost + m_opt.intersection_cost * inv_area *
-                                                (l.area() * static_cast<float>(nl) + r.area() * static_cast<float>(nr));
-        if (nl == 0 || nr == 0) cost *= 1.0f - m_opt.empty_bonus;
-        return cost;
-    }
-
     Split find_split(const NodeEvents& ev, const Box3& box, size_t n) const {
         Split best;
         const float area = box.area();
         if (!(area > 0.0f)) return best;
-        const float inv_area = 1.0f / area;
+        const float scale = m_opt.intersection_cost * 2.0f / area;  // K_I * (child area / 2) / (area / 2)
+        const float bonus = 1.0f - m_opt.empty_bonus;
         for (int a = 0; a < 3; ++a) {
+            // a child's surface area is linear in the split position: 2 (cap + len * girth)
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            const float eb = box.hi[b] - box.lo[b], ec = box.hi[c] - box.lo[c];
+            const float cap = eb * ec, girth = eb + ec;
+            const float lo = box.lo[a], hi = box.hi[a];
+            auto cost = [&](float p, size_t nl, size_t nr) {
+                const float al = cap + (p - lo) * girth, ar = cap + (hi - p) * girth;
+                float c = m_opt.traversal_cost + scale * (al * static_cast<float>(nl) + ar * static_cast<float>(nr));
+                return (nl == 0 || nr == 0) ? c * bonus : c;
+            };
             const std::vector<Event>& e = ev.axis[a];
             size_t nl = 0, nr = n;
             for (size_t i = 0; i < e.size();) {
@@ -187,9 +200,9 @@ private:
                 for (; i < e.size() && e[i].pos == p && e[i].type == kPlanar; ++i) ++planars;
                 for (; i < e.size() && e[i].pos == p && e[i].type == kStart; ++i) ++starts;
                 nr -= planars + ends;
-                if (p > box.lo[a] && p < box.hi[a]) {
-                    const float with_left = sah(box, inv_area, a, p, nl + planars, nr);
-                    const float with_right = sah(box, inv_area, a, p, nl, nr + planars);
+                if (p > lo && p < hi) {
+                    const float with_left = cost(p, nl + planars, nr);
+                    const float with_right = cost(p, nl, nr + planars);
                     if (with_left < best.cost) best = Split{a, p, true, with_left};
                     if (with_right < best.cost) best = Split{a, p, false, with_right};
                 }
@@ -322,7 +335,7 @@ KdTree build_kdtree(const float* vertices, size_t vertex_count, const int32_t* i
     opt.max_leaf = std::max(opt.max_leaf, 1);
     int max_depth = opt.max_depth;
     if (max_depth <= 0)
-        max_depth = std::min(64, static_cast<int>(std::lround(8 + 1.3 * std::log2(std::max<size_t>(triangle_count, 1)))));
+        max_depth = std::min(64, static_cast<int>(std::lround(4 + 1.2 * std::log2(std::max<size_t>(triangle_count, 1)))));
     const int threads = opt.threads > 0 ? opt.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     int parallel_depth = 0;
     while ((1 << parallel_depth) < threads) ++parallel_depth;
