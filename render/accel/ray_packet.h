@@ -15,6 +15,10 @@ struct RayPacket {
     F org[3], dir[3], inv_dir[3];
     // |1/d| where finite, else 0: scales the rounding margin of plane distances (traverse.h)
     F margin_scale[3];
+    // Per axis, whether the child below a splitting plane is the near one (d >= +0), and
+    // 1 / 0 when that holds for all lanes / none, -1 when the lanes differ.
+    vbool<K> below_near[3];
+    int uniform_below_near[3];
     F tmin, tmax;
     // Watertight test (Woop, Benthin, Wald 2013): the axis where the direction is
     // largest becomes z; kx, ky the other two (swapped when dir[kz] < 0 to keep the
@@ -61,6 +65,9 @@ PATINA_INLINE void prepare_packet(RayPacket<K>& r) {
         r.inv_dir[a] = F(1.0f) / r.dir[a];
         const F m = abs(r.inv_dir[a]);
         r.margin_scale[a] = select(m < F(std::numeric_limits<float>::infinity()), m, F(0.0f));
+        r.below_near[a] = !signbit(r.dir[a]);
+        const int bits = movemask(r.below_near[a]), lanes = (1 << K) - 1;
+        r.uniform_below_near[a] = bits == lanes ? 1 : (bits == 0 ? 0 : -1);
     }
     r.ukx = lane(kx, 0);
     r.uky = lane(ky, 0);

@@ -85,6 +85,8 @@ PATINA_INLINE RayPacket<1> extract_lane(const RayPacket<K>& r, int j) {
         s.dir[a] = lane(r.dir[a], j);
         s.inv_dir[a] = lane(r.inv_dir[a], j);
         s.margin_scale[a] = lane(r.margin_scale[a], j);
+        s.below_near[a] = lane(r.below_near[a], j);
+        s.uniform_below_near[a] = s.below_near[a] ? 1 : 0;
     }
     s.tmin = lane(r.tmin, j);
     s.tmax = lane(r.tmax, j);
@@ -146,44 +148,60 @@ inline vbool<K> traverse_from(const TreeView& tree, const RayPacket<K>& r, uint3
                 F margin;
                 const F ts = plane_distance<K>(r, a, split, margin);
                 const F ts_lo = ts - margin, ts_hi = ts + margin;
-                // The near child holds the origin (or, on the plane, the side the ray goes
-                // to); the ray leaves it at ts, if ts > 0. With ts only known within
-                // [ts_lo, ts_hi], each child gets every t it might cover. A NaN ts (a ray
-                // lying in the plane) keeps the whole interval on both sides.
-                const B below_first = (r.org[a] < split) | ((r.org[a] == split) & (r.dir[a] <= F(0.0f)));
-                const B in_plane = ts != ts;
-                const B need_near = andnot((ts_hi < t0) & (ts_lo > F(0.0f)), active);
-                const B need_far = active & (in_plane | ((ts_hi > F(0.0f)) & (ts_lo <= t1) & (ts_lo < inf)));
-                const F near_t1 = select(ts_lo > F(0.0f), min(ts_hi, t1), t1);
-                const F far_t0 = max(ts_lo, t0);  // t0 where ts_lo is NaN
-                const B need_below = select(below_first, need_near, need_far);
-                const B need_above = select(below_first, need_far, need_near);
+                // Near is the child the ray direction enters first; the ray crosses into the
+                // far child at ts, known within [ts_lo, ts_hi]. Each child gets every t it
+                // might cover. A NaN ts (a ray lying in the plane) keeps the whole interval
+                // on both sides: the comparisons fail and min/max return their second operand.
+                const B need_near = andnot(ts_hi < t0, active);
+                const B need_far = andnot(ts_lo > t1, active);
+                const F near_t1 = min(ts_hi, t1);
+                const F far_t0 = max(ts_lo, t0);
                 const uint32_t below = static_cast<uint32_t>(node - tree.nodes) + 1;
                 const uint32_t above = node->above();
-                if (none(need_above)) {
-                    index = below;
-                    t1 = select(below_first, near_t1, t1);
-                    t0 = select(below_first, t0, far_t0);
-                    t0 = select(need_below, t0, inf);
-                } else if (none(need_below)) {
-                    index = above;
-                    t1 = select(below_first, t1, near_t1);
-                    t0 = select(below_first, far_t0, t0);
-                    t0 = select(need_above, t0, inf);
-                } else {
-                    const F below_t0 = select(need_below, select(below_first, t0, far_t0), inf);
-                    const F below_t1 = select(below_first, near_t1, t1);
-                    const F above_t0 = select(need_above, select(below_first, far_t0, t0), inf);
-                    const F above_t1 = select(below_first, t1, near_t1);
-                    // visit first the child that is nearer for most active lanes
-                    const bool below_nearer = 2 * active_count<K>(below_first & active) >= active_count<K>(active);
-                    if (top < kStackSize) {
-                        stack[top++] = below_nearer ? Entry<K>{above, above_t0, above_t1}
-                                                    : Entry<K>{below, below_t0, below_t1};
+                const int uniform = r.uniform_below_near[a];
+                if (uniform >= 0) {
+                    // all lanes agree on the order of the children
+                    const uint32_t near_child = uniform ? below : above, far_child = uniform ? above : below;
+                    if (none(need_far)) {
+                        index = near_child;
+                        t1 = near_t1;
+                    } else if (none(need_near)) {
+                        index = far_child;
+                        t0 = select(need_far, far_t0, inf);
+                    } else {
+                        if (top < kStackSize) stack[top++] = Entry<K>{far_child, select(need_far, far_t0, inf), t1};
+                        index = near_child;
+                        t0 = select(need_near, t0, inf);
+                        t1 = near_t1;
                     }
-                    index = below_nearer ? below : above;
-                    t0 = below_nearer ? below_t0 : above_t0;
-                    t1 = below_nearer ? below_t1 : above_t1;
+                } else {
+                    // the lanes disagree: both children, each with the lanes that need it,
+                    // first the one that is near for most of the active lanes
+                    const B below_near = r.below_near[a];
+                    const B need_below = select(below_near, need_near, need_far);
+                    const B need_above = select(below_near, need_far, need_near);
+                    const F below_t0 = select(need_below, select(below_near, t0, far_t0), inf);
+                    const F below_t1 = select(below_near, near_t1, t1);
+                    const F above_t0 = select(need_above, select(below_near, far_t0, t0), inf);
+                    const F above_t1 = select(below_near, t1, near_t1);
+                    if (none(need_above)) {
+                        index = below;
+                        t0 = below_t0;
+                        t1 = below_t1;
+                    } else if (none(need_below)) {
+                        index = above;
+                        t0 = above_t0;
+                        t1 = above_t1;
+                    } else {
+                        const bool below_first = 2 * active_count<K>(below_near & active) >= active_count<K>(active);
+                        if (top < kStackSize) {
+                            stack[top++] = below_first ? Entry<K>{above, above_t0, above_t1}
+                                                       : Entry<K>{below, below_t0, below_t1};
+                        }
+                        index = below_first ? below : above;
+                        t0 = below_first ? below_t0 : above_t0;
+                        t1 = below_first ? below_t1 : above_t1;
+                    }
                 }
                 node = &tree.nodes[index];
                 active = (t0 <= t1) & (t0 <= hit.t);
