@@ -54,6 +54,7 @@ struct KdTree {
     std::vector<KdNode> nodes;
     std::vector<uint32_t> leaf_prims;
     std::vector<float> triangles;  // 9 floats per triangle: v0, v1, v2
+    std::vector<float> normals;    // 3 floats per triangle: unit cross(v1 - v0, v2 - v0), 0 if degenerate
     Box3 bounds;
     KdTreeStats stats;
 

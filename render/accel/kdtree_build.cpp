@@ -310,6 +310,16 @@ KdTree build_kdtree(const float* vertices, size_t vertex_count, const int32_t* i
             for (int a = 0; a < 3; ++a)
                 tree.triangles[9 * t + 3 * v + a] = vertices[3 * size_t(indices[3 * t + v]) + a];
 
+    tree.normals.resize(3 * triangle_count);
+    for (size_t t = 0; t < triangle_count; ++t) {
+        const float* p = &tree.triangles[9 * t];
+        const double e1[3] = {double(p[3]) - p[0], double(p[4]) - p[1], double(p[5]) - p[2]};
+        const double e2[3] = {double(p[6]) - p[0], double(p[7]) - p[1], double(p[8]) - p[2]};
+        const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+        const double len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        for (int a = 0; a < 3; ++a) tree.normals[3 * t + a] = len > 0 ? static_cast<float>(c[a] / len) : 0.0f;
+    }
+
     Box3& bounds = tree.bounds;
     for (int a = 0; a < 3; ++a) {
         bounds.lo[a] = std::numeric_limits<float>::infinity();

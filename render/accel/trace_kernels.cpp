@@ -16,13 +16,25 @@ const TraceKernels& trace_kernels_for(int width) {
 }
 
 size_t first_invalid_ray(const RayBatch& rays, size_t n) {
+    // One branch-free pass (x - x is 0 exactly for finite x); the slow search only on failure.
+    bool ok = true;
+    for (size_t i = 0; i < 3 * n; ++i) {
+        const float o = rays.origins[i], d = rays.directions[i];
+        ok &= (o - o == 0.0f) & (d - d == 0.0f);
+    }
+    for (size_t i = 0; i < n; ++i) {
+        const float* d = rays.directions + 3 * i;
+        ok &= (d[0] != 0.0f) | (d[1] != 0.0f) | (d[2] != 0.0f);
+        if (rays.tmax) ok &= !std::isnan(rays.tmax[i]);
+    }
+    if (ok) return n;
     for (size_t i = 0; i < n; ++i) {
         const float* o = rays.origins + 3 * i;
         const float* d = rays.directions + 3 * i;
-        bool ok = std::isfinite(o[0]) && std::isfinite(o[1]) && std::isfinite(o[2]) && std::isfinite(d[0]) &&
-                  std::isfinite(d[1]) && std::isfinite(d[2]) && (d[0] != 0.0f || d[1] != 0.0f || d[2] != 0.0f);
-        if (rays.tmax) ok = ok && !std::isnan(rays.tmax[i]);
-        if (!ok) return i;
+        bool good = std::isfinite(o[0]) && std::isfinite(o[1]) && std::isfinite(o[2]) && std::isfinite(d[0]) &&
+                    std::isfinite(d[1]) && std::isfinite(d[2]) && (d[0] != 0.0f || d[1] != 0.0f || d[2] != 0.0f);
+        if (rays.tmax) good = good && !std::isnan(rays.tmax[i]);
+        if (!good) return i;
     }
     return n;
 }
@@ -42,14 +54,12 @@ void hit_normals(const KdTree& tree, const int32_t* prim, float* normals, size_t
         float* out = normals + 3 * i;
         if (prim[i] < 0) {
             out[0] = out[1] = out[2] = 0.0f;
-            continue;
+        } else {
+            const float* nrm = &tree.normals[3 * size_t(prim[i])];
+            out[0] = nrm[0];
+            out[1] = nrm[1];
+            out[2] = nrm[2];
         }
-        const float* t = &tree.triangles[9 * size_t(prim[i])];
-        const double e1[3] = {double(t[3]) - t[0], double(t[4]) - t[1], double(t[5]) - t[2]};
-        const double e2[3] = {double(t[6]) - t[0], double(t[7]) - t[1], double(t[8]) - t[2]};
-        const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-        const double len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-        for (int a = 0; a < 3; ++a) out[a] = len > 0 ? static_cast<float>(c[a] / len) : 0.0f;
     }
 }
 
