@@ -6,6 +6,12 @@
 // event; the chosen split then divides the lists in order. Only triangles that
 // straddle the plane are clipped to each child's box ("perfect splits") and get new
 // events, which are sorted (few) and merged in, so no list is ever sorted again.
+//
+// Above kSweepBelow triangles a node chooses its plane from binned counts instead
+// (Shevtsov, Soupikov, Kapustin 2007): O(n) per node with no sorted lists, still
+// with perfect splits. Each subtree that gets small enough sorts its events once,
+// O(n log kSweepBelow), and continues with the exact sweep; the whole build stays
+// O(N log N), most of it in the sweep, and is several times faster on large meshes.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -40,6 +46,15 @@ struct NodeEvents {
 };
 
 enum Side : uint8_t { kBoth = 0, kLeftOnly = 1, kRightOnly = 2 };
+
+// A triangle's bounds within a node, for the binned phase.
+struct Ref {
+    Box3 b;
+    uint32_t tri;
+};
+
+constexpr size_t kSweepBelow = 256;  // nodes with fewer references use the exact sweep
+constexpr int kBins = 128;
 
 struct Split {
     int axis = -1;
@@ -168,6 +183,68 @@ public:
         return index;
     }
 
+    // The binned phase for large nodes; hands each small enough subtree to build().
+    uint32_t build_binned(const Box3& box, std::vector<Ref>& refs, int depth, int parallel_depth) {
+        const size_t n = refs.size();
+        if (n <= kSweepBelow || depth >= m_max_depth) {
+            NodeEvents ev;
+            for (int a = 0; a < 3; ++a) ev.axis[a].reserve(2 * n);
+            for (const Ref& r : refs) add_events(r.tri, r.b, ev);
+            refs = std::vector<Ref>{};
+            for (int a = 0; a < 3; ++a) std::sort(ev.axis[a].begin(), ev.axis[a].end());
+            return build(box, ev, n, depth, parallel_depth);
+        }
+        stats.depth = std::max(stats.depth, depth);
+        const uint32_t index = static_cast<uint32_t>(nodes.size());
+        nodes.push_back(KdNode{});
+        const Split split = find_binned_split(refs, box, n);
+        if (split.axis < 0 || !(split.cost < m_opt.intersection_cost * static_cast<float>(n))) {
+            KdNode& node = nodes[index];
+            node.first = static_cast<uint32_t>(leaf_prims.size());
+            node.bits = (static_cast<uint32_t>(n) << 2) | 3u;
+            for (const Ref& r : refs) leaf_prims.push_back(r.tri);
+            ++stats.leaves;
+            stats.leaf_refs += n;
+            return index;
+        }
+        Box3 left_box = box, right_box = box;
+        left_box.hi[split.axis] = split.pos;
+        right_box.lo[split.axis] = split.pos;
+        std::vector<Ref> left, right;
+        left.reserve(n / 2 + n / 8);
+        right.reserve(n / 2 + n / 8);
+        const int a = split.axis;
+        const float p = split.pos;
+        for (const Ref& r : refs) {
+            if (r.b.lo[a] == p && r.b.hi[a] == p) (split.planar_left ? left : right).push_back(r);
+            else if (r.b.hi[a] <= p) left.push_back(r);
+            else if (r.b.lo[a] >= p) right.push_back(r);
+            else {
+                Ref c{Box3{}, r.tri};
+                const float* t = &m_tris[9 * size_t(r.tri)];
+                if (clipped_bounds(t, left_box, c.b)) left.push_back(c);
+                if (clipped_bounds(t, right_box, c.b)) right.push_back(c);
+            }
+        }
+        refs = std::vector<Ref>{};
+        nodes[index].split = p;
+        uint32_t above;
+        if (parallel_depth > 0) {
+            Builder other(m_tris, m_opt, m_max_depth);
+            auto future = std::async(std::launch::async, [&] {
+                other.build_binned(right_box, right, depth + 1, parallel_depth - 1);
+            });
+            build_binned(left_box, left, depth + 1, parallel_depth - 1);
+            future.get();
+            above = splice(other);
+        } else {
+            build_binned(left_box, left, depth + 1, parallel_depth - 1);
+            above = build_binned(right_box, right, depth + 1, parallel_depth - 1);
+        }
+        nodes[index].bits = (above << 2) | static_cast<uint32_t>(a);
+        return index;
+    }
+
 private:
     const std::vector<float>& m_tris;
     const KdBuildOptions& m_opt;
@@ -188,25 +265,68 @@ private:
             const float lo = box.lo[a], hi = box.hi[a];
             auto cost = [&](float p, size_t nl, size_t nr) {
                 const float al = cap + (p - lo) * girth, ar = cap + (hi - p) * girth;
-                float c = m_opt.traversal_cost + scale * (al * static_cast<float>(nl) + ar * static_cast<float>(nr));
-                return (nl == 0 || nr == 0) ? c * bonus : c;
+                const float c = m_opt.traversal_cost + scale * (al * static_cast<float>(nl) + ar * static_cast<float>(nr));
+                return c * ((nl == 0) | (nr == 0) ? bonus : 1.0f);
             };
-            const std::vector<Event>& e = ev.axis[a];
+            const Event* e = ev.axis[a].data();
+            const size_t count = ev.axis[a].size();
             size_t nl = 0, nr = n;
-            for (size_t i = 0; i < e.size();) {
+            for (size_t i = 0; i < count;) {
+                // all events at this position: ends, then planars, then starts (the sort order)
                 const float p = e[i].pos;
-                size_t ends = 0, planars = 0, starts = 0;
-                for (; i < e.size() && e[i].pos == p && e[i].type == kEnd; ++i) ++ends;
-                for (; i < e.size() && e[i].pos == p && e[i].type == kPlanar; ++i) ++planars;
-                for (; i < e.size() && e[i].pos == p && e[i].type == kStart; ++i) ++starts;
-                nr -= planars + ends;
+                size_t by_type[3] = {0, 0, 0};
+                do {
+                    ++by_type[e[i].type];
+                    ++i;
+                } while (i < count && e[i].pos == p);
+                const size_t planars = by_type[kPlanar];
+                nr -= planars + by_type[kEnd];
                 if (p > lo && p < hi) {
                     const float with_left = cost(p, nl + planars, nr);
-                    const float with_right = cost(p, nl, nr + planars);
                     if (with_left < best.cost) best = Split{a, p, true, with_left};
-                    if (with_right < best.cost) best = Split{a, p, false, with_right};
+                    if (planars) {
+                        const float with_right = cost(p, nl, nr + planars);
+                        if (with_right < best.cost) best = Split{a, p, false, with_right};
+                    }
                 }
-                nl += starts + planars;
+                nl += by_type[kStart] + planars;
+            }
+        }
+        return best;
+    }
+
+    // SAH at kBins - 1 evenly spaced planes per axis, from per-bin counts of where the
+    // references start and end (a reference is on a plane's left if it starts in a bin
+    // below it, on its right if it ends in a bin at or above it).
+    Split find_binned_split(const std::vector<Ref>& refs, const Box3& box, size_t n) const {
+        Split best;
+        const float area = box.area();
+        if (!(area > 0.0f)) return best;
+        const float scale = m_opt.intersection_cost * 2.0f / area;
+        const float bonus = 1.0f - m_opt.empty_bonus;
+        for (int a = 0; a < 3; ++a) {
+            const float lo = box.lo[a], hi = box.hi[a], extent = hi - lo;
+            if (!(extent > 0.0f)) continue;
+            const float to_bin = kBins / extent;
+            uint32_t starts[kBins] = {}, ends[kBins] = {};
+            for (const Ref& r : refs) {
+                const int s = std::clamp(static_cast<int>((r.b.lo[a] - lo) * to_bin), 0, kBins - 1);
+                const int e = std::clamp(static_cast<int>((r.b.hi[a] - lo) * to_bin), 0, kBins - 1);
+                ++starts[s];
+                ++ends[e];
+            }
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            const float eb = box.hi[b] - box.lo[b], ec = box.hi[c] - box.lo[c];
+            const float cap = eb * ec, girth = eb + ec;
+            size_t nl = 0, nr = n;
+            for (int k = 1; k < kBins; ++k) {
+                nl += starts[k - 1];
+                nr -= ends[k - 1];
+                const float p = lo + extent * static_cast<float>(k) / kBins;
+                const float al = cap + (p - lo) * girth, ar = cap + (hi - p) * girth;
+                float cost = m_opt.traversal_cost + scale * (al * static_cast<float>(nl) + ar * static_cast<float>(nr));
+                if (nl == 0 || nr == 0) cost *= bonus;
+                if (cost < best.cost && p > lo && p < hi) best = Split{a, p, true, cost};
             }
         }
         return best;
@@ -259,12 +379,23 @@ private:
         for (int a = 0; a < 3; ++a) {
             std::vector<Event>& l = left.axis[a];
             std::vector<Event>& r = right.axis[a];
-            l.reserve(ev.axis[a].size() / 2 + left_new.axis[a].size());
-            r.reserve(ev.axis[a].size() / 2 + right_new.axis[a].size());
-            for (const Event& x : ev.axis[a]) {
-                if (m_side[x.tri] == kLeftOnly) l.push_back(x);
-                else if (m_side[x.tri] == kRightOnly) r.push_back(x);
+            const std::vector<Event>& src = ev.axis[a];
+            // sized for the worst case without initialising: every event written is kept or overwritten
+            l.reserve(src.size() + left_new.axis[a].size());
+            r.reserve(src.size() + right_new.axis[a].size());
+            l.resize(src.size());
+            r.resize(src.size());
+            size_t nl_events = 0, nr_events = 0;
+            for (const Event& x : src) {
+                // write both, advance the one that keeps it: no unpredictable branch
+                const uint8_t side = m_side[x.tri];
+                l[nl_events] = x;
+                r[nr_events] = x;
+                nl_events += side == kLeftOnly;
+                nr_events += side == kRightOnly;
             }
+            l.resize(nl_events);
+            r.resize(nr_events);
             merge_in(l, left_new.axis[a]);
             merge_in(r, right_new.axis[a]);
         }
@@ -325,10 +456,10 @@ KdTree build_kdtree(const float* vertices, size_t vertex_count, const int32_t* i
         bounds.lo[a] = std::numeric_limits<float>::infinity();
         bounds.hi[a] = -std::numeric_limits<float>::infinity();
     }
-    NodeEvents root;
-    for (int a = 0; a < 3; ++a) root.axis[a].reserve(2 * triangle_count);
+    std::vector<Ref> refs(triangle_count);
     for (size_t t = 0; t < triangle_count; ++t) {
-        Box3 b;
+        Box3& b = refs[t].b;
+        refs[t].tri = static_cast<uint32_t>(t);
         const float* v = &tree.triangles[9 * t];
         for (int a = 0; a < 3; ++a) {
             b.lo[a] = std::min({v[a], v[3 + a], v[6 + a]});
@@ -336,10 +467,8 @@ KdTree build_kdtree(const float* vertices, size_t vertex_count, const int32_t* i
             bounds.lo[a] = std::min(bounds.lo[a], b.lo[a]);
             bounds.hi[a] = std::max(bounds.hi[a], b.hi[a]);
         }
-        add_events(static_cast<uint32_t>(t), b, root);
     }
     if (triangle_count == 0) bounds = Box3{};
-    for (int a = 0; a < 3; ++a) std::sort(root.axis[a].begin(), root.axis[a].end());
 
     KdBuildOptions opt = options;
     opt.max_leaf = std::max(opt.max_leaf, 1);
@@ -351,7 +480,7 @@ KdTree build_kdtree(const float* vertices, size_t vertex_count, const int32_t* i
     while ((1 << parallel_depth) < threads) ++parallel_depth;
 
     Builder builder(tree.triangles, opt, max_depth);
-    builder.build(bounds, root, triangle_count, 0, parallel_depth);
+    builder.build_binned(bounds, refs, 0, parallel_depth);
     tree.nodes = std::move(builder.nodes);
     tree.leaf_prims = std::move(builder.leaf_prims);
     tree.stats = builder.stats;
