@@ -236,13 +236,20 @@ def bench_brdf(repeat: int, quick: bool) -> list[Record]:
     return records
 
 
-GROUPS: dict[str, Callable[[int, bool], list[Record]]] = {"math": bench_math, "brdf": bench_brdf}
+def bench_trace(repeat: int, quick: bool) -> list[Record]:
+    # imported late: bench_trace builds on Record and _median_times from this module
+    from .bench_trace import bench_trace as run
+
+    return run(repeat, quick)
+
+
+GROUPS: dict[str, Callable[[int, bool], list[Record]]] = {"math": bench_math, "brdf": bench_brdf, "trace": bench_trace}
 
 
 def print_table(records: list[Record]) -> None:
-    print(f"{'name':<34} {'ratio':>7} {'value':>10}  {'unit':<12} candidate vs baseline")
+    print(f"{'name':<40} {'ratio':>7} {'value':>10}  {'unit':<12} candidate vs baseline")
     for r in records:
-        print(f"{r.name:<34} {r.ratio:7.2f} {r.value:10.2f}  {r.unit:<12} {r.candidate} vs {r.baseline}")
+        print(f"{r.name:<40} {r.ratio:7.2f} {r.value:10.2f}  {r.unit:<12} {r.candidate} vs {r.baseline}")
 
 
 def run_bench(only: str | None = None, json_path: str | None = None, repeat: int = 7, quick: bool = False) -> int:

@@ -456,10 +456,15 @@ KdTree build_kdtree(const float* vertices, size_t vertex_count, const int32_t* i
         bounds.lo[a] = std::numeric_limits<float>::infinity();
         bounds.hi[a] = -std::numeric_limits<float>::infinity();
     }
-    std::vector<Ref> refs(triangle_count);
+    // Zero-area triangles (zero normal) can never be hit: they stay out of the tree, where
+    // the rounding of the shear in the watertight test could otherwise report hits on them.
+    std::vector<Ref> refs;
+    refs.reserve(triangle_count);
     for (size_t t = 0; t < triangle_count; ++t) {
-        Box3& b = refs[t].b;
-        refs[t].tri = static_cast<uint32_t>(t);
+        const float* n = &tree.normals[3 * t];
+        if (n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f) continue;
+        refs.push_back(Ref{Box3{}, static_cast<uint32_t>(t)});
+        Box3& b = refs.back().b;
         const float* v = &tree.triangles[9 * t];
         for (int a = 0; a < 3; ++a) {
             b.lo[a] = std::min({v[a], v[3 + a], v[6 + a]});
@@ -468,7 +473,7 @@ KdTree build_kdtree(const float* vertices, size_t vertex_count, const int32_t* i
             bounds.hi[a] = std::max(bounds.hi[a], b.hi[a]);
         }
     }
-    if (triangle_count == 0) bounds = Box3{};
+    if (refs.empty()) bounds = Box3{};
 
     KdBuildOptions opt = options;
     opt.max_leaf = std::max(opt.max_leaf, 1);
