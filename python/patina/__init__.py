@@ -5,13 +5,17 @@
 >>> brdf.eval(wi, wo)                   # (n, 3) local-frame directions -> (n, channels)
 >>> brdf.eval_angles(ti, pi, to, po)    # radians
 >>> brdf.save("copy.ptab"); brdf.info()
+>>> accel = patina.Accel(patina.load_mesh("model.obj"))
+>>> hits = accel.intersect(origins, directions, width=8)   # 8-ray packets
 """
 
 from __future__ import annotations
 
 from . import _core
+from .accel import Accel, Hits
 from .brdf import Brdf, load_brdf
 from .errors import FormatError
+from .mesh import Mesh, load_mesh
 
 __version__ = _core.__version__
-__all__ = ["Brdf", "FormatError", "__version__", "load_brdf"]
+__all__ = ["Accel", "Brdf", "FormatError", "Hits", "Mesh", "__version__", "load_brdf", "load_mesh"]

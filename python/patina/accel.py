@@ -211,8 +211,17 @@ class Accel:
     def _rays(self, origins: Any, directions: Any) -> tuple[np.ndarray, np.ndarray]:
         o = _ray_array(origins, "origins")
         d = _ray_array(directions, "directions", len(o))
-        _check_rays(o, d)
         return o, d
+
+    @staticmethod
+    def _call(query: Any, o: np.ndarray, d: np.ndarray, **kwargs: Any) -> Any:
+        """Runs a C++ query. It checks every ray in one fast pass; only when that fails are the
+        rays checked again here, to name the argument and the bad values in the message."""
+        try:
+            return query(o, d, **kwargs)
+        except ValueError:
+            _check_rays(o, d)
+            raise
 
     def split_prim(self, prim: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Global triangle ids -> (mesh index, triangle id within the mesh); -1, -1 for -1."""
@@ -242,7 +251,8 @@ class Accel:
         """
         o, d = self._rays(origins, directions)
         tmax_arr = None if tmax is None else _tmax_array(tmax, len(o))
-        t, prim, u, v, normal = self.core.intersect(
+        t, prim, u, v, normal = self._call(
+            self.core.intersect,
             o,
             d,
             tmin=_check_tmin(tmin),
@@ -265,7 +275,8 @@ class Accel:
         """(n,) bool: something lies on the ray with t in (tmin, tmax) (shadow rays; any hit)."""
         o, d = self._rays(origins, directions)
         return np.asarray(
-            self.core.occluded(
+            self._call(
+                self.core.occluded,
                 o,
                 d,
                 tmax=_tmax_array(tmax, len(o)),

@@ -19,12 +19,13 @@ namespace tri_detail {
 template <int K>
 PATINA_INLINE void sheared(const RayPacket<K>& r, const float* p, vfloat<K>& x, vfloat<K>& y, vfloat<K>& z) {
     using F = vfloat<K>;
-    const F rel[3] = {F(p[0]) - r.org[0], F(p[1]) - r.org[1], F(p[2]) - r.org[2]};
     if (r.uniform_axes) {
-        z = rel[r.ukz];
-        x = rel[r.ukx] - r.sx * z;
-        y = rel[r.uky] - r.sy * z;
+        // the packet's axes are known: only the three components needed, in their places
+        z = F(p[r.ukz]) - r.org[r.ukz];
+        x = (F(p[r.ukx]) - r.org[r.ukx]) - r.sx * z;
+        y = (F(p[r.uky]) - r.org[r.uky]) - r.sy * z;
     } else {
+        const F rel[3] = {F(p[0]) - r.org[0], F(p[1]) - r.org[1], F(p[2]) - r.org[2]};
         z = ray_detail::pick<K>(rel, r.kz);
         x = ray_detail::pick<K>(rel, r.kx) - r.sx * z;
         y = ray_detail::pick<K>(rel, r.ky) - r.sy * z;
