@@ -479,7 +479,7 @@ KdTree build_kdtree(const float* vertices, size_t vertex_count, const int32_t* i
     opt.max_leaf = std::max(opt.max_leaf, 1);
     int max_depth = opt.max_depth;
     if (max_depth <= 0)
-        max_depth = std::min(64, static_cast<int>(std::lround(4 + 1.2 * std::log2(std::max<size_t>(triangle_count, 1)))));
+        max_depth = std::min(64, static_cast<int>(std::lround(4.5 + std::log2(std::max<size_t>(triangle_count, 1)))));
     const int threads = opt.threads > 0 ? opt.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     int parallel_depth = 0;
     while ((1 << parallel_depth) < threads) ++parallel_depth;

@@ -8,6 +8,9 @@
 
 PATINA_BEGIN_TARGET
 
+// Relative margin on plane distances: 16 float ulps of the operands' magnitudes.
+constexpr float kPlaneMargin = 16.0f / (1 << 23);
+
 template <int K>
 struct RayPacket {
     using F = vfloat<K>;
@@ -15,6 +18,8 @@ struct RayPacket {
     F org[3], dir[3], inv_dir[3];
     // |1/d| where finite, else 0: scales the rounding margin of plane distances (traverse.h)
     F margin_scale[3];
+    // margin(p) = |p| margin_per_unit + margin_of_origin (see traverse.h, plane_distance)
+    F margin_per_unit[3], margin_of_origin[3];
     // Per axis, whether the child below a splitting plane is the near one (d >= +0), and
     // 1 / 0 when that holds for all lanes / none, -1 when the lanes differ.
     vbool<K> below_near[3];
@@ -65,6 +70,8 @@ PATINA_INLINE void prepare_packet(RayPacket<K>& r) {
         r.inv_dir[a] = F(1.0f) / r.dir[a];
         const F m = abs(r.inv_dir[a]);
         r.margin_scale[a] = select(m < F(std::numeric_limits<float>::infinity()), m, F(0.0f));
+        r.margin_per_unit[a] = r.margin_scale[a] * F(kPlaneMargin);
+        r.margin_of_origin[a] = abs(r.org[a]) * r.margin_per_unit[a];
         r.below_near[a] = !signbit(r.dir[a]);
         const int bits = movemask(r.below_near[a]), lanes = (1 << K) - 1;
         r.uniform_below_near[a] = bits == lanes ? 1 : (bits == 0 ? 0 : -1);

@@ -12,6 +12,7 @@
 // the triangle test, not the cell interval, decides the hits.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 
@@ -30,14 +31,13 @@ struct TreeView {
 
 namespace traverse_detail {
 constexpr int kStackSize = 128;
-// Relative margin on plane distances: 16 float ulps of the operands' magnitudes.
-constexpr float kPlaneMargin = 16.0f / (1 << 23);
 
-// Distance along the rays to the plane x[a] = p, and its rounding margin.
+// Distance along the rays to the plane x[a] = p, and its rounding margin
+// ((|p| + |origin|) |1/d| kPlaneMargin, with the origin's part precomputed).
 template <int K>
-PATINA_INLINE vfloat<K> plane_distance(const RayPacket<K>& r, int a, vfloat<K> p, vfloat<K>& margin) {
-    margin = (abs(p) + abs(r.org[a])) * r.margin_scale[a] * vfloat<K>(kPlaneMargin);
-    return (p - r.org[a]) * r.inv_dir[a];
+PATINA_INLINE vfloat<K> plane_distance(const RayPacket<K>& r, int a, float p, vfloat<K>& margin) {
+    margin = madd(vfloat<K>(std::fabs(p)), r.margin_per_unit[a], r.margin_of_origin[a]);
+    return (vfloat<K>(p) - r.org[a]) * r.inv_dir[a];
 }
 
 template <int K>
@@ -54,8 +54,8 @@ PATINA_INLINE void clip_to_box(const RayPacket<K>& r, const Box3& b, vfloat<K>& 
     t1 = r.tmax;
     for (int a = 0; a < 3; ++a) {
         F mlo, mhi;
-        const F lo = plane_distance<K>(r, a, F(b.lo[a]), mlo);
-        const F hi = plane_distance<K>(r, a, F(b.hi[a]), mhi);
+        const F lo = plane_distance<K>(r, a, b.lo[a], mlo);
+        const F hi = plane_distance<K>(r, a, b.hi[a], mhi);
         const F margin = max(mlo, mhi);
         // min/max pick the non-NaN operand second, so a ray in the slab plane keeps its interval
         t0 = max(min(lo, hi) - margin, t0);
@@ -85,6 +85,8 @@ PATINA_INLINE RayPacket<1> extract_lane(const RayPacket<K>& r, int j) {
         s.dir[a] = lane(r.dir[a], j);
         s.inv_dir[a] = lane(r.inv_dir[a], j);
         s.margin_scale[a] = lane(r.margin_scale[a], j);
+        s.margin_per_unit[a] = lane(r.margin_per_unit[a], j);
+        s.margin_of_origin[a] = lane(r.margin_of_origin[a], j);
         s.below_near[a] = lane(r.below_near[a], j);
         s.uniform_below_near[a] = s.below_near[a] ? 1 : 0;
     }
@@ -144,9 +146,8 @@ inline vbool<K> traverse_from(const TreeView& tree, const RayPacket<K>& r, uint3
             const KdNode* node = &tree.nodes[index];
             while (!node->is_leaf()) {
                 const int a = node->axis();
-                const F split(node->split);
                 F margin;
-                const F ts = plane_distance<K>(r, a, split, margin);
+                const F ts = plane_distance<K>(r, a, node->split, margin);
                 const F ts_lo = ts - margin, ts_hi = ts + margin;
                 // Near is the child the ray direction enters first; the ray crosses into the
                 // far child at ts, known within [ts_lo, ts_hi]. Each child gets every t it
