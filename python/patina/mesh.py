@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import io
 import os
+import warnings
 from typing import Any
 
 import numpy as np
@@ -156,14 +157,17 @@ def _read_trimesh(path: str, fmt: str) -> Any:
     try:
         source = _text_source(path, fmt)
         # process=False keeps the file's vertex and triangle order (so `prim` numbers match it)
-        # and leaves non-finite values for our own check to report.
-        return trimesh.load(
-            source,
-            file_type=fmt,
-            force="mesh",
-            process=False,
-            resolver=trimesh.resolvers.FilePathResolver(path),
-        )
+        # and leaves non-finite values for our own check to report; numpy's warnings on such
+        # values inside trimesh would only repeat what that check says.
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore", RuntimeWarning)
+            return trimesh.load(
+                source,
+                file_type=fmt,
+                force="mesh",
+                process=False,
+                resolver=trimesh.resolvers.FilePathResolver(path),
+            )
     except ImportError:
         # trimesh reached for its optional encoding guesser: the bytes are not UTF-8 text
         raise FormatError(

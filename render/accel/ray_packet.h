@@ -16,9 +16,8 @@ struct RayPacket {
     using F = vfloat<K>;
     using I = vint<K>;
     F org[3], dir[3], inv_dir[3];
-    // |1/d| where finite, else 0: scales the rounding margin of plane distances (traverse.h)
-    F margin_scale[3];
-    // margin(p) = |p| margin_per_unit + margin_of_origin (see traverse.h, plane_distance)
+    // Rounding margin of the distance to a plane x[a] = p (traverse.h, plane_distance):
+    // |p| margin_per_unit + margin_of_origin, from |1/d| (0 where d = 0) and kPlaneMargin.
     F margin_per_unit[3], margin_of_origin[3];
     // Per axis, whether the child below a splitting plane is the near one (d >= +0), and
     // 1 / 0 when that holds for all lanes / none, -1 when the lanes differ.
@@ -69,8 +68,7 @@ PATINA_INLINE void prepare_packet(RayPacket<K>& r) {
     for (int a = 0; a < 3; ++a) {
         r.inv_dir[a] = F(1.0f) / r.dir[a];
         const F m = abs(r.inv_dir[a]);
-        r.margin_scale[a] = select(m < F(std::numeric_limits<float>::infinity()), m, F(0.0f));
-        r.margin_per_unit[a] = r.margin_scale[a] * F(kPlaneMargin);
+        r.margin_per_unit[a] = select(m < F(std::numeric_limits<float>::infinity()), m, F(0.0f)) * F(kPlaneMargin);
         r.margin_of_origin[a] = abs(r.org[a]) * r.margin_per_unit[a];
         r.below_near[a] = !signbit(r.dir[a]);
         const int bits = movemask(r.below_near[a]), lanes = (1 << K) - 1;

@@ -18,7 +18,7 @@ constexpr int W = PATINA_KERNEL_WIDTH;
 
 TreeView view_of(const KdTree& tree) {
     return TreeView{tree.nodes.empty() ? nullptr : tree.nodes.data(), tree.leaf_prims.data(), tree.triangles.data(),
-                    tree.bounds, tree.stats.depth};
+                    tree.bounds};
 }
 
 // Loads rays [i, i + lanes) as one packet; missing lanes get an empty interval.

@@ -26,7 +26,6 @@ struct TreeView {
     const uint32_t* leaf_prims;
     const float* triangles;
     Box3 bounds;
-    int depth;
 };
 
 namespace traverse_detail {
@@ -88,7 +87,6 @@ PATINA_INLINE RayPacket<1> extract_lane(const RayPacket<K>& r, int j) {
         s.org[a] = lane(r.org[a], j);
         s.dir[a] = lane(r.dir[a], j);
         s.inv_dir[a] = lane(r.inv_dir[a], j);
-        s.margin_scale[a] = lane(r.margin_scale[a], j);
         s.margin_per_unit[a] = lane(r.margin_per_unit[a], j);
         s.margin_of_origin[a] = lane(r.margin_of_origin[a], j);
         s.below_near[a] = lane(r.below_near[a], j);
