@@ -178,6 +178,7 @@ inline vbool<K> traverse_from(const TreeView& tree, const RayPacket<K>& r, uint3
                         index = near_child;
                         t0 = select(need_near, t0, inf);
                         t1 = near_t1;
+                        active = need_near;
                     }
                 } else {
                     // the lanes disagree: both children, each with the lanes that need it,
@@ -193,10 +194,12 @@ inline vbool<K> traverse_from(const TreeView& tree, const RayPacket<K>& r, uint3
                         index = below;
                         t0 = below_t0;
                         t1 = below_t1;
+                        active = need_below;
                     } else if (none(need_below)) {
                         index = above;
                         t0 = above_t0;
                         t1 = above_t1;
+                        active = need_above;
                     } else {
                         const bool below_first = 2 * active_count<K>(below_near & active) >= active_count<K>(active);
                         if (top < kStackSize) {
@@ -206,12 +209,12 @@ inline vbool<K> traverse_from(const TreeView& tree, const RayPacket<K>& r, uint3
                         index = below_first ? below : above;
                         t0 = below_first ? below_t0 : above_t0;
                         t1 = below_first ? below_t1 : above_t1;
+                        active = below_first ? need_below : need_above;
                     }
                 }
+                // Every active lane needs at least one child, so `active` is never empty here;
+                // lanes whose hit is nearer than their new t0 drop out at the next pop.
                 node = &tree.nodes[index];
-                active = (t0 <= t1) & (t0 <= hit.t);
-                if (kAnyHit) active = andnot(occluded, active);
-                if (none(active)) break;
             }
             if (node->is_leaf() && any(active)) {
                 const uint32_t first = node->first, count = node->count();
