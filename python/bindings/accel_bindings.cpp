@@ -75,8 +75,12 @@ patina::RayBatch ray_batch(Rays3 origins, Rays3 directions, float tmin, nb::obje
     return rays;
 }
 
+using FloatOut = nb::ndarray<float, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+using IntOut = nb::ndarray<int32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+using NormalOut = nb::ndarray<float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+
 nb::tuple intersect(const Accel& a, Rays3 origins, Rays3 directions, float tmin, nb::object tmax, int width,
-                    int threads) {
+                    int threads, nb::object out) {
     // keep a converted tmax array alive for the duration of the call
     nb::object tmax_arr = tmax;
     if (!tmax.is_none() && !nb::isinstance<nb::float_>(tmax) && !nb::isinstance<nb::int_>(tmax))
@@ -85,18 +89,38 @@ nb::tuple intersect(const Accel& a, Rays3 origins, Rays3 directions, float tmin,
     const size_t n = origins.shape(0);
     float *t, *u, *v, *normal;
     int32_t* prim;
-    auto t_arr = new_array<float, 1>({n}, &t);
-    auto u_arr = new_array<float, 1>({n}, &u);
-    auto v_arr = new_array<float, 1>({n}, &v);
-    auto prim_arr = new_array<int32_t, 1>({n}, &prim);
-    const size_t shape[2] = {n, 3};
-    auto normal_arr = new_array<float, 2>(shape, &normal);
+    nb::tuple result;
+    if (out.is_none()) {
+        auto t_arr = new_array<float, 1>({n}, &t);
+        auto u_arr = new_array<float, 1>({n}, &u);
+        auto v_arr = new_array<float, 1>({n}, &v);
+        auto prim_arr = new_array<int32_t, 1>({n}, &prim);
+        const size_t shape[2] = {n, 3};
+        auto normal_arr = new_array<float, 2>(shape, &normal);
+        result = nb::make_tuple(t_arr, prim_arr, u_arr, v_arr, normal_arr);
+    } else {
+        // caller-provided (t, prim, u, v, normal): no allocation, as a render loop wants
+        result = nb::cast<nb::tuple>(out);
+        if (result.size() != 5) throw std::invalid_argument("out must be a tuple (t, prim, u, v, normal)");
+        auto ot = nb::cast<FloatOut>(result[0]);
+        auto op = nb::cast<IntOut>(result[1]);
+        auto ou = nb::cast<FloatOut>(result[2]);
+        auto ov = nb::cast<FloatOut>(result[3]);
+        auto on = nb::cast<NormalOut>(result[4]);
+        if (ot.shape(0) != n || op.shape(0) != n || ou.shape(0) != n || ov.shape(0) != n || on.shape(0) != n)
+            throw std::invalid_argument("out arrays must hold one row per ray");
+        t = ot.data();
+        prim = op.data();
+        u = ou.data();
+        v = ov.data();
+        normal = on.data();
+    }
     {
         nb::gil_scoped_release release;
         patina::trace_intersect(a.tree, rays, patina::HitBatch{t, prim, u, v}, n, width, threads);
         patina::hit_normals(a.tree, prim, normal, n);
     }
-    return nb::make_tuple(t_arr, prim_arr, u_arr, v_arr, normal_arr);
+    return result;
 }
 
 nb::object occluded(const Accel& a, Rays3 origins, Rays3 directions, nb::object tmax, float tmin, int width,
@@ -131,9 +155,9 @@ void bind_accel(nb::module_& m) {
         .def_prop_ro("depth", [](const Accel& a) { return a.tree.stats.depth; })
         .def_prop_ro("build_seconds", [](const Accel& a) { return a.tree.stats.build_seconds; })
         .def("intersect", &intersect, nb::arg("origins"), nb::arg("directions"), nb::arg("tmin") = 0.0f,
-             nb::arg("tmax") = nb::none(), nb::arg("width") = 0, nb::arg("threads") = 0,
+             nb::arg("tmax") = nb::none(), nb::arg("width") = 0, nb::arg("threads") = 0, nb::arg("out") = nb::none(),
              "Closest hits: (t, prim, u, v, normal); t = inf and prim = -1 on a miss. Rays [i, i + width) "
-             "form one packet.")
+             "form one packet. out: preallocated (t, prim, u, v, normal) arrays to write into.")
         .def("occluded", &occluded, nb::arg("origins"), nb::arg("directions"), nb::arg("tmax") = nb::none(),
              nb::arg("tmin") = 0.0f, nb::arg("width") = 0, nb::arg("threads") = 0,
              "True where something is hit with tmin < t < tmax.");
