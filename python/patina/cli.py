@@ -3,6 +3,7 @@
     patina info FILE [--json]
     patina convert IN OUT.ptab
     patina eval FILE --wi THETA PHI --wo THETA PHI [--json] [--width 1|4|8]
+    patina validate FILE [--json]          (exit 0 clean, 1 problems found, 2 unreadable)
     patina slices FILE --out PNG
     patina bench [--only GROUP] [--json FILE]
 
@@ -129,6 +130,19 @@ def cmd_slices(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_validate(args: argparse.Namespace) -> int:
+    from . import load_brdf
+    from .validate import Tolerances, format_report, validate
+
+    brdf = load_brdf(args.file)
+    report = validate(brdf, Tolerances(spike_factor=args.spike_factor, albedo_excess=args.albedo_tolerance))
+    if args.json:
+        _print_json(report.as_json())
+    else:
+        print(format_report(report))
+    return 0 if report.ok else 1
+
+
 def cmd_bench(args: argparse.Namespace) -> int:
     from .bench import run_bench
 
@@ -157,6 +171,13 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true")
     s.add_argument("--width", type=int, choices=(1, 4, 8), default=None, help="force a SIMD path")
     s.set_defaults(func=cmd_eval)
+
+    s = sub.add_parser("validate", help="check a table: values, axes, coverage, reciprocity, albedo, spikes")
+    s.add_argument("file")
+    s.add_argument("--json", action="store_true", help="machine-readable report")
+    s.add_argument("--spike-factor", type=float, default=5.0, help="a spike is this many times off every neighbour")
+    s.add_argument("--albedo-tolerance", type=float, default=0.02, help="albedo may exceed 1 by this much")
+    s.set_defaults(func=cmd_validate)
 
     s = sub.add_parser("slices", help="plot in-plane slices of a table to a PNG")
     s.add_argument("file")
