@@ -324,3 +324,24 @@ LANE_TEST(FastMathSpecialValues) {
         }
     }
 }
+
+// fast_sincos against double over several periods, and the same bits at every width.
+LANE_TEST(FastSinCos) {
+    if (!width_supported(N)) GTEST_SKIP() << "CPU lacks this width";
+    auto xs = test_values::uniform(1 << 18, -100.0f, 100.0f, 71);
+    for (int i = 0; i <= 4096; ++i) xs.push_back(6.2831853f * float(i) / 4096.0f);
+    xs = padded(xs);
+    double worst = 0;
+    for (size_t i = 0; i + N <= xs.size(); i += N) {
+        F s, c;
+        patina::fast_sincos(load_n<N>(&xs[i]), s, c);
+        for (int j = 0; j < N; ++j) {
+            worst = std::max(worst, std::fabs(double(patina::lane(s, j)) - std::sin(double(xs[i + j]))));
+            worst = std::max(worst, std::fabs(double(patina::lane(c, j)) - std::cos(double(xs[i + j]))));
+            float s1, c1;
+            patina::fast_sincos(xs[i + j], s1, c1);
+            ASSERT_TRUE(same_float(patina::lane(s, j), s1) && same_float(patina::lane(c, j), c1)) << xs[i + j];
+        }
+    }
+    EXPECT_LE(worst, 5e-7);
+}

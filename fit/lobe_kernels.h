@@ -1,0 +1,33 @@
+// Batch kernels over the analytic lobes (microfacet.h), one copy per SIMD width
+// (lobe_w1.cpp, lobe_w4.cpp with -msse4.1, lobe_w8.cpp with -mavx2 -mfma), chosen at
+// run time like the table evaluator's. Arrays are (n, 3) rows of local directions.
+#pragma once
+
+#include <cstddef>
+
+namespace patina {
+
+// A diffuse + one GGX lobe, RGB: rho (3), alpha, f0 (3).
+struct LambertGgxParams {
+    float rho[3];
+    float alpha;
+    float f0[3];
+};
+
+struct LobeKernels {
+    int width;
+    // out[i] = rho / pi + GGX(alpha, Schlick(f0)), (n, 3)
+    void (*eval_lambert_ggx)(const LambertGgxParams& p, const float* wi, const float* wo, float* out, size_t n);
+    // wo[i] sampled from GGX's D(h) cos(theta_h) given wi and two uniforms; pdf[i] its density
+    void (*sample_ggx)(float alpha, const float* wi, const float* u1, const float* u2, float* wo, float* pdf,
+                       size_t n);
+    // cosine-weighted wo from two uniforms; pdf[i] = cos / pi
+    void (*sample_lambert)(const float* u1, const float* u2, float* wo, float* pdf, size_t n);
+};
+
+const LobeKernels& lobe_kernels_w1();
+const LobeKernels& lobe_kernels_w4();
+const LobeKernels& lobe_kernels_w8();
+const LobeKernels& lobe_kernels_for(int width);  // 0 = default; throws std::invalid_argument
+
+}  // namespace patina

@@ -1,0 +1,85 @@
+// The body of lobe_w{1,4,8}.cpp: defines lobe_kernels_wN() for PATINA_KERNEL_WIDTH.
+#pragma once
+
+#include <algorithm>
+
+#include "core/simd/upper_state.h"
+#include "fit/lobe_kernels.h"
+#include "fit/microfacet.h"
+
+#ifndef PATINA_KERNEL_WIDTH
+#error "define PATINA_KERNEL_WIDTH before including lobe_kernels_impl.h"
+#endif
+
+PATINA_BEGIN_TARGET
+namespace {
+
+constexpr int W = PATINA_KERNEL_WIDTH;
+using F = vfloat<W>;
+
+// Runs body(i, lanes) over blocks of W rows; rows past n read from zero-padded copies.
+template <class Body>
+void for_blocks(size_t n, Body body) {
+    if constexpr (W < 8) clear_upper_state();
+    for (size_t i = 0; i < n; i += W) body(i, static_cast<int>(std::min<size_t>(W, n - i)));
+}
+
+Dir3<F> load_rows(const float* p, size_t i, int lanes) {
+    Dir3<F> d;
+    if (lanes == W) {
+        load_xyz(p + 3 * i, d.x, d.y, d.z);
+    } else {
+        float pad[3 * W] = {};
+        std::copy(p + 3 * i, p + 3 * (i + lanes), pad);
+        load_xyz(pad, d.x, d.y, d.z);
+    }
+    return d;
+}
+
+F load_lanes(const float* p, size_t i, int lanes) {
+    float pad[W] = {};
+    std::copy(p + i, p + i + lanes, pad);
+    return load_n<W>(pad);
+}
+
+void store_rows(float* p, size_t i, int lanes, F x, F y, F z) {
+    float rows[3 * W];
+    store_xyz(rows, x, y, z);
+    std::copy(rows, rows + 3 * lanes, p + 3 * i);
+}
+
+void store_lanes(float* p, size_t i, int lanes, F v) {
+    float tmp[W];
+    store_n<W>(tmp, v);
+    std::copy(tmp, tmp + lanes, p + i);
+}
+
+void eval_lambert_ggx(const LambertGgxParams& p, const float* wi, const float* wo, float* out, size_t n) {
+    for_blocks(n, [&](size_t i, int lanes) {
+        const Dir3<F> a = load_rows(wi, i, lanes), b = load_rows(wo, i, lanes);
+        F c[3];
+        for (int ch = 0; ch < 3; ++ch)
+            c[ch] = microfacet::lambert_eval(a, b, F(p.rho[ch])) + microfacet::ggx_eval(a, b, F(p.alpha), F(p.f0[ch]));
+        store_rows(out, i, lanes, c[0], c[1], c[2]);
+    });
+}
+
+void sample_ggx(float alpha, const float* wi, const float* u1, const float* u2, float* wo, float* pdf, size_t n) {
+    for_blocks(n, [&](size_t i, int lanes) {
+        const Dir3<F> a = load_rows(wi, i, lanes);
+        const Dir3<F> s = microfacet::ggx_sample(a, load_lanes(u1, i, lanes), load_lanes(u2, i, lanes), F(alpha));
+        store_rows(wo, i, lanes, s.x, s.y, s.z);
+        store_lanes(pdf, i, lanes, microfacet::ggx_pdf(a, s, F(alpha)));
+    });
+}
+
+void sample_lambert(const float* u1, const float* u2, float* wo, float* pdf, size_t n) {
+    for_blocks(n, [&](size_t i, int lanes) {
+        const Dir3<F> s = microfacet::lambert_sample(load_lanes(u1, i, lanes), load_lanes(u2, i, lanes));
+        store_rows(wo, i, lanes, s.x, s.y, s.z);
+        store_lanes(pdf, i, lanes, s.z * F(microfacet::kInvPi));
+    });
+}
+
+}  // namespace
+PATINA_END_TARGET

@@ -1,0 +1,142 @@
+// Analytic BRDF building blocks, written once for every SIMD width like the table
+// evaluator: Fresnel terms, the GGX (Trowbridge-Reitz) distribution with
+// height-correlated Smith masking, the Lambert lobe; evaluation, importance
+// sampling and its pdf. Directions are in the local frame (z = normal), unit length.
+#pragma once
+
+#include "core/simd/fastmath.h"
+
+PATINA_BEGIN_TARGET
+
+template <class F>
+struct Dir3 {
+    F x, y, z;
+};
+
+namespace microfacet {
+constexpr float kPi = 3.14159265358979323846f;
+constexpr float kInvPi = 0.31830988618379067154f;
+
+// Schlick's approximation: f0 + (1 - f0) (1 - cos)^5.
+template <class F>
+PATINA_INLINE F fresnel_schlick(F f0, F cos_theta) {
+    const F m = F(1.0f) - clamp(cos_theta, F(0.0f), F(1.0f));
+    const F m2 = m * m;
+    return f0 + (F(1.0f) - f0) * (m2 * m2 * m);
+}
+
+// Unpolarised Fresnel reflectance of a dielectric interface, relative index eta (> 0),
+// light arriving from the outside at cos_i (>= 0). Total internal reflection gives 1.
+template <class F>
+PATINA_INLINE F fresnel_dielectric(F cos_i, F eta) {
+    const F sin2_t = (F(1.0f) - cos_i * cos_i) / (eta * eta);
+    const F cos_t = sqrt_exact(max(F(1.0f) - sin2_t, F(0.0f)));
+    const F rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    const F rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    return select(sin2_t >= F(1.0f), F(1.0f), F(0.5f) * (rs * rs + rp * rp));
+}
+
+// Unpolarised Fresnel reflectance of a conductor, complex index eta + i k.
+template <class F>
+PATINA_INLINE F fresnel_conductor(F cos_i, F eta, F k) {
+    const F c2 = cos_i * cos_i, s2 = F(1.0f) - c2;
+    const F t0 = eta * eta - k * k - s2;
+    const F a2b2 = sqrt_exact(t0 * t0 + F(4.0f) * eta * eta * k * k);
+    const F t1 = a2b2 + c2;
+    const F a = sqrt_exact(max(F(0.5f) * (a2b2 + t0), F(0.0f)));
+    const F t2 = F(2.0f) * cos_i * a;
+    const F rs = (t1 - t2) / (t1 + t2);
+    const F t3 = c2 * a2b2 + s2 * s2;
+    const F t4 = t2 * s2;
+    const F rp = rs * (t3 - t4) / (t3 + t4);
+    return F(0.5f) * (rs + rp);
+}
+
+// GGX normal distribution D(h) for cos(theta_h) = c, roughness alpha (> 0).
+template <class F>
+PATINA_INLINE F ggx_d(F c, F alpha) {
+    const F a2 = alpha * alpha;
+    const F t = c * c * (a2 - F(1.0f)) + F(1.0f);
+    return select(c > F(0.0f), a2 / (F(kPi) * t * t), F(0.0f));
+}
+
+// Smith's Lambda for GGX: (sqrt(1 + alpha^2 tan^2) - 1) / 2.
+template <class F>
+PATINA_INLINE F ggx_lambda(F c, F alpha) {
+    const F c2 = c * c;
+    const F tan2 = max(F(1.0f) - c2, F(0.0f)) / c2;
+    return F(0.5f) * (sqrt_exact(F(1.0f) + alpha * alpha * tan2) - F(1.0f));
+}
+
+// Height-correlated masking-shadowing G2 = 1 / (1 + Lambda(i) + Lambda(o)).
+template <class F>
+PATINA_INLINE F ggx_g2(F cos_i, F cos_o, F alpha) {
+    // (L_i + L_o) first: the sum, and so f, is exactly the same with i and o swapped
+    return F(1.0f) / (F(1.0f) + (ggx_lambda(cos_i, alpha) + ggx_lambda(cos_o, alpha)));
+}
+
+template <class F>
+PATINA_INLINE Dir3<F> half_vector(const Dir3<F>& a, const Dir3<F>& b) {
+    const F x = a.x + b.x, y = a.y + b.y, z = a.z + b.z;
+    const F inv = F(1.0f) / sqrt_exact(x * x + y * y + z * z);
+    return {x * inv, y * inv, z * inv};
+}
+
+// The GGX specular lobe with Schlick Fresnel, for one channel's f0:
+// D G2 F / (4 cos_i cos_o). Zero below the horizon.
+template <class F>
+PATINA_INLINE F ggx_eval(const Dir3<F>& wi, const Dir3<F>& wo, F alpha, F f0) {
+    const Dir3<F> h = half_vector(wi, wo);
+    const F d = ggx_d(h.z, alpha);
+    const F g = ggx_g2(wi.z, wo.z, alpha);
+    // wi.h = wo.h exactly in theory; their mean keeps f reciprocal bit for bit
+    const F ih = wi.x * h.x + wi.y * h.y + wi.z * h.z, oh = wo.x * h.x + wo.y * h.y + wo.z * h.z;
+    const F fr = fresnel_schlick(f0, F(0.5f) * (ih + oh));
+    const F value = d * g * fr / (F(4.0f) * wi.z * wo.z);
+    return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)), value, F(0.0f));
+}
+
+// Samples h from D(h) cos(theta_h) and reflects wi about it; see ggx_pdf.
+template <class F>
+PATINA_INLINE Dir3<F> ggx_sample(const Dir3<F>& wi, F u1, F u2, F alpha) {
+    // tan^2(theta_h) = alpha^2 u1 / (1 - u1) inverts the cdf of D(h) cos(theta_h)
+    const F tan2 = alpha * alpha * u1 / max(F(1.0f) - u1, F(1e-12f));
+    const F cos_h = F(1.0f) / sqrt_exact(F(1.0f) + tan2);
+    const F sin_h = sqrt_exact(max(F(1.0f) - cos_h * cos_h, F(0.0f)));
+    F sin_p, cos_p;
+    fast_sincos(F(2.0f * kPi) * u2, sin_p, cos_p);
+    const Dir3<F> h{sin_h * cos_p, sin_h * sin_p, cos_h};
+    const F d2 = F(2.0f) * (wi.x * h.x + wi.y * h.y + wi.z * h.z);
+    return {d2 * h.x - wi.x, d2 * h.y - wi.y, d2 * h.z - wi.z};
+}
+
+// Density of ggx_sample's wo: D(h) cos(theta_h) / (4 |wo . h|); 0 below the horizon.
+template <class F>
+PATINA_INLINE F ggx_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F alpha) {
+    const Dir3<F> h = half_vector(wi, wo);
+    const F oh = abs(wo.x * h.x + wo.y * h.y + wo.z * h.z);
+    const F pdf = ggx_d(h.z, alpha) * h.z / (F(4.0f) * oh);
+    return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)) & (oh > F(0.0f)), pdf, F(0.0f));
+}
+
+// Lambert: rho / pi, cosine-weighted sampling, pdf cos(theta_o) / pi.
+template <class F>
+PATINA_INLINE F lambert_eval(const Dir3<F>& wi, const Dir3<F>& wo, F rho) {
+    return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)), rho * F(kInvPi), F(0.0f));
+}
+
+template <class F>
+PATINA_INLINE Dir3<F> lambert_sample(F u1, F u2) {
+    const F r = sqrt_exact(u1);
+    F sin_p, cos_p;
+    fast_sincos(F(2.0f * kPi) * u2, sin_p, cos_p);
+    return {r * cos_p, r * sin_p, sqrt_exact(max(F(1.0f) - u1, F(0.0f)))};
+}
+
+template <class F>
+PATINA_INLINE F lambert_pdf(const Dir3<F>& wi, const Dir3<F>& wo) {
+    return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)), wo.z * F(kInvPi), F(0.0f));
+}
+}  // namespace microfacet
+
+PATINA_END_TARGET
