@@ -32,5 +32,6 @@ nb::ndarray<nb::numpy, T, nb::ndim<1>> copy_vector(const T* src, size_t n) {
 
 void bind_table(nb::module_& m);
 void bind_accel(nb::module_& m);
+void bind_fit(nb::module_& m);
 
 }  // namespace patina_py

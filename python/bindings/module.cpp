@@ -116,4 +116,5 @@ NB_MODULE(_core, m) {
 
     bind_table(m);
     bind_accel(m);
+    bind_fit(m);
 }

@@ -4,6 +4,7 @@
     patina convert IN OUT.ptab
     patina eval FILE --wi THETA PHI --wo THETA PHI [--json] [--width 1|4|8]
     patina validate FILE [--json]          (exit 0 clean, 1 problems found, 2 unreadable)
+    patina fit FILE [--model ggx+lambert] [--loss l2cos|log] [--out fit.json]
     patina slices FILE --out PNG
     patina bench [--only GROUP] [--json FILE]
 
@@ -143,6 +144,35 @@ def cmd_validate(args: argparse.Namespace) -> int:
     return 0 if report.ok else 1
 
 
+def cmd_fit(args: argparse.Namespace) -> int:
+    from . import load_brdf
+    from .fit import fit, write_fit
+
+    if args.starts < 1:
+        raise UsageError("fit: --starts must be at least 1")
+    brdf = load_brdf(args.file)
+    result = fit(brdf, model=args.model, loss=args.loss, starts=args.starts, seed=args.seed)
+    if args.out:
+        write_fit(result, args.out)
+    if args.json:
+        _print_json(result.as_json())
+    else:
+        print(
+            f"{result.model} fitted to {args.file} ({result.samples} samples, loss {result.loss}) "
+            f"in {result.seconds:.2f} s: {result.message}"
+        )
+        for name, value in result.parameters.items():
+            print(f"  {name:<8} {value:.6g}" + ("   (at its bound)" if name in result.at_bounds else ""))
+        m = result.metrics
+        print(
+            f"  loss {m['loss_all_samples']:.4g}  rmse {m['rmse']:.4g}  relative error median "
+            f"{m['relative_error_median']:.3g}, 95% {m['relative_error_p95']:.3g}"
+        )
+        if args.out:
+            print(f"wrote {args.out}")
+    return 0 if result.converged else 1
+
+
 def cmd_bench(args: argparse.Namespace) -> int:
     from .bench import run_bench
 
@@ -178,6 +208,16 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--spike-factor", type=float, default=5.0, help="a spike is this many times off every neighbour")
     s.add_argument("--albedo-tolerance", type=float, default=0.02, help="albedo may exceed 1 by this much")
     s.set_defaults(func=cmd_validate)
+
+    s = sub.add_parser("fit", help="fit an analytic model to a table (nlopt)")
+    s.add_argument("file")
+    s.add_argument("--model", default="ggx+lambert", help="ggx+lambert")
+    s.add_argument("--loss", default="l2cos", choices=("l2cos", "log"))
+    s.add_argument("--starts", type=int, default=4, help="local optimisations from this many starts")
+    s.add_argument("--seed", type=int, default=0)
+    s.add_argument("--out", default=None, metavar="FIT_JSON", help="write the result as JSON")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_fit)
 
     s = sub.add_parser("slices", help="plot in-plane slices of a table to a PNG")
     s.add_argument("file")

@@ -1,0 +1,76 @@
+"""Fitting: parameters of tables made from the model itself are recovered."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import patina
+from patina import _core
+from patina.cli import main
+from patina.fit import fit, table_samples
+from patina.formats import table_from_data
+from patina.formats.tabledata import TableData
+from patina.synthetic import isotropic_grid
+
+THETA = np.radians(89 * np.linspace(0, 1, 26) ** 1.1)
+U = np.linspace(0, 1, 48)
+PHI = np.pi * (0.3 * U + 0.7 * np.sin(U * np.pi / 2))
+NAMES = ["rho_r", "rho_g", "rho_b", "alpha", "f0_r", "f0_g", "f0_b"]
+
+
+def model_table(params: list[float], noise: float = 0.0, seed: int = 0) -> patina.Brdf:
+    wi, wo = isotropic_grid(THETA, THETA, PHI)
+    values = _core.lambert_ggx_eval(params, wi.astype(np.float32), wo.astype(np.float32)).astype(np.float64)
+    if noise:
+        values *= 1 + noise * np.random.default_rng(seed).standard_normal(values.shape)
+    values = values.reshape(THETA.size, THETA.size, PHI.size, 3)
+    return patina.Brdf(table_from_data(TableData("isotropic", [THETA, THETA, PHI], values, "rgb")), "", "test")
+
+
+CASES = [
+    [0.3, 0.5, 0.2, 0.15, 0.04, 0.06, 0.08],
+    [0.05, 0.05, 0.6, 0.35, 0.5, 0.3, 0.1],
+    [0.6, 0.1, 0.1, 0.07, 0.04, 0.04, 0.04],
+]
+
+
+@pytest.mark.parametrize("params", CASES)
+@pytest.mark.parametrize("loss", ["l2cos", "log"])
+def test_noise_free_tables_are_recovered_within_2_percent(params, loss):
+    r = fit(model_table(params), loss=loss, starts=2)
+    assert r.converged, r.message
+    got = np.array([r.parameters[n] for n in NAMES])
+    np.testing.assert_allclose(got, params, rtol=0.02, atol=1e-3)
+    assert r.metrics["loss_all_samples"] < 1e-8
+
+
+@pytest.mark.parametrize("params", CASES[:2])
+def test_two_percent_noise_recovers_within_5_percent(params):
+    r = fit(model_table(params, noise=0.02, seed=3), loss="log", starts=2)
+    got = np.array([r.parameters[n] for n in NAMES])
+    np.testing.assert_allclose(got, params, rtol=0.05, atol=5e-3)
+
+
+def test_samples_leave_out_grazing_and_missing_points():
+    b = model_table(CASES[0])
+    wi, wo, measured, weight = table_samples(b, max_theta_deg=60)
+    assert np.all(wi[:, 2] > np.cos(np.radians(60)) - 1e-6) and np.all(wo[:, 2] > np.cos(np.radians(60)) - 1e-6)
+    np.testing.assert_allclose(weight, wi[:, 2] * wo[:, 2], rtol=1e-6)
+    assert measured.shape == wi.shape
+
+
+def test_cli_writes_fit_json(tmp_path, capsys):
+    table = tmp_path / "t.ptab"
+    model_table(CASES[0]).save(table)
+    out = tmp_path / "fit.json"
+    assert main(["fit", str(table), "--out", str(out), "--starts", "1"]) == 0
+    doc = json.loads(out.read_text())
+    assert doc["model"] == "ggx+lambert" and doc["converged"]
+    assert doc["table_checksum"].startswith("crc32:")
+    assert abs(doc["parameters"]["alpha"] - 0.15) < 0.003
+    assert main(["fit", str(table), "--model", "phong"]) == 2
+    assert "unknown model" in capsys.readouterr().err
+    assert main(["fit", str(table), "--starts", "0"]) == 2
