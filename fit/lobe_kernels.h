@@ -23,6 +23,9 @@ struct LobeKernels {
                        size_t n);
     // cosine-weighted wo from two uniforms; pdf[i] = cos / pi
     void (*sample_lambert)(const float* u1, const float* u2, float* wo, float* pdf, size_t n);
+    // sum over rows and channels of ((model - measured) weight)^2 (the CosineL2 loss, fit/loss.h)
+    double (*cosine_l2_lambert_ggx)(const LambertGgxParams& p, const float* wi, const float* wo,
+                                    const float* measured, const float* weight, size_t n);
 };
 
 const LobeKernels& lobe_kernels_w1();

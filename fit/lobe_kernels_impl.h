@@ -81,5 +81,25 @@ void sample_lambert(const float* u1, const float* u2, float* wo, float* pdf, siz
     });
 }
 
+double cosine_l2_lambert_ggx(const LambertGgxParams& p, const float* wi, const float* wo, const float* measured,
+                             const float* weight, size_t n) {
+    double total = 0;
+    for_blocks(n, [&](size_t i, int lanes) {
+        const Dir3<F> a = load_rows(wi, i, lanes), b = load_rows(wo, i, lanes), m = load_rows(measured, i, lanes);
+        const F w = lanes == W ? load_n<W>(weight + i) : load_lanes(weight, i, lanes);  // padded lanes weigh 0
+        const F mc[3] = {m.x, m.y, m.z};
+        F sum(0.0f);
+        for (int ch = 0; ch < 3; ++ch) {
+            const F f = microfacet::lambert_eval(a, b, F(p.rho[ch])) + microfacet::ggx_eval(a, b, F(p.alpha), F(p.f0[ch]));
+            const F d = (f - mc[ch]) * w;
+            sum = madd(d, d, sum);
+        }
+        float lane_sums[W];
+        store_n<W>(lane_sums, sum);
+        for (int j = 0; j < W; ++j) total += lane_sums[j];
+    });
+    return total;
+}
+
 }  // namespace
 PATINA_END_TARGET

@@ -15,22 +15,25 @@ double lambert_ggx_loss(const LambertGgxParams& p, const FitSamples& s, LossKind
     std::mutex lock;
     parallel_for(s.n, 1024, threads, [&](size_t begin, size_t end) {
         constexpr size_t kChunk = 2048;
-        std::vector<float> model(3 * kChunk);
         double sum = 0;
-        for (size_t i = begin; i < end; i += kChunk) {
-            const size_t m = std::min(kChunk, end - i);
-            k.eval_lambert_ggx(p, s.wi + 3 * i, s.wo + 3 * i, model.data(), m);
-            const float* meas = s.measured + 3 * i;
-            const float* w = s.weight + i;
-            if (kind == LossKind::CosineL2) {
-                for (size_t j = 0; j < 3 * m; ++j) {
-                    const double d = (double(model[j]) - meas[j]) * w[j / 3];
-                    sum += d * d;
-                }
-            } else {
-                for (size_t j = 0; j < 3 * m; ++j) {
-                    const double d = std::log1p(double(model[j]) * w[j / 3]) - std::log1p(double(meas[j]) * w[j / 3]);
-                    sum += d * d;
+        if (kind == LossKind::CosineL2) {
+            // entirely in the SIMD kernel; per-block sums accumulate in double
+            for (size_t i = begin; i < end; i += kChunk) {
+                const size_t m = std::min(kChunk, end - i);
+                sum += k.cosine_l2_lambert_ggx(p, s.wi + 3 * i, s.wo + 3 * i, s.measured + 3 * i, s.weight + i, m);
+            }
+        } else {
+            std::vector<float> model(3 * kChunk);
+            for (size_t i = begin; i < end; i += kChunk) {
+                const size_t m = std::min(kChunk, end - i);
+                k.eval_lambert_ggx(p, s.wi + 3 * i, s.wo + 3 * i, model.data(), m);
+                for (size_t r = 0; r < m; ++r) {
+                    const double w = s.weight[i + r];
+                    for (int c = 0; c < 3; ++c) {
+                        const double d = std::log1p(double(model[3 * r + c]) * w) -
+                                         std::log1p(double(s.measured[3 * (i + r) + c]) * w);
+                        sum += d * d;
+                    }
                 }
             }
         }

@@ -236,6 +236,58 @@ def bench_brdf(repeat: int, quick: bool) -> list[Record]:
     return records
 
 
+def bench_fit(repeat: int, quick: bool) -> list[Record]:
+    """Loss evaluation over a MERL-sized table's samples at each width against width 1, and
+    the seconds to fit GGX + Lambert to that table on one thread."""
+    from .fit import fit, table_samples
+    from .formats import table_from_data
+    from .synthetic import merl_table
+
+    params = [0.3, 0.5, 0.2, 0.15, 0.04, 0.06, 0.08]
+
+    def model(wi: np.ndarray, wo: np.ndarray) -> np.ndarray:
+        as32 = functools.partial(np.ascontiguousarray, dtype=np.float32)
+        return _core.lambert_ggx_eval(params, as32(wi), as32(wo)).astype(np.float64)
+
+    from .brdf import Brdf
+
+    brdf = Brdf(table_from_data(merl_table(model)), "MERL-sized GGX + Lambert", "bench")
+    samples = table_samples(brdf)
+    if quick:
+        samples = tuple(np.ascontiguousarray(a[:50_000]) for a in samples)
+    fs = _core.FitSamples(*samples)
+    n = fs.count
+    records = []
+    for w in _widths():
+        t1, tw = _median_times(
+            [
+                functools.partial(fs.lambert_ggx_loss, params, "l2cos", 1, 1),
+                functools.partial(fs.lambert_ggx_loss, params, "l2cos", w, 1),
+            ],
+            repeat,
+        )
+        records.append(
+            Record(
+                f"fit.loss.w{w}",
+                f"l2cos loss, lobes at width {w}",
+                "the same at width 1",
+                t1 / tw,
+                n / tw / 1e6,
+                "Msamples/s",
+            )
+        )
+    if not quick:
+        start = time.perf_counter()
+        result = fit(brdf, threads=1)
+        seconds = time.perf_counter() - start
+        records.append(
+            Record(
+                "fit.time.ggx_lambert", f"fit GGX + Lambert, {result.samples} samples, 1 thread", "", 1.0, seconds, "s"
+            )
+        )
+    return records
+
+
 def bench_trace(repeat: int, quick: bool) -> list[Record]:
     # imported late: bench_trace builds on Record and _median_times from this module
     from .bench_trace import bench_trace as run
@@ -243,7 +295,12 @@ def bench_trace(repeat: int, quick: bool) -> list[Record]:
     return run(repeat, quick)
 
 
-GROUPS: dict[str, Callable[[int, bool], list[Record]]] = {"math": bench_math, "brdf": bench_brdf, "trace": bench_trace}
+GROUPS: dict[str, Callable[[int, bool], list[Record]]] = {
+    "math": bench_math,
+    "brdf": bench_brdf,
+    "fit": bench_fit,
+    "trace": bench_trace,
+}
 
 
 def print_table(records: list[Record]) -> None:
