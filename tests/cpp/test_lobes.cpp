@@ -8,6 +8,7 @@
 
 #include "core/cpu.h"
 #include "fit/lobe_kernels.h"
+#include "fit/microfacet.h"
 
 using namespace patina;
 
@@ -175,4 +176,30 @@ TEST(Lobes, GgxSamplingMatchesItsPdf) {
                                << " (" << below << " samples below the horizon)";
         }
     }
+}
+
+// Fresnel terms against textbook values (width 1; the wide paths run the same code).
+TEST(Lobes, FresnelReferenceValues) {
+    using patina::microfacet::fresnel_conductor;
+    using patina::microfacet::fresnel_dielectric;
+    using patina::microfacet::fresnel_schlick;
+    // glass, eta 1.5: ((1 - 1.5) / (1 + 1.5))^2 = 0.04 at normal incidence
+    EXPECT_NEAR(fresnel_dielectric(1.0f, 1.5f), 0.04f, 1e-6f);
+    // Brewster's angle, atan(1.5): the p-polarised part vanishes, R = Rs / 2
+    const float cb = std::cos(std::atan(1.5f));
+    const double sb = std::sin(std::atan(1.5)), st = sb / 1.5, ct = std::sqrt(1 - st * st);
+    const double rs = (cb - 1.5 * ct) / (cb + 1.5 * ct);
+    EXPECT_NEAR(fresnel_dielectric(cb, 1.5f), 0.5 * rs * rs, 1e-6);
+    // grazing: everything is reflected; from inside beyond the critical angle too
+    EXPECT_NEAR(fresnel_dielectric(0.0f, 1.5f), 1.0f, 1e-6f);
+    EXPECT_EQ(fresnel_dielectric(0.3f, 1.0f / 1.5f), 1.0f);
+    // conductor at normal incidence: ((n - 1)^2 + k^2) / ((n + 1)^2 + k^2); gold-ish n 0.2, k 3.6
+    const double n = 0.2, k = 3.6, r0 = ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k);
+    EXPECT_NEAR(fresnel_conductor(1.0f, 0.2f, 3.6f), r0, 1e-5);
+    EXPECT_NEAR(fresnel_conductor(1e-4f, 0.2f, 3.6f), 1.0f, 1e-3f);
+    // k = 0: the conductor formula is the dielectric one
+    for (float c : {0.2f, 0.5f, 0.9f}) EXPECT_NEAR(fresnel_conductor(c, 1.5f, 0.0f), fresnel_dielectric(c, 1.5f), 1e-5f);
+    // Schlick: f0 at normal incidence, 1 at grazing
+    EXPECT_FLOAT_EQ(fresnel_schlick(0.04f, 1.0f), 0.04f);
+    EXPECT_FLOAT_EQ(fresnel_schlick(0.04f, 0.0f), 1.0f);
 }
