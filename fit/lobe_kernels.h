@@ -23,9 +23,10 @@ struct LobeKernels {
                        size_t n);
     // cosine-weighted wo from two uniforms; pdf[i] = cos / pi
     void (*sample_lambert)(const float* u1, const float* u2, float* wo, float* pdf, size_t n);
-    // sum over rows and channels of ((model - measured) weight)^2 (the CosineL2 loss, fit/loss.h)
-    double (*cosine_l2_lambert_ggx)(const LambertGgxParams& p, const float* wi, const float* wo,
-                                    const float* measured, const float* weight, size_t n);
+    // sum over rows and channels of ((model - measured) weight)^2, or with log_space of
+    // (log(1 + model weight) - log(1 + measured weight))^2 (the losses of fit/loss.h)
+    double (*loss_lambert_ggx)(const LambertGgxParams& p, const float* wi, const float* wo, const float* measured,
+                               const float* weight, size_t n, bool log_space);
 };
 
 const LobeKernels& lobe_kernels_w1();

@@ -81,8 +81,9 @@ void sample_lambert(const float* u1, const float* u2, float* wo, float* pdf, siz
     });
 }
 
-double cosine_l2_lambert_ggx(const LambertGgxParams& p, const float* wi, const float* wo, const float* measured,
-                             const float* weight, size_t n) {
+template <bool kLogSpace>
+double loss_blocks(const LambertGgxParams& p, const float* wi, const float* wo, const float* measured,
+                   const float* weight, size_t n) {
     double total = 0;
     for_blocks(n, [&](size_t i, int lanes) {
         const Dir3<F> a = load_rows(wi, i, lanes), b = load_rows(wo, i, lanes), m = load_rows(measured, i, lanes);
@@ -91,7 +92,9 @@ double cosine_l2_lambert_ggx(const LambertGgxParams& p, const float* wi, const f
         F sum(0.0f);
         for (int ch = 0; ch < 3; ++ch) {
             const F f = microfacet::lambert_eval(a, b, F(p.rho[ch])) + microfacet::ggx_eval(a, b, F(p.alpha), F(p.f0[ch]));
-            const F d = (f - mc[ch]) * w;
+            F d;
+            if constexpr (kLogSpace) d = fast_log(madd(f, w, F(1.0f))) - fast_log(madd(mc[ch], w, F(1.0f)));
+            else d = (f - mc[ch]) * w;
             sum = madd(d, d, sum);
         }
         float lane_sums[W];
@@ -99,6 +102,12 @@ double cosine_l2_lambert_ggx(const LambertGgxParams& p, const float* wi, const f
         for (int j = 0; j < W; ++j) total += lane_sums[j];
     });
     return total;
+}
+
+double loss_lambert_ggx(const LambertGgxParams& p, const float* wi, const float* wo, const float* measured,
+                        const float* weight, size_t n, bool log_space) {
+    return log_space ? loss_blocks<true>(p, wi, wo, measured, weight, n)
+                     : loss_blocks<false>(p, wi, wo, measured, weight, n);
 }
 
 }  // namespace

@@ -6,7 +6,7 @@ namespace patina {
 
 const LobeKernels& lobe_kernels_w4() {
     static const LobeKernels k{4, &eval_lambert_ggx, &sample_ggx, &sample_lambert,
-                             &cosine_l2_lambert_ggx};
+                             &loss_lambert_ggx};
     return k;
 }
 

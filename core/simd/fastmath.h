@@ -11,6 +11,8 @@
 //   fast_atan   any x              absolute <= 4e-7 rad  (1.8e-7)
 //   fast_atan2  any (y, x)         absolute <= 5e-7 rad  (3.3e-7)
 //   fast_sincos |x| <= 1e4         absolute <= 5e-7 (sine and cosine together; for sampling angles)
+//   fast_log    x > 0              absolute <= 2e-7 max(1, |log x|) (log(0) = -inf, log(x < 0) = NaN)
+//   fast_exp    |x| <= 87          relative <= 3e-7 (above 88.7: inf; below -87.3: 0)
 //   fast_sqrt   x >= 0             correctly rounded (hardware sqrt)
 //   fast_rcp    |x| in [2^-126, 2^126]  relative <= 3e-7 (2.0e-7; estimate + one Newton step)
 //   fast_rsqrt  x in [2^-126, 2^126]    relative <= 3e-7 (2.4e-7; estimate + one Newton step)
@@ -133,6 +135,50 @@ PATINA_INLINE void fast_sincos(F x, F& s, F& c) {
     const F s0 = select(swap, cr, sr), c0 = select(swap, sr, cr);
     s = select((q & I(2)) == I(2), -s0, s0);
     c = select(((q + I(1)) & I(2)) == I(2), -c0, c0);
+}
+
+// log(x) = e ln2 + log(m), m in [sqrt(1/2), sqrt(2)): log(m) = 2 atanh(t), t = (m - 1) / (m + 1).
+template <class F>
+PATINA_INLINE F fast_log(F x) {
+    using I = int_t<F>;
+    const mask_t<F> tiny = x < F(1.17549435e-38f);  // denormals: scale up first
+    const F xs = select(tiny, x * F(8388608.0f), x);
+    const I bits = as_int(xs);
+    I e = ((bits >> 23) & I(0xff)) - I(127);
+    e = select(tiny, e - I(23), e);
+    F m = as_float((bits & I(0x7fffff)) | I(0x3f800000));  // [1, 2)
+    const mask_t<F> big = m > F(1.41421356f);
+    m = select(big, m * F(0.5f), m);
+    const F ef = to_float(select(big, e + I(1), e));
+    const F t = (m - F(1.0f)) / (m + F(1.0f));
+    const F z = t * t;
+    F p = F(0.2997798025608063f);
+    p = madd(p, z, F(0.39972931146621704f));
+    p = madd(p, z, F(0.6666682362556458f));
+    const F log_m = madd(t * z, p, t + t);
+    F r = madd(ef, F(0.693145751953125f), madd(ef, F(1.428606820309417e-06f), log_m));
+    const F inf = F(std::numeric_limits<float>::infinity());
+    r = select(x == F(0.0f), -inf, r);
+    r = select(x == inf, inf, r);
+    return select((x < F(0.0f)) | isnan(x), F(std::numeric_limits<float>::quiet_NaN()), r);
+}
+
+// exp(x) = 2^k exp(r), k = round(x / ln2), |r| <= ln2 / 2.
+template <class F>
+PATINA_INLINE F fast_exp(F x) {
+    using I = int_t<F>;
+    const F xc = clamp(x, F(-87.0f), F(88.5f));
+    const F k = floor(xc * F(1.44269504f) + F(0.5f));
+    const F r = (xc - k * F(0.693145751953125f)) - k * F(1.428606820309417e-06f);
+    F p = F(0.008307237178087234f);
+    p = madd(p, r, F(0.04189436882734299f));
+    p = madd(p, r, F(0.16667185723781586f));
+    p = madd(p, r, F(0.4999919831752777f));
+    const F er = madd(r * r, p, r + F(1.0f));
+    const F scaled = er * as_float((to_int_trunc(k) + I(127)) << 23);
+    F out = select(x > F(88.72f), F(std::numeric_limits<float>::infinity()), scaled);
+    out = select(x < F(-87.33f), F(0.0f), out);
+    return select(isnan(x), x, out);
 }
 
 template <class F>

@@ -50,6 +50,8 @@ PATINA_INLINE bool signbit(float a) { return (as_bits(a) >> 31) != 0; }
 PATINA_INLINE bool isnan(float a) { return a != a; }
 
 PATINA_INLINE int32_t to_int_trunc(float a) { return static_cast<int32_t>(a); }
+PATINA_INLINE int32_t as_int(float a) { return static_cast<int32_t>(as_bits(a)); }
+PATINA_INLINE float as_float(int32_t a) { return from_bits(static_cast<uint32_t>(a)); }
 PATINA_INLINE float to_float(int32_t a) { return static_cast<float>(a); }
 
 PATINA_INLINE float gather(const float* base, int32_t index) { return base[index]; }

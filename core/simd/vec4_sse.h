@@ -115,6 +115,8 @@ PATINA_INLINE vbool4 operator<(vint4 a, vint4 b) { return vbool4(_mm_castsi128_p
 PATINA_INLINE vbool4 operator>(vint4 a, vint4 b) { return vbool4(_mm_castsi128_ps(_mm_cmpgt_epi32(a.v, b.v))); }
 
 PATINA_INLINE vint4 to_int_trunc(vfloat4 a) { return vint4(_mm_cvttps_epi32(a.v)); }
+PATINA_INLINE vint4 as_int(vfloat4 a) { return vint4(_mm_castps_si128(a.v)); }
+PATINA_INLINE vfloat4 as_float(vint4 a) { return vfloat4(_mm_castsi128_ps(a.v)); }
 PATINA_INLINE vfloat4 to_float(vint4 a) { return vfloat4(_mm_cvtepi32_ps(a.v)); }
 
 PATINA_INLINE float lane(vfloat4 v, int i) { return v[i]; }

@@ -121,6 +121,8 @@ PATINA_INLINE vbool8 operator>(vint8 a, vint8 b) { return vbool8(_mm256_castsi25
 PATINA_INLINE vbool8 operator<(vint8 a, vint8 b) { return b > a; }
 
 PATINA_INLINE vint8 to_int_trunc(vfloat8 a) { return vint8(_mm256_cvttps_epi32(a.v)); }
+PATINA_INLINE vint8 as_int(vfloat8 a) { return vint8(_mm256_castps_si256(a.v)); }
+PATINA_INLINE vfloat8 as_float(vint8 a) { return vfloat8(_mm256_castsi256_ps(a.v)); }
 PATINA_INLINE vfloat8 to_float(vint8 a) { return vfloat8(_mm256_cvtepi32_ps(a.v)); }
 
 PATINA_INLINE float lane(vfloat8 v, int i) { return v[i]; }

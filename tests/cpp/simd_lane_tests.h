@@ -345,3 +345,38 @@ LANE_TEST(FastSinCos) {
     }
     EXPECT_LE(worst, 5e-7);
 }
+
+LANE_TEST(FastLogExp) {
+    if (!width_supported(N)) GTEST_SKIP() << "CPU lacks this width";
+    auto xs = test_values::log_uniform(1 << 18, -149.0f, 127.0f, 81);
+    for (int i = 0; i < 4096; ++i) xs.push_back(0.5f + float(i) / 2048.0f);  // around 1
+    xs = padded(xs);
+    double worst_log = 0, worst_exp = 0;
+    for (size_t i = 0; i + N <= xs.size(); i += N) {
+        const F l = patina::fast_log(load_n<N>(&xs[i]));
+        for (int j = 0; j < N; ++j) {
+            const double want = std::log(double(xs[i + j]));
+            worst_log = std::max(worst_log, std::fabs(patina::lane(l, j) - want) / std::max(1.0, std::fabs(want)));
+            ASSERT_TRUE(same_float(patina::lane(l, j), patina::fast_log(xs[i + j])));
+        }
+    }
+    const auto es = padded(test_values::uniform(1 << 18, -87.0f, 87.0f, 82));
+    for (size_t i = 0; i + N <= es.size(); i += N) {
+        const F e = patina::fast_exp(load_n<N>(&es[i]));
+        for (int j = 0; j < N; ++j) {
+            const double want = std::exp(double(es[i + j]));
+            worst_exp = std::max(worst_exp, std::fabs(patina::lane(e, j) - want) / want);
+            ASSERT_TRUE(same_float(patina::lane(e, j), patina::fast_exp(es[i + j])));
+        }
+    }
+    EXPECT_LE(worst_log, 2e-7);
+    EXPECT_LE(worst_exp, 3e-7);
+    const float inf = std::numeric_limits<float>::infinity();
+    EXPECT_EQ(patina::fast_log(0.0f), -inf);
+    EXPECT_EQ(patina::fast_log(inf), inf);
+    EXPECT_TRUE(std::isnan(patina::fast_log(-1.0f)));
+    EXPECT_TRUE(std::isnan(patina::fast_log(std::nanf(""))));
+    EXPECT_EQ(patina::fast_exp(100.0f), inf);
+    EXPECT_EQ(patina::fast_exp(-100.0f), 0.0f);
+    EXPECT_EQ(patina::fast_exp(0.0f), 1.0f);
+}

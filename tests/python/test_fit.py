@@ -74,3 +74,19 @@ def test_cli_writes_fit_json(tmp_path, capsys):
     assert main(["fit", str(table), "--model", "phong"]) == 2
     assert "unknown model" in capsys.readouterr().err
     assert main(["fit", str(table), "--starts", "0"]) == 2
+
+
+@pytest.mark.parametrize("loss", ["l2cos", "log"])
+def test_loss_matches_a_numpy_reference_at_every_width(loss):
+    wi, wo, measured, weight = table_samples(model_table(CASES[1], noise=0.1, seed=5))
+    params = CASES[0]
+    f = _core.lambert_ggx_eval(params, wi, wo).astype(np.float64)
+    w = weight.astype(np.float64)[:, None]
+    m = measured.astype(np.float64)
+    d = (f - m) * w if loss == "l2cos" else np.log1p(f * w) - np.log1p(m * w)
+    want = float(np.mean(d * d))
+    samples = _core.FitSamples(wi, wo, measured, weight)
+    for width in [w for w in (1, 4, 8) if _core.width_supported(w)]:
+        for threads in (1, 2):
+            got = samples.lambert_ggx_loss(params, loss, width, threads)
+            assert got == pytest.approx(want, rel=1e-4), (width, threads)
