@@ -20,8 +20,7 @@ import numpy as np
 
 from . import _core
 from .mesh import Mesh
-
-_WIDTHS = (1, 4, 8)
+from .widths import core_width
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,17 +107,6 @@ def _check_tmin(tmin: float) -> float:
     if not np.isfinite(value) or value < 0:
         raise ValueError(f"tmin: must be finite and >= 0, got {tmin}")
     return value
-
-
-def _core_width(width: int | None) -> int:
-    """None -> 0 (the C++ default: the widest packets the CPU runs)."""
-    if width is None:
-        return 0
-    if width not in _WIDTHS:
-        raise ValueError(f"width: must be None, 1, 4 or 8, got {width!r}")
-    if not _core.width_supported(width):
-        raise ValueError(f"width: {width}-ray packets are not supported on this CPU")
-    return int(width)
 
 
 def _check_threads(threads: int) -> int:
@@ -257,7 +245,7 @@ class Accel:
             d,
             tmin=_check_tmin(tmin),
             tmax=tmax_arr,
-            width=_core_width(width),
+            width=core_width(width),
             threads=_check_threads(threads),
         )
         mesh, local = self.split_prim(prim)
@@ -281,7 +269,7 @@ class Accel:
                 d,
                 tmax=_tmax_array(tmax, len(o)),
                 tmin=_check_tmin(tmin),
-                width=_core_width(width),
+                width=core_width(width),
                 threads=_check_threads(threads),
             ),
             dtype=bool,

@@ -9,18 +9,7 @@ import numpy as np
 
 from . import _core
 from .errors import FormatError
-
-WIDTHS = (1, 4, 8)
-
-
-def _width_arg(width: int | None) -> int:
-    if width is None:
-        return 0
-    if width not in WIDTHS:
-        raise ValueError(f"width={width!r}: expected one of {WIDTHS} or None")
-    if not _core.width_supported(width):
-        raise ValueError(f"width={width}: this CPU cannot run that SIMD path")
-    return width
+from .widths import core_width
 
 
 def _directions(name: str, w: Any) -> np.ndarray:
@@ -62,7 +51,7 @@ class Brdf:
         a, b = _directions("wi", wi), _directions("wo", wo)
         if a.shape[0] != b.shape[0]:
             raise ValueError(f"wi has {a.shape[0]} rows but wo has {b.shape[0]}")
-        return self._table.eval(a, b, width=_width_arg(width), threads=threads)
+        return self._table.eval(a, b, width=core_width(width), threads=threads)
 
     def eval_angles(
         self, theta_i: Any, phi_i: Any, theta_o: Any, phi_o: Any, width: int | None = None, threads: int = 0

@@ -1,0 +1,19 @@
+"""The SIMD width argument every vectorised call takes (1, 4, 8, or None for the default)."""
+
+from __future__ import annotations
+
+from . import _core
+
+WIDTHS = (1, 4, 8)
+
+
+def core_width(width: int | None) -> int:
+    """None -> 0 (the C++ default: PATINA_SIMD or the widest path the CPU runs); else 1, 4 or 8,
+    checked against the CPU. ValueError otherwise."""
+    if width is None:
+        return 0
+    if width not in WIDTHS:
+        raise ValueError(f"width: must be None, 1, 4 or 8, got {width!r}")
+    if not _core.width_supported(width):
+        raise ValueError(f"width: {width}-wide SIMD is not supported on this CPU")
+    return int(width)
