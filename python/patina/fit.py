@@ -63,8 +63,12 @@ def table_samples(brdf: Brdf, max_theta_deg: float = 80.0) -> tuple[np.ndarray, 
     Measured values are the table's own (no interpolation); missing points and pairs
     beyond max_theta_deg from the normal are left out.
     """
+    if brdf.channel_kind == "spectral":
+        from .spectral import to_rgb
+
+        brdf = to_rgb(brdf)  # fits are of reflected colour: linear sRGB under D65
     if brdf.channels != 3:
-        raise ValueError(f"fitting needs an RGB or XYZ table; this one has {brdf.channels} channels")
+        raise ValueError(f"fitting needs an RGB, XYZ or spectral table; this one has {brdf.channels} channel(s)")
     grids = np.meshgrid(*[a.astype(np.float64) for a in brdf.axes], indexing="ij")
     flat = [g.ravel() for g in grids]
     if brdf.parametrization == "isotropic":
