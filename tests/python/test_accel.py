@@ -637,7 +637,7 @@ def test_bad_tmax_tmin_width_threads(small_accel, monkeypatch):
     with pytest.raises(ValueError, match="threads"):
         small_accel.intersect(o, d, threads=-1)
     monkeypatch.setattr(patina.accel._core, "width_supported", lambda w: w != 8)
-    with pytest.raises(ValueError, match="8-ray packets are not supported"):
+    with pytest.raises(ValueError, match="8-wide SIMD is not supported"):
         small_accel.intersect(o, d, width=8)
 
 
