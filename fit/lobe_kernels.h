@@ -7,17 +7,25 @@
 
 namespace patina {
 
-// A diffuse + one GGX lobe, RGB: rho (3), alpha, f0 (3).
-struct LambertGgxParams {
+// The specular lobes a mixture can hold (all lobes of one mixture are of one kind).
+enum class LobeKind : int { GGX = 0, Beckmann = 1, BlinnPhong = 2 };
+constexpr int kMaxLobes = 3;
+
+// A Lambert base (RGB albedo rho) under 1 to kMaxLobes specular lobes, each with a shape
+// (GGX / Beckmann roughness alpha, Blinn-Phong exponent) and an RGB Schlick f0: the
+// shared-shape colour model.
+struct MixtureParams {
     float rho[3];
-    float alpha;
-    float f0[3];
+    LobeKind kind = LobeKind::GGX;
+    int lobes = 1;
+    float shape[kMaxLobes] = {};
+    float weight[kMaxLobes][3] = {};
 };
 
 struct LobeKernels {
     int width;
-    // out[i] = rho / pi + GGX(alpha, Schlick(f0)), (n, 3)
-    void (*eval_lambert_ggx)(const LambertGgxParams& p, const float* wi, const float* wo, float* out, size_t n);
+    // out[i] = the mixture at (wi[i], wo[i]), (n, 3)
+    void (*eval_mixture)(const MixtureParams& p, const float* wi, const float* wo, float* out, size_t n);
     // wo[i] sampled from GGX's D(h) cos(theta_h) given wi and two uniforms; pdf[i] its density
     void (*sample_ggx)(float alpha, const float* wi, const float* u1, const float* u2, float* wo, float* pdf,
                        size_t n);
@@ -25,8 +33,8 @@ struct LobeKernels {
     void (*sample_lambert)(const float* u1, const float* u2, float* wo, float* pdf, size_t n);
     // sum over rows and channels of ((model - measured) weight)^2, or with log_space of
     // (log(1 + model weight) - log(1 + measured weight))^2 (the losses of fit/loss.h)
-    double (*loss_lambert_ggx)(const LambertGgxParams& p, const float* wi, const float* wo, const float* measured,
-                               const float* weight, size_t n, bool log_space);
+    double (*loss_mixture)(const MixtureParams& p, const float* wi, const float* wo, const float* measured,
+                           const float* weight, size_t n, bool log_space);
 };
 
 const LobeKernels& lobe_kernels_w1();

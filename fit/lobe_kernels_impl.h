@@ -54,13 +54,24 @@ void store_lanes(float* p, size_t i, int lanes, F v) {
     std::copy(tmp, tmp + lanes, p + i);
 }
 
-void eval_lambert_ggx(const LambertGgxParams& p, const float* wi, const float* wo, float* out, size_t n) {
+// The mixture's value in one channel; the lobe kind is uniform, so its switch is one branch.
+F mixture_channel(const MixtureParams& p, const Dir3<F>& a, const Dir3<F>& b, int ch) {
+    F f = microfacet::lambert_eval(a, b, F(p.rho[ch]));
+    for (int l = 0; l < p.lobes; ++l) {
+        const F shape(p.shape[l]), w(p.weight[l][ch]);
+        switch (p.kind) {
+            case LobeKind::GGX: f += microfacet::ggx_eval(a, b, shape, w); break;
+            case LobeKind::Beckmann: f += microfacet::beckmann_eval(a, b, shape, w); break;
+            case LobeKind::BlinnPhong: f += microfacet::blinn_phong_eval(a, b, shape, w); break;
+        }
+    }
+    return f;
+}
+
+void eval_mixture(const MixtureParams& p, const float* wi, const float* wo, float* out, size_t n) {
     for_blocks(n, [&](size_t i, int lanes) {
         const Dir3<F> a = load_rows(wi, i, lanes), b = load_rows(wo, i, lanes);
-        F c[3];
-        for (int ch = 0; ch < 3; ++ch)
-            c[ch] = microfacet::lambert_eval(a, b, F(p.rho[ch])) + microfacet::ggx_eval(a, b, F(p.alpha), F(p.f0[ch]));
-        store_rows(out, i, lanes, c[0], c[1], c[2]);
+        store_rows(out, i, lanes, mixture_channel(p, a, b, 0), mixture_channel(p, a, b, 1), mixture_channel(p, a, b, 2));
     });
 }
 
@@ -82,7 +93,7 @@ void sample_lambert(const float* u1, const float* u2, float* wo, float* pdf, siz
 }
 
 template <bool kLogSpace>
-double loss_blocks(const LambertGgxParams& p, const float* wi, const float* wo, const float* measured,
+double loss_blocks(const MixtureParams& p, const float* wi, const float* wo, const float* measured,
                    const float* weight, size_t n) {
     double total = 0;
     for_blocks(n, [&](size_t i, int lanes) {
@@ -91,7 +102,7 @@ double loss_blocks(const LambertGgxParams& p, const float* wi, const float* wo, 
         const F mc[3] = {m.x, m.y, m.z};
         F sum(0.0f);
         for (int ch = 0; ch < 3; ++ch) {
-            const F f = microfacet::lambert_eval(a, b, F(p.rho[ch])) + microfacet::ggx_eval(a, b, F(p.alpha), F(p.f0[ch]));
+            const F f = mixture_channel(p, a, b, ch);
             F d;
             if constexpr (kLogSpace) d = fast_log(madd(f, w, F(1.0f))) - fast_log(madd(mc[ch], w, F(1.0f)));
             else d = (f - mc[ch]) * w;
@@ -104,7 +115,7 @@ double loss_blocks(const LambertGgxParams& p, const float* wi, const float* wo, 
     return total;
 }
 
-double loss_lambert_ggx(const LambertGgxParams& p, const float* wi, const float* wo, const float* measured,
+double loss_mixture(const MixtureParams& p, const float* wi, const float* wo, const float* measured,
                         const float* weight, size_t n, bool log_space) {
     return log_space ? loss_blocks<true>(p, wi, wo, measured, weight, n)
                      : loss_blocks<false>(p, wi, wo, measured, weight, n);

@@ -5,8 +5,7 @@
 namespace patina {
 
 const LobeKernels& lobe_kernels_w8() {
-    static const LobeKernels k{8, &eval_lambert_ggx, &sample_ggx, &sample_lambert,
-                             &loss_lambert_ggx};
+    static const LobeKernels k{8, &eval_mixture, &sample_ggx, &sample_lambert, &loss_mixture};
     return k;
 }
 

@@ -7,7 +7,7 @@
 
 namespace patina {
 
-double lambert_ggx_loss(const LambertGgxParams& p, const FitSamples& s, LossKind kind, int width, int threads) {
+double mixture_loss(const MixtureParams& p, const FitSamples& s, LossKind kind, int width, int threads) {
     const LobeKernels& k = lobe_kernels_for(width);
     double total = 0;
     std::mutex lock;
@@ -18,7 +18,7 @@ double lambert_ggx_loss(const LambertGgxParams& p, const FitSamples& s, LossKind
         double sum = 0;
         for (size_t i = begin; i < end; i += kChunk) {
             const size_t m = std::min(kChunk, end - i);
-            sum += k.loss_lambert_ggx(p, s.wi + 3 * i, s.wo + 3 * i, s.measured + 3 * i, s.weight + i, m, log_space);
+            sum += k.loss_mixture(p, s.wi + 3 * i, s.wo + 3 * i, s.measured + 3 * i, s.weight + i, m, log_space);
         }
         std::lock_guard<std::mutex> g(lock);
         total += sum;

@@ -26,6 +26,6 @@ struct FitSamples {
 };
 
 // Mean loss over the samples and channels (double accumulation).
-double lambert_ggx_loss(const LambertGgxParams& p, const FitSamples& s, LossKind kind, int width, int threads);
+double mixture_loss(const MixtureParams& p, const FitSamples& s, LossKind kind, int width, int threads);
 
 }  // namespace patina

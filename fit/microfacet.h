@@ -119,6 +119,49 @@ PATINA_INLINE F ggx_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F alpha) {
     return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)) & (oh > F(0.0f)), pdf, F(0.0f));
 }
 
+// Beckmann distribution, D(h) = exp(-tan^2 / alpha^2) / (pi alpha^2 cos^4).
+template <class F>
+PATINA_INLINE F beckmann_d(F c, F alpha) {
+    const F c2 = c * c, a2 = alpha * alpha;
+    const F tan2 = max(F(1.0f) - c2, F(0.0f)) / c2;
+    return select(c > F(0.0f), fast_exp(-tan2 / a2) / (F(kPi) * a2 * c2 * c2), F(0.0f));
+}
+
+// Smith's Lambda for Beckmann, Walter et al.'s rational fit (error < 0.35%).
+template <class F>
+PATINA_INLINE F beckmann_lambda(F c, F alpha) {
+    const F c2 = c * c;
+    const F a = c / (alpha * sqrt_exact(max(F(1.0f) - c2, F(1e-12f))));  // 1 / (alpha tan)
+    const F l = (F(1.0f) - F(1.259f) * a + F(0.396f) * a * a) / (F(3.535f) * a + F(2.181f) * a * a);
+    return select(a < F(1.6f), l, F(0.0f));
+}
+
+// Cook-Torrance with the Beckmann distribution, height-correlated Smith G2, Schlick Fresnel.
+template <class F>
+PATINA_INLINE F beckmann_eval(const Dir3<F>& wi, const Dir3<F>& wo, F alpha, F f0) {
+    const Dir3<F> h = half_vector(wi, wo);
+    const F d = beckmann_d(h.z, alpha);
+    const F g = F(1.0f) / (F(1.0f) + (beckmann_lambda(wi.z, alpha) + beckmann_lambda(wo.z, alpha)));
+    const F ih = wi.x * h.x + wi.y * h.y + wi.z * h.z, oh = wo.x * h.x + wo.y * h.y + wo.z * h.z;
+    const F value = d * g * fresnel_schlick(f0, F(0.5f) * (ih + oh)) / (F(4.0f) * wi.z * wo.z);
+    return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)), value, F(0.0f));
+}
+
+// Normalised Blinn-Phong as a microfacet model: D(h) = (n + 2) / (2 pi) cos^n(theta_h),
+// masking from Beckmann's Lambda at Walter's equivalent roughness sqrt(2 / (n + 2)),
+// Schlick Fresnel; energy-conserving like the other microfacet lobes.
+template <class F>
+PATINA_INLINE F blinn_phong_eval(const Dir3<F>& wi, const Dir3<F>& wo, F exponent, F f0) {
+    const Dir3<F> h = half_vector(wi, wo);
+    const F c = max(h.z, F(1e-30f));
+    const F d = (exponent + F(2.0f)) * F(0.5f * kInvPi) * fast_exp(exponent * fast_log(c));
+    const F alpha = sqrt_exact(F(2.0f) / (exponent + F(2.0f)));
+    const F g = F(1.0f) / (F(1.0f) + (beckmann_lambda(wi.z, alpha) + beckmann_lambda(wo.z, alpha)));
+    const F ih = wi.x * h.x + wi.y * h.y + wi.z * h.z, oh = wo.x * h.x + wo.y * h.y + wo.z * h.z;
+    const F value = d * g * fresnel_schlick(f0, F(0.5f) * (ih + oh)) / (F(4.0f) * wi.z * wo.z);
+    return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)) & (h.z > F(0.0f)), value, F(0.0f));
+}
+
 // Lambert: rho / pi, cosine-weighted sampling, pdf cos(theta_o) / pi.
 template <class F>
 PATINA_INLINE F lambert_eval(const Dir3<F>& wi, const Dir3<F>& wo, F rho) {

@@ -20,22 +20,39 @@ namespace {
 using Rows = nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
 using FloatVector = nb::ndarray<const float, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 
-patina::LambertGgxParams params(const std::vector<float>& v) {
-    if (v.size() != 7) throw std::invalid_argument("lambert+ggx takes 7 parameters: rho r g b, alpha, f0 r g b");
-    return patina::LambertGgxParams{{v[0], v[1], v[2]}, v[3], {v[4], v[5], v[6]}};
+patina::LobeKind lobe_kind(const std::string& name) {
+    if (name == "ggx") return patina::LobeKind::GGX;
+    if (name == "beckmann") return patina::LobeKind::Beckmann;
+    if (name == "blinnphong") return patina::LobeKind::BlinnPhong;
+    throw std::invalid_argument("lobe '" + name + "': expected ggx, beckmann or blinnphong");
 }
 
-nb::object eval(const std::vector<float>& p, Rows wi, Rows wo, int width) {
+// params: rho r g b, then per lobe: shape, weight r g b.
+patina::MixtureParams params(const std::string& kind, const std::vector<float>& v) {
+    patina::MixtureParams p;
+    p.kind = lobe_kind(kind);
+    if (v.size() < 7 || (v.size() - 3) % 4 != 0 || (v.size() - 3) / 4 > patina::kMaxLobes)
+        throw std::invalid_argument("a mixture takes rho r g b and, per lobe (1 to 3), shape and weight r g b");
+    p.lobes = static_cast<int>((v.size() - 3) / 4);
+    for (int c = 0; c < 3; ++c) p.rho[c] = v[c];
+    for (int l = 0; l < p.lobes; ++l) {
+        p.shape[l] = v[3 + 4 * l];
+        for (int c = 0; c < 3; ++c) p.weight[l][c] = v[4 + 4 * l + c];
+    }
+    return p;
+}
+
+nb::object eval(const std::string& kind, const std::vector<float>& p, Rows wi, Rows wo, int width) {
     const size_t n = wi.shape(0);
     if (wo.shape(0) != n) throw std::invalid_argument("wi and wo have different numbers of rows");
-    const patina::LambertGgxParams q = params(p);
+    const patina::MixtureParams q = params(kind, p);
     const patina::LobeKernels& k = patina::lobe_kernels_for(width);
     float* out;
     const size_t shape[2] = {n, 3};
     auto result = new_array<float, 2>(shape, &out);
     {
         nb::gil_scoped_release release;
-        k.eval_lambert_ggx(q, wi.data(), wo.data(), out, n);
+        k.eval_mixture(q, wi.data(), wo.data(), out, n);
     }
     return nb::cast(result);
 }
@@ -60,26 +77,29 @@ std::unique_ptr<Samples> make_samples(Rows wi, Rows wo, Rows measured, FloatVect
     return s;
 }
 
-double loss(const Samples& s, const std::vector<float>& p, const std::string& kind, int width, int threads) {
+double loss(const Samples& s, const std::string& kind, const std::vector<float>& p, const std::string& loss_name,
+            int width, int threads) {
     patina::LossKind k;
-    if (kind == "l2cos") k = patina::LossKind::CosineL2;
-    else if (kind == "log") k = patina::LossKind::Log;
-    else throw std::invalid_argument("loss '" + kind + "': expected l2cos or log");
-    const patina::LambertGgxParams q = params(p);
+    if (loss_name == "l2cos") k = patina::LossKind::CosineL2;
+    else if (loss_name == "log") k = patina::LossKind::Log;
+    else throw std::invalid_argument("loss '" + loss_name + "': expected l2cos or log");
+    const patina::MixtureParams q = params(kind, p);
     nb::gil_scoped_release release;
-    return patina::lambert_ggx_loss(q, s.view(), k, width, threads);
+    return patina::mixture_loss(q, s.view(), k, width, threads);
 }
 
 }  // namespace
 
 void bind_fit(nb::module_& m) {
-    m.def("lambert_ggx_eval", &eval, nb::arg("params"), nb::arg("wi"), nb::arg("wo"), nb::arg("width") = 0,
-          "Lambert + GGX (height-correlated Smith, Schlick Fresnel) at (n, 3) direction pairs -> (n, 3) RGB.");
+    m.def("mixture_eval", &eval, nb::arg("lobe"), nb::arg("params"), nb::arg("wi"), nb::arg("wo"),
+          nb::arg("width") = 0,
+          "Lambert + 1-3 specular lobes (ggx, beckmann or blinnphong) at (n, 3) direction pairs -> (n, 3) RGB. "
+          "params: rho r g b, then per lobe shape and weight r g b.");
     nb::class_<Samples>(m, "FitSamples", "A table's samples for fitting: directions, measured RGB, weights.")
         .def(nb::new_(&make_samples), nb::arg("wi"), nb::arg("wo"), nb::arg("measured"), nb::arg("weight"))
         .def_prop_ro("count", [](const Samples& s) { return s.weight.size(); })
-        .def("lambert_ggx_loss", &loss, nb::arg("params"), nb::arg("loss") = "l2cos", nb::arg("width") = 0,
-             nb::arg("threads") = 0, "Mean loss of Lambert + GGX with these 7 parameters over the samples.");
+        .def("mixture_loss", &loss, nb::arg("lobe"), nb::arg("params"), nb::arg("loss") = "l2cos",
+             nb::arg("width") = 0, nb::arg("threads") = 0, "Mean loss of the mixture over the samples.");
 }
 
 }  // namespace patina_py

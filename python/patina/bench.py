@@ -247,7 +247,7 @@ def bench_fit(repeat: int, quick: bool) -> list[Record]:
 
     def model(wi: np.ndarray, wo: np.ndarray) -> np.ndarray:
         as32 = functools.partial(np.ascontiguousarray, dtype=np.float32)
-        return _core.lambert_ggx_eval(params, as32(wi), as32(wo)).astype(np.float64)
+        return _core.mixture_eval("ggx", params, as32(wi), as32(wo)).astype(np.float64)
 
     from .brdf import Brdf
 

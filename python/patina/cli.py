@@ -151,7 +151,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
     if args.starts < 1:
         raise UsageError("fit: --starts must be at least 1")
     brdf = load_brdf(args.file)
-    result = fit(brdf, model=args.model, loss=args.loss, starts=args.starts, seed=args.seed)
+    result = fit(brdf, model=args.model, loss=args.loss, lobes=args.lobes, starts=args.starts, seed=args.seed)
     if args.out:
         write_fit(result, args.out)
     if args.json:
@@ -211,7 +211,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     s = sub.add_parser("fit", help="fit an analytic model to a table (nlopt)")
     s.add_argument("file")
-    s.add_argument("--model", default="ggx+lambert", help="ggx+lambert")
+    s.add_argument("--model", default="ggx+lambert", help="ggx+lambert, beckmann+lambert or blinnphong+lambert")
+    s.add_argument("--lobes", type=int, default=1, help="specular lobes, 1 to 3")
     s.add_argument("--loss", default="l2cos", choices=("l2cos", "log"))
     s.add_argument("--starts", type=int, default=4, help="local optimisations from this many starts")
     s.add_argument("--seed", type=int, default=0)

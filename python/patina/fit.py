@@ -1,8 +1,10 @@
 """Fitting analytic lobes to a measured table with nlopt.
 
-So far one model: `ggx+lambert` (a Lambert base under one GGX lobe with
-height-correlated Smith masking and Schlick Fresnel; RGB diffuse albedo, shared
-roughness, RGB f0 — the shared-shape colour fit). Losses from the literature:
+Models: a Lambert base under 1 to 3 specular lobes of one kind — `ggx+lambert` (GGX,
+height-correlated Smith), `beckmann+lambert` (Cook-Torrance with Beckmann),
+`blinnphong+lambert` (normalised Blinn-Phong as a microfacet lobe) — all with Schlick
+Fresnel: RGB diffuse albedo, one shape per lobe (searched in log space), RGB f0 per
+lobe (the shared-shape colour fit). Losses from the literature:
 `l2cos` (Ngan, Durand, Matusik 2005: squared differences of cosine-weighted values)
 and `log` (Low et al. 2012: squared differences of log(1 + cosine-weighted value)).
 
@@ -27,15 +29,51 @@ from . import _core
 from .brdf import Brdf, angles_to_directions
 from .synthetic import halfdiff_to_directions
 
-MODELS = {
-    "ggx+lambert": {
-        "names": ["rho_r", "rho_g", "rho_b", "alpha", "f0_r", "f0_g", "f0_b"],
-        "lower": [0.0, 0.0, 0.0, 0.005, 0.0, 0.0, 0.0],
-        "upper": [1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0],
-    }
+# model name -> the lobe kind the C++ mixture evaluates, and the name and range of its shape
+LOBES = {
+    "ggx": ("alpha", 0.005, 1.0),
+    "beckmann": ("alpha", 0.005, 1.0),
+    "blinnphong": ("exponent", 1.0, 20000.0),
 }
-ALIASES = {"lambert+ggx": "ggx+lambert"}
+MODELS = {f"{lobe}+lambert": lobe for lobe in LOBES}
+ALIASES = {
+    "lambert+ggx": "ggx+lambert",
+    "cook-torrance+lambert": "beckmann+lambert",
+    "phong+lambert": "blinnphong+lambert",
+}
 LOSSES = ("l2cos", "log")
+
+
+@dataclass
+class _Space:
+    """The search space: rho r g b, then per lobe log10(shape) and f0 r g b."""
+
+    lobe: str
+    lobes: int
+
+    @property
+    def names(self) -> list[str]:
+        shape = LOBES[self.lobe][0]
+        names = ["rho_r", "rho_g", "rho_b"]
+        for k in range(self.lobes):
+            tag = "" if self.lobes == 1 else f"_{k + 1}"
+            names += [f"{shape}{tag}", f"f0{tag}_r", f"f0{tag}_g", f"f0{tag}_b"]
+        return names
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        _, lo, hi = LOBES[self.lobe]
+        lower, upper = [0.0] * 3, [1.0] * 3
+        for _ in range(self.lobes):
+            lower += [math.log10(lo), 0.0, 0.0, 0.0]
+            upper += [math.log10(hi), 1.0, 1.0, 1.0]
+        return np.array(lower), np.array(upper)
+
+    def params(self, x: np.ndarray) -> list[float]:
+        """Search point -> the C++ mixture's parameters (shapes out of log space)."""
+        p = [float(v) for v in x]
+        for k in range(self.lobes):
+            p[3 + 4 * k] = 10.0 ** p[3 + 4 * k]
+        return p
 
 
 @dataclass
@@ -111,9 +149,10 @@ def fit(
     brdf: Brdf,
     model: str = "ggx+lambert",
     loss: str = "l2cos",
+    lobes: int = 1,
     starts: int = 4,
-    global_evals: int = 1500,
-    local_evals: int = 1500,
+    global_evals: int | None = None,
+    local_evals: int | None = None,
     global_samples: int = 20_000,
     local_samples: int = 200_000,
     seed: int = 0,
@@ -129,8 +168,13 @@ def fit(
         raise ValueError(f"unknown loss '{loss}' (known: {', '.join(LOSSES)})")
     if starts < 1:
         raise ValueError("starts must be at least 1")
-    spec = MODELS[model]
-    lower, upper = np.array(spec["lower"]), np.array(spec["upper"])
+    if not 1 <= lobes <= 3:
+        raise ValueError("lobes must be 1, 2 or 3")
+    space = _Space(MODELS[model], lobes)
+    lower, upper = space.bounds()
+    # evaluation budgets grow with the number of parameters (7 for one lobe, 4 more per lobe)
+    global_evals = global_evals or 200 * len(lower)
+    local_evals = local_evals or (200 if lobes == 1 else 600) * len(lower)
     started = time.perf_counter()
     rng = np.random.default_rng(seed)
     every = table_samples(brdf)
@@ -139,9 +183,12 @@ def fit(
     coarse = _core.FitSamples(*_subset(every, global_samples, rng))
     fine = _core.FitSamples(*_subset(every, local_samples, rng))
 
+    def loss_at(samples: Any, x: np.ndarray) -> float:
+        return samples.mixture_loss(space.lobe, space.params(x), loss, 0, threads)
+
     def objective(samples: Any) -> Any:
         def f(x: np.ndarray, grad: np.ndarray) -> float:
-            value = samples.lambert_ggx_loss([float(v) for v in x], loss, 0, threads)
+            value = loss_at(samples, x)
             return value if math.isfinite(value) else 1e300
 
         return f
@@ -153,7 +200,6 @@ def fit(
     glob.set_min_objective(objective(coarse))
     glob.set_maxeval(global_evals)
     x0 = (lower + upper) / 2
-    x0[3] = 0.2
     best_global = np.asarray(glob.optimize(x0.tolist()))
 
     best_x, best_value, best_code = None, math.inf, 0
@@ -170,7 +216,7 @@ def fit(
             x = np.asarray(local.optimize(np.clip(guess, lower, upper).tolist()))
             value, code = local.last_optimum_value(), local.last_optimize_result()
         except nlopt.RoundoffLimited:
-            x, value, code = np.asarray(guess), fine.lambert_ggx_loss(list(map(float, guess)), loss, 0, threads), 5
+            x, value, code = np.asarray(guess), loss_at(fine, np.asarray(guess)), 5
         if value < best_value:
             best_x, best_value, best_code = x, value, code
     assert best_x is not None
@@ -181,23 +227,24 @@ def fit(
         nlopt.MAXTIME_REACHED: "time limit reached before convergence",
     }
     message = "converged" if converged else messages.get(best_code, f"nlopt stopped with code {best_code}")
-    names = spec["names"]
+    names = space.names
     span = upper - lower
     at_bounds = [n for n, v, lo, s in zip(names, best_x, lower, span) if min(v - lo, lo + s - v) < 1e-6 * s]
     wi, wo, measured, _ = every
-    predicted = _core.lambert_ggx_eval([float(v) for v in best_x], wi, wo).astype(np.float64)
+    best = space.params(best_x)
+    predicted = _core.mixture_eval(space.lobe, best, wi, wo).astype(np.float64)
     diff = predicted - measured
     rel = np.abs(diff) / np.maximum(np.abs(measured), 1e-3 * float(np.median(np.abs(measured))) + 1e-12)
     full = _core.FitSamples(*every)
     metrics = {
-        "loss_all_samples": full.lambert_ggx_loss([float(v) for v in best_x], loss, 0, threads),
+        "loss_all_samples": loss_at(full, best_x),
         "rmse": float(np.sqrt(np.mean(diff**2))),
         "relative_error_median": float(np.median(rel)),
         "relative_error_p95": float(np.percentile(rel, 95)),
     }
     return FitResult(
-        model=model,
-        parameters={n: float(v) for n, v in zip(names, best_x)},
+        model=model if lobes == 1 else f"{model} x{lobes}",
+        parameters={n: float(v) for n, v in zip(names, best)},
         loss=loss,
         loss_value=float(best_value),
         metrics=metrics,

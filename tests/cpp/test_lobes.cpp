@@ -34,10 +34,25 @@ std::vector<float> uniforms(size_t n, unsigned seed) {
     return v;
 }
 
-std::vector<float> eval(const LambertGgxParams& p, const std::vector<float>& wi, const std::vector<float>& wo,
+MixtureParams mixture(float r, float g, float b, float alpha, float f0r, float f0g, float f0b,
+                      LobeKind kind = LobeKind::GGX) {
+    MixtureParams p;
+    p.rho[0] = r;
+    p.rho[1] = g;
+    p.rho[2] = b;
+    p.kind = kind;
+    p.lobes = 1;
+    p.shape[0] = alpha;
+    p.weight[0][0] = f0r;
+    p.weight[0][1] = f0g;
+    p.weight[0][2] = f0b;
+    return p;
+}
+
+std::vector<float> eval(const MixtureParams& p, const std::vector<float>& wi, const std::vector<float>& wo,
                         int width = 1) {
     std::vector<float> out(wi.size());
-    lobe_kernels_for(width).eval_lambert_ggx(p, wi.data(), wo.data(), out.data(), wi.size() / 3);
+    lobe_kernels_for(width).eval_mixture(p, wi.data(), wo.data(), out.data(), wi.size() / 3);
     return out;
 }
 
@@ -51,17 +66,37 @@ double chi2_tail(double chi2, int dof) {
 TEST(Lobes, Reciprocal) {
     const auto wi = hemisphere(20000, 1), wo = hemisphere(20000, 2);
     for (float alpha : {0.05f, 0.2f, 0.6f}) {
-        const LambertGgxParams p{{0.3f, 0.5f, 0.2f}, alpha, {0.04f, 0.5f, 0.9f}};
-        const auto a = eval(p, wi, wo), b = eval(p, wo, wi);
-        EXPECT_EQ(a, b) << "alpha " << alpha;  // symmetric expressions: bit for bit
+        for (LobeKind kind : {LobeKind::GGX, LobeKind::Beckmann, LobeKind::BlinnPhong}) {
+            const float shape = kind == LobeKind::BlinnPhong ? 2.0f / (alpha * alpha) : alpha;
+            const MixtureParams p = mixture(0.3f, 0.5f, 0.2f, shape, 0.04f, 0.5f, 0.9f, kind);
+            const auto a = eval(p, wi, wo), b = eval(p, wo, wi);
+            EXPECT_EQ(a, b) << "alpha " << alpha << " kind " << int(kind);  // symmetric expressions: bit for bit
+        }
     }
 }
 
 TEST(Lobes, WideWidthsMatchScalar) {
     const auto wi = hemisphere(10007, 3), wo = hemisphere(10007, 4);
     const auto u1 = uniforms(10007, 5), u2 = uniforms(10007, 6);
-    const LambertGgxParams p{{0.3f, 0.5f, 0.2f}, 0.15f, {0.04f, 0.5f, 0.9f}};
+    MixtureParams p = mixture(0.3f, 0.5f, 0.2f, 0.15f, 0.04f, 0.5f, 0.9f);
+    p.lobes = 3;  // three lobes of each kind
+    p.shape[1] = 0.4f;
+    p.shape[2] = 0.05f;
+    for (int l = 1; l < 3; ++l)
+        for (int c = 0; c < 3; ++c) p.weight[l][c] = 0.1f * float(l + c);
     const auto ref = eval(p, wi, wo, 1);
+    for (LobeKind kind : {LobeKind::Beckmann, LobeKind::BlinnPhong}) {
+        MixtureParams q = p;
+        q.kind = kind;
+        if (kind == LobeKind::BlinnPhong)
+            for (float& s : q.shape) s = 2.0f / (s * s);
+        const auto r1 = eval(q, wi, wo, 1);
+        for (int w : {4, 8}) {
+            if (width_supported(w)) {
+                EXPECT_EQ(eval(q, wi, wo, w), r1) << "kind " << int(kind) << " width " << w;
+            }
+        }
+    }
     std::vector<float> s1(wi.size()), p1(wi.size() / 3);
     lobe_kernels_w1().sample_ggx(0.3f, wi.data(), u1.data(), u2.data(), s1.data(), p1.data(), p1.size());
     for (int w : {4, 8}) {
@@ -86,7 +121,7 @@ TEST(Lobes, EnergyIsConserved) {
                 wi.insert(wi.end(), {float(std::sin(theta)), 0.0f, float(std::cos(theta))});
             std::vector<float> wo(3 * n), pdf(n);
             lobe_kernels_w1().sample_ggx(alpha, wi.data(), u1.data(), u2.data(), wo.data(), pdf.data(), n);
-            const auto f = eval(LambertGgxParams{{0, 0, 0}, alpha, {1, 1, 1}}, wi, wo);
+            const auto f = eval(mixture(0, 0, 0, alpha, 1, 1, 1), wi, wo);
             double sum = 0;
             for (size_t i = 0; i < n; ++i)
                 if (pdf[i] > 0 && wo[3 * i + 2] > 0) sum += f[3 * i] * wo[3 * i + 2] / pdf[i];
@@ -98,7 +133,7 @@ TEST(Lobes, EnergyIsConserved) {
     std::vector<float> wo(3 * n), pdf(n), wi;
     lobe_kernels_w1().sample_lambert(u1.data(), u2.data(), wo.data(), pdf.data(), n);
     for (size_t i = 0; i < n; ++i) wi.insert(wi.end(), {0.3f, 0.0f, 0.9539392f});
-    const auto f = eval(LambertGgxParams{{1, 1, 1}, 0.5f, {0, 0, 0}}, wi, wo);
+    const auto f = eval(mixture(1, 1, 1, 0.5f, 0, 0, 0), wi, wo);
     double sum = 0;
     for (size_t i = 0; i < n; ++i) sum += (f[3 * i] - 0.0) * wo[3 * i + 2] / pdf[i];
     // f includes the GGX lobe with f0 = 0, which Schlick makes slightly positive at grazing
@@ -202,4 +237,31 @@ TEST(Lobes, FresnelReferenceValues) {
     // Schlick: f0 at normal incidence, 1 at grazing
     EXPECT_FLOAT_EQ(fresnel_schlick(0.04f, 1.0f), 0.04f);
     EXPECT_FLOAT_EQ(fresnel_schlick(0.04f, 0.0f), 1.0f);
+}
+
+// Beckmann and Blinn-Phong lobes keep energy: albedo by a dense quadrature over the
+// outgoing hemisphere stays at or below 1 for the white lobe alone.
+TEST(Lobes, AllKindsConserveEnergy) {
+    const int nmu = 256, nphi = 256;
+    for (LobeKind kind : {LobeKind::GGX, LobeKind::Beckmann, LobeKind::BlinnPhong}) {
+        for (float alpha : {0.1f, 0.3f, 0.8f}) {
+            const float shape = kind == LobeKind::BlinnPhong ? 2.0f / (alpha * alpha) - 2.0f : alpha;
+            for (double theta : {0.0, 0.7, 1.3}) {
+                std::vector<float> wi, wo;
+                std::vector<double> weight;
+                for (int a = 0; a < nmu; ++a)
+                    for (int b = 0; b < nphi; ++b) {
+                        const double mu = (a + 0.5) / nmu, phi = 2 * kPi * (b + 0.5) / nphi, r = std::sqrt(1 - mu * mu);
+                        wi.insert(wi.end(), {float(std::sin(theta)), 0.0f, float(std::cos(theta))});
+                        wo.insert(wo.end(), {float(r * std::cos(phi)), float(r * std::sin(phi)), float(mu)});
+                        weight.push_back(mu * (1.0 / nmu) * (2 * kPi / nphi));
+                    }
+                const auto f = eval(mixture(0, 0, 0, shape, 1, 1, 1, kind), wi, wo);
+                double albedo = 0;
+                for (size_t i = 0; i < weight.size(); ++i) albedo += f[3 * i] * weight[i];
+                EXPECT_LE(albedo, 1.02) << "kind " << int(kind) << " alpha " << alpha << " theta " << theta;
+                EXPECT_GT(albedo, 0.2) << "kind " << int(kind) << " alpha " << alpha << " theta " << theta;
+            }
+        }
+    }
 }

@@ -21,9 +21,9 @@ PHI = np.pi * (0.3 * U + 0.7 * np.sin(U * np.pi / 2))
 NAMES = ["rho_r", "rho_g", "rho_b", "alpha", "f0_r", "f0_g", "f0_b"]
 
 
-def model_table(params: list[float], noise: float = 0.0, seed: int = 0) -> patina.Brdf:
+def model_table(params: list[float], noise: float = 0.0, seed: int = 0, lobe: str = "ggx") -> patina.Brdf:
     wi, wo = isotropic_grid(THETA, THETA, PHI)
-    values = _core.lambert_ggx_eval(params, wi.astype(np.float32), wo.astype(np.float32)).astype(np.float64)
+    values = _core.mixture_eval(lobe, params, wi.astype(np.float32), wo.astype(np.float32)).astype(np.float64)
     if noise:
         values *= 1 + noise * np.random.default_rng(seed).standard_normal(values.shape)
     values = values.reshape(THETA.size, THETA.size, PHI.size, 3)
@@ -80,7 +80,7 @@ def test_cli_writes_fit_json(tmp_path, capsys):
 def test_loss_matches_a_numpy_reference_at_every_width(loss):
     wi, wo, measured, weight = table_samples(model_table(CASES[1], noise=0.1, seed=5))
     params = CASES[0]
-    f = _core.lambert_ggx_eval(params, wi, wo).astype(np.float64)
+    f = _core.mixture_eval("ggx", params, wi, wo).astype(np.float64)
     w = weight.astype(np.float64)[:, None]
     m = measured.astype(np.float64)
     d = (f - m) * w if loss == "l2cos" else np.log1p(f * w) - np.log1p(m * w)
@@ -88,5 +88,32 @@ def test_loss_matches_a_numpy_reference_at_every_width(loss):
     samples = _core.FitSamples(wi, wo, measured, weight)
     for width in [w for w in (1, 4, 8) if _core.width_supported(w)]:
         for threads in (1, 2):
-            got = samples.lambert_ggx_loss(params, loss, width, threads)
+            got = samples.mixture_loss("ggx", params, loss, width, threads)
             assert got == pytest.approx(want, rel=1e-4), (width, threads)
+
+
+@pytest.mark.parametrize(
+    "lobe, params, names",
+    [
+        (
+            "beckmann",
+            [0.2, 0.4, 0.6, 0.2, 0.05, 0.05, 0.05],
+            ["rho_r", "rho_g", "rho_b", "alpha", "f0_r", "f0_g", "f0_b"],
+        ),
+        ("blinnphong", [0.5, 0.3, 0.1, 120.0, 0.04, 0.05, 0.06], ["rho_r", "rho_g", "rho_b", "exponent", *NAMES[4:]]),
+    ],
+)
+def test_other_lobes_are_recovered(lobe, params, names):
+    r = fit(model_table(params, lobe=lobe), model=f"{lobe}+lambert", starts=2)
+    assert r.converged, r.message
+    got = np.array([r.parameters[n] for n in names])
+    np.testing.assert_allclose(got, params, rtol=0.02, atol=1e-3)
+
+
+def test_two_lobes_fit_a_two_lobe_table():
+    params = [0.2, 0.2, 0.2, 0.05, 0.04, 0.04, 0.04, 0.4, 0.3, 0.2, 0.1]
+    r = fit(model_table(params), lobes=2, starts=3)
+    assert r.model == "ggx+lambert x2"
+    assert r.metrics["relative_error_p95"] < 0.05
+    alphas = sorted([r.parameters["alpha_1"], r.parameters["alpha_2"]])
+    np.testing.assert_allclose(alphas, [0.05, 0.4], rtol=0.05)
