@@ -4,7 +4,8 @@
     patina convert IN OUT.ptab
     patina eval FILE --wi THETA PHI --wo THETA PHI [--json] [--width 1|4|8]
     patina validate FILE [--json]          (exit 0 clean, 1 problems found, 2 unreadable)
-    patina fit FILE [--model ggx+lambert] [--loss l2cos|log] [--out fit.json]
+    patina fit FILE [--model ggx+lambert] [--lobes K] [--loss l2cos|log] [--out fit.json]
+    patina fit FILE --compare ggx+lambert beckmann+lambert blinnphong+lambert:2
     patina slices FILE --out PNG
     patina bench [--only GROUP] [--json FILE]
 
@@ -146,11 +147,31 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 def cmd_fit(args: argparse.Namespace) -> int:
     from . import load_brdf
-    from .fit import fit, write_fit
+    from .fit import compare, fit, write_fit
 
     if args.starts < 1:
         raise UsageError("fit: --starts must be at least 1")
     brdf = load_brdf(args.file)
+    if args.compare:
+        results = compare(brdf, args.compare, loss=args.loss, starts=args.starts, seed=args.seed)
+        if args.json:
+            _print_json([r.as_json() for r in results])
+        else:
+            print(f"{len(results)} models fitted to {args.file} (loss {args.loss}), best first:")
+            print(f"  {'model':<24} {'loss':>10} {'rmse':>10} {'rel.err':>8} {'dE00':>6} {'dE00 95%':>8} {'time s':>7}")
+            for r in results:
+                m = r.metrics
+                print(
+                    f"  {r.model:<24} {m['loss_all_samples']:10.4g} {m['rmse']:10.4g} "
+                    f"{m['relative_error_median']:8.3g} {m['ciede2000_mean']:6.2f} {m['ciede2000_p95']:8.2f} "
+                    f"{r.seconds:7.1f}"
+                )
+                print("      " + ", ".join(f"{k} {v:.4g}" for k, v in r.parameters.items()))
+                if not r.converged:
+                    print(f"      not converged: {r.message}")
+        if args.out:
+            write_fit(results[0], args.out)
+        return 0 if all(r.converged for r in results) else 1
     result = fit(brdf, model=args.model, loss=args.loss, lobes=args.lobes, starts=args.starts, seed=args.seed)
     if args.out:
         write_fit(result, args.out)
@@ -162,11 +183,12 @@ def cmd_fit(args: argparse.Namespace) -> int:
             f"in {result.seconds:.2f} s: {result.message}"
         )
         for name, value in result.parameters.items():
-            print(f"  {name:<8} {value:.6g}" + ("   (at its bound)" if name in result.at_bounds else ""))
+            print(f"  {name:<10} {value:.6g}" + ("   (at its bound)" if name in result.at_bounds else ""))
         m = result.metrics
         print(
             f"  loss {m['loss_all_samples']:.4g}  rmse {m['rmse']:.4g}  relative error median "
-            f"{m['relative_error_median']:.3g}, 95% {m['relative_error_p95']:.3g}"
+            f"{m['relative_error_median']:.3g}, 95% {m['relative_error_p95']:.3g}  "
+            f"CIEDE2000 mean {m['ciede2000_mean']:.2f}, 95% {m['ciede2000_p95']:.2f}"
         )
         if args.out:
             print(f"wrote {args.out}")
@@ -213,6 +235,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("file")
     s.add_argument("--model", default="ggx+lambert", help="ggx+lambert, beckmann+lambert or blinnphong+lambert")
     s.add_argument("--lobes", type=int, default=1, help="specular lobes, 1 to 3")
+    s.add_argument("--compare", nargs="+", metavar="MODEL", help="fit several models (MODEL or MODEL:LOBES), rank them")
     s.add_argument("--loss", default="l2cos", choices=("l2cos", "log"))
     s.add_argument("--starts", type=int, default=4, help="local optimisations from this many starts")
     s.add_argument("--seed", type=int, default=0)

@@ -135,6 +135,25 @@ def _subset(arrays: tuple[np.ndarray, ...], n: int, rng: np.random.Generator) ->
     return tuple(np.ascontiguousarray(a[pick]) for a in arrays)
 
 
+def colour_differences(measured: np.ndarray, fitted: np.ndarray, cos_i: np.ndarray) -> np.ndarray:
+    """CIEDE2000 between measured and fitted reflected colours under D65.
+
+    Each sample's linear-sRGB BRDF value times pi cos(theta_i) is the colour it reflects
+    relative to a white Lambertian surface facing the light (1 = that white), taken to
+    XYZ and CIELAB with the D65 white point."""
+    from .spectral import _colour
+
+    colour = _colour()
+    to_xyz = np.linalg.inv(np.asarray(colour.RGB_COLOURSPACES["sRGB"].matrix_XYZ_to_RGB, dtype=np.float64))
+    white = colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"]
+    scale = (math.pi * np.asarray(cos_i, dtype=np.float64))[:, None]
+    lab = [
+        colour.XYZ_to_Lab(np.maximum(np.asarray(rgb, dtype=np.float64) * scale, 0.0) @ to_xyz.T, white)
+        for rgb in (measured, fitted)
+    ]
+    return np.asarray(colour.delta_E(lab[0], lab[1], method="CIE 2000"))
+
+
 def _checksum(path: str) -> str:
     if not path or not os.path.isfile(path):
         return ""
@@ -236,11 +255,15 @@ def fit(
     diff = predicted - measured
     rel = np.abs(diff) / np.maximum(np.abs(measured), 1e-3 * float(np.median(np.abs(measured))) + 1e-12)
     full = _core.FitSamples(*every)
+    pick = np.sort(rng.choice(len(wi), min(len(wi), 100_000), replace=False))
+    delta_e = colour_differences(measured[pick], predicted[pick], wi[pick, 2])
     metrics = {
         "loss_all_samples": loss_at(full, best_x),
         "rmse": float(np.sqrt(np.mean(diff**2))),
         "relative_error_median": float(np.median(rel)),
         "relative_error_p95": float(np.percentile(rel, 95)),
+        "ciede2000_mean": float(np.mean(delta_e)),
+        "ciede2000_p95": float(np.percentile(delta_e, 95)),
     }
     return FitResult(
         model=model if lobes == 1 else f"{model} x{lobes}",
@@ -256,6 +279,17 @@ def fit(
         table_checksum=_checksum(brdf.source),
         at_bounds=at_bounds,
     )
+
+
+def compare(brdf: Brdf, models: list[str], **options: Any) -> list[FitResult]:
+    """Fits each model (names as for fit, `NAME:K` for K lobes) and ranks them by loss."""
+    results = []
+    for name in models:
+        model, _, k = name.partition(":")
+        if k and not k.isdigit():
+            raise ValueError(f"'{name}': the lobe count after ':' must be 1, 2 or 3")
+        results.append(fit(brdf, model=model, lobes=int(k or 1), **options))
+    return sorted(results, key=lambda r: r.metrics["loss_all_samples"])
 
 
 def write_fit(result: FitResult, path: str) -> None:

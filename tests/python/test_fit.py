@@ -117,3 +117,30 @@ def test_two_lobes_fit_a_two_lobe_table():
     assert r.metrics["relative_error_p95"] < 0.05
     alphas = sorted([r.parameters["alpha_1"], r.parameters["alpha_2"]])
     np.testing.assert_allclose(alphas, [0.05, 0.4], rtol=0.05)
+
+
+def test_compare_ranks_the_true_model_first_with_colour_differences(tmp_path, capsys):
+    table = model_table([0.3, 0.2, 0.1, 0.1, 0.04, 0.05, 0.06], lobe="beckmann")
+    from patina.fit import compare
+
+    results = compare(table, ["ggx+lambert", "beckmann+lambert", "blinnphong+lambert"], starts=1)
+    assert results[0].model == "beckmann+lambert"
+    assert results[0].metrics["ciede2000_mean"] < 0.05
+    assert results[-1].metrics["ciede2000_mean"] > results[0].metrics["ciede2000_mean"]
+    path = tmp_path / "t.ptab"
+    table.save(path)
+    # 1 if a model stops at its evaluation limit (a wrong model may), and the table says so
+    assert main(["fit", str(path), "--compare", "ggx+lambert", "beckmann+lambert:1", "--starts", "1"]) in (0, 1)
+    out = capsys.readouterr().out
+    assert out.index("beckmann+lambert") < out.index("ggx+lambert ")
+    assert main(["fit", str(path), "--compare", "ggx+lambert:x"]) == 2
+
+
+def test_colour_differences_vanish_for_equal_colours():
+    from patina.fit import colour_differences
+
+    rgb = np.random.default_rng(1).uniform(0, 0.3, (100, 3))
+    cos_i = np.random.default_rng(2).uniform(0.1, 1, 100)
+    assert np.allclose(colour_differences(rgb, rgb, cos_i), 0)
+    shifted = colour_differences(rgb, rgb * np.array([1.1, 1.0, 1.0]), cos_i)
+    assert np.median(shifted) > 0.5
