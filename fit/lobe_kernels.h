@@ -8,12 +8,12 @@
 namespace patina {
 
 // The specular lobes a mixture can hold (all lobes of one mixture are of one kind).
-enum class LobeKind : int { GGX = 0, Beckmann = 1, BlinnPhong = 2 };
+enum class LobeKind : int { GGX = 0, Beckmann = 1, BlinnPhong = 2, Ward = 3 };
 constexpr int kMaxLobes = 3;
 
 // A Lambert base (RGB albedo rho) under 1 to kMaxLobes specular lobes, each with a shape
-// (GGX / Beckmann roughness alpha, Blinn-Phong exponent) and an RGB Schlick f0: the
-// shared-shape colour model.
+// (GGX / Beckmann / Ward roughness alpha, Blinn-Phong exponent) and an RGB weight (Schlick
+// f0; Ward's specular albedo, as Ward has no Fresnel term): the shared-shape colour model.
 struct MixtureParams {
     float rho[3];
     LobeKind kind = LobeKind::GGX;
@@ -31,6 +31,9 @@ struct LobeKernels {
                        size_t n);
     // cosine-weighted wo from two uniforms; pdf[i] = cos / pi
     void (*sample_lambert)(const float* u1, const float* u2, float* wo, float* pdf, size_t n);
+    // wo[i] from Ward's sampling of the (anisotropic) lobe ax, ay; pdf[i] its density
+    void (*sample_ward)(float ax, float ay, const float* wi, const float* u1, const float* u2, float* wo, float* pdf,
+                        size_t n);
     // sum over rows and channels of ((model - measured) weight)^2, or with log_space of
     // (log(1 + model weight) - log(1 + measured weight))^2 (the losses of fit/loss.h)
     double (*loss_mixture)(const MixtureParams& p, const float* wi, const float* wo, const float* measured,

@@ -63,6 +63,7 @@ F mixture_channel(const MixtureParams& p, const Dir3<F>& a, const Dir3<F>& b, in
             case LobeKind::GGX: f += microfacet::ggx_eval(a, b, shape, w); break;
             case LobeKind::Beckmann: f += microfacet::beckmann_eval(a, b, shape, w); break;
             case LobeKind::BlinnPhong: f += microfacet::blinn_phong_eval(a, b, shape, w); break;
+            case LobeKind::Ward: f += microfacet::ward_eval(a, b, shape, shape, w); break;
         }
     }
     return f;
@@ -81,6 +82,16 @@ void sample_ggx(float alpha, const float* wi, const float* u1, const float* u2, 
         const Dir3<F> s = microfacet::ggx_sample(a, load_lanes(u1, i, lanes), load_lanes(u2, i, lanes), F(alpha));
         store_rows(wo, i, lanes, s.x, s.y, s.z);
         store_lanes(pdf, i, lanes, microfacet::ggx_pdf(a, s, F(alpha)));
+    });
+}
+
+void sample_ward(float ax, float ay, const float* wi, const float* u1, const float* u2, float* wo, float* pdf,
+                 size_t n) {
+    for_blocks(n, [&](size_t i, int lanes) {
+        const Dir3<F> a = load_rows(wi, i, lanes);
+        const Dir3<F> s = microfacet::ward_sample(a, load_lanes(u1, i, lanes), load_lanes(u2, i, lanes), F(ax), F(ay));
+        store_rows(wo, i, lanes, s.x, s.y, s.z);
+        store_lanes(pdf, i, lanes, microfacet::ward_pdf(a, s, F(ax), F(ay)));
     });
 }
 

@@ -24,7 +24,8 @@ patina::LobeKind lobe_kind(const std::string& name) {
     if (name == "ggx") return patina::LobeKind::GGX;
     if (name == "beckmann") return patina::LobeKind::Beckmann;
     if (name == "blinnphong") return patina::LobeKind::BlinnPhong;
-    throw std::invalid_argument("lobe '" + name + "': expected ggx, beckmann or blinnphong");
+    if (name == "ward") return patina::LobeKind::Ward;
+    throw std::invalid_argument("lobe '" + name + "': expected ggx, beckmann, blinnphong or ward");
 }
 
 // params: rho r g b, then per lobe: shape, weight r g b.

@@ -265,3 +265,93 @@ TEST(Lobes, AllKindsConserveEnergy) {
         }
     }
 }
+
+namespace {
+// Chi-square of sampled directions against a pdf over (cos theta, phi) bins; returns the
+// upper tail probability. sample(n) returns n x 3 directions, pdf(wo) the density there.
+template <class Sample, class Pdf>
+double sampling_p_value(Sample sample, Pdf pdf, size_t n = 1000000, int nt = 24, int np = 48) {
+    const std::vector<float> wo = sample(n);
+    std::vector<double> observed(nt * np, 0.0), expected(nt * np, 0.0);
+    for (size_t i = 0; i < n; ++i) {
+        const double z = wo[3 * i + 2];
+        if (!(z > 0)) continue;
+        double phi = std::atan2(wo[3 * i + 1], wo[3 * i]);
+        if (phi < 0) phi += 2 * kPi;
+        observed[std::min(nt - 1, int(z * nt)) * np + std::min(np - 1, int(phi / (2 * kPi) * np))] += 1;
+    }
+    const int sub = 8;
+    for (int a = 0; a < nt; ++a)
+        for (int b = 0; b < np; ++b)
+            for (int s = 0; s < sub; ++s)
+                for (int t = 0; t < sub; ++t) {
+                    const double z = (a + (s + 0.5) / sub) / nt, phi = 2 * kPi * (b + (t + 0.5) / sub) / np;
+                    const double r = std::sqrt(1 - z * z);
+                    const double p = pdf(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z));
+                    expected[a * np + b] += p * (1.0 / nt) * (2 * kPi / np) / (sub * sub) * double(n);
+                }
+    double chi2 = 0, pooled_obs = 0, pooled_exp = 0;
+    int dof = 0;
+    for (size_t k = 0; k < expected.size(); ++k) {
+        if (expected[k] < 5) {
+            pooled_obs += observed[k];
+            pooled_exp += expected[k];
+            continue;
+        }
+        chi2 += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
+        ++dof;
+    }
+    if (pooled_exp >= 5) {
+        chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
+        ++dof;
+    }
+    return chi2_tail(chi2, dof - 1);
+}
+}  // namespace
+
+TEST(Lobes, WardIsReciprocalKeepsEnergyAndSamplesItsPdf) {
+    using patina::microfacet::ward_pdf;
+    const size_t n = 1000000;
+    const auto u1 = uniforms(n, 11), u2 = uniforms(n, 12);
+    for (auto [ax, ay] : {std::pair{0.1f, 0.1f}, std::pair{0.3f, 0.08f}, std::pair{0.5f, 0.5f}}) {
+        for (double theta : {0.2, 1.0}) {
+            const float w1[3] = {float(std::sin(theta) * 0.8), float(std::sin(theta) * 0.6), float(std::cos(theta))};
+            auto sample = [&](size_t m) {
+                std::vector<float> wi, wo(3 * m), pdf(m);
+                for (size_t i = 0; i < m; ++i) wi.insert(wi.end(), w1, w1 + 3);
+                lobe_kernels_w1().sample_ward(ax, ay, wi.data(), u1.data(), u2.data(), wo.data(), pdf.data(), m);
+                return wo;
+            };
+            auto pdf = [&](float x, float y, float z) {
+                const patina::Dir3<float> a{w1[0], w1[1], w1[2]}, b{x, y, z};
+                return double(ward_pdf(a, b, ax, ay));
+            };
+            EXPECT_GT(sampling_p_value(sample, pdf), 1e-3) << "ward " << ax << " " << ay << " theta " << theta;
+            // albedo of the white lobe by importance sampling: at most 1
+            std::vector<float> wi, wo(3 * n), p(n);
+            for (size_t i = 0; i < n; ++i) wi.insert(wi.end(), w1, w1 + 3);
+            lobe_kernels_w1().sample_ward(ax, ay, wi.data(), u1.data(), u2.data(), wo.data(), p.data(), n);
+            double albedo = 0;
+            for (size_t i = 0; i < n; ++i) {
+                if (!(p[i] > 0) || !(wo[3 * i + 2] > 0)) continue;
+                const patina::Dir3<float> a{w1[0], w1[1], w1[2]}, b{wo[3 * i], wo[3 * i + 1], wo[3 * i + 2]};
+                albedo += patina::microfacet::ward_eval(a, b, ax, ay, 1.0f) * b.z / p[i];
+                // reciprocal, bit for bit: h = wi + wo is symmetric
+                ASSERT_EQ(patina::microfacet::ward_eval(a, b, ax, ay, 1.0f),
+                          patina::microfacet::ward_eval(b, a, ax, ay, 1.0f));
+            }
+            EXPECT_LE(albedo / n, 1.0 + 3e-3) << "ward " << ax << " " << ay << " theta " << theta;
+        }
+    }
+    // the wide samplers give the same directions and densities
+    const auto wi = hemisphere(4099, 13);
+    std::vector<float> s1(wi.size()), p1(wi.size() / 3);
+    lobe_kernels_w1().sample_ward(0.2f, 0.05f, wi.data(), u1.data(), u2.data(), s1.data(), p1.data(), p1.size());
+    for (int w : {4, 8}) {
+        if (!width_supported(w)) continue;
+        std::vector<float> sw(wi.size()), pw(wi.size() / 3);
+        lobe_kernels_for(w).sample_ward(0.2f, 0.05f, wi.data(), u1.data(), u2.data(), sw.data(), pw.data(), pw.size());
+        EXPECT_EQ(sw, s1);
+        EXPECT_EQ(pw, p1);
+    }
+}
