@@ -26,9 +26,10 @@ struct LobeKernels {
     int width;
     // out[i] = the mixture at (wi[i], wo[i]), (n, 3)
     void (*eval_mixture)(const MixtureParams& p, const float* wi, const float* wo, float* out, size_t n);
-    // wo[i] sampled from GGX's D(h) cos(theta_h) given wi and two uniforms; pdf[i] its density
-    void (*sample_ggx)(float alpha, const float* wi, const float* u1, const float* u2, float* wo, float* pdf,
-                       size_t n);
+    // wo[i] sampled from a lobe (GGX, Beckmann, Blinn-Phong: D(h) cos(theta_h); Ward: its own
+    // scheme, isotropic) of the given shape, given wi and two uniforms; pdf[i] its density
+    void (*sample_lobe)(LobeKind kind, float shape, const float* wi, const float* u1, const float* u2, float* wo,
+                        float* pdf, size_t n);
     // cosine-weighted wo from two uniforms; pdf[i] = cos / pi
     void (*sample_lambert)(const float* u1, const float* u2, float* wo, float* pdf, size_t n);
     // wo[i] from Ward's sampling of the (anisotropic) lobe ax, ay; pdf[i] its density

@@ -76,12 +76,33 @@ void eval_mixture(const MixtureParams& p, const float* wi, const float* wo, floa
     });
 }
 
-void sample_ggx(float alpha, const float* wi, const float* u1, const float* u2, float* wo, float* pdf, size_t n) {
+void sample_lobe(LobeKind kind, float shape, const float* wi, const float* u1, const float* u2, float* wo, float* pdf,
+                 size_t n) {
     for_blocks(n, [&](size_t i, int lanes) {
         const Dir3<F> a = load_rows(wi, i, lanes);
-        const Dir3<F> s = microfacet::ggx_sample(a, load_lanes(u1, i, lanes), load_lanes(u2, i, lanes), F(alpha));
+        const F s1 = load_lanes(u1, i, lanes), s2 = load_lanes(u2, i, lanes), k(shape);
+        Dir3<F> s{F(0.0f), F(0.0f), F(1.0f)};
+        F p(0.0f);
+        switch (kind) {
+            case LobeKind::GGX:
+                s = microfacet::ggx_sample(a, s1, s2, k);
+                p = microfacet::ggx_pdf(a, s, k);
+                break;
+            case LobeKind::Beckmann:
+                s = microfacet::beckmann_sample(a, s1, s2, k);
+                p = microfacet::beckmann_pdf(a, s, k);
+                break;
+            case LobeKind::BlinnPhong:
+                s = microfacet::blinn_phong_sample(a, s1, s2, k);
+                p = microfacet::blinn_phong_pdf(a, s, k);
+                break;
+            case LobeKind::Ward:
+                s = microfacet::ward_sample(a, s1, s2, k, k);
+                p = microfacet::ward_pdf(a, s, k, k);
+                break;
+        }
         store_rows(wo, i, lanes, s.x, s.y, s.z);
-        store_lanes(pdf, i, lanes, microfacet::ggx_pdf(a, s, F(alpha)));
+        store_lanes(pdf, i, lanes, p);
     });
 }
 

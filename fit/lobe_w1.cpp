@@ -5,7 +5,7 @@
 namespace patina {
 
 const LobeKernels& lobe_kernels_w1() {
-    static const LobeKernels k{1, &eval_mixture, &sample_ggx, &sample_lambert, &sample_ward,
+    static const LobeKernels k{1, &eval_mixture, &sample_lobe, &sample_lambert, &sample_ward,
                              &loss_mixture};
     return k;
 }

@@ -98,12 +98,12 @@ TEST(Lobes, WideWidthsMatchScalar) {
         }
     }
     std::vector<float> s1(wi.size()), p1(wi.size() / 3);
-    lobe_kernels_w1().sample_ggx(0.3f, wi.data(), u1.data(), u2.data(), s1.data(), p1.data(), p1.size());
+    lobe_kernels_w1().sample_lobe(LobeKind::GGX, 0.3f, wi.data(), u1.data(), u2.data(), s1.data(), p1.data(), p1.size());
     for (int w : {4, 8}) {
         if (!width_supported(w)) continue;
         EXPECT_EQ(eval(p, wi, wo, w), ref) << "width " << w;
         std::vector<float> sw(wi.size()), pw(wi.size() / 3);
-        lobe_kernels_for(w).sample_ggx(0.3f, wi.data(), u1.data(), u2.data(), sw.data(), pw.data(), pw.size());
+        lobe_kernels_for(w).sample_lobe(LobeKind::GGX, 0.3f, wi.data(), u1.data(), u2.data(), sw.data(), pw.data(), pw.size());
         EXPECT_EQ(sw, s1) << "width " << w;
         EXPECT_EQ(pw, p1) << "width " << w;
     }
@@ -120,7 +120,7 @@ TEST(Lobes, EnergyIsConserved) {
             for (size_t i = 0; i < n; ++i)
                 wi.insert(wi.end(), {float(std::sin(theta)), 0.0f, float(std::cos(theta))});
             std::vector<float> wo(3 * n), pdf(n);
-            lobe_kernels_w1().sample_ggx(alpha, wi.data(), u1.data(), u2.data(), wo.data(), pdf.data(), n);
+            lobe_kernels_w1().sample_lobe(LobeKind::GGX, alpha, wi.data(), u1.data(), u2.data(), wo.data(), pdf.data(), n);
             const auto f = eval(mixture(0, 0, 0, alpha, 1, 1, 1), wi, wo);
             double sum = 0;
             for (size_t i = 0; i < n; ++i)
@@ -138,79 +138,6 @@ TEST(Lobes, EnergyIsConserved) {
     for (size_t i = 0; i < n; ++i) sum += (f[3 * i] - 0.0) * wo[3 * i + 2] / pdf[i];
     // f includes the GGX lobe with f0 = 0, which Schlick makes slightly positive at grazing
     EXPECT_NEAR(sum / n, 1.0, 0.02);
-}
-
-// Chi-square: histogram of sampled directions over (cos theta, phi) bins against the
-// expected counts from integrating the pdf over each bin.
-TEST(Lobes, GgxSamplingMatchesItsPdf) {
-    const int nt = 24, np = 48;
-    const size_t n = 1000000;
-    const auto u1 = uniforms(n, 9), u2 = uniforms(n, 10);
-    for (float alpha : {0.1f, 0.4f}) {
-        for (double theta : {0.3, 1.1}) {
-            const float wi1[3] = {float(std::sin(theta)), 0.0f, float(std::cos(theta))};
-            std::vector<float> wi;
-            for (size_t i = 0; i < n; ++i) wi.insert(wi.end(), wi1, wi1 + 3);
-            std::vector<float> wo(3 * n), pdf(n);
-            lobe_kernels_w1().sample_ggx(alpha, wi.data(), u1.data(), u2.data(), wo.data(), pdf.data(), n);
-            std::vector<double> observed(nt * np, 0.0);
-            size_t below = 0;
-            for (size_t i = 0; i < n; ++i) {
-                const double z = wo[3 * i + 2];
-                if (!(z > 0)) {
-                    ++below;  // reflected under the surface: the sampler's lost mass
-                    continue;
-                }
-                double phi = std::atan2(wo[3 * i + 1], wo[3 * i]);
-                if (phi < 0) phi += 2 * kPi;
-                const int a = std::min(nt - 1, int(z * nt)), b = std::min(np - 1, int(phi / (2 * kPi) * np));
-                observed[a * np + b] += 1;
-            }
-            // expected: integrate the pdf over each bin with an 8 x 8 midpoint rule
-            std::vector<double> expected(nt * np, 0.0);
-            const int sub = 8;
-            std::vector<float> qi, qo;
-            for (int a = 0; a < nt; ++a)
-                for (int b = 0; b < np; ++b)
-                    for (int s = 0; s < sub; ++s)
-                        for (int t = 0; t < sub; ++t) {
-                            const double z = (a + (s + 0.5) / sub) / nt, phi = 2 * kPi * (b + (t + 0.5) / sub) / np;
-                            const double r = std::sqrt(1 - z * z);
-                            qi.insert(qi.end(), wi1, wi1 + 3);
-                            qo.insert(qo.end(), {float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)});
-                        }
-            // pdf at the quadrature points: the sampler's density, through a zero-width sample
-            // is not available, so evaluate D cos_h / (4 wo.h) directly here in double
-            for (size_t q = 0; q < qo.size() / 3; ++q) {
-                const double hx = qi[3 * q] + qo[3 * q], hy = qi[3 * q + 1] + qo[3 * q + 1], hz = qi[3 * q + 2] + qo[3 * q + 2];
-                const double len = std::sqrt(hx * hx + hy * hy + hz * hz);
-                const double ch = hz / len, oh = (qo[3 * q] * hx + qo[3 * q + 1] * hy + qo[3 * q + 2] * hz) / len;
-                const double a2 = double(alpha) * alpha, t = ch * ch * (a2 - 1) + 1;
-                const double d = ch > 0 ? a2 / (kPi * t * t) : 0;
-                const double p = oh > 0 ? d * ch / (4 * oh) : 0;
-                const double cell = (1.0 / nt) * (2 * kPi / np) / (sub * sub);  // solid angle: dz dphi
-                expected[q / (sub * sub)] += p * cell * n;
-            }
-            double chi2 = 0, pooled_obs = 0, pooled_exp = 0;
-            int dof = 0;
-            for (size_t k = 0; k < expected.size(); ++k) {
-                if (expected[k] < 5) {
-                    pooled_obs += observed[k];
-                    pooled_exp += expected[k];
-                    continue;
-                }
-                chi2 += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
-                ++dof;
-            }
-            if (pooled_exp >= 5) {
-                chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
-                ++dof;
-            }
-            const double p = chi2_tail(chi2, dof - 1);
-            EXPECT_GT(p, 1e-3) << "alpha " << alpha << " theta " << theta << ": chi2 " << chi2 << " dof " << dof
-                               << " (" << below << " samples below the horizon)";
-        }
-    }
 }
 
 // Fresnel terms against textbook values (width 1; the wide paths run the same code).
@@ -353,5 +280,37 @@ TEST(Lobes, WardIsReciprocalKeepsEnergyAndSamplesItsPdf) {
         lobe_kernels_for(w).sample_ward(0.2f, 0.05f, wi.data(), u1.data(), u2.data(), sw.data(), pw.data(), pw.size());
         EXPECT_EQ(sw, s1);
         EXPECT_EQ(pw, p1);
+    }
+}
+
+// Every lobe kind samples its own pdf (chi-square), at two incidence angles.
+TEST(Lobes, EveryKindSamplesItsPdf) {
+    using namespace patina::microfacet;
+    const size_t n = 1000000;
+    const auto u1 = uniforms(n, 14), u2 = uniforms(n, 15);
+    for (LobeKind kind : {LobeKind::GGX, LobeKind::Beckmann, LobeKind::BlinnPhong, LobeKind::Ward}) {
+        for (float alpha : {0.12f, 0.45f}) {
+            const float shape = kind == LobeKind::BlinnPhong ? 2.0f / (alpha * alpha) - 2.0f : alpha;
+            for (double theta : {0.25, 1.1}) {
+                const float w1[3] = {float(std::sin(theta)), 0.0f, float(std::cos(theta))};
+                auto sample = [&](size_t m) {
+                    std::vector<float> wi, wo(3 * m), pdf(m);
+                    for (size_t i = 0; i < m; ++i) wi.insert(wi.end(), w1, w1 + 3);
+                    lobe_kernels_w1().sample_lobe(kind, shape, wi.data(), u1.data(), u2.data(), wo.data(), pdf.data(), m);
+                    return wo;
+                };
+                auto pdf = [&](float x, float y, float z) {
+                    const patina::Dir3<float> a{w1[0], w1[1], w1[2]}, b{x, y, z};
+                    switch (kind) {
+                        case LobeKind::GGX: return double(ggx_pdf(a, b, shape));
+                        case LobeKind::Beckmann: return double(beckmann_pdf(a, b, shape));
+                        case LobeKind::BlinnPhong: return double(blinn_phong_pdf(a, b, shape));
+                        default: return double(ward_pdf(a, b, shape, shape));
+                    }
+                };
+                EXPECT_GT(sampling_p_value(sample, pdf), 1e-3) << "kind " << int(kind) << " alpha " << alpha
+                                                                << " theta " << theta;
+            }
+        }
     }
 }
