@@ -6,6 +6,7 @@
     patina validate FILE [--json]          (exit 0 clean, 1 problems found, 2 unreadable)
     patina fit FILE [--model ggx+lambert] [--lobes K] [--loss l2cos|log] [--out fit.json]
     patina fit FILE --compare ggx+lambert beckmann+lambert blinnphong+lambert:2
+    patina plot FILE [--fit fit.json] --out DIR
     patina slices FILE --out PNG
     patina bench [--only GROUP] [--json FILE]
 
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from typing import Any
 
@@ -195,6 +197,22 @@ def cmd_fit(args: argparse.Namespace) -> int:
     return 0 if result.converged else 1
 
 
+def cmd_plot(args: argparse.Namespace) -> int:
+    from . import load_brdf
+    from .fit import read_fit
+    from .report import write_report
+
+    brdf = load_brdf(args.file)
+    fitted, fit_doc = None, None
+    if args.fit:
+        fitted = read_fit(args.fit)
+        with open(args.fit, encoding="utf-8") as f:
+            fit_doc = json.load(f)
+    write_report(brdf, args.out, fitted, fit_doc)
+    print(f"wrote {os.path.join(args.out, 'index.html')} (slices.png, polar.png, validate.json)")
+    return 0
+
+
 def cmd_bench(args: argparse.Namespace) -> int:
     from .bench import run_bench
 
@@ -242,6 +260,12 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--out", default=None, metavar="FIT_JSON", help="write the result as JSON")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_fit)
+
+    s = sub.add_parser("plot", help="figures and index.html: slices and polar plots, validation, a fit")
+    s.add_argument("file")
+    s.add_argument("--fit", default=None, metavar="FIT_JSON", help="overlay a model written by patina fit --out")
+    s.add_argument("--out", required=True, metavar="DIR")
+    s.set_defaults(func=cmd_plot)
 
     s = sub.add_parser("slices", help="plot in-plane slices of a table to a PNG")
     s.add_argument("file")

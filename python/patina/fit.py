@@ -294,6 +294,50 @@ def compare(brdf: Brdf, models: list[str], **options: Any) -> list[FitResult]:
     return sorted(results, key=lambda r: r.metrics["loss_all_samples"])
 
 
+class FittedModel:
+    """A model read back from fit.json, evaluable like a table (`eval(wi, wo)` -> (n, 3))."""
+
+    def __init__(self, model: str, parameters: dict[str, float]) -> None:
+        name, _, count = model.partition(" x")
+        name = ALIASES.get(name, name)
+        if name not in MODELS:
+            raise ValueError(f"unknown model '{model}'")
+        self.model = model
+        self.space = _Space(MODELS[name], int(count) if count else 1)
+        missing = [n for n in self.space.names if n not in parameters]
+        if missing:
+            raise ValueError(f"parameters missing for {model}: {', '.join(missing)}")
+        self.values = [float(parameters[n]) for n in self.space.names]
+        if not all(math.isfinite(v) for v in self.values):
+            raise ValueError("parameters must be finite numbers")
+
+    def eval(self, wi: np.ndarray, wo: np.ndarray) -> np.ndarray:
+        as32 = lambda a: np.ascontiguousarray(a, dtype=np.float32)  # noqa: E731
+        return _core.mixture_eval(self.space.lobe, self.values, as32(wi), as32(wo))
+
+
+def read_fit(path: str) -> FittedModel:
+    """fit.json -> FittedModel; FormatError naming the file and the field for anything wrong."""
+    from .errors import FormatError
+
+    try:
+        with open(path, encoding="utf-8") as f:
+            doc = json.load(f)
+    except OSError as e:
+        raise FormatError(path, "", f"cannot open: {e.strerror}") from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as e:
+        raise FormatError(path, (getattr(e, "lineno", None) and f"line {e.lineno}") or "", f"not JSON: {e}") from None
+    if not isinstance(doc, dict):
+        raise FormatError(path, "", "expected a JSON object as written by patina fit")
+    for key, kind in (("model", str), ("parameters", dict)):
+        if not isinstance(doc.get(key), kind):
+            raise FormatError(path, key, f"missing or not a {kind.__name__}")
+    try:
+        return FittedModel(doc["model"], doc["parameters"])
+    except (TypeError, ValueError) as e:
+        raise FormatError(path, "parameters", str(e)) from None
+
+
 def write_fit(result: FitResult, path: str) -> None:
     """fit.json, written to a temporary file and renamed."""
     tmp = f"{path}.tmp{os.getpid()}"
