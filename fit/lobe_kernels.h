@@ -8,11 +8,12 @@
 namespace patina {
 
 // The specular lobes a mixture can hold (all lobes of one mixture are of one kind).
-enum class LobeKind : int { GGX = 0, Beckmann = 1, BlinnPhong = 2, Ward = 3 };
+enum class LobeKind : int { GGX = 0, Beckmann = 1, BlinnPhong = 2, Ward = 3, AshikhminShirley = 4 };
 constexpr int kMaxLobes = 3;
 
 // A Lambert base (RGB albedo rho) under 1 to kMaxLobes specular lobes, each with a shape
-// (GGX / Beckmann / Ward roughness alpha, Blinn-Phong exponent) and an RGB weight (Schlick
+// (GGX / Beckmann / Ward roughness alpha, Blinn-Phong / Ashikhmin-Shirley exponent; the
+// last isotropic here, nu = nv) and an RGB weight (Schlick
 // f0; Ward's specular albedo, as Ward has no Fresnel term): the shared-shape colour model.
 struct MixtureParams {
     float rho[3];

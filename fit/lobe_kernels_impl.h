@@ -64,6 +64,7 @@ F mixture_channel(const MixtureParams& p, const Dir3<F>& a, const Dir3<F>& b, in
             case LobeKind::Beckmann: f += microfacet::beckmann_eval(a, b, shape, w); break;
             case LobeKind::BlinnPhong: f += microfacet::blinn_phong_eval(a, b, shape, w); break;
             case LobeKind::Ward: f += microfacet::ward_eval(a, b, shape, shape, w); break;
+            case LobeKind::AshikhminShirley: f += microfacet::ashikhmin_shirley_eval(a, b, shape, shape, w); break;
         }
     }
     return f;
@@ -99,6 +100,10 @@ void sample_lobe(LobeKind kind, float shape, const float* wi, const float* u1, c
             case LobeKind::Ward:
                 s = microfacet::ward_sample(a, s1, s2, k, k);
                 p = microfacet::ward_pdf(a, s, k, k);
+                break;
+            case LobeKind::AshikhminShirley:
+                s = microfacet::ashikhmin_shirley_sample(a, s1, s2, k, k);
+                p = microfacet::ashikhmin_shirley_pdf(a, s, k, k);
                 break;
         }
         store_rows(wo, i, lanes, s.x, s.y, s.z);

@@ -251,6 +251,58 @@ PATINA_INLINE F ward_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F ax, F ay) {
     return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)) & (c > F(0.0f)) & (oh > F(0.0f)), ph / (F(4.0f) * oh), F(0.0f));
 }
 
+// Ashikhmin-Shirley (2000) anisotropic Phong specular term with Schlick Fresnel:
+// sqrt((nu + 1)(nv + 1)) / (8 pi) (n.h)^(nu cos^2 phi_h + nv sin^2 phi_h) / ((h.k) max(cos_i, cos_o)) F(h.k).
+template <class F>
+PATINA_INLINE F ashikhmin_shirley_eval(const Dir3<F>& wi, const Dir3<F>& wo, F nu, F nv, F f0) {
+    const Dir3<F> h = half_vector(wi, wo);
+    const F s2 = max(h.x * h.x + h.y * h.y, F(1e-30f));  // sin^2(theta_h)
+    const F power = (nu * h.x * h.x + nv * h.y * h.y) / s2;
+    const F c = max(h.z, F(1e-30f));
+    const F ih = wi.x * h.x + wi.y * h.y + wi.z * h.z, oh = wo.x * h.x + wo.y * h.y + wo.z * h.z;
+    const F kh = F(0.5f) * (ih + oh);
+    const F value = sqrt_exact((nu + F(1.0f)) * (nv + F(1.0f))) * F(0.125f * kInvPi) * fast_exp(power * fast_log(c)) /
+                    (kh * max(wi.z, wo.z)) * fresnel_schlick(f0, kh);
+    return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)) & (kh > F(0.0f)), value, F(0.0f));
+}
+
+// Its sampling: phi_h = atan(sqrt((nu + 1) / (nv + 1)) tan(pi u2 / 2)) in each quadrant,
+// cos(theta_h) = (1 - u1)^(1 / (nu cos^2 phi + nv sin^2 phi + 1)).
+template <class F>
+PATINA_INLINE Dir3<F> ashikhmin_shirley_sample(const Dir3<F>& wi, F u1, F u2, F nu, F nv) {
+    // the quadrant from u2, then phi in the first quadrant from the remapped uniform
+    const F q = floor(u2 * F(4.0f));
+    const F v = u2 * F(4.0f) - q;
+    F s, c;
+    fast_sincos(F(0.5f * kPi) * v, s, c);
+    const F px = sqrt_exact(nv + F(1.0f)) * c, py = sqrt_exact(nu + F(1.0f)) * s;  // tan = sqrt((nu+1)/(nv+1)) tan
+    const F inv = F(1.0f) / sqrt_exact(px * px + py * py);
+    F cos_p = px * inv, sin_p = py * inv;
+    // quadrants 1 and 3 mirror phi (pi - phi, 2 pi - phi... as pi/2 + (pi/2 - phi) and so on)
+    const mask_t<F> odd = (q == F(1.0f)) | (q == F(3.0f));
+    const F cp = select(odd, -cos_p, cos_p);
+    cos_p = select(q >= F(2.0f), -cp, cp);
+    sin_p = select(q >= F(2.0f), -sin_p, sin_p);
+    const F e = nu * cos_p * cos_p + nv * sin_p * sin_p + F(1.0f);
+    const F cos_h = fast_exp(fast_log(max(F(1.0f) - u1, F(1e-30f))) / e);
+    const F sin_h = sqrt_exact(max(F(1.0f) - cos_h * cos_h, F(0.0f)));
+    const Dir3<F> h{sin_h * cos_p, sin_h * sin_p, cos_h};
+    const F d2 = F(2.0f) * (wi.x * h.x + wi.y * h.y + wi.z * h.z);
+    return {d2 * h.x - wi.x, d2 * h.y - wi.y, d2 * h.z - wi.z};
+}
+
+template <class F>
+PATINA_INLINE F ashikhmin_shirley_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F nu, F nv) {
+    const Dir3<F> h = half_vector(wi, wo);
+    const F s2 = max(h.x * h.x + h.y * h.y, F(1e-30f));
+    const F power = (nu * h.x * h.x + nv * h.y * h.y) / s2;
+    const F ph = sqrt_exact((nu + F(1.0f)) * (nv + F(1.0f))) * F(0.5f * kInvPi) *
+                 fast_exp(power * fast_log(max(h.z, F(1e-30f))));
+    const F oh = abs(wo.x * h.x + wo.y * h.y + wo.z * h.z);
+    return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)) & (h.z > F(0.0f)) & (oh > F(0.0f)), ph / (F(4.0f) * oh),
+                  F(0.0f));
+}
+
 // Lambert: rho / pi, cosine-weighted sampling, pdf cos(theta_o) / pi.
 template <class F>
 PATINA_INLINE F lambert_eval(const Dir3<F>& wi, const Dir3<F>& wo, F rho) {

@@ -25,7 +25,8 @@ patina::LobeKind lobe_kind(const std::string& name) {
     if (name == "beckmann") return patina::LobeKind::Beckmann;
     if (name == "blinnphong") return patina::LobeKind::BlinnPhong;
     if (name == "ward") return patina::LobeKind::Ward;
-    throw std::invalid_argument("lobe '" + name + "': expected ggx, beckmann, blinnphong or ward");
+    if (name == "ashikhmin") return patina::LobeKind::AshikhminShirley;
+    throw std::invalid_argument("lobe '" + name + "': expected ggx, beckmann, blinnphong, ward or ashikhmin");
 }
 
 // params: rho r g b, then per lobe: shape, weight r g b.

@@ -251,7 +251,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     s = sub.add_parser("fit", help="fit an analytic model to a table (nlopt)")
     s.add_argument("file")
-    s.add_argument("--model", default="ggx+lambert", help="ggx, beckmann, blinnphong or ward + lambert")
+    s.add_argument("--model", default="ggx+lambert", help="ggx, beckmann, blinnphong, ward or ashikhmin + lambert")
     s.add_argument("--lobes", type=int, default=1, help="specular lobes, 1 to 3")
     s.add_argument("--compare", nargs="+", metavar="MODEL", help="fit several models (MODEL or MODEL:LOBES), rank them")
     s.add_argument("--loss", default="l2cos", choices=("l2cos", "log"))

@@ -66,8 +66,8 @@ double chi2_tail(double chi2, int dof) {
 TEST(Lobes, Reciprocal) {
     const auto wi = hemisphere(20000, 1), wo = hemisphere(20000, 2);
     for (float alpha : {0.05f, 0.2f, 0.6f}) {
-        for (LobeKind kind : {LobeKind::GGX, LobeKind::Beckmann, LobeKind::BlinnPhong}) {
-            const float shape = kind == LobeKind::BlinnPhong ? 2.0f / (alpha * alpha) : alpha;
+        for (LobeKind kind : {LobeKind::GGX, LobeKind::Beckmann, LobeKind::BlinnPhong, LobeKind::AshikhminShirley}) {
+            const float shape = kind == LobeKind::BlinnPhong || kind == LobeKind::AshikhminShirley ? 2.0f / (alpha * alpha) : alpha;
             const MixtureParams p = mixture(0.3f, 0.5f, 0.2f, shape, 0.04f, 0.5f, 0.9f, kind);
             const auto a = eval(p, wi, wo), b = eval(p, wo, wi);
             EXPECT_EQ(a, b) << "alpha " << alpha << " kind " << int(kind);  // symmetric expressions: bit for bit
@@ -170,9 +170,10 @@ TEST(Lobes, FresnelReferenceValues) {
 // outgoing hemisphere stays at or below 1 for the white lobe alone.
 TEST(Lobes, AllKindsConserveEnergy) {
     const int nmu = 256, nphi = 256;
-    for (LobeKind kind : {LobeKind::GGX, LobeKind::Beckmann, LobeKind::BlinnPhong}) {
+    for (LobeKind kind : {LobeKind::GGX, LobeKind::Beckmann, LobeKind::BlinnPhong, LobeKind::AshikhminShirley}) {
         for (float alpha : {0.1f, 0.3f, 0.8f}) {
-            const float shape = kind == LobeKind::BlinnPhong ? 2.0f / (alpha * alpha) - 2.0f : alpha;
+            const bool exponent = kind == LobeKind::BlinnPhong || kind == LobeKind::AshikhminShirley;
+            const float shape = exponent ? 2.0f / (alpha * alpha) - 2.0f : alpha;
             for (double theta : {0.0, 0.7, 1.3}) {
                 std::vector<float> wi, wo;
                 std::vector<double> weight;
@@ -288,9 +289,11 @@ TEST(Lobes, EveryKindSamplesItsPdf) {
     using namespace patina::microfacet;
     const size_t n = 1000000;
     const auto u1 = uniforms(n, 14), u2 = uniforms(n, 15);
-    for (LobeKind kind : {LobeKind::GGX, LobeKind::Beckmann, LobeKind::BlinnPhong, LobeKind::Ward}) {
+    for (LobeKind kind :
+         {LobeKind::GGX, LobeKind::Beckmann, LobeKind::BlinnPhong, LobeKind::Ward, LobeKind::AshikhminShirley}) {
         for (float alpha : {0.12f, 0.45f}) {
-            const float shape = kind == LobeKind::BlinnPhong ? 2.0f / (alpha * alpha) - 2.0f : alpha;
+            const bool exponent = kind == LobeKind::BlinnPhong || kind == LobeKind::AshikhminShirley;
+            const float shape = exponent ? 2.0f / (alpha * alpha) - 2.0f : alpha;
             for (double theta : {0.25, 1.1}) {
                 const float w1[3] = {float(std::sin(theta)), 0.0f, float(std::cos(theta))};
                 auto sample = [&](size_t m) {
@@ -305,6 +308,7 @@ TEST(Lobes, EveryKindSamplesItsPdf) {
                         case LobeKind::GGX: return double(ggx_pdf(a, b, shape));
                         case LobeKind::Beckmann: return double(beckmann_pdf(a, b, shape));
                         case LobeKind::BlinnPhong: return double(blinn_phong_pdf(a, b, shape));
+                        case LobeKind::AshikhminShirley: return double(ashikhmin_shirley_pdf(a, b, shape, shape));
                         default: return double(ward_pdf(a, b, shape, shape));
                     }
                 };
@@ -312,5 +316,30 @@ TEST(Lobes, EveryKindSamplesItsPdf) {
                                                                 << " theta " << theta;
             }
         }
+    }
+}
+
+// The anisotropic Ashikhmin-Shirley sampler (its quadrant mapping) against its pdf.
+TEST(Lobes, AnisotropicAshikhminShirleySamplesItsPdf) {
+    const size_t n = 1000000;
+    const auto u1 = uniforms(n, 16), u2 = uniforms(n, 17);
+    for (auto [nu, nv] : {std::pair{100.0f, 10.0f}, std::pair{5.0f, 60.0f}}) {
+        const float w1[3] = {0.35f, 0.25f, 0.9028842f};
+        auto sample = [&](size_t m) {
+            std::vector<float> wo(3 * m);
+            for (size_t i = 0; i < m; ++i) {
+                const patina::Dir3<float> a{w1[0], w1[1], w1[2]};
+                const auto s = patina::microfacet::ashikhmin_shirley_sample(a, u1[i], u2[i], nu, nv);
+                wo[3 * i] = s.x;
+                wo[3 * i + 1] = s.y;
+                wo[3 * i + 2] = s.z;
+            }
+            return wo;
+        };
+        auto pdf = [&](float x, float y, float z) {
+            return double(patina::microfacet::ashikhmin_shirley_pdf(patina::Dir3<float>{w1[0], w1[1], w1[2]},
+                                                                    patina::Dir3<float>{x, y, z}, nu, nv));
+        };
+        EXPECT_GT(sampling_p_value(sample, pdf), 1e-3) << "nu " << nu << " nv " << nv;
     }
 }

@@ -102,6 +102,7 @@ def test_loss_matches_a_numpy_reference_at_every_width(loss):
         ),
         ("blinnphong", [0.5, 0.3, 0.1, 120.0, 0.04, 0.05, 0.06], ["rho_r", "rho_g", "rho_b", "exponent", *NAMES[4:]]),
         ("ward", [0.3, 0.3, 0.5, 0.12, 0.1, 0.08, 0.05], NAMES),
+        ("ashikhmin", [0.4, 0.2, 0.2, 300.0, 0.05, 0.05, 0.05], ["rho_r", "rho_g", "rho_b", "exponent", *NAMES[4:]]),
     ],
 )
 def test_other_lobes_are_recovered(lobe, params, names):
