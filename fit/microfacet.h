@@ -303,6 +303,54 @@ PATINA_INLINE F ashikhmin_shirley_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F nu
                   F(0.0f));
 }
 
+// Lafortune's generalised cosine lobe: rho (Cx xi xo + Cy yi yo + Cz zi zo)^n, 0 where the
+// sum is negative. (Cx = Cy = -Cz is a Phong lobe about the mirror direction, Cx = Cy > 0
+// retro-reflection, Cx = Cy = 0 an off-specular lobe toward the normal.)
+template <class F>
+PATINA_INLINE F lafortune_eval(const Dir3<F>& wi, const Dir3<F>& wo, F cx, F cy, F cz, F n, F rho) {
+    const F d = cx * (wi.x * wo.x) + cy * (wi.y * wo.y) + cz * (wi.z * wo.z);  // symmetric in wi, wo
+    const F value = rho * fast_exp(n * fast_log(max(d, F(1e-30f))));
+    return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)) & (d > F(0.0f)), value, F(0.0f));
+}
+
+// An orthonormal frame (t, b) around the unit vector a (Duff et al. 2017), branch-free.
+template <class F>
+PATINA_INLINE void frame_around(const Dir3<F>& a, Dir3<F>& t, Dir3<F>& b) {
+    const F sign = copysign(F(1.0f), a.z);
+    const F k = F(-1.0f) / (sign + a.z);
+    const F c = a.x * a.y * k;
+    t = {F(1.0f) + sign * a.x * a.x * k, sign * c, -sign * a.x};
+    b = {c, sign + a.y * a.y * k, -a.y};
+}
+
+// Samples the lobe: it is |s|^n cos^n about s = (Cx xi, Cy yi, Cz zi), so cos = u1^(1/(n+1))
+// about s's direction; see lafortune_pdf.
+template <class F>
+PATINA_INLINE Dir3<F> lafortune_sample(const Dir3<F>& wi, F u1, F u2, F cx, F cy, F cz, F n) {
+    Dir3<F> a{cx * wi.x, cy * wi.y, cz * wi.z};
+    const F inv = F(1.0f) / sqrt_exact(max(a.x * a.x + a.y * a.y + a.z * a.z, F(1e-30f)));
+    a = {a.x * inv, a.y * inv, a.z * inv};
+    Dir3<F> t, b;
+    frame_around(a, t, b);
+    const F cos_a = fast_exp(fast_log(max(u1, F(1e-30f))) / (n + F(1.0f)));
+    const F sin_a = sqrt_exact(max(F(1.0f) - cos_a * cos_a, F(0.0f)));
+    F sp, cp;
+    fast_sincos(F(2.0f * kPi) * u2, sp, cp);
+    const F x = sin_a * cp, y = sin_a * sp;
+    return {x * t.x + y * b.x + cos_a * a.x, x * t.y + y * b.y + cos_a * a.y, x * t.z + y * b.z + cos_a * a.z};
+}
+
+// (n + 1) / (2 pi) cos^n(angle to s), over the sphere of directions; 0 below the horizon
+// (the sampler's mass there is lost).
+template <class F>
+PATINA_INLINE F lafortune_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F cx, F cy, F cz, F n) {
+    const Dir3<F> a{cx * wi.x, cy * wi.y, cz * wi.z};
+    const F len = sqrt_exact(max(a.x * a.x + a.y * a.y + a.z * a.z, F(1e-30f)));
+    const F c = (a.x * wo.x + a.y * wo.y + a.z * wo.z) / len;
+    const F value = (n + F(1.0f)) * F(0.5f * kInvPi) * fast_exp(n * fast_log(max(c, F(1e-30f))));
+    return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)) & (c > F(0.0f)), value, F(0.0f));
+}
+
 // Lambert: rho / pi, cosine-weighted sampling, pdf cos(theta_o) / pi.
 template <class F>
 PATINA_INLINE F lambert_eval(const Dir3<F>& wi, const Dir3<F>& wo, F rho) {

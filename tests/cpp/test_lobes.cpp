@@ -343,3 +343,38 @@ TEST(Lobes, AnisotropicAshikhminShirleySamplesItsPdf) {
         EXPECT_GT(sampling_p_value(sample, pdf), 1e-3) << "nu " << nu << " nv " << nv;
     }
 }
+
+// Lafortune lobes: reciprocal bit for bit, and each sampler follows its pdf.
+TEST(Lobes, LafortuneIsReciprocalAndSamplesItsPdf) {
+    using namespace patina::microfacet;
+    const size_t n = 1000000;
+    const auto u1 = uniforms(n, 18), u2 = uniforms(n, 19);
+    struct Lobe {
+        float cx, cy, cz, e;
+    };
+    const auto wi_all = hemisphere(5000, 20), wo_all = hemisphere(5000, 21);
+    for (const Lobe& l : {Lobe{-1.0f, -1.0f, 1.0f, 30.0f}, Lobe{-0.8f, -1.2f, 0.9f, 8.0f}, Lobe{0.9f, 0.9f, 0.6f, 15.0f}}) {
+        for (size_t i = 0; i < wi_all.size() / 3; ++i) {
+            const patina::Dir3<float> a{wi_all[3 * i], wi_all[3 * i + 1], wi_all[3 * i + 2]};
+            const patina::Dir3<float> b{wo_all[3 * i], wo_all[3 * i + 1], wo_all[3 * i + 2]};
+            ASSERT_EQ(lafortune_eval(a, b, l.cx, l.cy, l.cz, l.e, 1.0f), lafortune_eval(b, a, l.cx, l.cy, l.cz, l.e, 1.0f));
+        }
+        const float w1[3] = {0.45f, 0.2f, 0.8703448f};
+        auto sample = [&](size_t m) {
+            std::vector<float> wo(3 * m);
+            const patina::Dir3<float> a{w1[0], w1[1], w1[2]};
+            for (size_t i = 0; i < m; ++i) {
+                const auto s = lafortune_sample(a, u1[i], u2[i], l.cx, l.cy, l.cz, l.e);
+                wo[3 * i] = s.x;
+                wo[3 * i + 1] = s.y;
+                wo[3 * i + 2] = s.z;
+            }
+            return wo;
+        };
+        auto pdf = [&](float x, float y, float z) {
+            return double(lafortune_pdf(patina::Dir3<float>{w1[0], w1[1], w1[2]}, patina::Dir3<float>{x, y, z}, l.cx,
+                                        l.cy, l.cz, l.e));
+        };
+        EXPECT_GT(sampling_p_value(sample, pdf), 1e-3) << "lobe " << l.cx << " " << l.cy << " " << l.cz << " " << l.e;
+    }
+}
