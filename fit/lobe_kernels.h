@@ -21,6 +21,11 @@ struct MixtureParams {
     int lobes = 1;
     float shape[kMaxLobes] = {};
     float weight[kMaxLobes][3] = {};
+    // Optional clear coat: a smooth-to-rough dielectric layer (GGX of roughness coat_alpha,
+    // exact Fresnel of index coat_eta) over the base, which is dimmed by (1 - F(cos_i)) (1 - F(cos_o)).
+    bool coat = false;
+    float coat_alpha = 0.05f;
+    float coat_eta = 1.5f;
 };
 
 struct LobeKernels {

@@ -67,6 +67,12 @@ F mixture_channel(const MixtureParams& p, const Dir3<F>& a, const Dir3<F>& b, in
             case LobeKind::AshikhminShirley: f += microfacet::ashikhmin_shirley_eval(a, b, shape, shape, w); break;
         }
     }
+    if (p.coat) {
+        const F eta(p.coat_eta);
+        const F through = (F(1.0f) - microfacet::fresnel_dielectric(a.z, eta)) *
+                          (F(1.0f) - microfacet::fresnel_dielectric(b.z, eta));
+        f = madd(f, through, microfacet::coat_eval(a, b, F(p.coat_alpha), eta));
+    }
     return f;
 }
 

@@ -162,6 +162,16 @@ PATINA_INLINE F blinn_phong_eval(const Dir3<F>& wi, const Dir3<F>& wo, F exponen
     return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)) & (h.z > F(0.0f)), value, F(0.0f));
 }
 
+// A clear coat's own reflection: GGX with exact dielectric Fresnel of index eta.
+template <class F>
+PATINA_INLINE F coat_eval(const Dir3<F>& wi, const Dir3<F>& wo, F alpha, F eta) {
+    const Dir3<F> h = half_vector(wi, wo);
+    const F ih = wi.x * h.x + wi.y * h.y + wi.z * h.z, oh = wo.x * h.x + wo.y * h.y + wo.z * h.z;
+    const F value = ggx_d(h.z, alpha) * ggx_g2(wi.z, wo.z, alpha) * fresnel_dielectric(F(0.5f) * (ih + oh), eta) /
+                    (F(4.0f) * wi.z * wo.z);
+    return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)), value, F(0.0f));
+}
+
 // Reflects wi about the unit half vector with cos(theta_h) = cos_h and a uniform azimuth from u2.
 template <class F>
 PATINA_INLINE Dir3<F> reflect_about_sampled_h(const Dir3<F>& wi, F cos_h, F u2) {

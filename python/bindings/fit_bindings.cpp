@@ -29,10 +29,22 @@ patina::LobeKind lobe_kind(const std::string& name) {
     throw std::invalid_argument("lobe '" + name + "': expected ggx, beckmann, blinnphong, ward or ashikhmin");
 }
 
-// params: rho r g b, then per lobe: shape, weight r g b.
-patina::MixtureParams params(const std::string& kind, const std::vector<float>& v) {
+// params: rho r g b, then per lobe: shape, weight r g b; with a coat, coat alpha and eta last.
+patina::MixtureParams params(const std::string& kind, const std::vector<float>& in) {
     patina::MixtureParams p;
-    p.kind = lobe_kind(kind);
+    std::string name = kind;
+    std::vector<float> v = in;
+    const std::string suffix = "+coat";
+    if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+        name.resize(name.size() - suffix.size());
+        if (v.size() < 2) throw std::invalid_argument("a coated mixture ends with coat alpha and eta");
+        p.coat = true;
+        p.coat_eta = v.back();
+        v.pop_back();
+        p.coat_alpha = v.back();
+        v.pop_back();
+    }
+    p.kind = lobe_kind(name);
     if (v.size() < 7 || (v.size() - 3) % 4 != 0 || (v.size() - 3) / 4 > patina::kMaxLobes)
         throw std::invalid_argument("a mixture takes rho r g b and, per lobe (1 to 3), shape and weight r g b");
     p.lobes = static_cast<int>((v.size() - 3) / 4);
@@ -95,8 +107,9 @@ double loss(const Samples& s, const std::string& kind, const std::vector<float>&
 void bind_fit(nb::module_& m) {
     m.def("mixture_eval", &eval, nb::arg("lobe"), nb::arg("params"), nb::arg("wi"), nb::arg("wo"),
           nb::arg("width") = 0,
-          "Lambert + 1-3 specular lobes (ggx, beckmann or blinnphong) at (n, 3) direction pairs -> (n, 3) RGB. "
-          "params: rho r g b, then per lobe shape and weight r g b.");
+          "Lambert + 1-3 specular lobes (ggx, beckmann, blinnphong, ward, ashikhmin; '+coat' adds a clear "
+          "coat) at (n, 3) direction pairs -> (n, 3) RGB. params: rho r g b, then per lobe shape and weight "
+          "r g b, then (coat) its alpha and eta.");
     nb::class_<Samples>(m, "FitSamples", "A table's samples for fitting: directions, measured RGB, weights.")
         .def(nb::new_(&make_samples), nb::arg("wi"), nb::arg("wo"), nb::arg("measured"), nb::arg("weight"))
         .def_prop_ro("count", [](const Samples& s) { return s.weight.size(); })

@@ -378,3 +378,31 @@ TEST(Lobes, LafortuneIsReciprocalAndSamplesItsPdf) {
         EXPECT_GT(sampling_p_value(sample, pdf), 1e-3) << "lobe " << l.cx << " " << l.cy << " " << l.cz << " " << l.e;
     }
 }
+
+// A clear coat keeps a white Lambert base at or below 1 and stays reciprocal.
+TEST(Lobes, ClearCoatKeepsEnergyAndReciprocity) {
+    const int nmu = 256, nphi = 256;
+    for (float eta : {1.3f, 1.5f, 2.0f}) {
+        MixtureParams p = mixture(1, 1, 1, 0.2f, 0, 0, 0);
+        p.coat = true;
+        p.coat_alpha = 0.05f;
+        p.coat_eta = eta;
+        const auto wi_r = hemisphere(5000, 22), wo_r = hemisphere(5000, 23);
+        EXPECT_EQ(eval(p, wi_r, wo_r), eval(p, wo_r, wi_r));
+        for (double theta : {0.0, 0.8, 1.3}) {
+            std::vector<float> wi, wo;
+            std::vector<double> weight;
+            for (int a = 0; a < nmu; ++a)
+                for (int b = 0; b < nphi; ++b) {
+                    const double mu = (a + 0.5) / nmu, phi = 2 * kPi * (b + 0.5) / nphi, r = std::sqrt(1 - mu * mu);
+                    wi.insert(wi.end(), {float(std::sin(theta)), 0.0f, float(std::cos(theta))});
+                    wo.insert(wo.end(), {float(r * std::cos(phi)), float(r * std::sin(phi)), float(mu)});
+                    weight.push_back(mu * (1.0 / nmu) * (2 * kPi / nphi));
+                }
+            const auto f = eval(p, wi, wo);
+            double albedo = 0;
+            for (size_t i = 0; i < weight.size(); ++i) albedo += f[3 * i] * weight[i];
+            EXPECT_LE(albedo, 1.02) << "eta " << eta << " theta " << theta;
+        }
+    }
+}

@@ -146,3 +146,15 @@ def test_colour_differences_vanish_for_equal_colours():
     assert np.allclose(colour_differences(rgb, rgb, cos_i), 0)
     shifted = colour_differences(rgb, rgb * np.array([1.1, 1.0, 1.0]), cos_i)
     assert np.median(shifted) > 0.5
+
+
+def test_a_coated_table_is_recovered_with_its_coat():
+    params = [0.5, 0.1, 0.05, 0.3, 0.04, 0.04, 0.04, 0.04, 1.55]  # red base, rough lobe, coat alpha, eta
+    table = model_table(params, lobe="ggx+coat")
+    r = fit(table, coat=True, starts=3)
+    assert r.model == "ggx+lambert+coat"
+    # the base lobe's f0 and the diffuse albedo trade off against the coat's transmission,
+    # so the values are matched (within a few percent) rather than every parameter exactly
+    assert r.metrics["relative_error_p95"] < 0.05, r.metrics
+    assert abs(r.parameters["coat_alpha"] - 0.04) < 0.004
+    assert abs(r.parameters["coat_eta"] - 1.55) < 0.05
