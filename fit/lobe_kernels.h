@@ -13,13 +13,13 @@ constexpr int kMaxLobes = 3;
 
 // A Lambert base (RGB albedo rho) under 1 to kMaxLobes specular lobes, each with a shape
 // (GGX / Beckmann / Ward roughness alpha, Blinn-Phong / Ashikhmin-Shirley exponent; the
-// last isotropic here, nu = nv) and an RGB weight (Schlick
+// last isotropic here, nu = nv), per channel or shared, and an RGB weight (Schlick
 // f0; Ward's specular albedo, as Ward has no Fresnel term): the shared-shape colour model.
 struct MixtureParams {
     float rho[3];
     LobeKind kind = LobeKind::GGX;
     int lobes = 1;
-    float shape[kMaxLobes] = {};
+    float shape[kMaxLobes][3] = {};  // per channel (equal in the shared-shape fit)
     float weight[kMaxLobes][3] = {};
     // Optional clear coat: a smooth-to-rough dielectric layer (GGX of roughness coat_alpha,
     // exact Fresnel of index coat_eta) over the base, which is dimmed by (1 - F(cos_i)) (1 - F(cos_o)).

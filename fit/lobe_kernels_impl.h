@@ -58,7 +58,7 @@ void store_lanes(float* p, size_t i, int lanes, F v) {
 F mixture_channel(const MixtureParams& p, const Dir3<F>& a, const Dir3<F>& b, int ch) {
     F f = microfacet::lambert_eval(a, b, F(p.rho[ch]));
     for (int l = 0; l < p.lobes; ++l) {
-        const F shape(p.shape[l]), w(p.weight[l][ch]);
+        const F shape(p.shape[l][ch]), w(p.weight[l][ch]);
         switch (p.kind) {
             case LobeKind::GGX: f += microfacet::ggx_eval(a, b, shape, w); break;
             case LobeKind::Beckmann: f += microfacet::beckmann_eval(a, b, shape, w); break;

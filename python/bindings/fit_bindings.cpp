@@ -29,8 +29,9 @@ patina::LobeKind lobe_kind(const std::string& name) {
     throw std::invalid_argument("lobe '" + name + "': expected ggx, beckmann, blinnphong, ward or ashikhmin");
 }
 
-// params: rho r g b, then per lobe: shape, weight r g b; with a coat, coat alpha and eta last.
-patina::MixtureParams params(const std::string& kind, const std::vector<float>& in) {
+// params: rho r g b, then per lobe: shape (r g b when per_channel), weight r g b; with a coat,
+// coat alpha and eta last.
+patina::MixtureParams params(const std::string& kind, const std::vector<float>& in, bool per_channel) {
     patina::MixtureParams p;
     std::string name = kind;
     std::vector<float> v = in;
@@ -45,21 +46,26 @@ patina::MixtureParams params(const std::string& kind, const std::vector<float>& 
         v.pop_back();
     }
     p.kind = lobe_kind(name);
-    if (v.size() < 7 || (v.size() - 3) % 4 != 0 || (v.size() - 3) / 4 > patina::kMaxLobes)
-        throw std::invalid_argument("a mixture takes rho r g b and, per lobe (1 to 3), shape and weight r g b");
-    p.lobes = static_cast<int>((v.size() - 3) / 4);
+    const size_t stride = per_channel ? 6 : 4;
+    if (v.size() < 3 + stride || (v.size() - 3) % stride != 0 || (v.size() - 3) / stride > patina::kMaxLobes)
+        throw std::invalid_argument("a mixture takes rho r g b and, per lobe (1 to 3), its shape (r g b when per "
+                                    "channel) and weight r g b");
+    p.lobes = static_cast<int>((v.size() - 3) / stride);
     for (int c = 0; c < 3; ++c) p.rho[c] = v[c];
     for (int l = 0; l < p.lobes; ++l) {
-        p.shape[l] = v[3 + 4 * l];
-        for (int c = 0; c < 3; ++c) p.weight[l][c] = v[4 + 4 * l + c];
+        const float* lobe = &v[3 + stride * l];
+        for (int c = 0; c < 3; ++c) {
+            p.shape[l][c] = per_channel ? lobe[c] : lobe[0];
+            p.weight[l][c] = lobe[stride - 3 + c];
+        }
     }
     return p;
 }
 
-nb::object eval(const std::string& kind, const std::vector<float>& p, Rows wi, Rows wo, int width) {
+nb::object eval(const std::string& kind, const std::vector<float>& p, Rows wi, Rows wo, int width, bool per_channel) {
     const size_t n = wi.shape(0);
     if (wo.shape(0) != n) throw std::invalid_argument("wi and wo have different numbers of rows");
-    const patina::MixtureParams q = params(kind, p);
+    const patina::MixtureParams q = params(kind, p, per_channel);
     const patina::LobeKernels& k = patina::lobe_kernels_for(width);
     float* out;
     const size_t shape[2] = {n, 3};
@@ -92,12 +98,12 @@ std::unique_ptr<Samples> make_samples(Rows wi, Rows wo, Rows measured, FloatVect
 }
 
 double loss(const Samples& s, const std::string& kind, const std::vector<float>& p, const std::string& loss_name,
-            int width, int threads) {
+            int width, int threads, bool per_channel) {
     patina::LossKind k;
     if (loss_name == "l2cos") k = patina::LossKind::CosineL2;
     else if (loss_name == "log") k = patina::LossKind::Log;
     else throw std::invalid_argument("loss '" + loss_name + "': expected l2cos or log");
-    const patina::MixtureParams q = params(kind, p);
+    const patina::MixtureParams q = params(kind, p, per_channel);
     nb::gil_scoped_release release;
     return patina::mixture_loss(q, s.view(), k, width, threads);
 }
@@ -106,7 +112,7 @@ double loss(const Samples& s, const std::string& kind, const std::vector<float>&
 
 void bind_fit(nb::module_& m) {
     m.def("mixture_eval", &eval, nb::arg("lobe"), nb::arg("params"), nb::arg("wi"), nb::arg("wo"),
-          nb::arg("width") = 0,
+          nb::arg("width") = 0, nb::arg("per_channel") = false,
           "Lambert + 1-3 specular lobes (ggx, beckmann, blinnphong, ward, ashikhmin; '+coat' adds a clear "
           "coat) at (n, 3) direction pairs -> (n, 3) RGB. params: rho r g b, then per lobe shape and weight "
           "r g b, then (coat) its alpha and eta.");
@@ -114,7 +120,8 @@ void bind_fit(nb::module_& m) {
         .def(nb::new_(&make_samples), nb::arg("wi"), nb::arg("wo"), nb::arg("measured"), nb::arg("weight"))
         .def_prop_ro("count", [](const Samples& s) { return s.weight.size(); })
         .def("mixture_loss", &loss, nb::arg("lobe"), nb::arg("params"), nb::arg("loss") = "l2cos",
-             nb::arg("width") = 0, nb::arg("threads") = 0, "Mean loss of the mixture over the samples.");
+             nb::arg("width") = 0, nb::arg("threads") = 0, nb::arg("per_channel") = false,
+             "Mean loss of the mixture over the samples.");
 }
 
 }  // namespace patina_py

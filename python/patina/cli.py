@@ -175,7 +175,14 @@ def cmd_fit(args: argparse.Namespace) -> int:
             write_fit(results[0], args.out)
         return 0 if all(r.converged for r in results) else 1
     result = fit(
-        brdf, model=args.model, loss=args.loss, lobes=args.lobes, coat=args.coat, starts=args.starts, seed=args.seed
+        brdf,
+        model=args.model,
+        loss=args.loss,
+        lobes=args.lobes,
+        coat=args.coat,
+        per_channel=args.per_channel,
+        starts=args.starts,
+        seed=args.seed,
     )
     if args.out:
         write_fit(result, args.out)
@@ -256,6 +263,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--model", default="ggx+lambert", help="ggx, beckmann, blinnphong, ward or ashikhmin + lambert")
     s.add_argument("--lobes", type=int, default=1, help="specular lobes, 1 to 3")
     s.add_argument("--coat", action="store_true", help="add a clear coat (roughness, index of refraction)")
+    s.add_argument("--per-channel", action="store_true", help="a lobe shape per colour channel (default: shared)")
     s.add_argument("--compare", nargs="+", metavar="MODEL", help="fit several models (MODEL or MODEL:LOBES), rank them")
     s.add_argument("--loss", default="l2cos", choices=("l2cos", "log"))
     s.add_argument("--starts", type=int, default=4, help="local optimisations from this many starts")

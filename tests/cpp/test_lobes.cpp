@@ -42,7 +42,7 @@ MixtureParams mixture(float r, float g, float b, float alpha, float f0r, float f
     p.rho[2] = b;
     p.kind = kind;
     p.lobes = 1;
-    p.shape[0] = alpha;
+    p.shape[0][0] = p.shape[0][1] = p.shape[0][2] = alpha;
     p.weight[0][0] = f0r;
     p.weight[0][1] = f0g;
     p.weight[0][2] = f0b;
@@ -79,9 +79,11 @@ TEST(Lobes, WideWidthsMatchScalar) {
     const auto wi = hemisphere(10007, 3), wo = hemisphere(10007, 4);
     const auto u1 = uniforms(10007, 5), u2 = uniforms(10007, 6);
     MixtureParams p = mixture(0.3f, 0.5f, 0.2f, 0.15f, 0.04f, 0.5f, 0.9f);
-    p.lobes = 3;  // three lobes of each kind
-    p.shape[1] = 0.4f;
-    p.shape[2] = 0.05f;
+    p.lobes = 3;  // three lobes of each kind, one with a different shape per channel
+    for (int c = 0; c < 3; ++c) {
+        p.shape[1][c] = 0.4f;
+        p.shape[2][c] = 0.05f + 0.02f * c;
+    }
     for (int l = 1; l < 3; ++l)
         for (int c = 0; c < 3; ++c) p.weight[l][c] = 0.1f * float(l + c);
     const auto ref = eval(p, wi, wo, 1);
@@ -89,7 +91,8 @@ TEST(Lobes, WideWidthsMatchScalar) {
         MixtureParams q = p;
         q.kind = kind;
         if (kind == LobeKind::BlinnPhong)
-            for (float& s : q.shape) s = 2.0f / (s * s);
+            for (auto& lobe : q.shape)
+                for (float& s : lobe) s = s > 0 ? 2.0f / (s * s) : 1.0f;
         const auto r1 = eval(q, wi, wo, 1);
         for (int w : {4, 8}) {
             if (width_supported(w)) {

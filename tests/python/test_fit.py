@@ -158,3 +158,21 @@ def test_a_coated_table_is_recovered_with_its_coat():
     assert r.metrics["relative_error_p95"] < 0.05, r.metrics
     assert abs(r.parameters["coat_alpha"] - 0.04) < 0.004
     assert abs(r.parameters["coat_eta"] - 1.55) < 0.05
+
+
+def test_per_channel_shapes_are_recovered(tmp_path):
+    # alpha r g b differ: 0.08, 0.15, 0.3
+    params = [0.3, 0.2, 0.1, 0.08, 0.15, 0.3, 0.04, 0.05, 0.06]
+    wi, wo = isotropic_grid(THETA, THETA, PHI)
+    values = _core.mixture_eval("ggx", params, wi.astype(np.float32), wo.astype(np.float32), 0, True)
+    table = patina.Brdf(
+        table_from_data(TableData("isotropic", [THETA, THETA, PHI], values.reshape(26, 26, 48, 3), "rgb")), "", "t"
+    )
+    r = fit(table, per_channel=True, starts=2)
+    got = [r.parameters[n] for n in ("alpha_r", "alpha_g", "alpha_b")]
+    np.testing.assert_allclose(got, [0.08, 0.15, 0.3], rtol=0.02)
+    out = tmp_path / "fit.json"
+    from patina.fit import read_fit, write_fit
+
+    write_fit(r, str(out))
+    np.testing.assert_allclose(read_fit(str(out)).eval(wi[:50], wo[:50]), values[:50], rtol=0.02, atol=1e-4)
