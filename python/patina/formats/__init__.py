@@ -74,7 +74,7 @@ def read_any(path: str | os.PathLike) -> Brdf:
         return Brdf(_core.read_merl(path), path, "merl")
     from .astm import read_astm
 
-    data = read_astm(path)
+    data = read_astm(path, resample=True)  # scattered measurements onto a grid, error reported
     try:
         table = table_from_data(data)
     except ValueError as e:

@@ -116,15 +116,18 @@ class _Axis:
 # --------------------------------------------------------------------------- API
 
 
-def read_astm(path: str | os.PathLike[str]) -> TableData:
-    """Read an ASTM E1392 BRDF text file into a TableData (see module docstring)."""
+def read_astm(path: str | os.PathLike[str], resample: bool = False) -> TableData:
+    """Read an ASTM E1392 BRDF text file into a TableData (see module docstring).
+
+    resample: rows that are not a tensor grid are resampled onto one (formats/resample.py)
+    instead of refused; the resampling error is reported in the provenance."""
     name = os.fspath(path)
     if isinstance(name, bytes):
         name = os.fsdecode(name)
     with open(name, "rb") as handle:
         raw = handle.read()
     try:
-        return _parse(name, raw)
+        return _parse(name, raw, resample)
     except MemoryError:
         raise FormatError(name, "file", "not enough memory to read this file") from None
 
@@ -132,7 +135,7 @@ def read_astm(path: str | os.PathLike[str]) -> TableData:
 # ------------------------------------------------------------------- pipeline
 
 
-def _parse(path: str, raw: bytes) -> TableData:
+def _parse(path: str, raw: bytes, resample: bool = False) -> TableData:
     lines = _split_lines(_decode(raw))
     header = _parse_header(path, lines)
     columns = _classify_columns(path, header)
@@ -145,7 +148,12 @@ def _parse(path: str, raw: bytes) -> TableData:
     _check_angle_ranges(path, header.columns, table, columns.angles, line_numbers)
 
     parametrization, axes = _grid_axes(table, columns.angles)
-    flat = _grid_positions(path, axes, line_numbers)
+    try:
+        flat = _grid_positions(path, axes, line_numbers)
+    except FormatError:
+        if not resample:
+            raise
+        return _resampled(path, header, columns, parametrization, axes, table)
     shape = tuple(len(axis.values) for axis in axes)
     values = np.empty((len(table), len(columns.channels)), dtype=np.float32)
     values[flat] = table[:, columns.channels]
@@ -157,6 +165,24 @@ def _parse(path: str, raw: bytes) -> TableData:
         wavelengths=columns.wavelengths,
         units="1/sr",
         provenance=_provenance(path, header),
+    )
+
+
+def _resampled(
+    path: str, header: _Header, columns: _Columns, parametrization: str, axes: list[_Axis], table: np.ndarray
+) -> TableData:
+    from .resample import resample
+
+    coords = np.stack([axis.values[axis.labels] for axis in axes], axis=1)
+    grid_axes, grid, error = resample(coords, table[:, columns.channels], [a.name for a in axes])
+    return TableData(
+        parametrization=parametrization,
+        axes=grid_axes,
+        values=np.ascontiguousarray(grid, dtype=np.float32),
+        channel_kind=columns.channel_kind,
+        wavelengths=columns.wavelengths,
+        units="1/sr",
+        provenance=f"{_provenance(path, header)}; {error.describe()}",
     )
 
 

@@ -1,0 +1,54 @@
+"""Scattered ASTM measurements are resampled onto an irregular grid, with the error reported."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import patina
+from patina.brdf import angles_to_directions
+from patina.formats.astm import read_astm
+from patina.synthetic import plastic
+
+MODEL = plastic(diffuse=(0.4, 0.3, 0.2), specular=0.04, roughness=0.35)
+
+
+def scattered_file(path, n: int = 6000, seed: int = 0) -> None:
+    rng = np.random.default_rng(seed)
+    ti, to = rng.uniform(0, np.radians(80), n), rng.uniform(0, np.radians(80), n)
+    pd = rng.uniform(0, np.pi, n)
+    rgb = MODEL(angles_to_directions(ti, 0 * ti), angles_to_directions(to, pd))
+    lines = ["#ASTM E1392-96", "SOURCE scattered test", f"NUM_POINTS {n}", "VARS theta_i phi_i theta_s phi_s R G B"]
+    lines += [f"{a:.7g} 0 {b:.7g} {c:.7g} {v[0]:.7g} {v[1]:.7g} {v[2]:.7g}" for a, b, c, v in zip(ti, to, pd, rgb)]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def test_scattered_data_is_resampled_and_the_error_reported(tmp_path):
+    path = tmp_path / "scattered.astm"
+    scattered_file(path)
+    with pytest.raises(patina.FormatError, match="not on a tensor grid"):
+        read_astm(path)  # the strict reader
+    brdf = patina.load_brdf(path)
+    info = brdf.info()
+    assert [a["knots"] for a in info["axes"]] == [24, 24, 36]
+    assert "resampled from 6000 scattered points" in info["provenance"]
+    assert "relative error at the measured points" in info["provenance"]
+    # against the model the data came from, inside the measured range
+    rng = np.random.default_rng(1)
+    ti, to, pd = rng.uniform(0.05, 1.3, 3000), rng.uniform(0.05, 1.3, 3000), rng.uniform(0, np.pi, 3000)
+    wi, wo = angles_to_directions(ti, 0 * ti), angles_to_directions(to, pd)
+    got = brdf.eval(wi, wo).astype(np.float64)
+    want = MODEL(wi, wo)
+    rel = np.abs(got - want) / want
+    assert np.median(rel) < 0.05, np.median(rel)
+    assert np.all(np.isfinite(got))
+
+
+def test_knots_follow_the_data_density():
+    from patina.formats.resample import choose_knots
+
+    x = np.concatenate([np.linspace(0, 0.1, 900), np.linspace(0.1, 1.5, 100)])
+    knots = choose_knots(x, 20)
+    assert knots.size == 20 and knots[0] == 0 and knots[-1] == 1.5
+    assert np.sum(knots < 0.1) > 10  # dense where the data are
+    assert np.array_equal(choose_knots(np.array([0.0, 0.5, 0.5, 1.0]), 20), [0.0, 0.5, 1.0])
