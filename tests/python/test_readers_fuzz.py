@@ -76,7 +76,7 @@ def test_ptab_header_fields_with_any_value(at, word):
 @SETTINGS
 @given(content=st.binary(max_size=2048))
 def test_random_bytes_in_every_format(content):
-    for suffix in (".ptab", ".binary", ".astm"):
+    for suffix in (".ptab", ".binary", ".astm", ".csv"):
         _load(content, suffix)
     _load(PTAB[:8] + content, ".ptab")
 

@@ -52,3 +52,29 @@ def test_knots_follow_the_data_density():
     assert knots.size == 20 and knots[0] == 0 and knots[-1] == 1.5
     assert np.sum(knots < 0.1) > 10  # dense where the data are
     assert np.array_equal(choose_knots(np.array([0.0, 0.5, 0.5, 1.0]), 20), [0.0, 0.5, 1.0])
+
+
+def test_csv_grid_and_scattered_and_bad(tmp_path):
+    rng = np.random.default_rng(3)
+    grid = tmp_path / "grid.csv"
+    rows = ["theta_i,phi_i,theta_o,phi_o,R,G,B"]
+    for a in (0.0, 0.4, 0.8):
+        for b in (0.0, 0.5, 1.0):
+            for c in (0.0, 1.5, 3.0):
+                rows.append(f"{a},0,{b},{c},0.1,0.2,0.3")
+    grid.write_text("\n".join(rows) + "\n")
+    brdf = patina.load_brdf(grid)
+    assert brdf.info()["format"] == "csv" and [a["knots"] for a in brdf.info()["axes"]] == [3, 3, 3]
+    scattered = tmp_path / "scattered.csv"
+    ti, to, pd = rng.uniform(0, 1.2, 500), rng.uniform(0, 1.2, 500), rng.uniform(0, 3.1, 500)
+    scattered.write_text(
+        "theta_i,phi_i,theta_o,phi_o,R,G,B\n" + "".join(f"{a},0,{b},{c},0.1,0.2,0.3\n" for a, b, c in zip(ti, to, pd))
+    )
+    assert "resampled from 500" in patina.load_brdf(scattered).info()["provenance"]
+    bad = tmp_path / "bad.csv"
+    bad.write_text("0,0,0.1,0.2,1,2,3\n")
+    with pytest.raises(patina.FormatError, match="header row"):
+        patina.load_brdf(bad)
+    bad.write_text("theta_i,phi_i,theta_o,phi_o,R,G,B\n0,0,0.1,0.2,1,2\n")
+    with pytest.raises(patina.FormatError, match="line 2"):
+        patina.load_brdf(bad)

@@ -16,7 +16,7 @@ from ..errors import FormatError
 from .tabledata import TableData
 
 PTAB_MAGIC = b"PTAB\r\n\x1a\n"
-FORMATS = ("ptab", "merl", "astm")
+FORMATS = ("ptab", "merl", "astm", "csv")
 
 
 def detect_format(path: str) -> str:
@@ -34,6 +34,8 @@ def detect_format(path: str) -> str:
         return "ptab"  # the reader will report the wrong magic
     if ext == ".binary":
         return "merl"
+    if ext == ".csv":
+        return "csv"
     text = head.decode("latin-1").lower()
     if "astm" in text[:200] or "\nvars" in text or text.startswith("vars"):
         return "astm"
@@ -72,11 +74,16 @@ def read_any(path: str | os.PathLike) -> Brdf:
         return Brdf(_core.read_ptab(path), path, "ptab")
     if kind == "merl":
         return Brdf(_core.read_merl(path), path, "merl")
-    from .astm import read_astm
+    if kind == "csv":
+        from .csv_table import read_csv
 
-    data = read_astm(path, resample=True)  # scattered measurements onto a grid, error reported
+        data = read_csv(path)
+    else:
+        from .astm import read_astm
+
+        data = read_astm(path, resample=True)  # scattered measurements onto a grid, error reported
     try:
         table = table_from_data(data)
     except ValueError as e:
         raise FormatError(path, "table", str(e)) from None
-    return Brdf(table, path, "astm")
+    return Brdf(table, path, kind)
