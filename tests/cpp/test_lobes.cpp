@@ -409,3 +409,46 @@ TEST(Lobes, ClearCoatKeepsEnergyAndReciprocity) {
         }
     }
 }
+
+// Lambert's cosine-weighted sampler follows cos / pi, and its wide paths match width 1.
+TEST(Lobes, LambertSamplesItsPdf) {
+    const size_t n = 1000000;
+    const auto u1 = uniforms(n, 24), u2 = uniforms(n, 25);
+    auto sample = [&](size_t m) {
+        std::vector<float> wo(3 * m), pdf(m);
+        lobe_kernels_w1().sample_lambert(u1.data(), u2.data(), wo.data(), pdf.data(), m);
+        return wo;
+    };
+    auto pdf = [](float, float, float z) { return z > 0 ? double(z) / kPi : 0.0; };
+    EXPECT_GT(sampling_p_value(sample, pdf), 1e-3);
+    std::vector<float> w1(3 * 1001), p1(1001);
+    lobe_kernels_w1().sample_lambert(u1.data(), u2.data(), w1.data(), p1.data(), 1001);
+    for (int w : {4, 8}) {
+        if (!width_supported(w)) continue;
+        std::vector<float> ww(3 * 1001), pw(1001);
+        lobe_kernels_for(w).sample_lambert(u1.data(), u2.data(), ww.data(), pw.data(), 1001);
+        EXPECT_EQ(ww, w1);
+        EXPECT_EQ(pw, p1);
+    }
+}
+
+// Lafortune lobes with rho (n + 2) / (2 pi), the Phong normalisation, keep energy for a
+// mirror-direction lobe (Cx = Cy = -1, Cz = 1).
+TEST(Lobes, LafortunePhongLobeKeepsEnergy) {
+    const int nmu = 256, nphi = 256;
+    for (float e : {5.0f, 50.0f, 500.0f}) {
+        for (double theta : {0.0, 0.7, 1.3}) {
+            const patina::Dir3<float> a{float(std::sin(theta)), 0.0f, float(std::cos(theta))};
+            double albedo = 0;
+            for (int i = 0; i < nmu; ++i)
+                for (int j = 0; j < nphi; ++j) {
+                    const double mu = (i + 0.5) / nmu, phi = 2 * kPi * (j + 0.5) / nphi, r = std::sqrt(1 - mu * mu);
+                    const patina::Dir3<float> b{float(r * std::cos(phi)), float(r * std::sin(phi)), float(mu)};
+                    const float rho = (e + 2.0f) / float(2 * kPi);
+                    albedo += patina::microfacet::lafortune_eval(a, b, -1.0f, -1.0f, 1.0f, e, rho) * mu * (1.0 / nmu) *
+                              (2 * kPi / nphi);
+                }
+            EXPECT_LE(albedo, 1.02) << "exponent " << e << " theta " << theta;
+        }
+    }
+}
