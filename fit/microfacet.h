@@ -82,6 +82,13 @@ PATINA_INLINE Dir3<F> half_vector(const Dir3<F>& a, const Dir3<F>& b) {
     return {x * inv, y * inv, z * inv};
 }
 
+// wi mirrored about the unit vector h.
+template <class F>
+PATINA_INLINE Dir3<F> reflect(const Dir3<F>& wi, const Dir3<F>& h) {
+    const F d2 = F(2.0f) * (wi.x * h.x + wi.y * h.y + wi.z * h.z);
+    return {d2 * h.x - wi.x, d2 * h.y - wi.y, d2 * h.z - wi.z};
+}
+
 // The GGX specular lobe with Schlick Fresnel, for one channel's f0:
 // D G2 F / (4 cos_i cos_o). Zero below the horizon.
 template <class F>
@@ -96,27 +103,36 @@ PATINA_INLINE F ggx_eval(const Dir3<F>& wi, const Dir3<F>& wo, F alpha, F f0) {
     return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)), value, F(0.0f));
 }
 
+// Reflects wi about the unit half vector with cos(theta_h) = cos_h and a uniform azimuth from u2.
+template <class F>
+PATINA_INLINE Dir3<F> reflect_about_sampled_h(const Dir3<F>& wi, F cos_h, F u2) {
+    const F sin_h = sqrt_exact(max(F(1.0f) - cos_h * cos_h, F(0.0f)));
+    F sin_p, cos_p;
+    fast_sincos(F(2.0f * kPi) * u2, sin_p, cos_p);
+    return reflect(wi, Dir3<F>{sin_h * cos_p, sin_h * sin_p, cos_h});
+}
+
+// wo's density when h was drawn from D(h) cos(theta_h): D cos_h / (4 |wo.h|).
+template <class F>
+PATINA_INLINE F reflected_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F d_of_h, const Dir3<F>& h) {
+    const F oh = abs(wo.x * h.x + wo.y * h.y + wo.z * h.z);
+    return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)) & (oh > F(0.0f)) & (h.z > F(0.0f)),
+                  d_of_h * h.z / (F(4.0f) * oh), F(0.0f));
+}
+
 // Samples h from D(h) cos(theta_h) and reflects wi about it; see ggx_pdf.
 template <class F>
 PATINA_INLINE Dir3<F> ggx_sample(const Dir3<F>& wi, F u1, F u2, F alpha) {
     // tan^2(theta_h) = alpha^2 u1 / (1 - u1) inverts the cdf of D(h) cos(theta_h)
     const F tan2 = alpha * alpha * u1 / max(F(1.0f) - u1, F(1e-12f));
-    const F cos_h = F(1.0f) / sqrt_exact(F(1.0f) + tan2);
-    const F sin_h = sqrt_exact(max(F(1.0f) - cos_h * cos_h, F(0.0f)));
-    F sin_p, cos_p;
-    fast_sincos(F(2.0f * kPi) * u2, sin_p, cos_p);
-    const Dir3<F> h{sin_h * cos_p, sin_h * sin_p, cos_h};
-    const F d2 = F(2.0f) * (wi.x * h.x + wi.y * h.y + wi.z * h.z);
-    return {d2 * h.x - wi.x, d2 * h.y - wi.y, d2 * h.z - wi.z};
+    return reflect_about_sampled_h(wi, F(1.0f) / sqrt_exact(F(1.0f) + tan2), u2);
 }
 
 // Density of ggx_sample's wo: D(h) cos(theta_h) / (4 |wo . h|); 0 below the horizon.
 template <class F>
 PATINA_INLINE F ggx_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F alpha) {
     const Dir3<F> h = half_vector(wi, wo);
-    const F oh = abs(wo.x * h.x + wo.y * h.y + wo.z * h.z);
-    const F pdf = ggx_d(h.z, alpha) * h.z / (F(4.0f) * oh);
-    return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)) & (oh > F(0.0f)), pdf, F(0.0f));
+    return reflected_pdf(wi, wo, ggx_d(h.z, alpha), h);
 }
 
 // Beckmann distribution, D(h) = exp(-tan^2 / alpha^2) / (pi alpha^2 cos^4).
@@ -170,25 +186,6 @@ PATINA_INLINE F coat_eval(const Dir3<F>& wi, const Dir3<F>& wo, F alpha, F eta) 
     const F value = ggx_d(h.z, alpha) * ggx_g2(wi.z, wo.z, alpha) * fresnel_dielectric(F(0.5f) * (ih + oh), eta) /
                     (F(4.0f) * wi.z * wo.z);
     return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)), value, F(0.0f));
-}
-
-// Reflects wi about the unit half vector with cos(theta_h) = cos_h and a uniform azimuth from u2.
-template <class F>
-PATINA_INLINE Dir3<F> reflect_about_sampled_h(const Dir3<F>& wi, F cos_h, F u2) {
-    const F sin_h = sqrt_exact(max(F(1.0f) - cos_h * cos_h, F(0.0f)));
-    F sin_p, cos_p;
-    fast_sincos(F(2.0f * kPi) * u2, sin_p, cos_p);
-    const Dir3<F> h{sin_h * cos_p, sin_h * sin_p, cos_h};
-    const F d2 = F(2.0f) * (wi.x * h.x + wi.y * h.y + wi.z * h.z);
-    return {d2 * h.x - wi.x, d2 * h.y - wi.y, d2 * h.z - wi.z};
-}
-
-// wo's density when h was drawn from D(h) cos(theta_h): D cos_h / (4 |wo.h|).
-template <class F>
-PATINA_INLINE F reflected_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F d_of_h, const Dir3<F>& h) {
-    const F oh = abs(wo.x * h.x + wo.y * h.y + wo.z * h.z);
-    return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)) & (oh > F(0.0f)) & (h.z > F(0.0f)),
-                  d_of_h * h.z / (F(4.0f) * oh), F(0.0f));
 }
 
 // Beckmann: tan^2(theta_h) = -alpha^2 log(1 - u1) inverts the cdf of D(h) cos(theta_h).
@@ -245,9 +242,7 @@ PATINA_INLINE Dir3<F> ward_sample(const Dir3<F>& wi, F u1, F u2, F ax, F ay) {
     const F tan2 = -fast_log(max(F(1.0f) - u1, F(1e-30f))) / k;  // 1 - u1 in (0, 1]: no log(0)
     const F cos_h = F(1.0f) / sqrt_exact(F(1.0f) + tan2);
     const F sin_h = sqrt_exact(max(F(1.0f) - cos_h * cos_h, F(0.0f)));
-    const Dir3<F> h{sin_h * cos_p, sin_h * sin_p, cos_h};
-    const F d2 = F(2.0f) * (wi.x * h.x + wi.y * h.y + wi.z * h.z);
-    return {d2 * h.x - wi.x, d2 * h.y - wi.y, d2 * h.z - wi.z};
+    return reflect(wi, Dir3<F>{sin_h * cos_p, sin_h * sin_p, cos_h});
 }
 
 // Density of ward_sample's wo: p(h) / (4 |wo.h|), p(h) = exp(-tan^2 k) / (pi ax ay cos^3).
@@ -296,9 +291,7 @@ PATINA_INLINE Dir3<F> ashikhmin_shirley_sample(const Dir3<F>& wi, F u1, F u2, F 
     const F e = nu * cos_p * cos_p + nv * sin_p * sin_p + F(1.0f);
     const F cos_h = fast_exp(fast_log(max(F(1.0f) - u1, F(1e-30f))) / e);
     const F sin_h = sqrt_exact(max(F(1.0f) - cos_h * cos_h, F(0.0f)));
-    const Dir3<F> h{sin_h * cos_p, sin_h * sin_p, cos_h};
-    const F d2 = F(2.0f) * (wi.x * h.x + wi.y * h.y + wi.z * h.z);
-    return {d2 * h.x - wi.x, d2 * h.y - wi.y, d2 * h.z - wi.z};
+    return reflect(wi, Dir3<F>{sin_h * cos_p, sin_h * sin_p, cos_h});
 }
 
 template <class F>

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -54,10 +55,17 @@ def plot_inplane_slices(brdf: Brdf, out_path: str, incidence_deg: Sequence[float
     axes[0][0].legend(fontsize=7)
     fig.suptitle(f"In-plane slices: {os.path.basename(brdf.source)}", fontsize=10)
     fig.tight_layout()
-    tmp = f"{out_path}.tmp{os.getpid()}.png"
+    save_figure(fig, out_path)
+
+
+def save_figure(fig: Any, path: str) -> None:
+    """Writes a matplotlib figure as PNG through a temporary file and a rename, then closes it."""
+    import matplotlib.pyplot as plt
+
+    tmp = f"{path}.tmp{os.getpid()}.png"
     try:
         fig.savefig(tmp, dpi=110)
-        os.replace(tmp, out_path)
+        os.replace(tmp, path)
     finally:
         plt.close(fig)
         if os.path.exists(tmp):

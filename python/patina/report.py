@@ -17,6 +17,7 @@ import numpy as np
 
 from .brdf import Brdf, angles_to_directions
 from .fit import FittedModel
+from .plots import save_figure
 from .validate import Report, validate
 
 COLOURS = ("tab:red", "tab:green", "tab:blue")
@@ -28,19 +29,6 @@ def _incidence_plane(theta_i_deg: float, n: int = 361) -> tuple[np.ndarray, np.n
     wo = angles_to_directions(np.radians(np.abs(signed)), np.where(signed >= 0, np.pi, 0.0))
     wi = np.broadcast_to(angles_to_directions(np.radians(theta_i_deg), 0.0), wo.shape)
     return signed, np.ascontiguousarray(wi, np.float32), np.ascontiguousarray(wo, np.float32)
-
-
-def _save(fig: Any, path: str) -> None:
-    import matplotlib.pyplot as plt
-
-    tmp = f"{path}.tmp{os.getpid()}.png"
-    try:
-        fig.savefig(tmp, dpi=110)
-        os.replace(tmp, path)
-    finally:
-        plt.close(fig)
-        if os.path.exists(tmp):
-            os.remove(tmp)
 
 
 def plot_slices(brdf: Brdf, fitted: FittedModel | None, path: str, incidence: Sequence[float]) -> None:
@@ -65,7 +53,7 @@ def plot_slices(brdf: Brdf, fitted: FittedModel | None, path: str, incidence: Se
     axes[0][0].set_ylabel("BRDF (1/sr); dashed: fit" if fitted else "BRDF (1/sr)")
     fig.suptitle(f"In-plane slices: {os.path.basename(brdf.source)}", fontsize=10)
     fig.tight_layout()
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_polar(brdf: Brdf, fitted: FittedModel | None, path: str, incidence: Sequence[float]) -> None:
@@ -91,7 +79,7 @@ def plot_polar(brdf: Brdf, fitted: FittedModel | None, path: str, incidence: Seq
         ax.set_title(f"theta_i = {ti:g} deg", fontsize=9)
     fig.suptitle("f cos(theta_o) in the plane of incidence (mean of channels)", fontsize=10)
     fig.tight_layout()
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def _html_table(rows: list[tuple[str, str]]) -> str:
