@@ -5,6 +5,7 @@
 >>> brdf.eval(wi, wo)                   # (n, 3) local-frame directions -> (n, channels)
 >>> brdf.eval_angles(ti, pi, to, po)    # radians
 >>> brdf.save("copy.ptab"); brdf.info()
+>>> patina.validate(brdf).problems                  # checks; patina.fit(brdf, model="ggx+lambert")
 >>> accel = patina.Accel(patina.load_mesh("model.obj"))
 >>> hits = accel.intersect(origins, directions, width=8)   # 8-ray packets
 """
@@ -15,7 +16,22 @@ from . import _core
 from .accel import Accel, Hits
 from .brdf import Brdf, load_brdf
 from .errors import FormatError
+from .fitting import FitResult, compare, fit
 from .mesh import Mesh, load_mesh
+from .validation import validate
 
 __version__ = _core.__version__
-__all__ = ["Accel", "Brdf", "FormatError", "Hits", "Mesh", "__version__", "load_brdf", "load_mesh"]
+__all__ = [
+    "Accel",
+    "Brdf",
+    "FitResult",
+    "FormatError",
+    "Hits",
+    "Mesh",
+    "__version__",
+    "compare",
+    "fit",
+    "load_brdf",
+    "load_mesh",
+    "validate",
+]

@@ -239,7 +239,7 @@ def bench_brdf(repeat: int, quick: bool) -> list[Record]:
 def bench_fit(repeat: int, quick: bool) -> list[Record]:
     """Loss evaluation over a MERL-sized table's samples at each width against width 1, and
     the seconds to fit GGX + Lambert to that table on one thread."""
-    from .fit import fit, table_samples
+    from .fitting import fit, table_samples
     from .formats import table_from_data
     from .synthetic import merl_table
 

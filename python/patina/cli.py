@@ -136,7 +136,7 @@ def cmd_slices(args: argparse.Namespace) -> int:
 
 def cmd_validate(args: argparse.Namespace) -> int:
     from . import load_brdf
-    from .validate import Tolerances, format_report, validate
+    from .validation import Tolerances, format_report, validate
 
     brdf = load_brdf(args.file)
     report = validate(brdf, Tolerances(spike_factor=args.spike_factor, albedo_excess=args.albedo_tolerance))
@@ -149,7 +149,7 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 def cmd_fit(args: argparse.Namespace) -> int:
     from . import load_brdf
-    from .fit import compare, fit, write_fit
+    from .fitting import compare, fit, write_fit
 
     if args.starts < 1:
         raise UsageError("fit: --starts must be at least 1")
@@ -208,7 +208,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
 
 def cmd_plot(args: argparse.Namespace) -> int:
     from . import load_brdf
-    from .fit import read_fit
+    from .fitting import read_fit
     from .report import write_report
 
     brdf = load_brdf(args.file)

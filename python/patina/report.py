@@ -16,9 +16,9 @@ from typing import Any
 import numpy as np
 
 from .brdf import Brdf, angles_to_directions
-from .fit import FittedModel
+from .fitting import FittedModel
 from .plots import save_figure
-from .validate import Report, validate
+from .validation import Report, validate
 
 COLOURS = ("tab:red", "tab:green", "tab:blue")
 

@@ -10,7 +10,7 @@ import pytest
 import patina
 from patina import _core
 from patina.cli import main
-from patina.fit import fit, table_samples
+from patina.fitting import fit, table_samples
 from patina.formats import table_from_data
 from patina.formats.tabledata import TableData
 from patina.synthetic import isotropic_grid
@@ -123,7 +123,7 @@ def test_two_lobes_fit_a_two_lobe_table():
 
 def test_compare_ranks_the_true_model_first_with_colour_differences(tmp_path, capsys):
     table = model_table([0.3, 0.2, 0.1, 0.1, 0.04, 0.05, 0.06], lobe="beckmann")
-    from patina.fit import compare
+    from patina.fitting import compare
 
     results = compare(table, ["ggx+lambert", "beckmann+lambert", "blinnphong+lambert"], starts=1)
     assert results[0].model == "beckmann+lambert"
@@ -139,7 +139,7 @@ def test_compare_ranks_the_true_model_first_with_colour_differences(tmp_path, ca
 
 
 def test_colour_differences_vanish_for_equal_colours():
-    from patina.fit import colour_differences
+    from patina.fitting import colour_differences
 
     rgb = np.random.default_rng(1).uniform(0, 0.3, (100, 3))
     cos_i = np.random.default_rng(2).uniform(0.1, 1, 100)
@@ -172,7 +172,7 @@ def test_per_channel_shapes_are_recovered(tmp_path):
     got = [r.parameters[n] for n in ("alpha_r", "alpha_g", "alpha_b")]
     np.testing.assert_allclose(got, [0.08, 0.15, 0.3], rtol=0.02)
     out = tmp_path / "fit.json"
-    from patina.fit import read_fit, write_fit
+    from patina.fitting import read_fit, write_fit
 
     write_fit(r, str(out))
     np.testing.assert_allclose(read_fit(str(out)).eval(wi[:50], wo[:50]), values[:50], rtol=0.02, atol=1e-4)

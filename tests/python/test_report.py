@@ -8,7 +8,7 @@ import pytest
 
 import patina
 from patina.cli import main
-from patina.fit import read_fit
+from patina.fitting import read_fit
 
 
 def test_plot_with_a_fit_writes_the_report(tmp_path, bundled_ptab):

@@ -47,7 +47,7 @@ def test_weights_match_colour_science_integration():
 def test_spectral_tables_are_fitted_in_colour():
     lam = np.arange(400.0, 701.0, 20.0)
     table = spectral_table(np.full(lam.size, 0.2), lam)
-    from patina.fit import table_samples
+    from patina.fitting import table_samples
 
     measured = table_samples(table)[2]
     np.testing.assert_allclose(measured, 0.2, rtol=0.01)

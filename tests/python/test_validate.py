@@ -15,7 +15,7 @@ import patina
 from patina.cli import main
 from patina.formats import table_from_data
 from patina.synthetic import plastic, sample_isotropic
-from patina.validate import directional_albedo, validate
+from patina.validation import directional_albedo, validate
 
 THETA = np.radians(np.linspace(0, 89, 24))
 PHI = np.radians(np.linspace(0, 180, 37))
