@@ -32,15 +32,23 @@ class MeshError(ValueError):
         super().__init__(f"mesh '{name}': {where}: {problem}")
 
 
+def _rows_of_three(values: Any, name: str, what: str, kinds: str, kinds_word: str, shape_word: str) -> np.ndarray:
+    """`values` as an array of shape (N, 3) and a dtype kind in `kinds`; empty input passes as is."""
+    a = np.asarray(values)
+    if a.size == 0:
+        return a
+    if a.dtype.kind not in kinds:
+        raise MeshError(name, what, f"must be {kinds_word}, got dtype {a.dtype}")
+    if a.ndim != 2 or a.shape[1] != 3:
+        raise MeshError(name, what, f"must have shape {shape_word}, got {a.shape}")
+    return a
+
+
 def _as_vertices(vertices: Any, name: str) -> np.ndarray:
     """(V, 3) C-contiguous float32, every coordinate finite *after* the cast (1e39 is inf in float32)."""
-    a = np.asarray(vertices)
+    a = _rows_of_three(vertices, name, "vertices", "fiu", "real numbers", "(V, 3)")
     if a.size == 0:
         return np.zeros((0, 3), np.float32)
-    if a.dtype.kind not in "fiu":
-        raise MeshError(name, "vertices", f"must be real numbers, got dtype {a.dtype}")
-    if a.ndim != 2 or a.shape[1] != 3:
-        raise MeshError(name, "vertices", f"must have shape (V, 3), got {a.shape}")
     if a.shape[0] > _INT32_MAX:
         raise MeshError(name, "vertices", f"{a.shape[0]} vertices are more than int32 indices can address")
     with np.errstate(over="ignore", invalid="ignore"):
@@ -54,13 +62,9 @@ def _as_vertices(vertices: Any, name: str) -> np.ndarray:
 
 def _as_indices(indices: Any, vertex_count: int, name: str) -> np.ndarray:
     """(T, 3) C-contiguous int32, every index in [0, vertex_count)."""
-    a = np.asarray(indices)
+    a = _rows_of_three(indices, name, "indices", "iu", "integers", "(T, 3)")
     if a.size == 0:
         return np.zeros((0, 3), np.int32)
-    if a.dtype.kind not in "iu":
-        raise MeshError(name, "indices", f"must be integers, got dtype {a.dtype}")
-    if a.ndim != 2 or a.shape[1] != 3:
-        raise MeshError(name, "indices", f"must have shape (T, 3), got {a.shape}")
     if a.shape[0] > _INT32_MAX:
         raise MeshError(name, "indices", f"{a.shape[0]} triangles are more than int32 ids can number")
     bad = ((a < 0) | (a >= vertex_count)).any(axis=1)
