@@ -7,7 +7,7 @@ PY        := .venv/bin/python
 PATINA    := .venv/bin/patina
 STAMP     := .venv/.patina-installed
 CPP_BUILD := build/cpp
-SOURCES   := $(shell find core brdf python -name '*.cpp' -o -name '*.h' -o -name '*.py' 2>/dev/null) \
+SOURCES   := $(shell find core brdf fit render python -name '*.cpp' -o -name '*.h' -o -name '*.py' 2>/dev/null) \
              CMakeLists.txt pyproject.toml tools/setup.sh tools/requirements-build.txt
 DEMO_OUT  := demo-out
 DEMO_TABLE := materials/red-plastic-iso.ptab

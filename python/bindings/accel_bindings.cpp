@@ -23,10 +23,6 @@ using Indices = nb::ndarray<const int32_t, nb::shape<-1, 3>, nb::c_contig, nb::d
 using Rays3 = nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
 using FloatVector = nb::ndarray<const float, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 
-struct Accel {
-    patina::KdTree tree;
-};
-
 std::unique_ptr<Accel> make_accel(Vertices vertices, Indices indices, int max_leaf, int max_depth, int threads) {
     const size_t nv = vertices.shape(0), nt = indices.shape(0);
     const float* v = vertices.data();

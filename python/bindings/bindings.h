@@ -6,6 +6,13 @@
 
 #include <cstddef>
 #include <cstring>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "brdf/table.h"
+#include "fit/lobe_kernels.h"
+#include "render/accel/kdtree.h"
 
 namespace patina_py {
 
@@ -30,8 +37,26 @@ nb::ndarray<nb::numpy, T, nb::ndim<1>> copy_vector(const T* src, size_t n) {
     return a;
 }
 
+// patina._core.Table: a checked, immutable table with the view the kernels read, prepared once.
+struct TableHandle {
+    patina::Table table;
+    patina::PreparedTable prepared;
+    explicit TableHandle(patina::Table t) : table(std::move(t)), prepared(patina::prepare(table)) {}
+};
+
+// patina._core.Accel: a kd-tree over triangles.
+struct Accel {
+    patina::KdTree tree;
+};
+
+// A mixture's parameters from its kernel name (e.g. "ggx", "ggx+coat") and flat values:
+// rho r g b, then per lobe its shape (r g b when per_channel) and weight r g b; with a
+// coat, coat alpha and eta last. Throws std::invalid_argument.
+patina::MixtureParams mixture_params(const std::string& kind, const std::vector<float>& values, bool per_channel);
+
 void bind_table(nb::module_& m);
 void bind_accel(nb::module_& m);
 void bind_fit(nb::module_& m);
+void bind_render(nb::module_& m);
 
 }  // namespace patina_py

@@ -29,9 +29,9 @@ patina::LobeKind lobe_kind(const std::string& name) {
     throw std::invalid_argument("lobe '" + name + "': expected ggx, beckmann, blinnphong, ward or ashikhmin");
 }
 
-// params: rho r g b, then per lobe: shape (r g b when per_channel), weight r g b; with a coat,
-// coat alpha and eta last.
-patina::MixtureParams params(const std::string& kind, const std::vector<float>& in, bool per_channel) {
+}  // namespace
+
+patina::MixtureParams mixture_params(const std::string& kind, const std::vector<float>& in, bool per_channel) {
     patina::MixtureParams p;
     std::string name = kind;
     std::vector<float> v = in;
@@ -62,10 +62,12 @@ patina::MixtureParams params(const std::string& kind, const std::vector<float>& 
     return p;
 }
 
+namespace {
+
 nb::object eval(const std::string& kind, const std::vector<float>& p, Rows wi, Rows wo, int width, bool per_channel) {
     const size_t n = wi.shape(0);
     if (wo.shape(0) != n) throw std::invalid_argument("wi and wo have different numbers of rows");
-    const patina::MixtureParams q = params(kind, p, per_channel);
+    const patina::MixtureParams q = mixture_params(kind, p, per_channel);
     const patina::LobeKernels& k = patina::lobe_kernels_for(width);
     float* out;
     const size_t shape[2] = {n, 3};
@@ -103,7 +105,7 @@ double loss(const Samples& s, const std::string& kind, const std::vector<float>&
     if (loss_name == "l2cos") k = patina::LossKind::CosineL2;
     else if (loss_name == "log") k = patina::LossKind::Log;
     else throw std::invalid_argument("loss '" + loss_name + "': expected l2cos or log");
-    const patina::MixtureParams q = params(kind, p, per_channel);
+    const patina::MixtureParams q = mixture_params(kind, p, per_channel);
     nb::gil_scoped_release release;
     return patina::mixture_loss(q, s.view(), k, width, threads);
 }

@@ -117,4 +117,5 @@ NB_MODULE(_core, m) {
     bind_table(m);
     bind_accel(m);
     bind_fit(m);
+    bind_render(m);
 }

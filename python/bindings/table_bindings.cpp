@@ -18,13 +18,6 @@ namespace nb = nanobind;
 namespace patina_py {
 namespace {
 
-// A checked, immutable table with the view the kernels read, prepared once.
-struct TableHandle {
-    patina::Table table;
-    patina::PreparedTable prepared;
-    explicit TableHandle(patina::Table t) : table(std::move(t)), prepared(patina::prepare(table)) {}
-};
-
 template <class E>
 E parse_enum(const std::string& s, std::initializer_list<const char*> names, const char* what) {
     int i = 0;

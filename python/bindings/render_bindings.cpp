@@ -1,0 +1,282 @@
+// patina._core.RenderScene and RenderJob: the preview renderer. The Python side
+// (python/patina/render.py) checks the scene file and builds these; here values are
+// only converted, with std::invalid_argument for what cannot be converted.
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/unique_ptr.h>
+#include <nanobind/stl/vector.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bindings.h"
+#include "render/render_job.h"
+#include "render/scene.h"
+
+namespace nb = nanobind;
+
+namespace patina_py {
+namespace {
+
+using Rows3 = nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+using Tris = nb::ndarray<const int32_t, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+using IntVector = nb::ndarray<const int32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+using Image = nb::ndarray<const float, nb::shape<-1, -1, 3>, nb::c_contig, nb::device::cpu>;
+
+// The scene with references to everything its pointers point into.
+struct SceneHandle {
+    patina::RenderScene scene;
+    std::vector<nb::object> keep;  // arrays, tables and the accel the pointers point into
+};
+
+float get_float(const nb::dict& d, const char* key, float fallback) {
+    return d.contains(key) ? nb::cast<float>(d[key]) : fallback;
+}
+bool get_bool(const nb::dict& d, const char* key, bool fallback) {
+    return d.contains(key) ? nb::cast<bool>(d[key]) : fallback;
+}
+void get_rgb(const nb::dict& d, const char* key, float* out) {
+    if (!d.contains(key)) return;
+    const std::vector<float> v = nb::cast<std::vector<float>>(d[key]);
+    if (v.size() != 3) throw std::invalid_argument(std::string(key) + ": expected 3 values");
+    for (int k = 0; k < 3; ++k) out[k] = v[k];
+}
+void get_vec3(const nb::dict& d, const char* key, float* out) { get_rgb(d, key, out); }
+
+std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, Tris indices, Rows3 normals, nb::object tangents,
+                                        IntVector tri_material, const nb::dict& camera) {
+    auto h = std::make_unique<SceneHandle>();
+    const Accel& accel = nb::cast<const Accel&>(accel_obj);
+    patina::RenderScene& s = h->scene;
+    const size_t nt = indices.shape(0);
+    if (accel.tree.triangle_count() != nt)
+        throw std::invalid_argument("indices has " + std::to_string(nt) + " triangles, the accel " +
+                                    std::to_string(accel.tree.triangle_count()));
+    if (tri_material.shape(0) != nt) throw std::invalid_argument("tri_material needs one entry per triangle");
+    const size_t nv = normals.shape(0);
+    for (size_t i = 0; i < 3 * nt; ++i)
+        if (indices.data()[i] < 0 || static_cast<size_t>(indices.data()[i]) >= nv)
+            throw std::invalid_argument("triangle " + std::to_string(i / 3) + " refers to a vertex without a normal");
+    s.tree = &accel.tree;
+    s.indices = indices.data();
+    s.normals = normals.data();
+    s.tri_material = tri_material.data();
+    s.triangle_count = nt;
+    h->keep = {accel_obj, nb::cast(indices), nb::cast(normals), nb::cast(tri_material)};
+    if (!tangents.is_none()) {
+        Rows3 t = nb::cast<Rows3>(tangents);
+        if (t.shape(0) != nv) throw std::invalid_argument("tangents needs one row per vertex");
+        s.tangents = t.data();
+        h->keep.push_back(nb::cast(t));
+    }
+    patina::Camera& c = s.camera;
+    get_vec3(camera, "position", c.position);
+    get_vec3(camera, "forward", c.forward);
+    get_vec3(camera, "right", c.right);
+    get_vec3(camera, "up", c.up);
+    c.tan_half_fov = get_float(camera, "tan_half_fov", c.tan_half_fov);
+    c.width = nb::cast<int>(camera["width"]);
+    c.height = nb::cast<int>(camera["height"]);
+    c.aperture_radius = get_float(camera, "aperture_radius", 0.0f);
+    c.focus_distance = get_float(camera, "focus_distance", 1.0f);
+    const patina::Box3& b = accel.tree.bounds;
+    float r2 = 0;
+    for (int k = 0; k < 3; ++k) r2 += 0.25f * (b.hi[k] - b.lo[k]) * (b.hi[k] - b.lo[k]);
+    s.scene_radius = nt > 0 ? std::max(std::sqrt(r2), 1e-3f) : 1.0f;
+    float extent = 0;
+    for (int k = 0; k < 3; ++k) extent = std::max({extent, std::abs(b.lo[k]), std::abs(b.hi[k])});
+    s.ray_offset = std::max(1e-5f, 2e-5f * std::max(extent, s.scene_radius));
+    return h;
+}
+
+int add_material(SceneHandle& h, const nb::dict& d) {
+    patina::Material m;
+    const std::string kind = nb::cast<std::string>(d["kind"]);
+    if (kind == "lambert") m.kind = patina::MaterialKind::Lambert;
+    else if (kind == "conductor") m.kind = patina::MaterialKind::Conductor;
+    else if (kind == "table") m.kind = patina::MaterialKind::Table;
+    else if (kind == "mixture") m.kind = patina::MaterialKind::Mixture;
+    else if (kind == "emitter") m.kind = patina::MaterialKind::Emitter;
+    else throw std::invalid_argument("unknown material kind '" + kind + "'");
+    get_rgb(d, "albedo", m.albedo);
+    m.alpha_x = get_float(d, "alpha_x", m.alpha_x);
+    m.alpha_y = get_float(d, "alpha_y", m.alpha_y);
+    get_rgb(d, "eta", m.eta);
+    get_rgb(d, "k", m.k);
+    get_rgb(d, "tint", m.tint);
+    m.two_sided = get_bool(d, "two_sided", false);
+    m.coat = get_bool(d, "coat", false);
+    m.coat_eta = get_float(d, "coat_eta", m.coat_eta);
+    m.coat_alpha = std::max(get_float(d, "coat_alpha", m.coat_alpha), 1e-3f);
+    get_rgb(d, "coat_tint", m.coat_tint);
+    m.proxy_diffuse = get_float(d, "proxy_diffuse", m.proxy_diffuse);
+    m.proxy_alpha = std::max(get_float(d, "proxy_alpha", m.proxy_alpha), 1e-3f);
+    m.light = d.contains("light") ? nb::cast<int>(d["light"]) : -1;
+    if (m.kind == patina::MaterialKind::Table) {
+        nb::object t = d["table"];
+        const TableHandle& table = nb::cast<const TableHandle&>(t);
+        if (table.table.channels != 3) throw std::invalid_argument("a table material needs an RGB table");
+        m.table = &table.prepared.view;
+        h.keep.push_back(t);
+    }
+    if (m.kind == patina::MaterialKind::Mixture) {
+        nb::tuple mix = nb::cast<nb::tuple>(d["mixture"]);
+        m.mixture = mixture_params(nb::cast<std::string>(mix[0]), nb::cast<std::vector<float>>(mix[1]),
+                                   nb::cast<bool>(mix[2]));
+    }
+    if (m.kind == patina::MaterialKind::Conductor && !(m.alpha_x > 0 && m.alpha_y > 0))
+        throw std::invalid_argument("conductor roughness must be > 0");
+    h.scene.materials.push_back(m);
+    return static_cast<int>(h.scene.materials.size()) - 1;
+}
+
+int add_light(SceneHandle& h, const nb::dict& d) {
+    patina::Light l;
+    const std::string kind = nb::cast<std::string>(d["kind"]);
+    if (kind == "point") l.kind = patina::LightKind::Point;
+    else if (kind == "quad") l.kind = patina::LightKind::Quad;
+    else throw std::invalid_argument("unknown light kind '" + kind + "'");
+    get_vec3(d, "position", l.position);
+    get_vec3(d, "u", l.u);
+    get_vec3(d, "v", l.v);
+    get_rgb(d, "power", l.power);
+    l.two_sided = get_bool(d, "two_sided", false);
+    if (l.kind == patina::LightKind::Quad) {
+        const float n[3] = {l.u[1] * l.v[2] - l.u[2] * l.v[1], l.u[2] * l.v[0] - l.u[0] * l.v[2],
+                            l.u[0] * l.v[1] - l.u[1] * l.v[0]};
+        const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (!(len > 0)) throw std::invalid_argument("a quad light needs non-parallel u and v");
+        for (int k = 0; k < 3; ++k) l.normal[k] = n[k] / len;
+        l.area = 4 * len;
+    }
+    h.scene.lights.push_back(l);
+    return static_cast<int>(h.scene.lights.size()) - 1;
+}
+
+void set_environment(SceneHandle& h, nb::object rgb, const std::vector<float>& constant, float intensity,
+                     float rotation) {
+    patina::Environment& e = h.scene.env;
+    e = patina::Environment{};
+    e.present = true;
+    e.intensity = intensity;
+    e.rotation = rotation;
+    if (!rgb.is_none()) {
+        Image img = nb::cast<Image>(rgb);
+        e.is_map = true;
+        e.height = static_cast<int>(img.shape(0));
+        e.width = static_cast<int>(img.shape(1));
+        e.rgb = img.data();
+        h.keep.push_back(nb::cast(img));
+    } else {
+        if (constant.size() != 3) throw std::invalid_argument("a constant environment needs 3 values");
+        for (int k = 0; k < 3; ++k) e.constant[k] = constant[k];
+    }
+    patina::prepare_environment(e);
+}
+
+void check_materials(const SceneHandle& h) {
+    const auto& s = h.scene;
+    const int nm = static_cast<int>(s.materials.size());
+    for (size_t i = 0; i < s.triangle_count; ++i)
+        if (s.tri_material[i] < 0 || s.tri_material[i] >= nm)
+            throw std::invalid_argument("triangle " + std::to_string(i) + " has no material");
+    for (const auto& m : s.materials)
+        if (m.kind == patina::MaterialKind::Emitter &&
+            (m.light < 0 || m.light >= static_cast<int>(s.lights.size()) ||
+             s.lights[m.light].kind != patina::LightKind::Quad))
+            throw std::invalid_argument("an emitter material must name a quad light");
+}
+
+struct JobHandle {
+    nb::object scene_ref;
+    std::unique_ptr<patina::RenderJob> job;
+};
+
+std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth, uint32_t seed, int threads,
+                                    int width, int tile_size, int passes) {
+    SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
+    check_materials(h);
+    patina::prepare_light_selection(h.scene);
+    patina::RenderSettings st;
+    st.spp = spp;
+    st.max_depth = max_depth;
+    st.seed = seed;
+    st.threads = threads;
+    st.width = width;
+    st.tile_size = tile_size;
+    st.passes = passes;
+    auto j = std::make_unique<JobHandle>();
+    j->scene_ref = scene_obj;
+    j->job = std::make_unique<patina::RenderJob>(h.scene, st);
+    return j;
+}
+
+nb::dict progress(const JobHandle& j) {
+    const patina::RenderProgress p = j.job->progress();
+    nb::dict d;
+    d["items_done"] = p.items_done;
+    d["items_total"] = p.items_total;
+    d["rays"] = p.rays;
+    d["samples_done"] = p.samples_done;
+    d["seconds"] = p.seconds;
+    d["finished"] = p.finished;
+    d["cancelled"] = p.cancelled;
+    return d;
+}
+
+nb::dict resolve(const JobHandle& j) {
+    const auto& cam = j.job->camera();
+    const size_t hgt = cam.height, wid = cam.width;
+    float *rgb, *albedo, *normal, *depth, *lux, *samples;
+    const size_t s3[3] = {hgt, wid, 3}, s2[2] = {hgt, wid};
+    auto a_rgb = new_array<float, 3>(s3, &rgb);
+    auto a_albedo = new_array<float, 3>(s3, &albedo);
+    auto a_normal = new_array<float, 3>(s3, &normal);
+    auto a_depth = new_array<float, 2>(s2, &depth);
+    auto a_lux = new_array<float, 2>(s2, &lux);
+    auto a_samples = new_array<float, 2>(s2, &samples);
+    {
+        nb::gil_scoped_release release;
+        j.job->resolve(rgb, albedo, normal, depth, lux, samples);
+    }
+    nb::dict d;
+    d["rgb"] = a_rgb;
+    d["albedo"] = a_albedo;
+    d["normal"] = a_normal;
+    d["depth"] = a_depth;
+    d["illuminance"] = a_lux;
+    d["samples"] = a_samples;
+    return d;
+}
+
+}  // namespace
+
+void bind_render(nb::module_& m) {
+    nb::class_<SceneHandle>(m, "RenderScene", "Geometry, materials, lights, environment and camera for RenderJob.")
+        .def(nb::new_(&make_scene), nb::arg("accel"), nb::arg("indices"), nb::arg("normals"),
+             nb::arg("tangents").none(), nb::arg("tri_material"), nb::arg("camera"))
+        .def("add_material", &add_material, nb::arg("material"))
+        .def("add_light", &add_light, nb::arg("light"))
+        .def("set_environment", &set_environment, nb::arg("rgb").none(), nb::arg("constant"),
+             nb::arg("intensity") = 1.0f, nb::arg("rotation") = 0.0f)
+        .def_prop_ro("scene_radius", [](const SceneHandle& h) { return h.scene.scene_radius; });
+    nb::class_<JobHandle>(m, "RenderJob", "A render running on worker threads: start, poll progress, cancel, resolve.")
+        .def(nb::new_(&make_job), nb::arg("scene"), nb::arg("spp"), nb::arg("max_depth"), nb::arg("seed") = 0,
+             nb::arg("threads") = 0, nb::arg("width") = 0, nb::arg("tile_size") = 16, nb::arg("passes") = 8)
+        .def("start", [](JobHandle& j) { j.job->start(); })
+        .def("cancel", [](JobHandle& j) { j.job->cancel(); })
+        .def("wait",
+             [](JobHandle& j) {
+                 nb::gil_scoped_release release;
+                 j.job->wait();
+             })
+        .def("progress", &progress)
+        .def("resolve", &resolve);
+}
+
+}  // namespace patina_py

@@ -1,0 +1,75 @@
+// The path integrator's interface: radiance for a batch of camera samples.
+//
+// A pixel sampler (render_job.cpp's uniform sampler now, the adaptive antialiasing
+// later) decides where in which pixel to shoot; the integrator returns each sample's
+// radiance and first-hit AOVs; the sampler filters them into pixels. The batch is traced
+// as a wavefront: all paths of a bounce are traced in packets of W rays, their shading
+// points grouped by material and shaded W at a time (one light sample each, the shadow
+// rays traced as packets, SIMD BRDF evaluation, MIS between light and BRDF sampling).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "render/scene.h"
+
+namespace patina {
+
+struct CameraSample {
+    float fx, fy;  // film position in pixels (x right, y down)
+    uint32_t key;  // the path's random-number key (rng.h)
+};
+
+struct PathResult {
+    float rgb[3];       // radiance along the camera ray, W/(m^2 sr)
+    float albedo[3];    // first hit: the material's albedo estimate (0 on a miss)
+    float normal[3];    // first hit: shading normal, world space (0 on a miss)
+    float depth;        // first hit: distance from the camera (inf on a miss)
+    float illuminance;  // first hit: direct illuminance on the shading normal, lux (683 lm/W x Y)
+};
+
+struct IntegratorSettings {
+    int max_depth = 8;  // 1: direct lighting only
+    int rr_depth = 3;   // Russian roulette from this bounce on
+};
+
+// A shading point of the current bounce.
+struct ShadingPoint {
+    int32_t path;
+    int32_t material;
+    float p[3], ng[3];                // position, geometric normal (towards the viewer)
+    float t[3], b[3], n[3];           // shading frame: tangent, bitangent, normal
+};
+
+// Work arrays a thread reuses from batch to batch.
+struct PathScratch {
+    // per path
+    std::vector<float> org, dir, throughput, prev_pdf;
+    std::vector<int32_t> active, next_active;
+    // per traced ray of a bounce
+    std::vector<float> ray_org, ray_dir, hit_t, hit_u, hit_v;
+    std::vector<int32_t> hit_prim;
+    // per shading point, grouped by material
+    std::vector<ShadingPoint> points, sorted;
+    std::vector<int32_t> material_start;
+    std::vector<float> v_local, l_local, f, pdf, u_pick, u1, u2;
+    // shadow rays
+    std::vector<float> shadow_org, shadow_dir, shadow_tmax, shadow_rgb, shadow_lux;
+    std::vector<int32_t> shadow_path;
+    std::vector<uint8_t> blocked;
+    size_t rays_traced = 0;  // primary, secondary and shadow rays since construction
+};
+
+struct RenderKernels {
+    int width;
+    void (*trace_paths)(const RenderScene& scene, const IntegratorSettings& settings, const CameraSample* samples,
+                        size_t n, PathResult* out, PathScratch& scratch);
+};
+
+const RenderKernels& render_kernels_w1();
+const RenderKernels& render_kernels_w4();
+const RenderKernels& render_kernels_w8();
+const RenderKernels& render_kernels_for(int width);  // 0 = default; throws std::invalid_argument
+
+}  // namespace patina

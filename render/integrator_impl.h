@@ -1,0 +1,335 @@
+// The wavefront path integrator (see integrator.h), compiled once per width by
+// render_w{1,4,8}.cpp. Everything random comes from rng.h's counter-based hash, and every
+// kernel it calls gives the same bits at every width, so one seed renders the same image
+// at widths 1, 4 and 8 (the tests check this).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/simd/upper_state.h"
+#include "render/accel/trace_kernels.h"
+#include "render/camera.h"
+#include "render/integrator.h"
+#include "render/lights_impl.h"
+#include "render/material_impl.h"
+#include "render/rng.h"
+
+PATINA_BEGIN_TARGET
+namespace render_detail {
+
+inline const TraceKernels& trace_kernels() {
+    if constexpr (W == 1) return trace_kernels_w1();
+    else if constexpr (W == 4) return trace_kernels_w4();
+    else return trace_kernels_w8();
+}
+
+inline float luminance(const float* c) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
+constexpr float kLumensPerWatt = 683.0f;
+
+inline void normalize3(float* a) {
+    const float len = std::sqrt(dot3(a, a));
+    if (len > 0)
+        for (int k = 0; k < 3; ++k) a[k] /= len;
+}
+
+// An orthonormal frame around unit n (Duff et al. 2017, "Building an orthonormal basis, revisited").
+inline void frame_from_normal(const float* n, float* t, float* b) {
+    const float sign = std::copysign(1.0f, n[2]);
+    const float a = -1.0f / (sign + n[2]), c = n[0] * n[1] * a;
+    t[0] = 1.0f + sign * n[0] * n[0] * a;
+    t[1] = sign * c;
+    t[2] = -sign * n[0];
+    b[0] = c;
+    b[1] = sign + n[1] * n[1] * a;
+    b[2] = -n[1];
+}
+
+inline void cross3(const float* a, const float* b, float* c) {
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+inline void to_local(const ShadingPoint& sp, const float* d, float* out) {
+    out[0] = dot3(d, sp.t);
+    out[1] = dot3(d, sp.b);
+    out[2] = dot3(d, sp.n);
+}
+inline void to_world(const ShadingPoint& sp, const float* l, float* out) {
+    for (int k = 0; k < 3; ++k) out[k] = l[0] * sp.t[k] + l[1] * sp.b[k] + l[2] * sp.n[k];
+}
+
+// Fills the shading point of a hit: interpolated normal and tangent, frame, facing. False
+// when the path ends here (the back of a one-sided surface).
+inline bool make_shading_point(const RenderScene& s, int32_t prim, float u, float v, const float* org,
+                               const float* dir, float t, ShadingPoint& sp) {
+    const Material& m = s.materials[s.tri_material[prim]];
+    const int32_t* tri = s.indices + 3 * static_cast<size_t>(prim);
+    const float w0 = 1.0f - u - v;
+    for (int k = 0; k < 3; ++k) {
+        sp.p[k] = org[k] + t * dir[k];
+        sp.ng[k] = s.tree->normals[3 * static_cast<size_t>(prim) + k];
+        sp.n[k] = w0 * s.normals[3 * tri[0] + k] + u * s.normals[3 * tri[1] + k] + v * s.normals[3 * tri[2] + k];
+    }
+    normalize3(sp.n);
+    const float wo[3] = {-dir[0], -dir[1], -dir[2]};
+    if (dot3(sp.ng, wo) < 0) {
+        if (!m.two_sided) return false;
+        for (int k = 0; k < 3; ++k) {
+            sp.ng[k] = -sp.ng[k];
+            sp.n[k] = -sp.n[k];
+        }
+    } else if (dot3(sp.n, sp.ng) < 0) {
+        for (int k = 0; k < 3; ++k) sp.n[k] = -sp.n[k];  // a mesh whose normals point inwards
+    }
+    // a shading normal facing away from the viewer (silhouettes of coarse meshes): use the true one
+    if (!(dot3(sp.n, wo) > 0)) std::copy(sp.ng, sp.ng + 3, sp.n);
+    if (s.tangents != nullptr) {
+        for (int k = 0; k < 3; ++k)
+            sp.t[k] = w0 * s.tangents[3 * tri[0] + k] + u * s.tangents[3 * tri[1] + k] + v * s.tangents[3 * tri[2] + k];
+        const float along = dot3(sp.t, sp.n);
+        for (int k = 0; k < 3; ++k) sp.t[k] -= along * sp.n[k];
+        if (dot3(sp.t, sp.t) > 1e-12f) {
+            normalize3(sp.t);
+            cross3(sp.n, sp.t, sp.b);
+            return true;
+        }
+    }
+    frame_from_normal(sp.n, sp.t, sp.b);
+    return true;
+}
+
+template <class T>
+inline T* grow(std::vector<T>& v, size_t n) {
+    if (v.size() < n) v.resize(n);
+    return v.data();
+}
+
+void trace_paths(const RenderScene& s, const IntegratorSettings& st, const CameraSample* cs, size_t n,
+                 PathResult* out, PathScratch& sc) {
+    if constexpr (W < 8) clear_upper_state();
+    const TraceKernels& tk = trace_kernels();
+    float* org = grow(sc.org, 3 * n);
+    float* dir = grow(sc.dir, 3 * n);
+    float* thr = grow(sc.throughput, 3 * n);
+    float* prev_pdf = grow(sc.prev_pdf, n);
+    sc.active.clear();
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t key = cs[i].key;
+        camera_ray(s.camera, cs[i].fx, cs[i].fy, bounce_uniform(key, 0, kDimLensU), bounce_uniform(key, 0, kDimLensV),
+                   org + 3 * i, dir + 3 * i);
+        std::fill(thr + 3 * i, thr + 3 * i + 3, 1.0f);
+        prev_pdf[i] = 0;  // a camera ray: whatever it sees counts in full
+        PathResult& r = out[i];
+        std::fill(r.rgb, r.rgb + 3, 0.0f);
+        std::fill(r.albedo, r.albedo + 3, 0.0f);
+        std::fill(r.normal, r.normal + 3, 0.0f);
+        r.depth = std::numeric_limits<float>::infinity();
+        r.illuminance = 0;
+        sc.active.push_back(static_cast<int32_t>(i));
+    }
+    const int env_light = static_cast<int>(s.lights.size());
+    const bool can_sample_lights = light_count(s) > 0 && s.light_cdf.back() > 0;
+    const float eps = s.ray_offset;
+
+    for (int depth = 0; !sc.active.empty(); ++depth) {
+        // 1. trace this bounce's rays, W per packet
+        const size_t m = sc.active.size();
+        float* ro = grow(sc.ray_org, 3 * m);
+        float* rd = grow(sc.ray_dir, 3 * m);
+        for (size_t j = 0; j < m; ++j) {
+            const int32_t i = sc.active[j];
+            std::copy(org + 3 * i, org + 3 * i + 3, ro + 3 * j);
+            std::copy(dir + 3 * i, dir + 3 * i + 3, rd + 3 * j);
+        }
+        HitBatch hits{grow(sc.hit_t, m), grow(sc.hit_prim, m), grow(sc.hit_u, m), grow(sc.hit_v, m)};
+        tk.intersect(*s.tree, RayBatch{ro, rd, 0.0f, nullptr, kInfF}, hits, 0, m);
+        sc.rays_traced += m;
+
+        // 2. misses and lights seen add their emission (MIS-weighted after a BRDF sample);
+        //    surface hits become shading points
+        sc.points.clear();
+        for (size_t j = 0; j < m; ++j) {
+            const int32_t i = sc.active[j];
+            const float* d = dir + 3 * i;
+            float* T = thr + 3 * i;
+            const int32_t prim = hits.prim[j];
+            if (prim < 0) {
+                if (s.env.present) {
+                    float le[3];
+                    env_radiance(s.env, d, le);
+                    float w = 1.0f;
+                    if (prev_pdf[i] > 0 && can_sample_lights)
+                        w = power_heuristic(prev_pdf[i], selection_probability(s, env_light) * env_pdf(s.env, d));
+                    for (int k = 0; k < 3; ++k) out[i].rgb[k] += T[k] * le[k] * w;
+                }
+                continue;
+            }
+            const Material& mat = s.materials[s.tri_material[prim]];
+            if (mat.kind == MaterialKind::Emitter) {
+                const Light& l = s.lights[mat.light];
+                const float facing = -dot3(d, l.normal);
+                if (facing > 0 || (l.two_sided && facing < 0)) {
+                    float w = 1.0f;
+                    if (prev_pdf[i] > 0 && can_sample_lights)
+                        w = power_heuristic(prev_pdf[i], quad_pdf(s, mat.light, d, hits.t[j]));
+                    for (int k = 0; k < 3; ++k) out[i].rgb[k] += T[k] * l.power[k] * w;
+                }
+                if (depth == 0) out[i].depth = hits.t[j];
+                continue;
+            }
+            if (depth >= st.max_depth) continue;
+            ShadingPoint sp;
+            if (!make_shading_point(s, prim, hits.u[j], hits.v[j], org + 3 * i, d, hits.t[j], sp)) {
+                if (depth == 0) out[i].depth = hits.t[j];
+                continue;
+            }
+            sp.path = i;
+            sp.material = s.tri_material[prim];
+            if (depth == 0) {
+                for (int k = 0; k < 3; ++k) {
+                    out[i].albedo[k] = mat.albedo[k];
+                    out[i].normal[k] = sp.n[k];
+                }
+                out[i].depth = hits.t[j];
+            }
+            sc.points.push_back(sp);
+        }
+
+        // 3. group the shading points by material, so each group is shaded W at a time
+        const size_t np = sc.points.size();
+        const size_t nm = s.materials.size();
+        sc.material_start.assign(nm + 1, 0);
+        for (const ShadingPoint& sp : sc.points) ++sc.material_start[sp.material + 1];
+        for (size_t k = 0; k < nm; ++k) sc.material_start[k + 1] += sc.material_start[k];
+        sc.sorted.resize(np);
+        {
+            std::vector<int32_t>& fill = sc.next_active;  // reused as the write cursors
+            fill.assign(sc.material_start.begin(), sc.material_start.end() - 1);
+            for (const ShadingPoint& sp : sc.points) sc.sorted[fill[sp.material]++] = sp;
+        }
+
+        float* vl = grow(sc.v_local, 3 * np);
+        float* ll = grow(sc.l_local, 3 * np);
+        float* fv = grow(sc.f, 3 * np);
+        float* pdf = grow(sc.pdf, np);
+        float* upick = grow(sc.u_pick, np);
+        float* u1 = grow(sc.u1, np);
+        float* u2 = grow(sc.u2, np);
+        for (size_t q = 0; q < np; ++q) {
+            const ShadingPoint& sp = sc.sorted[q];
+            const float wo[3] = {-dir[3 * sp.path], -dir[3 * sp.path + 1], -dir[3 * sp.path + 2]};
+            to_local(sp, wo, vl + 3 * q);
+        }
+
+        // 4. light sampling: one sample per point, its shadow ray queued
+        sc.shadow_path.clear();
+        sc.shadow_org.clear();
+        sc.shadow_dir.clear();
+        sc.shadow_tmax.clear();
+        sc.shadow_rgb.clear();
+        sc.shadow_lux.clear();
+        if (can_sample_lights) {
+            std::vector<LightSample> samples(np);
+            std::vector<uint8_t> ok(np);
+            for (size_t q = 0; q < np; ++q) {
+                const ShadingPoint& sp = sc.sorted[q];
+                const uint32_t key = cs[sp.path].key;
+                LightSample& ls = samples[q];
+                ok[q] = sample_light(s, sp.p, bounce_uniform(key, depth, kDimLightPick),
+                                     bounce_uniform(key, depth, kDimLightU), bounce_uniform(key, depth, kDimLightV), ls) &&
+                        dot3(ls.dir, sp.ng) > 0;
+                if (ok[q]) to_local(sp, ls.dir, ll + 3 * q);
+                else std::fill(ll + 3 * q, ll + 3 * q + 3, 0.0f);
+            }
+            for (size_t k = 0; k < nm; ++k) {
+                const size_t a = sc.material_start[k], count = sc.material_start[k + 1] - a;
+                if (count == 0) continue;
+                material_eval(s.materials[k], ll + 3 * a, vl + 3 * a, fv + 3 * a, count);
+                material_pdf(s.materials[k], ll + 3 * a, vl + 3 * a, pdf + a, count);
+            }
+            for (size_t q = 0; q < np; ++q) {
+                if (!ok[q]) continue;
+                const ShadingPoint& sp = sc.sorted[q];
+                const LightSample& ls = samples[q];
+                const float cos_l = ll[3 * q + 2];
+                if (!(cos_l > 0)) continue;
+                const float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, pdf[q]);
+                const float* T = thr + 3 * sp.path;
+                float c[3];
+                for (int k = 0; k < 3; ++k) c[k] = T[k] * fv[3 * q + k] * cos_l * ls.rgb[k] * w / ls.pdf;
+                const float lux = depth == 0 ? kLumensPerWatt * luminance(ls.rgb) * cos_l / ls.pdf : 0.0f;
+                if (c[0] <= 0 && c[1] <= 0 && c[2] <= 0 && lux <= 0) continue;
+                sc.shadow_path.push_back(sp.path);
+                for (int k = 0; k < 3; ++k) {
+                    sc.shadow_org.push_back(sp.p[k] + eps * sp.ng[k]);
+                    sc.shadow_dir.push_back(ls.dir[k]);
+                    sc.shadow_rgb.push_back(c[k]);
+                }
+                sc.shadow_tmax.push_back(std::isinf(ls.dist) ? kInfF : ls.dist * (1.0f - 1e-4f) - eps);
+                sc.shadow_lux.push_back(lux);
+            }
+        }
+
+        // 5. BRDF sampling: the next bounce's rays
+        for (size_t q = 0; q < np; ++q) {
+            const uint32_t key = cs[sc.sorted[q].path].key;
+            upick[q] = bounce_uniform(key, depth, kDimBsdfPick);
+            u1[q] = bounce_uniform(key, depth, kDimBsdfU);
+            u2[q] = bounce_uniform(key, depth, kDimBsdfV);
+        }
+        for (size_t k = 0; k < nm; ++k) {
+            const size_t a = sc.material_start[k], count = sc.material_start[k + 1] - a;
+            if (count == 0) continue;
+            const Material& mat = s.materials[k];
+            material_sample(mat, vl + 3 * a, upick + a, u1 + a, u2 + a, ll + 3 * a, pdf + a, count);
+            material_eval(mat, ll + 3 * a, vl + 3 * a, fv + 3 * a, count);
+        }
+        sc.next_active.clear();
+        for (size_t q = 0; q < np; ++q) {
+            const ShadingPoint& sp = sc.sorted[q];
+            const int32_t i = sp.path;
+            const float* l = ll + 3 * q;
+            if (!(pdf[q] > 0) || !(l[2] > 0) || depth + 1 > st.max_depth) continue;
+            float wl[3];
+            to_world(sp, l, wl);
+            normalize3(wl);
+            if (!(dot3(wl, sp.ng) > 0)) continue;
+            float* T = thr + 3 * i;
+            for (int k = 0; k < 3; ++k) T[k] *= fv[3 * q + k] * l[2] / pdf[q];
+            if (!(T[0] > 0 || T[1] > 0 || T[2] > 0)) continue;
+            if (depth + 1 >= st.rr_depth) {
+                const float survive = std::min(0.95f, std::max(T[0], std::max(T[1], T[2])));
+                if (bounce_uniform(cs[i].key, depth, kDimRoulette) >= survive) continue;
+                for (int k = 0; k < 3; ++k) T[k] /= survive;
+            }
+            for (int k = 0; k < 3; ++k) {
+                org[3 * i + k] = sp.p[k] + eps * sp.ng[k];
+                dir[3 * i + k] = wl[k];
+            }
+            prev_pdf[i] = pdf[q];
+            sc.next_active.push_back(i);
+        }
+
+        // 6. shadow rays, W per packet; the unblocked ones add their light
+        const size_t ns = sc.shadow_path.size();
+        if (ns > 0) {
+            uint8_t* blocked = grow(sc.blocked, ns);
+            tk.occluded(*s.tree, RayBatch{sc.shadow_org.data(), sc.shadow_dir.data(), 0.0f, sc.shadow_tmax.data(), kInfF},
+                        blocked, 0, ns);
+            sc.rays_traced += ns;
+            for (size_t q = 0; q < ns; ++q) {
+                if (blocked[q]) continue;
+                PathResult& r = out[sc.shadow_path[q]];
+                for (int k = 0; k < 3; ++k) r.rgb[k] += sc.shadow_rgb[3 * q + k];
+                r.illuminance += sc.shadow_lux[q];
+            }
+        }
+        std::swap(sc.active, sc.next_active);
+    }
+}
+
+}  // namespace render_detail
+PATINA_END_TARGET

@@ -1,0 +1,192 @@
+// Materials over arrays of shading points, W lanes at a time (included by render_w{1,4,8}.cpp).
+// Directions are local (z = shading normal, x = tangent): v towards the viewer (the known
+// direction), l towards the light (or the sampled one). Values are RGB BRDFs in 1/sr,
+// zero when either direction is at or below the horizon.
+#pragma once
+
+#include <vector>
+
+#include "brdf/kernels.h"
+#include "core/simd/rows.h"
+#include "fit/lobe_kernels.h"
+#include "fit/microfacet.h"
+#include "render/ggx_aniso.h"
+#include "render/scene.h"
+
+#ifndef PATINA_KERNEL_WIDTH
+#error "define PATINA_KERNEL_WIDTH before including material_impl.h"
+#endif
+
+PATINA_BEGIN_TARGET
+namespace render_detail {
+
+constexpr int W = PATINA_KERNEL_WIDTH;
+using F = vfloat<W>;
+using D3 = Dir3<F>;
+
+template <class Body>
+void for_blocks(size_t n, Body body) {
+    for (size_t i = 0; i < n; i += W) body(i, static_cast<int>(std::min<size_t>(W, n - i)));
+}
+
+inline D3 load_dir(const float* p, size_t i, int lanes) {
+    D3 d;
+    rows::load3<W>(p, i, lanes, d.x, d.y, d.z);
+    return d;
+}
+
+inline const Kernels& table_kernels() {
+    if constexpr (W == 1) return kernels_w1();
+    else if constexpr (W == 4) return kernels_w4();
+    else return kernels_w8();
+}
+inline const LobeKernels& lobe_kernels() {
+    if constexpr (W == 1) return lobe_kernels_w1();
+    else if constexpr (W == 4) return lobe_kernels_w4();
+    else return lobe_kernels_w8();
+}
+
+// The coat's probability of being sampled, from v alone (so sampling and pdf agree):
+// its Fresnel reflectance against what the base reflects, kept in [0.1, 0.9].
+PATINA_INLINE F coat_pick(const Material& m, F cos_v) {
+    const F fr = microfacet::fresnel_dielectric(max(cos_v, F(0.0f)), F(m.coat_eta));
+    const float base = 0.2126f * m.albedo[0] + 0.7152f * m.albedo[1] + 0.0722f * m.albedo[2];
+    return clamp(fr / (fr + (F(1.0f) - fr) * F(std::max(base, 1e-3f))), F(0.1f), F(0.9f));
+}
+
+// The base layer's value (no coat), RGB into f.
+inline void base_eval(const Material& m, const float* l, const float* v, float* f, size_t n) {
+    switch (m.kind) {
+        case MaterialKind::Table:
+            table_kernels().eval(*m.table, l, v, f, 0, n);
+            break;
+        case MaterialKind::Mixture:
+            lobe_kernels().eval_mixture(m.mixture, l, v, f, n);
+            break;
+        case MaterialKind::Lambert:
+            for_blocks(n, [&](size_t i, int lanes) {
+                const D3 a = load_dir(l, i, lanes), b = load_dir(v, i, lanes);
+                const F r = microfacet::lambert_eval(a, b, F(m.albedo[0]));
+                const F g = microfacet::lambert_eval(a, b, F(m.albedo[1]));
+                const F bl = microfacet::lambert_eval(a, b, F(m.albedo[2]));
+                rows::store3<W>(f, i, lanes, r, g, bl);
+            });
+            return;
+        case MaterialKind::Conductor:
+            for_blocks(n, [&](size_t i, int lanes) {
+                const D3 a = load_dir(l, i, lanes), b = load_dir(v, i, lanes);
+                const F ax(m.alpha_x), ay(m.alpha_y);
+                const D3 h = microfacet::half_vector(a, b);
+                const F dg = ggx_aniso::d(h, ax, ay) * ggx_aniso::g2(a, b, ax, ay);
+                const F cos_d = microfacet::mean_cos_d(a, b, h);
+                F c[3];
+                for (int ch = 0; ch < 3; ++ch)
+                    c[ch] = F(m.tint[ch]) * microfacet::microfacet_value(
+                                                a, b, dg, F(1.0f),
+                                                microfacet::fresnel_conductor(cos_d, F(m.eta[ch]), F(m.k[ch])));
+                rows::store3<W>(f, i, lanes, c[0], c[1], c[2]);
+            });
+            return;
+        case MaterialKind::Emitter:
+            std::fill(f, f + 3 * n, 0.0f);
+            return;
+    }
+    // Table and Mixture: scale and tint
+    if (m.tint[0] != 1.0f || m.tint[1] != 1.0f || m.tint[2] != 1.0f)
+        for (size_t i = 0; i < n; ++i)
+            for (int ch = 0; ch < 3; ++ch) f[3 * i + ch] *= m.tint[ch];
+}
+
+// f(l, v) in RGB, the coat included.
+inline void material_eval(const Material& m, const float* l, const float* v, float* f, size_t n) {
+    base_eval(m, l, v, f, n);
+    if (!m.coat) return;
+    for_blocks(n, [&](size_t i, int lanes) {
+        const D3 a = load_dir(l, i, lanes), b = load_dir(v, i, lanes);
+        const F eta(m.coat_eta);
+        const F through = (F(1.0f) - microfacet::fresnel_dielectric(max(a.z, F(0.0f)), eta)) *
+                          (F(1.0f) - microfacet::fresnel_dielectric(max(b.z, F(0.0f)), eta));
+        const F spec = microfacet::coat_eval(a, b, F(m.coat_alpha), eta);
+        F x, y, z;
+        rows::load3<W>(f, i, lanes, x, y, z);
+        x = madd(x * F(m.coat_tint[0]), through, spec);
+        y = madd(y * F(m.coat_tint[1]), through, spec);
+        z = madd(z * F(m.coat_tint[2]), through, spec);
+        rows::store3<W>(f, i, lanes, x, y, z);
+    });
+}
+
+// The base layer's sampling density of l given v.
+PATINA_INLINE F base_pdf(const Material& m, const D3& l, const D3& v) {
+    switch (m.kind) {
+        case MaterialKind::Lambert:
+            return microfacet::lambert_pdf(v, l);
+        case MaterialKind::Conductor:
+            return ggx_aniso::pdf(v, l, F(m.alpha_x), F(m.alpha_y));
+        case MaterialKind::Table:
+        case MaterialKind::Mixture: {
+            const F pd(m.proxy_diffuse);
+            return madd(pd, microfacet::lambert_pdf(v, l),
+                        (F(1.0f) - pd) * microfacet::ggx_pdf(v, l, F(m.proxy_alpha)));
+        }
+        case MaterialKind::Emitter:
+            break;
+    }
+    return F(0.0f);
+}
+
+PATINA_INLINE F full_pdf(const Material& m, const D3& l, const D3& v) {
+    const F base = base_pdf(m, l, v);
+    if (!m.coat) return base;
+    const F c = coat_pick(m, v.z);
+    return madd(c, microfacet::ggx_pdf(v, l, F(m.coat_alpha)), (F(1.0f) - c) * base);
+}
+
+inline void material_pdf(const Material& m, const float* l, const float* v, float* pdf, size_t n) {
+    for_blocks(n, [&](size_t i, int lanes) {
+        rows::store1<W>(pdf, i, lanes, full_pdf(m, load_dir(l, i, lanes), load_dir(v, i, lanes)));
+    });
+}
+
+// Samples l for each v from three uniforms per point (pick, u1, u2); pdf[i] is full_pdf(l, v).
+inline void material_sample(const Material& m, const float* v, const float* pick, const float* u1,
+                            const float* u2, float* l, float* pdf, size_t n) {
+    for_blocks(n, [&](size_t i, int lanes) {
+        const D3 b = load_dir(v, i, lanes);
+        const F pick_u = rows::load1<W>(pick, i, lanes);
+        const F s1 = rows::load1<W>(u1, i, lanes), s2 = rows::load1<W>(u2, i, lanes);
+        // one uniform makes both choices: the coat when pick < c, else the base, with the
+        // pick rescaled to [0, 1) for the base's own choice of lobe
+        const F c = m.coat ? coat_pick(m, b.z) : F(0.0f);
+        const F base_pick = m.coat ? (pick_u - c) / (F(1.0f) - c) : pick_u;
+        D3 a{F(0.0f), F(0.0f), F(1.0f)};
+        switch (m.kind) {
+            case MaterialKind::Lambert:
+                a = microfacet::lambert_sample(s1, s2);
+                break;
+            case MaterialKind::Conductor:
+                a = microfacet::reflect(b, ggx_aniso::sample_h(s1, s2, F(m.alpha_x), F(m.alpha_y)));
+                break;
+            case MaterialKind::Table:
+            case MaterialKind::Mixture: {
+                const auto diffuse = base_pick < F(m.proxy_diffuse);
+                const D3 dl = microfacet::lambert_sample(s1, s2);
+                const D3 gl = microfacet::ggx_sample(b, s1, s2, F(m.proxy_alpha));
+                a = D3{select(diffuse, dl.x, gl.x), select(diffuse, dl.y, gl.y), select(diffuse, dl.z, gl.z)};
+                break;
+            }
+            case MaterialKind::Emitter:
+                break;
+        }
+        if (m.coat) {
+            const auto coat = pick_u < c;
+            const D3 cl = microfacet::ggx_sample(b, s1, s2, F(m.coat_alpha));
+            a = D3{select(coat, cl.x, a.x), select(coat, cl.y, a.y), select(coat, cl.z, a.z)};
+        }
+        rows::store3<W>(l, i, lanes, a.x, a.y, a.z);
+        rows::store1<W>(pdf, i, lanes, full_pdf(m, a, b));
+    });
+}
+
+}  // namespace render_detail
+PATINA_END_TARGET

@@ -1,0 +1,191 @@
+#include "render/render_job.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "core/cpu.h"
+#include "core/parallel.h"
+#include "render/rng.h"
+
+namespace patina {
+namespace {
+
+// Interleaves the bits of x and y: pixels in Morton order, so neighbouring paths (one
+// SIMD packet) look through neighbouring pixels: 2 x 2 blocks for 4 rays, 4 x 2 for 8.
+uint32_t morton(uint32_t x, uint32_t y) {
+    uint32_t m = 0;
+    for (int b = 0; b < 16; ++b) m |= ((x >> b) & 1u) << (2 * b) | ((y >> b) & 1u) << (2 * b + 1);
+    return m;
+}
+
+constexpr size_t kMaxBatch = 4096;  // camera samples traced as one wavefront
+
+}  // namespace
+
+const RenderKernels& render_kernels_for(int width) {
+    switch (resolve_width(width)) {
+        case 8: return render_kernels_w8();
+        case 4: return render_kernels_w4();
+        default: return render_kernels_w1();
+    }
+}
+
+RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
+    : m_scene(scene), m_settings(settings), m_kernels(&render_kernels_for(settings.width)) {
+    if (settings.spp < 1) throw std::invalid_argument("spp must be at least 1");
+    if (settings.max_depth < 1) throw std::invalid_argument("max_depth must be at least 1");
+    if (settings.tile_size < 1) throw std::invalid_argument("tile_size must be at least 1");
+    const Camera& c = scene.camera;
+    if (c.width < 1 || c.height < 1) throw std::invalid_argument("the image must be at least 1 x 1 pixels");
+    m_integrator.max_depth = settings.max_depth;
+    m_tiles_x = (c.width + settings.tile_size - 1) / settings.tile_size;
+    m_tiles_y = (c.height + settings.tile_size - 1) / settings.tile_size;
+    const int passes = std::clamp(settings.passes, 1, settings.spp);
+    for (int p = 0; p <= passes; ++p)
+        m_pass_begin.push_back(static_cast<int>(static_cast<int64_t>(settings.spp) * p / passes));
+    const int tiles = m_tiles_x * m_tiles_y;
+    for (int p = 0; p < passes; ++p)
+        for (int t = 0; t < tiles; ++t) m_items.push_back({t, p});
+    m_tile_passes = std::vector<std::atomic<int>>(tiles);
+    for (auto& a : m_tile_passes) a.store(0);
+    const size_t pixels = static_cast<size_t>(c.width) * c.height;
+    m_rgb.assign(3 * pixels, 0.0);
+    m_albedo.assign(3 * pixels, 0.0);
+    m_normal.assign(3 * pixels, 0.0);
+    m_lux.assign(pixels, 0.0);
+    m_depth.assign(pixels, 0.0);
+    m_samples.assign(pixels, 0.0f);
+    m_depth_hits.assign(pixels, 0.0f);
+}
+
+RenderJob::~RenderJob() {
+    cancel();
+    for (auto& t : m_threads)
+        if (t.joinable()) t.join();
+}
+
+void RenderJob::start() {
+    if (m_started) throw std::logic_error("a render job starts once");
+    m_started = true;
+    m_start = std::chrono::steady_clock::now();
+    const int threads = m_settings.threads > 0 ? m_settings.threads : default_thread_count();
+    for (int i = 0; i < threads; ++i) m_threads.emplace_back([this] { worker(); });
+}
+
+void RenderJob::cancel() { m_cancel.store(true); }
+
+void RenderJob::wait() {
+    for (auto& t : m_threads)
+        if (t.joinable()) t.join();
+    std::lock_guard<std::mutex> lock(m_error_lock);
+    if (m_error) std::rethrow_exception(m_error);
+}
+
+RenderProgress RenderJob::progress() const {
+    RenderProgress p;
+    p.items_done = m_done.load();
+    p.items_total = m_items.size();
+    p.rays = m_rays.load();
+    p.samples_done = m_samples_done.load();
+    p.cancelled = m_cancel.load();
+    p.finished = p.items_done == p.items_total;
+    p.seconds = m_started ? std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count() : 0;
+    return p;
+}
+
+void RenderJob::worker() {
+    PathScratch scratch;
+    std::vector<CameraSample> cs;
+    std::vector<PathResult> out;
+    try {
+        while (!m_cancel.load()) {
+            const size_t k = m_next.fetch_add(1);
+            if (k >= m_items.size()) break;
+            const Item item = m_items[k];
+            // a tile's passes are added in order: wait for the previous one (rare: only when
+            // there are fewer tiles than threads)
+            while (m_tile_passes[item.tile].load(std::memory_order_acquire) != item.pass) {
+                if (m_cancel.load()) return;
+                std::this_thread::yield();
+            }
+            const size_t before = scratch.rays_traced;
+            run_item(item, scratch, cs, out);
+            m_rays.fetch_add(scratch.rays_traced - before);
+            m_tile_passes[item.tile].store(item.pass + 1, std::memory_order_release);
+            m_done.fetch_add(1);
+        }
+    } catch (...) {
+        std::lock_guard<std::mutex> lock(m_error_lock);
+        if (!m_error) m_error = std::current_exception();
+        m_cancel.store(true);
+    }
+}
+
+void RenderJob::run_item(const Item& item, PathScratch& scratch, std::vector<CameraSample>& cs,
+                         std::vector<PathResult>& out) {
+    const Camera& cam = m_scene.camera;
+    const int ts = m_settings.tile_size;
+    const int x0 = (item.tile % m_tiles_x) * ts, y0 = (item.tile / m_tiles_x) * ts;
+    const int x1 = std::min(x0 + ts, cam.width), y1 = std::min(y0 + ts, cam.height);
+    std::vector<std::pair<uint32_t, int>> order;  // (morton code, pixel index)
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) order.push_back({morton(x - x0, y - y0), y * cam.width + x});
+    std::sort(order.begin(), order.end());
+    const int s_begin = m_pass_begin[item.pass], s_end = m_pass_begin[item.pass + 1];
+    const size_t per_sample = order.size();
+    const int samples_per_batch = std::max<int>(1, static_cast<int>(kMaxBatch / std::max<size_t>(per_sample, 1)));
+    for (int s0 = s_begin; s0 < s_end; s0 += samples_per_batch) {
+        const int s1 = std::min(s_end, s0 + samples_per_batch);
+        cs.clear();
+        for (int s = s0; s < s1; ++s)
+            for (const auto& [code, pixel] : order) {
+                const uint32_t key = path_key(m_settings.seed, static_cast<uint32_t>(pixel), static_cast<uint32_t>(s));
+                const float fx = static_cast<float>(pixel % cam.width) + bounce_uniform(key, 0, kDimPixelX);
+                const float fy = static_cast<float>(pixel / cam.width) + bounce_uniform(key, 0, kDimPixelY);
+                cs.push_back({fx, fy, key});
+            }
+        out.resize(cs.size());
+        m_kernels->trace_paths(m_scene, m_integrator, cs.data(), cs.size(), out.data(), scratch);
+        // a box filter: every sample adds to its own pixel, in sample order
+        for (size_t q = 0; q < cs.size(); ++q) {
+            const int pixel = order[q % per_sample].second;
+            const PathResult& r = out[q];
+            for (int k = 0; k < 3; ++k) {
+                m_rgb[3 * pixel + k] += r.rgb[k];
+                m_albedo[3 * pixel + k] += r.albedo[k];
+                m_normal[3 * pixel + k] += r.normal[k];
+            }
+            m_lux[pixel] += r.illuminance;
+            if (std::isfinite(r.depth)) {
+                m_depth[pixel] += r.depth;
+                m_depth_hits[pixel] += 1;
+            }
+            m_samples[pixel] += 1;
+        }
+        m_samples_done.fetch_add(cs.size());
+    }
+}
+
+void RenderJob::resolve(float* rgb, float* albedo, float* normal, float* depth, float* lux, float* samples) const {
+    const size_t pixels = m_samples.size();
+    for (size_t i = 0; i < pixels; ++i) {
+        const double n = m_samples[i];
+        const double inv = n > 0 ? 1.0 / n : 0.0;
+        for (int k = 0; k < 3; ++k) {
+            rgb[3 * i + k] = static_cast<float>(m_rgb[3 * i + k] * inv);
+            albedo[3 * i + k] = static_cast<float>(m_albedo[3 * i + k] * inv);
+        }
+        const double len = std::sqrt(m_normal[3 * i] * m_normal[3 * i] + m_normal[3 * i + 1] * m_normal[3 * i + 1] +
+                                     m_normal[3 * i + 2] * m_normal[3 * i + 2]);
+        for (int k = 0; k < 3; ++k) normal[3 * i + k] = len > 0 ? static_cast<float>(m_normal[3 * i + k] / len) : 0.0f;
+        depth[i] = m_depth_hits[i] > 0 ? static_cast<float>(m_depth[i] / m_depth_hits[i])
+                                       : std::numeric_limits<float>::infinity();
+        lux[i] = static_cast<float>(m_lux[i] * inv);
+        samples[i] = m_samples[i];
+    }
+}
+
+}  // namespace patina

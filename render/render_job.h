@@ -1,0 +1,83 @@
+// A render in the background: the image split into tiles, the samples of every pixel
+// split into passes, (pass, tile) work items taken pass by pass by one worker per thread.
+// Each tile's passes are added in order, so the image depends on the seed only (not on
+// the thread count or timing); a cancelled render keeps every finished pass, and each
+// pixel is the mean of the samples it got: a valid, noisier image.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "render/integrator.h"
+#include "render/scene.h"
+
+namespace patina {
+
+struct RenderSettings {
+    int spp = 16;
+    int max_depth = 8;  // 1: direct lighting
+    uint32_t seed = 0;
+    int threads = 0;    // 0: all hardware threads
+    int width = 0;      // SIMD width 1, 4, 8; 0: the widest the CPU runs
+    int tile_size = 16;
+    int passes = 8;     // the samples of a pixel are split into at most this many passes
+};
+
+struct RenderProgress {
+    size_t items_done = 0, items_total = 0;
+    size_t rays = 0;         // rays traced so far (camera, bounce and shadow)
+    size_t samples_done = 0; // camera samples finished
+    double seconds = 0;
+    bool finished = false, cancelled = false;
+};
+
+class RenderJob {
+public:
+    RenderJob(const RenderScene& scene, const RenderSettings& settings);
+    ~RenderJob();
+    RenderJob(const RenderJob&) = delete;
+    RenderJob& operator=(const RenderJob&) = delete;
+
+    void start();   // returns at once; the workers run until done or cancelled
+    void cancel();  // workers finish the items in flight and stop
+    void wait();    // joins the workers; rethrows a worker's exception
+    RenderProgress progress() const;
+    const Camera& camera() const { return m_scene.camera; }
+
+    // The image, each pixel the mean of its samples (H x W x 3 etc.); samples: per pixel.
+    // Call after wait() (a cancelled job: the passes that finished).
+    void resolve(float* rgb, float* albedo, float* normal, float* depth, float* lux, float* samples) const;
+
+private:
+    struct Item {
+        int tile, pass;
+    };
+    void worker();
+    void run_item(const Item& item, PathScratch& scratch, std::vector<CameraSample>& cs, std::vector<PathResult>& out);
+
+    const RenderScene& m_scene;
+    RenderSettings m_settings;
+    IntegratorSettings m_integrator;
+    const RenderKernels* m_kernels;
+    int m_tiles_x = 0, m_tiles_y = 0;
+    std::vector<int> m_pass_begin;  // sample index where each pass starts; back() = spp
+    std::vector<Item> m_items;
+    std::vector<std::atomic<int>> m_tile_passes;  // passes finished per tile
+    // per pixel sums
+    std::vector<double> m_rgb, m_albedo, m_normal, m_lux, m_depth;
+    std::vector<float> m_samples, m_depth_hits;
+    std::atomic<size_t> m_next{0}, m_done{0}, m_rays{0}, m_samples_done{0};
+    std::atomic<bool> m_cancel{false};
+    std::vector<std::thread> m_threads;
+    std::mutex m_error_lock;
+    std::exception_ptr m_error;
+    std::chrono::steady_clock::time_point m_start;
+    bool m_started = false;
+};
+
+}  // namespace patina

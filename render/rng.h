@@ -1,0 +1,44 @@
+// Counter-based random numbers: every number is a hash of (path key, dimension), so a
+// path's numbers are fixed by (seed, pixel, sample, bounce, use) whatever the thread,
+// the tile order or the SIMD width. That makes renders deterministic for a seed and
+// bit-identical across widths (the kernels are), which the tests check.
+#pragma once
+
+#include <cstdint>
+
+#include "core/simd/target.h"
+
+// Inside the target namespace: each ISA's copy has its own symbols (see core/simd/target.h).
+PATINA_BEGIN_TARGET
+
+// A 32-bit integer hash with low bias (C. Wellons, "Prospecting for hash functions", lowbias32).
+inline uint32_t hash_u32(uint32_t x) {
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+inline uint32_t path_key(uint32_t seed, uint32_t pixel, uint32_t sample) {
+    return hash_u32(hash_u32(hash_u32(seed ^ 0x9e3779b9u) ^ pixel) + sample * 0x85ebca6bu);
+}
+
+// Uniform in [0, 1): the top 24 bits of the hash.
+inline float uniform(uint32_t key, uint32_t dim) {
+    return static_cast<float>(hash_u32(key ^ hash_u32(dim + 0x632be5abu)) >> 8) * (1.0f / 16777216.0f);
+}
+
+// Dimensions a bounce uses: bounce * kDimsPerBounce + one of these.
+enum RandomDim : uint32_t {
+    kDimPixelX = 0, kDimPixelY, kDimLensU, kDimLensV,
+    kDimLightPick, kDimLightU, kDimLightV, kDimBsdfPick, kDimBsdfU, kDimBsdfV, kDimRoulette,
+    kDimsPerBounce = 16
+};
+
+inline float bounce_uniform(uint32_t key, int bounce, RandomDim d) {
+    return uniform(key, static_cast<uint32_t>(bounce) * kDimsPerBounce + d);
+}
+
+PATINA_END_TARGET

@@ -1,0 +1,78 @@
+#include "render/scene.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace patina {
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+double luminance(const float* rgb) { return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]; }
+}  // namespace
+
+void prepare_environment(Environment& env) {
+    if (!env.present || !env.is_map) return;
+    const int w = env.width, h = env.height;
+    if (w < 1 || h < 1 || env.rgb == nullptr) throw std::invalid_argument("environment map has no pixels");
+    env.row_cdf.assign(h + 1, 0.0f);
+    env.col_cdf.assign(static_cast<size_t>(h) * (w + 1), 0.0f);
+    env.pixel_pdf.assign(static_cast<size_t>(h) * w, 0.0f);
+    std::vector<double> row_sum(h, 0.0);
+    double total = 0, solid_weighted = 0;
+    for (int r = 0; r < h; ++r) {
+        const double sin_theta = std::sin(kPi * (r + 0.5) / h);
+        double acc = 0;
+        float* cdf = &env.col_cdf[static_cast<size_t>(r) * (w + 1)];
+        for (int c = 0; c < w; ++c) {
+            const double lum = std::max(0.0, luminance(env.rgb + 3 * (static_cast<size_t>(r) * w + c)));
+            acc += lum * sin_theta;
+            cdf[c + 1] = static_cast<float>(acc);
+        }
+        for (int c = 1; c <= w; ++c) cdf[c] = acc > 0 ? static_cast<float>(cdf[c] / acc) : static_cast<float>(c) / w;
+        cdf[w] = 1.0f;
+        row_sum[r] = acc;
+        total += acc;
+    }
+    solid_weighted = total * (2 * kPi / w) * (kPi / h);  // integral of luminance over the sphere
+    env.mean_luminance = static_cast<float>(solid_weighted / (4 * kPi) * env.intensity);
+    double acc = 0;
+    for (int r = 0; r < h; ++r) {
+        acc += row_sum[r];
+        env.row_cdf[r + 1] = total > 0 ? static_cast<float>(acc / total) : static_cast<float>(r + 1) / h;
+    }
+    env.row_cdf[h] = 1.0f;
+    // pdf over (u, v): pixel weight / (mean weight) -- integrates to 1 over the unit square
+    for (int r = 0; r < h; ++r) {
+        const double sin_theta = std::sin(kPi * (r + 0.5) / h);
+        for (int c = 0; c < w; ++c) {
+            const size_t i = static_cast<size_t>(r) * w + c;
+            const double lum = std::max(0.0, luminance(env.rgb + 3 * i));
+            env.pixel_pdf[i] = total > 0 ? static_cast<float>(lum * sin_theta * w * h / total) : 1.0f;
+        }
+    }
+}
+
+void prepare_light_selection(RenderScene& s) {
+    std::vector<double> power;
+    for (const Light& l : s.lights) {
+        const double lum = std::max(0.0, luminance(l.power));
+        if (l.kind == LightKind::Point) power.push_back(4 * kPi * lum);
+        else power.push_back(l.area * kPi * lum * (l.two_sided ? 2 : 1));
+    }
+    if (s.env.present) {
+        const double mean = s.env.is_map ? s.env.mean_luminance : std::max(0.0, luminance(s.env.constant));
+        // the environment's flux through the scene's bounding disc (as pbrt estimates it)
+        power.push_back(kPi * s.scene_radius * s.scene_radius * 4 * kPi * mean);
+    }
+    double total = 0;
+    for (double p : power) total += p;
+    s.light_cdf.assign(power.size() + 1, 0.0f);
+    double acc = 0;
+    for (size_t i = 0; i < power.size(); ++i) {
+        acc += total > 0 ? power[i] / total : 0.0;
+        s.light_cdf[i + 1] = static_cast<float>(acc);
+    }
+    if (total > 0) s.light_cdf.back() = 1.0f;
+}
+
+}  // namespace patina

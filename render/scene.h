@@ -1,0 +1,94 @@
+// What the renderer reads: geometry with its shading data, materials, lights, the
+// environment and the camera. Plain structs with pointers into arrays owned by the
+// caller (the Python side keeps them alive), built once per render.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "brdf/table.h"
+#include "fit/lobe_kernels.h"
+#include "render/accel/kdtree.h"
+#include "render/camera.h"
+
+namespace patina {
+
+enum class MaterialKind : int { Lambert = 0, Conductor = 1, Table = 2, Mixture = 3, Emitter = 4 };
+
+struct Material {
+    MaterialKind kind = MaterialKind::Lambert;
+    float albedo[3] = {0.5f, 0.5f, 0.5f};  // Lambert's reflectance; for the others what the albedo AOV shows
+    float alpha_x = 0.1f, alpha_y = 0.1f;  // Conductor: anisotropic GGX roughness (x along the tangent)
+    float eta[3] = {1, 1, 1}, k[3] = {0, 0, 0};  // Conductor: complex index of refraction per channel
+    const TableView* table = nullptr;      // Table: an RGB table
+    MixtureParams mixture;                 // Mixture: a fitted analytic model
+    float tint[3] = {1, 1, 1};             // scales Table, Mixture and Conductor values
+    bool two_sided = false;
+    // A clear coat over any of the above (car paint): a GGX dielectric interface of index
+    // coat_eta reflects F; the base is seen through it, dimmed by (1 - F(cos_l)) (1 - F(cos_v))
+    // and coloured by coat_tint. Roughness 0 (a smooth coat) is taken as alpha 1e-3.
+    bool coat = false;
+    float coat_eta = 1.5f, coat_alpha = 1e-3f;
+    float coat_tint[3] = {1, 1, 1};
+    // Table and Mixture are importance sampled through a proxy: a Lambert lobe picked with
+    // probability proxy_diffuse, else GGX of roughness proxy_alpha. The pdf is the proxy's,
+    // the value the material's own, so the estimate stays unbiased.
+    float proxy_diffuse = 0.5f, proxy_alpha = 0.2f;
+    int light = -1;  // Emitter: the quad light whose triangles these are
+};
+
+enum class LightKind : int { Point = 0, Quad = 1, Environment = 2 };
+
+struct Light {
+    LightKind kind = LightKind::Point;
+    float position[3] = {0, 0, 0};  // Point: position; Quad: centre
+    float u[3] = {1, 0, 0}, v[3] = {0, 0, 1};  // Quad: half-edge vectors (corners centre +- u +- v)
+    float normal[3] = {0, -1, 0};   // Quad: unit normal, normalize(cross(u, v)); emits on this side
+    float area = 4;                 // Quad: 4 |u x v|
+    float power[3] = {1, 1, 1};     // Point: intensity (W/sr); Quad: radiance (W/(m^2 sr))
+    bool two_sided = false;
+};
+
+// A lat-long environment (Mitsuba 3's convention: u -> phi = 2 pi u, v -> theta = pi v,
+// d = (sin phi sin theta, cos theta, -cos phi sin theta), y up) or a constant radiance.
+// Importance sampled by luminance x sin(theta), piecewise constant per pixel.
+struct Environment {
+    bool present = false;
+    bool is_map = false;
+    float constant[3] = {0, 0, 0};
+    int width = 0, height = 0;
+    const float* rgb = nullptr;  // height x width x 3, linear radiance
+    float intensity = 1;
+    float rotation = 0;          // radians about +y: the map is turned by this angle
+    std::vector<float> row_cdf;  // height + 1 values, 0 .. 1
+    std::vector<float> col_cdf;  // height rows of width + 1 values, 0 .. 1
+    std::vector<float> pixel_pdf;  // height x width: pdf over (u, v) in [0,1]^2
+    float mean_luminance = 0;
+};
+
+// Builds the sampling distribution of a map environment (no-op for a constant one).
+void prepare_environment(Environment& env);
+
+struct RenderScene {
+    const KdTree* tree = nullptr;
+    const float* vertices = nullptr;     // V x 3 (world space)
+    const int32_t* indices = nullptr;    // T x 3, in the tree's triangle order
+    const float* normals = nullptr;      // V x 3 unit shading normals
+    const float* tangents = nullptr;     // V x 3 unit tangents, or nullptr (a frame from the normal)
+    const int32_t* tri_material = nullptr;  // T material indices
+    size_t triangle_count = 0;
+    std::vector<Material> materials;
+    std::vector<Light> lights;           // points and quads
+    Environment env;
+    Camera camera;
+    float scene_radius = 1;              // bounding-sphere radius of the geometry (environment power)
+    float ray_offset = 1e-4f;            // secondary-ray origin offset, scaled by the scene's size
+    // Light selection probabilities, proportional to estimated power: lights first, then the environment.
+    std::vector<float> light_cdf;        // lights.size() + (env.present ? 1 : 0) + 1 values
+};
+
+// Fills light_cdf from the lights' and environment's estimated power.
+void prepare_light_selection(RenderScene& s);
+
+}  // namespace patina
