@@ -9,6 +9,8 @@
     patina plot FILE [--fit fit.json] --out DIR
     patina slices FILE --out PNG
     patina bench [--only GROUP] [--json FILE]
+    patina render SCENE.json [--out out.exr] [--spp N] [--integrator direct|path] [--threads T] [--seed S]
+    patina preview MATERIAL [--env ENV] [--shape sphere|ball|panel|MESH] [--spp N] [--out out.exr]
 
 Bad input ends with one line naming the file, the place and the problem, and exit status 2.
 """
@@ -290,6 +292,10 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--repeat", type=int, default=7, help="repetitions; medians are reported")
     s.add_argument("--quick", action="store_true", help="small inputs, for a smoke test")
     s.set_defaults(func=cmd_bench)
+
+    from .cli_render import add_render_commands
+
+    add_render_commands(sub)
     return p
 
 

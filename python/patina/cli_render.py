@@ -1,0 +1,123 @@
+"""The `patina render` and `patina preview` commands (registered by cli.py)."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from typing import Any
+
+PREVIEW_SHAPES = ("sphere", "ball", "panel")
+
+
+def _png_path(exr: str, png: str | None) -> str | None:
+    if png == "none":
+        return None
+    return png or os.path.splitext(exr)[0] + ".png"
+
+
+def _render_and_write(scene: Any, args: argparse.Namespace) -> int:
+    from .render import render, write_outputs
+
+    result = render(scene, threads=args.threads, width=args.simd, progress=not args.quiet)
+    png = _png_path(args.out, args.png)
+    os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
+    write_outputs(scene, result, args.out, png, exposure=args.exposure, curve=args.tonemap)
+    rate = result.rays / max(result.seconds, 1e-9) / 1e6
+    state = "complete" if result.complete else f"PARTIAL (at least {int(result.samples.min())} of {result.spp} spp)"
+    print(f"rendered {scene.camera.width}x{scene.camera.height}, {result.spp} spp, {state}: "
+          f"{result.seconds:.2f} s, {rate:.2f} Mrays/s, SIMD width {result.simd_width}, {result.threads} threads")  # fmt: skip
+    print(f"wrote {args.out}" + (f" and {png}" if png else ""))
+    if not result.complete:
+        return 130
+    if not (result.rgb == result.rgb).all():
+        print("patina: error: the image has NaN pixels", file=sys.stderr)
+        return 1
+    return 0
+
+
+def cmd_render(args: argparse.Namespace) -> int:
+    from .scene_file import load_scene, with_overrides
+
+    scene = load_scene(args.scene)
+    scene = with_overrides(scene, spp=args.spp, integrator=args.integrator, seed=args.seed, width=args.width,
+                           height=args.height)  # fmt: skip
+    return _render_and_write(scene, args)
+
+
+def default_environment() -> str:
+    """The bundled studio environment: installed with the package, else the repository's."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    for path in (os.path.join(here, "data", "studio.exr"),
+                 os.path.join(here, "..", "..", "materials", "env", "studio.exr")):  # fmt: skip
+        if os.path.isfile(path):
+            return os.path.abspath(path)
+    raise FileNotFoundError("the bundled studio environment is missing; pass --env FILE")
+
+
+def preview_scene_dict(material: str, env: str, shape: str, coat: bool) -> dict[str, Any]:
+    """The preview layout: the object on a grey floor under an environment, framed for a 4:3 image."""
+    base: dict[str, Any] = {"type": "fit" if material.endswith(".json") else "table", "file": os.path.abspath(material)}
+    mat = {"type": "carpaint", "base": base, "coat": {"eta": 1.5, "roughness": 0.0}} if coat else base
+    if shape == "ball":
+        obj: dict[str, Any] = {"type": "ball"}
+        camera = {"position": [0, 1.7, 5.6], "look_at": [0, 0.95, 0], "fov": 30}
+    elif shape == "sphere":
+        obj = {"type": "sphere", "radius": 1, "transform": {"translate": [0, 1, 0]}}
+        camera = {"position": [0, 1.5, 5.0], "look_at": [0, 1, 0], "fov": 30}
+    elif shape == "panel":
+        obj = {"type": "panel", "transform": {"translate": [0, 1, 0]}}
+        camera = {"position": [1.2, 1.6, 4.5], "look_at": [0, 1, 0], "fov": 30}
+    else:
+        obj = {"type": "mesh", "file": os.path.abspath(shape)}
+        camera = {"position": [0, 1.7, 5.6], "look_at": [0, 0.95, 0], "fov": 30}
+    camera.update(width=512, height=384)
+    return {
+        "version": 1,
+        "camera": camera,
+        "render": {"spp": 32, "integrator": "path", "max_depth": 4},
+        "materials": {"material": mat, "floor": {"type": "lambert", "albedo": 0.5}},
+        "shapes": [dict(obj, material="material"), {"type": "plane", "material": "floor", "size": [20, 20]}],
+        "environment": {"type": "map", "file": os.path.abspath(env)},
+    }
+
+
+def cmd_preview(args: argparse.Namespace) -> int:
+    from .scene_file import parse_scene, with_overrides
+
+    env = args.env or default_environment()
+    obj = preview_scene_dict(args.material, env, args.shape, args.coat)
+    scene = parse_scene(obj, os.path.join(os.getcwd(), "(preview)"))
+    scene = with_overrides(scene, spp=args.spp, integrator=args.integrator, seed=args.seed, width=args.width,
+                           height=args.height)  # fmt: skip
+    return _render_and_write(scene, args)
+
+
+def _output_options(s: argparse.ArgumentParser, default_out: str) -> None:
+    s.add_argument("--out", default=default_out, metavar="EXR", help=f"float EXR with AOVs (default {default_out})")
+    s.add_argument("--png", default=None, metavar="PNG", help="tone-mapped PNG (default: beside the EXR; none: skip)")
+    s.add_argument("--exposure", type=float, default=0.0, help="PNG exposure in stops")
+    s.add_argument("--tonemap", choices=("filmic", "clamp"), default="filmic", help="PNG tone curve")
+    s.add_argument("--spp", type=int, default=None, help="samples per pixel")
+    s.add_argument("--integrator", choices=("direct", "path"), default=None)
+    s.add_argument("--seed", type=int, default=None)
+    s.add_argument("--width", type=int, default=None, help="image width in pixels")
+    s.add_argument("--height", type=int, default=None, help="image height in pixels")
+    s.add_argument("--threads", type=int, default=0, help="worker threads (default: all cores)")
+    s.add_argument("--simd", type=int, choices=(1, 4, 8), default=None, help="force a SIMD width")
+    s.add_argument("--quiet", action="store_true", help="no progress line")
+
+
+def add_render_commands(sub: Any) -> None:
+    s = sub.add_parser("render", help="render a scene file (docs/scene.md) to EXR + PNG")
+    s.add_argument("scene", metavar="SCENE_JSON")
+    _output_options(s, "render.exr")
+    s.set_defaults(func=cmd_render)
+
+    s = sub.add_parser("preview", help="render a material (table or fit.json) on a preview object")
+    s.add_argument("material", metavar="MATERIAL")
+    s.add_argument("--env", default=None, help="lat-long EXR/HDR environment (default: the bundled studio)")
+    s.add_argument("--shape", default="ball", help="sphere, ball, panel or a mesh file")
+    s.add_argument("--coat", action="store_true", help="put a smooth clear coat (eta 1.5) over the material")
+    _output_options(s, "preview.exr")
+    s.set_defaults(func=cmd_preview)

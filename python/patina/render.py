@@ -1,0 +1,298 @@
+"""Rendering a scene: `patina render` and `patina preview`.
+
+A parsed scene (`patina.scene_file`) becomes the C++ renderer's input here: every shape's
+mesh (built in or read with trimesh) placed by its transform and concatenated into one
+kd-tree, quad lights as emitting triangles, materials through `render_materials`, the
+environment map read with OpenImageIO. The render runs on worker threads in C++; this
+side shows progress (samples/s, rays/s, time left) and turns Ctrl-C into a cancel: the
+passes that finished make a valid, noisier image, flagged as partial in its metadata.
+Outputs are a float EXR (beauty + albedo, normal, depth and illuminance AOVs, metadata)
+and a tone-mapped PNG, each written to a temporary file and renamed.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from . import _core
+from .render_materials import core_material
+from .scene_types import (
+    BallShape,
+    ConstantEnvironment,
+    MapEnvironment,
+    MeshShape,
+    PanelShape,
+    PlaneShape,
+    PointLight,
+    QuadLight,
+    Scene,
+    Shape,
+    SphereShape,
+)
+from .widths import core_width
+
+UNBOUNDED_DEPTH = 64  # a Mitsuba-style max_depth of -1 ("unbounded"); Russian roulette ends paths long before
+
+
+@dataclass
+class RenderResult:
+    """A finished (or interrupted) render: linear images and what it took."""
+
+    rgb: np.ndarray  # (H, W, 3) radiance, W/(m^2 sr)
+    albedo: np.ndarray  # (H, W, 3)
+    normal: np.ndarray  # (H, W, 3) world-space shading normal at the first hit
+    depth: np.ndarray  # (H, W) distance to the first hit, inf where nothing was hit
+    illuminance: np.ndarray  # (H, W) direct illuminance at the first hit, lux
+    samples: np.ndarray  # (H, W) samples each pixel got
+    spp: int
+    seconds: float
+    rays: int
+    complete: bool
+    simd_width: int
+    threads: int
+    metadata: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass
+class _Geometry:
+    vertices: list[np.ndarray] = field(default_factory=list)
+    indices: list[np.ndarray] = field(default_factory=list)
+    normals: list[np.ndarray] = field(default_factory=list)
+    tangents: list[np.ndarray] = field(default_factory=list)
+    materials: list[np.ndarray] = field(default_factory=list)
+    count: int = 0
+
+    def add(self, v: np.ndarray, f: np.ndarray, n: np.ndarray, t: np.ndarray, material: int) -> None:
+        self.vertices.append(v.astype(np.float32))
+        self.indices.append(f.astype(np.int64) + self.count)
+        self.normals.append(n.astype(np.float32))
+        self.tangents.append(t.astype(np.float32))
+        self.materials.append(np.full(len(f), material, np.int32))
+        self.count += len(v)
+
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        if not self.vertices:
+            return (np.zeros((0, 3), np.float32), np.zeros((0, 3), np.int32), np.zeros((0, 3), np.float32),
+                    np.zeros((0, 3), np.float32), np.zeros(0, np.int32))  # fmt: skip
+        c = lambda parts, dt: np.ascontiguousarray(np.concatenate(parts), dtype=dt)  # noqa: E731
+        return (c(self.vertices, np.float32), c(self.indices, np.int32), c(self.normals, np.float32),
+                c(self.tangents, np.float32), c(self.materials, np.int32))  # fmt: skip
+
+
+def shape_mesh(shape: Shape) -> Any:
+    """The shape's mesh in its own frame (a `patina.shapes.ShapeMesh`)."""
+    from . import shapes
+
+    if isinstance(shape, SphereShape):
+        return shapes.sphere(shape.radius)
+    if isinstance(shape, PlaneShape):
+        return shapes.plane(shape.size)
+    if isinstance(shape, BallShape):
+        return shapes.preview_ball()
+    if isinstance(shape, PanelShape):
+        return shapes.car_panel(shape.size)
+    if isinstance(shape, MeshShape):
+        return shapes.from_file(shape.file)
+    raise ValueError(f"unknown shape {type(shape).__name__}")
+
+
+def _unit_rows(a: np.ndarray) -> np.ndarray:
+    n = np.linalg.norm(a, axis=1, keepdims=True)
+    return np.divide(a, n, out=np.zeros_like(a), where=n > 0)
+
+
+def _place(mesh: Any, m: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Vertices, triangles, normals and tangents moved by the 4x4 object-to-world matrix m.
+    Normals go by the inverse transpose; a mirroring matrix also flips the winding, so the
+    triangles' geometric normals keep pointing outwards."""
+    lin, offset = m[:3, :3], m[:3, 3]
+    v = np.asarray(mesh.vertices, np.float64) @ lin.T + offset
+    n = _unit_rows(np.asarray(mesh.normals, np.float64) @ np.linalg.inv(lin))
+    t = _unit_rows(np.asarray(mesh.tangents, np.float64) @ lin.T)
+    f = np.asarray(mesh.indices, np.int64)
+    if np.linalg.det(lin) < 0:
+        f = f[:, [0, 2, 1]]
+    return v, f, n, t
+
+
+def _quad_triangles(light: QuadLight) -> tuple[np.ndarray, ...]:
+    c, u, v = (np.asarray(x, np.float64) for x in (light.center, light.u, light.v))
+    verts = np.array([c - u - v, c + u - v, c + u + v, c - u + v])
+    faces = np.array([[0, 1, 2], [0, 2, 3]])  # both wound so that cross(e1, e2) is along u x v
+    normal = np.tile(light.normal, (4, 1))
+    tangent = np.tile(u / np.linalg.norm(u), (4, 1))
+    return verts, faces, normal, tangent
+
+
+def camera_dict(scene: Scene, width: int | None = None, height: int | None = None) -> dict[str, Any]:
+    cam = scene.camera
+    right, up, forward = cam.basis()
+    return {
+        "position": [float(x) for x in cam.position],
+        "forward": forward.tolist(),
+        "right": right.tolist(),
+        "up": up.tolist(),
+        "tan_half_fov": math.tan(math.radians(cam.fov) / 2),
+        "width": int(width or cam.width),
+        "height": int(height or cam.height),
+        "aperture_radius": float(cam.aperture_radius),
+        "focus_distance": float(cam.focus_distance),
+    }
+
+
+class PreparedScene:
+    """A scene loaded into the renderer: tree built, tables and environment read."""
+
+    def __init__(self, scene: Scene) -> None:
+        self.scene = scene
+        geometry = _Geometry()
+        names = list(scene.materials)
+        cache: dict[str, Any] = {}
+        core_materials = [core_material(scene.materials[name], cache) for name in names]
+        for shape in scene.shapes:
+            v, f, n, t = _place(shape_mesh(shape), shape.transform)
+            geometry.add(v, f, n, t, names.index(shape.material))
+        lights: list[dict[str, Any]] = []
+        for light in scene.lights:
+            if isinstance(light, PointLight):
+                lights.append({"kind": "point", "position": list(light.position), "power": list(light.intensity)})
+            elif isinstance(light, QuadLight):
+                lights.append({"kind": "quad", "position": list(light.center), "u": list(light.u),
+                               "v": list(light.v), "power": list(light.radiance), "two_sided": light.two_sided})  # fmt: skip
+                core_materials.append({"kind": "emitter", "light": len(lights) - 1, "two_sided": light.two_sided})
+                geometry.add(*_quad_triangles(light), len(core_materials) - 1)
+            else:
+                raise ValueError(f"light type '{light.type}' is not rendered yet")
+        vertices, indices, normals, tangents, tri_material = geometry.arrays()
+        self.triangles = len(indices)
+        self.accel = _core.Accel(vertices, indices)
+        self.core = _core.RenderScene(self.accel, indices, normals, tangents, tri_material, camera_dict(scene))
+        for m in core_materials:
+            self.core.add_material(m)
+        for light in lights:
+            self.core.add_light(light)
+        env = scene.environment
+        if isinstance(env, MapEnvironment):
+            from .images import read_image
+
+            rgb = np.ascontiguousarray(np.maximum(read_image(env.file)[..., :3], 0.0), dtype=np.float32)
+            self.core.set_environment(rgb, [], float(env.intensity), math.radians(env.rotation))
+        elif isinstance(env, ConstantEnvironment):
+            self.core.set_environment(None, [float(x) for x in env.radiance], 1.0, 0.0)
+
+
+def core_depth(scene: Scene) -> int:
+    """The C++ integrator's bounce limit from the scene's (Mitsuba-style) max_depth and integrator."""
+    if scene.render.integrator == "direct":
+        return 1
+    depth = scene.render.max_depth
+    return UNBOUNDED_DEPTH if depth < 0 else max(1, depth - 1)
+
+
+class _Progress:
+    """One line on stderr: a bar, samples/s, rays/s, time left. Quiet when not a terminal."""
+
+    def __init__(self, enabled: bool) -> None:
+        self.enabled = enabled
+        self.last = 0.0
+
+    def update(self, p: dict[str, Any], final: bool = False) -> None:
+        if not self.enabled or (not final and time.monotonic() - self.last < 0.25):
+            return
+        self.last = time.monotonic()
+        done, total, secs = p["items_done"], max(1, p["items_total"]), max(p["seconds"], 1e-9)
+        frac = done / total
+        left = secs * (1 - frac) / frac if frac > 0 else float("nan")
+        bar = "#" * int(30 * frac)
+        eta = f"{left:5.1f} s left" if math.isfinite(left) else "  ... s left"
+        sys.stderr.write(f"\r  [{bar:<30}] {100 * frac:5.1f}%  {p['rays'] / secs / 1e6:6.2f} Mrays/s  {eta}")
+        if final:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+
+
+def render(
+    scene: Scene,
+    threads: int = 0,
+    width: int | None = None,
+    progress: bool = False,
+    prepared: PreparedScene | None = None,
+) -> RenderResult:
+    """Renders `scene` (its render settings as given: apply CLI overrides with
+    `scene_file.with_overrides` first). width: SIMD width 1, 4 or 8 (None: the widest)."""
+    prep = prepared or PreparedScene(scene)
+    simd = core_width(width)
+    job = _core.RenderJob(prep.core, spp=scene.render.spp, max_depth=core_depth(scene), seed=scene.render.seed,
+                          threads=threads, width=simd)  # fmt: skip
+    bar = _Progress(progress)
+    interrupted = False
+    job.start()
+    try:
+        while not job.progress()["finished"]:
+            time.sleep(0.05)
+            bar.update(job.progress())
+    except KeyboardInterrupt:
+        interrupted = True
+        job.cancel()
+        if progress:
+            sys.stderr.write("\n  interrupted: finishing the tiles in flight, keeping every finished pass\n")
+    job.wait()
+    p = job.progress()
+    bar.update(p, final=True)
+    images = job.resolve()
+    resolved_threads = threads if threads > 0 else (os.cpu_count() or 1)
+    complete = bool(p["finished"]) and not interrupted
+    return RenderResult(
+        rgb=images["rgb"], albedo=images["albedo"], normal=images["normal"], depth=images["depth"],
+        illuminance=images["illuminance"], samples=images["samples"], spp=scene.render.spp,
+        seconds=float(p["seconds"]), rays=int(p["rays"]), complete=complete,
+        simd_width=simd if simd else _core.default_width(), threads=resolved_threads,
+    )  # fmt: skip
+
+
+def metadata(scene: Scene, result: RenderResult) -> dict[str, str | float | int]:
+    from . import __version__
+    from .scene_file import scene_to_json
+
+    return {
+        "patina:version": __version__,
+        "patina:scene": json.dumps(scene_to_json(scene), separators=(",", ":")),
+        "patina:scene_file": scene.path,
+        "patina:spp": int(result.spp),
+        "patina:samples_min": int(result.samples.min()) if result.samples.size else 0,
+        "patina:integrator": scene.render.integrator,
+        "patina:seed": int(scene.render.seed),
+        "patina:seconds": float(result.seconds),
+        "patina:rays": int(result.rays),
+        "patina:simd_width": int(result.simd_width),
+        "patina:threads": int(result.threads),
+        "patina:complete": int(result.complete),
+    }
+
+
+def write_outputs(
+    scene: Scene, result: RenderResult, exr_path: str, png_path: str | None, exposure: float = 0.0,
+    curve: str = "filmic",
+) -> None:  # fmt: skip
+    """The EXR (beauty and AOVs, metadata) and the tone-mapped PNG, each written atomically."""
+    from .images import write_exr, write_png
+
+    depth = np.where(np.isfinite(result.depth), result.depth, 0.0).astype(np.float32)
+    layers = {
+        "beauty": result.rgb,
+        "albedo": result.albedo,
+        "normal": result.normal,
+        "depth": depth,
+        "illuminance": result.illuminance,
+    }
+    write_exr(exr_path, layers, metadata(scene, result))
+    if png_path:
+        write_png(png_path, result.rgb, exposure_stops=exposure, curve=curve)
