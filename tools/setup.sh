@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Sets up everything `make demo` and `make test` need, idempotently:
-#   - from Debian, only what pip cannot give: a C++ compiler, CMake, Ninja, GoogleTest;
+#   - from Debian, only what pip cannot give: a C++ compiler, CMake, Ninja, GoogleTest, and
+#     EGL with Mesa's software rasteriser (off-screen OpenGL for the 3-D lobe view);
 #   - a virtual environment in .venv with the pinned Python packages;
 #   - Patina itself (the C++ core and the Python package) built into that venv.
 set -euo pipefail
@@ -12,6 +13,9 @@ command -v cmake >/dev/null || need_apt+=(cmake)
 command -v ninja >/dev/null || need_apt+=(ninja-build)
 [ -f /usr/include/gtest/gtest.h ] || need_apt+=(libgtest-dev)
 python3 -c 'import venv, ensurepip' 2>/dev/null || need_apt+=(python3-venv)
+# VTK's wheel loads these at run time to render without a display (no GPU needed).
+compgen -G '/usr/lib/*/libEGL_mesa.so.0' >/dev/null && compgen -G '/usr/lib/*/dri/swrast_dri.so' >/dev/null \
+  || need_apt+=(libegl1 libgl1-mesa-dri)
 if [ ${#need_apt[@]} -gt 0 ]; then
   echo "setup: installing from Debian: ${need_apt[*]}"
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"

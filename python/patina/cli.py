@@ -6,7 +6,7 @@
     patina validate FILE [--json]          (exit 0 clean, 1 problems found, 2 unreadable)
     patina fit FILE [--model ggx+lambert] [--lobes K] [--loss l2cos|log] [--out fit.json]
     patina fit FILE --compare ggx+lambert beckmann+lambert blinnphong+lambert:2
-    patina plot FILE [--fit fit.json] --out DIR
+    patina plot FILE [--fit fit.json] --out DIR [--no-3d] [--3d-log] [--3d-no-cos]
     patina slices FILE --out PNG
     patina bench [--only GROUP] [--json FILE]
     patina render SCENE.json [--out out.exr] [--spp N] [--integrator direct|path] [--threads T] [--seed S]
@@ -211,6 +211,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
 def cmd_plot(args: argparse.Namespace) -> int:
     from . import load_brdf
     from .fitting import read_fit
+    from .lobe3d import LobeOptions
     from .report import write_report
 
     brdf = load_brdf(args.file)
@@ -219,8 +220,13 @@ def cmd_plot(args: argparse.Namespace) -> int:
         fitted = read_fit(args.fit)
         with open(args.fit, encoding="utf-8") as f:
             fit_doc = json.load(f)
-    write_report(brdf, args.out, fitted, fit_doc)
-    print(f"wrote {os.path.join(args.out, 'index.html')} (slices.png, polar.png, validate.json)")
+    skipped: list[str] = []
+    lobes = None if args.no_3d else LobeOptions(cosine=not args.lobe_no_cos, log=args.lobe_log)
+    write_report(brdf, args.out, fitted, fit_doc, lobes=lobes, on_skip=skipped.append)
+    for why in skipped:
+        print(f"patina plot: 3-D lobe view skipped: {why}", file=sys.stderr)
+    made = "slices.png, polar.png, " + ("lobe3d.png, " if lobes is not None and not skipped else "")
+    print(f"wrote {os.path.join(args.out, 'index.html')} ({made}validate.json)")
     return 0
 
 
@@ -274,10 +280,13 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_fit)
 
-    s = sub.add_parser("plot", help="figures and index.html: slices and polar plots, validation, a fit")
+    s = sub.add_parser("plot", help="figures and index.html: slices, polar plots, 3-D lobes, validation, a fit")
     s.add_argument("file")
     s.add_argument("--fit", default=None, metavar="FIT_JSON", help="overlay a model written by patina fit --out")
     s.add_argument("--out", required=True, metavar="DIR")
+    s.add_argument("--no-3d", action="store_true", help="leave out the 3-D lobe view (pyvista)")
+    s.add_argument("--3d-log", dest="lobe_log", action="store_true", help="3-D lobes on a log radius (3 decades)")
+    s.add_argument("--3d-no-cos", dest="lobe_no_cos", action="store_true", help="3-D lobes of f, not f cos(theta_o)")
     s.set_defaults(func=cmd_plot)
 
     s = sub.add_parser("slices", help="plot in-plane slices of a table to a PNG")

@@ -1,8 +1,9 @@
 """`patina plot`: figures and an index.html for a table, its validation and an optional fit.
 
 In-plane slices (measured against fitted, log scale, per channel) and polar plots of the
-incidence plane for several incidence angles, made with matplotlib; every file is
-written to a temporary name and renamed into place.
+incidence plane for several incidence angles, made with matplotlib, and a 3-D lobe view
+(lobe3d.py, pyvista off-screen) that is skipped, with the reason on the page, where it
+cannot be rendered; every file is written to a temporary name and renamed into place.
 """
 
 from __future__ import annotations
@@ -10,17 +11,19 @@ from __future__ import annotations
 import html
 import json
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
 from .brdf import Brdf, angles_to_directions
 from .fitting import FittedModel
+from .lobe3d import LobeOptions, render_lobes
 from .plots import save_figure
 from .validation import Report, validate
 
 COLOURS = ("tab:red", "tab:green", "tab:blue")
+DEFAULT_LOBES = LobeOptions()
 
 
 def _incidence_plane(theta_i_deg: float, n: int = 361) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -87,16 +90,43 @@ def _html_table(rows: list[tuple[str, str]]) -> str:
     return f"<table>{cells}</table>"
 
 
+def _lobe_view(
+    brdf: Brdf,
+    fitted: FittedModel | None,
+    out_dir: str,
+    lobes: LobeOptions | None,
+    on_skip: Callable[[str], None] | None,
+) -> str:
+    """lobe3d.png and its section of index.html; a stale PNG from an earlier run is removed when none is made."""
+    path = os.path.join(out_dir, "lobe3d.png")
+    if lobes is None:
+        why = "not requested (--no-3d)"
+    else:
+        view = render_lobes(brdf, fitted, path, options=lobes)
+        if view.skipped is None:
+            return f'<h2>3-D lobes</h2><img src="lobe3d.png"><p>{html.escape(view.caption)}</p>'
+        why = view.skipped
+        if on_skip is not None:
+            on_skip(why)
+    if os.path.exists(path):
+        os.remove(path)
+    return f"<h2>3-D lobes</h2><p>The 3-D lobe view was skipped: {html.escape(why)}.</p>"
+
+
 def write_report(
     brdf: Brdf,
     out_dir: str,
     fitted: FittedModel | None = None,
     fit_doc: dict[str, Any] | None = None,
     incidence: Sequence[float] = (0, 30, 60, 75),
+    lobes: LobeOptions | None = DEFAULT_LOBES,
+    on_skip: Callable[[str], None] | None = None,
 ) -> Report:
+    """Writes the report into out_dir. lobes=None leaves out the 3-D view; on_skip hears why it could not be made."""
     os.makedirs(out_dir, exist_ok=True)
     plot_slices(brdf, fitted, os.path.join(out_dir, "slices.png"), incidence)
     plot_polar(brdf, fitted, os.path.join(out_dir, "polar.png"), incidence)
+    lobe_html = _lobe_view(brdf, fitted, out_dir, lobes, on_skip)
     report = validate(brdf)
     with open(os.path.join(out_dir, "validate.json.tmp"), "w") as f:
         json.dump(report.as_json(), f, indent=2)
@@ -121,7 +151,7 @@ def write_report(
         params = [(k, f"{v:.6g}") for k, v in fit_doc.get("parameters", {}).items()]
         metrics = [(k, f"{v:.4g}") for k, v in fit_doc.get("metrics", {}).items() if isinstance(v, (int, float))]
         parts += [f"<h2>Fit: {html.escape(str(fit_doc.get('model')))}</h2>", _html_table(params + metrics)]
-    parts += ['<h2>Slices</h2><img src="slices.png">', '<h2>Polar</h2><img src="polar.png">']
+    parts += ['<h2>Slices</h2><img src="slices.png">', '<h2>Polar</h2><img src="polar.png">', lobe_html]
     page = "<!doctype html><meta charset=utf-8><title>Patina report</title>" + "\n".join(parts)
     tmp = os.path.join(out_dir, "index.html.tmp")
     with open(tmp, "w", encoding="utf-8") as f:

@@ -16,11 +16,12 @@ def test_plot_with_a_fit_writes_the_report(tmp_path, bundled_ptab):
     assert main(["fit", bundled_ptab, "--out", str(fit_json), "--starts", "1"]) == 0
     out = tmp_path / "report"
     assert main(["plot", bundled_ptab, "--fit", str(fit_json), "--out", str(out)]) == 0
-    for name in ("index.html", "slices.png", "polar.png", "validate.json"):
+    for name in ("index.html", "slices.png", "polar.png", "lobe3d.png", "validate.json"):
         assert (out / name).stat().st_size > 0
     assert (out / "slices.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     page = (out / "index.html").read_text()
     assert "Fit: ggx+lambert" in page and "slices.png" in page and "clean" in page
+    assert '<img src="lobe3d.png">' in page and "bottom row: the fit" in page
     assert json.loads((out / "validate.json").read_text())["ok"] is True
     assert not list(out.glob("*.tmp*"))
 
