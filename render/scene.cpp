@@ -1,5 +1,6 @@
 #include "render/scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -10,46 +11,65 @@ constexpr double kPi = 3.14159265358979323846;
 double luminance(const float* rgb) { return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]; }
 }  // namespace
 
+// Pixel weights for sampling: luminance x sin(theta), each pixel taking the largest
+// luminance of its 3 x 3 neighbourhood. The radiance is filtered bilinearly, so a bright
+// pixel lights up half of each neighbour too; dilating the weights keeps the pdf high
+// wherever that happens (no fireflies next to the sun), and the estimate unbiased.
+static std::vector<double> sampling_weights(const Environment& env) {
+    const int w = env.width, h = env.height;
+    std::vector<double> lum(static_cast<size_t>(w) * h), out(lum.size());
+    for (size_t i = 0; i < lum.size(); ++i) lum[i] = std::max(0.0, luminance(env.rgb + 3 * i));
+    for (int r = 0; r < h; ++r) {
+        const double sin_theta = std::sin(kPi * (r + 0.5) / h);
+        for (int c = 0; c < w; ++c) {
+            double m = 0;
+            for (int dr = -1; dr <= 1; ++dr)
+                for (int dc = -1; dc <= 1; ++dc) {
+                    const int rr = std::clamp(r + dr, 0, h - 1), cc = (c + dc + w) % w;
+                    m = std::max(m, lum[static_cast<size_t>(rr) * w + cc]);
+                }
+            out[static_cast<size_t>(r) * w + c] = m * sin_theta;
+        }
+    }
+    return out;
+}
+
 void prepare_environment(Environment& env) {
     if (!env.present || !env.is_map) return;
     const int w = env.width, h = env.height;
     if (w < 1 || h < 1 || env.rgb == nullptr) throw std::invalid_argument("environment map has no pixels");
+    const std::vector<double> weight = sampling_weights(env);
     env.row_cdf.assign(h + 1, 0.0f);
     env.col_cdf.assign(static_cast<size_t>(h) * (w + 1), 0.0f);
     env.pixel_pdf.assign(static_cast<size_t>(h) * w, 0.0f);
     std::vector<double> row_sum(h, 0.0);
-    double total = 0, solid_weighted = 0;
+    double total = 0, lum_integral = 0;
     for (int r = 0; r < h; ++r) {
         const double sin_theta = std::sin(kPi * (r + 0.5) / h);
         double acc = 0;
         float* cdf = &env.col_cdf[static_cast<size_t>(r) * (w + 1)];
         for (int c = 0; c < w; ++c) {
-            const double lum = std::max(0.0, luminance(env.rgb + 3 * (static_cast<size_t>(r) * w + c)));
-            acc += lum * sin_theta;
+            const size_t i = static_cast<size_t>(r) * w + c;
+            acc += weight[i];
             cdf[c + 1] = static_cast<float>(acc);
+            lum_integral += std::max(0.0, luminance(env.rgb + 3 * i)) * sin_theta;
         }
         for (int c = 1; c <= w; ++c) cdf[c] = acc > 0 ? static_cast<float>(cdf[c] / acc) : static_cast<float>(c) / w;
         cdf[w] = 1.0f;
         row_sum[r] = acc;
         total += acc;
     }
-    solid_weighted = total * (2 * kPi / w) * (kPi / h);  // integral of luminance over the sphere
-    env.mean_luminance = static_cast<float>(solid_weighted / (4 * kPi) * env.intensity);
+    lum_integral *= (2 * kPi / w) * (kPi / h);  // the integral of luminance over the sphere
+    env.mean_luminance = static_cast<float>(lum_integral / (4 * kPi) * env.intensity);
     double acc = 0;
     for (int r = 0; r < h; ++r) {
         acc += row_sum[r];
         env.row_cdf[r + 1] = total > 0 ? static_cast<float>(acc / total) : static_cast<float>(r + 1) / h;
     }
     env.row_cdf[h] = 1.0f;
-    // pdf over (u, v): pixel weight / (mean weight) -- integrates to 1 over the unit square
-    for (int r = 0; r < h; ++r) {
-        const double sin_theta = std::sin(kPi * (r + 0.5) / h);
-        for (int c = 0; c < w; ++c) {
-            const size_t i = static_cast<size_t>(r) * w + c;
-            const double lum = std::max(0.0, luminance(env.rgb + 3 * i));
-            env.pixel_pdf[i] = total > 0 ? static_cast<float>(lum * sin_theta * w * h / total) : 1.0f;
-        }
-    }
+    // pdf over (u, v): pixel weight / mean weight, so it integrates to 1 over the unit square
+    for (size_t i = 0; i < env.pixel_pdf.size(); ++i)
+        env.pixel_pdf[i] = total > 0 ? static_cast<float>(weight[i] * w * h / total) : 1.0f;
 }
 
 void prepare_light_selection(RenderScene& s) {

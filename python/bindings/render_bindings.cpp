@@ -48,9 +48,13 @@ void get_rgb(const nb::dict& d, const char* key, float* out) {
 }
 void get_vec3(const nb::dict& d, const char* key, float* out) { get_rgb(d, key, out); }
 
-std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, Tris indices, Rows3 normals, nb::object tangents,
-                                        IntVector tri_material, const nb::dict& camera) {
+// Arrays are taken as Python objects and kept: the scene points into their buffers.
+std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, nb::object indices_obj, nb::object normals_obj,
+                                        nb::object tangents, nb::object tri_material_obj, const nb::dict& camera) {
     auto h = std::make_unique<SceneHandle>();
+    const Tris indices = nb::cast<Tris>(indices_obj);
+    const Rows3 normals = nb::cast<Rows3>(normals_obj);
+    const IntVector tri_material = nb::cast<IntVector>(tri_material_obj);
     const Accel& accel = nb::cast<const Accel&>(accel_obj);
     patina::RenderScene& s = h->scene;
     const size_t nt = indices.shape(0);
@@ -67,12 +71,12 @@ std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, Tris indices, Rows
     s.normals = normals.data();
     s.tri_material = tri_material.data();
     s.triangle_count = nt;
-    h->keep = {accel_obj, nb::cast(indices), nb::cast(normals), nb::cast(tri_material)};
+    h->keep = {accel_obj, indices_obj, normals_obj, tri_material_obj};
     if (!tangents.is_none()) {
-        Rows3 t = nb::cast<Rows3>(tangents);
+        const Rows3 t = nb::cast<Rows3>(tangents);
         if (t.shape(0) != nv) throw std::invalid_argument("tangents needs one row per vertex");
         s.tangents = t.data();
-        h->keep.push_back(nb::cast(t));
+        h->keep.push_back(tangents);
     }
     patina::Camera& c = s.camera;
     get_vec3(camera, "position", c.position);
@@ -166,12 +170,12 @@ void set_environment(SceneHandle& h, nb::object rgb, const std::vector<float>& c
     e.intensity = intensity;
     e.rotation = rotation;
     if (!rgb.is_none()) {
-        Image img = nb::cast<Image>(rgb);
+        const Image img = nb::cast<Image>(rgb);
         e.is_map = true;
         e.height = static_cast<int>(img.shape(0));
         e.width = static_cast<int>(img.shape(1));
         e.rgb = img.data();
-        h.keep.push_back(nb::cast(img));
+        h.keep.push_back(rgb);
     } else {
         if (constant.size() != 3) throw std::invalid_argument("a constant environment needs 3 values");
         for (int k = 0; k < 3; ++k) e.constant[k] = constant[k];

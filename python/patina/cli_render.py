@@ -25,8 +25,10 @@ def _render_and_write(scene: Any, args: argparse.Namespace) -> int:
     write_outputs(scene, result, args.out, png, exposure=args.exposure, curve=args.tonemap)
     rate = result.rays / max(result.seconds, 1e-9) / 1e6
     state = "complete" if result.complete else f"PARTIAL (at least {int(result.samples.min())} of {result.spp} spp)"
-    print(f"rendered {scene.camera.width}x{scene.camera.height}, {result.spp} spp, {state}: "
-          f"{result.seconds:.2f} s, {rate:.2f} Mrays/s, SIMD width {result.simd_width}, {result.threads} threads")  # fmt: skip
+    print(
+        f"rendered {scene.camera.width}x{scene.camera.height}, {result.spp} spp, {state}: "
+        f"{result.seconds:.2f} s, {rate:.2f} Mrays/s, SIMD width {result.simd_width}, {result.threads} threads"
+    )
     print(f"wrote {args.out}" + (f" and {png}" if png else ""))
     if not result.complete:
         return 130
@@ -40,16 +42,19 @@ def cmd_render(args: argparse.Namespace) -> int:
     from .scene_file import load_scene, with_overrides
 
     scene = load_scene(args.scene)
-    scene = with_overrides(scene, spp=args.spp, integrator=args.integrator, seed=args.seed, width=args.width,
-                           height=args.height)  # fmt: skip
+    scene = with_overrides(
+        scene, spp=args.spp, integrator=args.integrator, seed=args.seed, width=args.width, height=args.height
+    )
     return _render_and_write(scene, args)
 
 
 def default_environment() -> str:
     """The bundled studio environment: installed with the package, else the repository's."""
     here = os.path.dirname(os.path.abspath(__file__))
-    for path in (os.path.join(here, "data", "studio.exr"),
-                 os.path.join(here, "..", "..", "materials", "env", "studio.exr")):  # fmt: skip
+    for path in (
+        os.path.join(here, "data", "studio.exr"),
+        os.path.join(here, "..", "..", "materials", "env", "studio.exr"),
+    ):
         if os.path.isfile(path):
             return os.path.abspath(path)
     raise FileNotFoundError("the bundled studio environment is missing; pass --env FILE")
@@ -88,8 +93,9 @@ def cmd_preview(args: argparse.Namespace) -> int:
     env = args.env or default_environment()
     obj = preview_scene_dict(args.material, env, args.shape, args.coat)
     scene = parse_scene(obj, os.path.join(os.getcwd(), "(preview)"))
-    scene = with_overrides(scene, spp=args.spp, integrator=args.integrator, seed=args.seed, width=args.width,
-                           height=args.height)  # fmt: skip
+    scene = with_overrides(
+        scene, spp=args.spp, integrator=args.integrator, seed=args.seed, width=args.width, height=args.height
+    )
     return _render_and_write(scene, args)
 
 

@@ -80,11 +80,21 @@ class _Geometry:
 
     def arrays(self) -> tuple[np.ndarray, ...]:
         if not self.vertices:
-            return (np.zeros((0, 3), np.float32), np.zeros((0, 3), np.int32), np.zeros((0, 3), np.float32),
-                    np.zeros((0, 3), np.float32), np.zeros(0, np.int32))  # fmt: skip
+            return (
+                np.zeros((0, 3), np.float32),
+                np.zeros((0, 3), np.int32),
+                np.zeros((0, 3), np.float32),
+                np.zeros((0, 3), np.float32),
+                np.zeros(0, np.int32),
+            )
         c = lambda parts, dt: np.ascontiguousarray(np.concatenate(parts), dtype=dt)  # noqa: E731
-        return (c(self.vertices, np.float32), c(self.indices, np.int32), c(self.normals, np.float32),
-                c(self.tangents, np.float32), c(self.materials, np.int32))  # fmt: skip
+        return (
+            c(self.vertices, np.float32),
+            c(self.indices, np.int32),
+            c(self.normals, np.float32),
+            c(self.tangents, np.float32),
+            c(self.materials, np.int32),
+        )
 
 
 def shape_mesh(shape: Shape) -> Any:
@@ -165,8 +175,16 @@ class PreparedScene:
             if isinstance(light, PointLight):
                 lights.append({"kind": "point", "position": list(light.position), "power": list(light.intensity)})
             elif isinstance(light, QuadLight):
-                lights.append({"kind": "quad", "position": list(light.center), "u": list(light.u),
-                               "v": list(light.v), "power": list(light.radiance), "two_sided": light.two_sided})  # fmt: skip
+                lights.append(
+                    {
+                        "kind": "quad",
+                        "position": list(light.center),
+                        "u": list(light.u),
+                        "v": list(light.v),
+                        "power": list(light.radiance),
+                        "two_sided": light.two_sided,
+                    }
+                )
                 core_materials.append({"kind": "emitter", "light": len(lights) - 1, "two_sided": light.two_sided})
                 geometry.add(*_quad_triangles(light), len(core_materials) - 1)
             else:
@@ -230,8 +248,14 @@ def render(
     `scene_file.with_overrides` first). width: SIMD width 1, 4 or 8 (None: the widest)."""
     prep = prepared or PreparedScene(scene)
     simd = core_width(width)
-    job = _core.RenderJob(prep.core, spp=scene.render.spp, max_depth=core_depth(scene), seed=scene.render.seed,
-                          threads=threads, width=simd)  # fmt: skip
+    job = _core.RenderJob(
+        prep.core,
+        spp=scene.render.spp,
+        max_depth=core_depth(scene),
+        seed=scene.render.seed,
+        threads=threads,
+        width=simd,
+    )
     bar = _Progress(progress)
     interrupted = False
     job.start()
@@ -251,11 +275,19 @@ def render(
     resolved_threads = threads if threads > 0 else (os.cpu_count() or 1)
     complete = bool(p["finished"]) and not interrupted
     return RenderResult(
-        rgb=images["rgb"], albedo=images["albedo"], normal=images["normal"], depth=images["depth"],
-        illuminance=images["illuminance"], samples=images["samples"], spp=scene.render.spp,
-        seconds=float(p["seconds"]), rays=int(p["rays"]), complete=complete,
-        simd_width=simd if simd else _core.default_width(), threads=resolved_threads,
-    )  # fmt: skip
+        rgb=images["rgb"],
+        albedo=images["albedo"],
+        normal=images["normal"],
+        depth=images["depth"],
+        illuminance=images["illuminance"],
+        samples=images["samples"],
+        spp=scene.render.spp,
+        seconds=float(p["seconds"]),
+        rays=int(p["rays"]),
+        complete=complete,
+        simd_width=simd if simd else _core.default_width(),
+        threads=resolved_threads,
+    )
 
 
 def metadata(scene: Scene, result: RenderResult) -> dict[str, str | float | int]:
@@ -279,9 +311,13 @@ def metadata(scene: Scene, result: RenderResult) -> dict[str, str | float | int]
 
 
 def write_outputs(
-    scene: Scene, result: RenderResult, exr_path: str, png_path: str | None, exposure: float = 0.0,
+    scene: Scene,
+    result: RenderResult,
+    exr_path: str,
+    png_path: str | None,
+    exposure: float = 0.0,
     curve: str = "filmic",
-) -> None:  # fmt: skip
+) -> None:
     """The EXR (beauty and AOVs, metadata) and the tone-mapped PNG, each written atomically."""
     from .images import write_exr, write_png
 
