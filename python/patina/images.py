@@ -110,6 +110,8 @@ def _open(path: str | os.PathLike, max_pixels: int) -> tuple[Path, oiio.ImageInp
         problem = f"declared size {width} x {height} = {width * height} pixels exceeds the limit of {max_pixels}"
     elif not 1 <= nchannels <= MAX_CHANNELS:
         problem = f"declared {nchannels} channels (1 to {MAX_CHANNELS} allowed)"
+    elif spec.deep:
+        problem = "deep (multi-sample) images are not supported"
     if problem:
         inp.close()
         raise FormatError(str(path), "header", problem)
@@ -123,10 +125,12 @@ def _read_channels(path: Path, inp: oiio.ImageInput, spec: oiio.ImageSpec, first
         problem = _oiio_problem("pixel data could not be read", inp) if pixels is None else ""
     finally:
         inp.close()
+    shape = (spec.height, spec.width, last - first)
+    if not problem and np.size(pixels) != math.prod(shape):
+        problem = f"OpenImageIO returned {np.size(pixels)} values for {shape}"
     if problem:
         raise FormatError(str(path), "pixel data", problem)
-    pixels = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, last - first)
-    return pixels
+    return np.asarray(pixels, dtype=np.float32).reshape(shape)
 
 
 def _check_finite(path: Path, pixels: np.ndarray, names: list[str]) -> None:
