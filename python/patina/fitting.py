@@ -25,15 +25,22 @@ Cy cannot be told from Cx, so the fit has one `cxy`; on an anisotropic table, or
 `anisotropic=True`, `cx` and `cy` are fitted apart.
 
 `coat=True` adds a clear coat (GGX roughness, exact dielectric Fresnel of index eta) that
-dims the rest by its Fresnel transmission (1 - F(cos_i)) (1 - F(cos_o)). That transmission
-depends on eta almost only through its overall level (about (1 - F0)^2, F0 = ((eta - 1) /
-(eta + 1))^2) away from grazing, which the base's diffuse albedo and f0 can absorb; and the
-only other trace of eta is the height of the coat's sharp, sparsely sampled highlight. So
-eta, the albedo and f0 are near-degenerate: fitted together they wander along the valley
-and the base is not recovered. The coat's index is therefore held at `coat_eta` (1.5 by
-default: clear lacquers and polymers lie within about 1.45-1.6, where F0 moves by under
-0.01) and the base is identified given it; `fit_coat_eta=True` frees eta in [1.2, 2.2] for
-tables that constrain it, and then the base parameters are only as good as that constraint.
+dims the rest by its Fresnel transmission (1 - F(cos_i)) (1 - F(cos_o)). Fitted freely,
+such a coat left the base's albedo, f0 and roughness off their values, for two reasons.
+Conditioning: the coat's sharp highlight dominates the loss's curvature while the base's
+parameters trade off along a long, shallow valley (a dim, rough base lobe looks much like a
+little more albedo), which BOBYQA's interpolated quadratic creeps along and stops in; so
+coated fits (and Lafortune fits, whose broad lobes trade with the albedo the same way) end
+with a Levenberg-Marquardt polish on the loss's residuals (scipy's least_squares), whose
+Jacobian follows the valley to its floor. Identifiability: the transmission depends on eta
+almost only through its level, about (1 - F0)^2 with F0 = ((eta - 1) / (eta + 1))^2 away
+from grazing, which the albedo and f0 absorb; what pins eta is the height of the coat's
+highlight, which a measured table blurs (instrument aperture, sparse knots) into the coat
+roughness. A wrong eta is absorbed by the base (on a synthetic table, eta off by 0.05 moved
+the base roughness by half). So the coat's index is held at `coat_eta`, 1.5 by default
+(clear lacquers and polymers lie within about 1.45-1.6), and the base is identified given
+it; `fit_coat_eta=True` frees eta in [1.2, 2.2] for tables that resolve the highlight
+(a synthetic table does: eta and the base are then recovered too).
 
 The search is bounded, a global stage (nlopt's CRS2 with local mutation) on a random
 subsample of the table, then several local starts (BOBYQA) on a larger one; the loss
@@ -139,9 +146,11 @@ class _Space:
         for k in range(self.lobes):
             tag = "" if self.lobes == 1 else f"_{k + 1}"
             for shape in LOBES[self.lobe]:
-                names = [f"{shape.name}{tag}_{c}" for c in "rgb"] if self.per_channel and shape.coloured else [
-                    f"{shape.name}{tag}"
-                ]
+                names = (
+                    [f"{shape.name}{tag}_{c}" for c in "rgb"]
+                    if self.per_channel and shape.coloured
+                    else [f"{shape.name}{tag}"]
+                )
                 lo, hi = (math.log10(shape.lo), math.log10(shape.hi)) if shape.log else (shape.lo, shape.hi)
                 entries += [_Param(n, lo, hi, shape.log, shape.fixed) for n in names]
             entries += [_Param(f"{weight}{tag}_{c}") for c in "rgb"]
@@ -398,16 +407,16 @@ def fit(
         x, ok = _polish(space, fine_arrays, loss, best_x, lower, upper)
         value = loss_at(fine, x)
         if value < best_value:
-            best_x, best_value, converged = x, value, converged or ok
+            best_x, best_value = x, value
+            if ok:  # the polish converged from where BOBYQA stopped
+                converged, best_code = True, nlopt.SUCCESS
     messages = {
         nlopt.MAXEVAL_REACHED: "evaluation limit reached before convergence",
         nlopt.MAXTIME_REACHED: "time limit reached before convergence",
     }
     message = "converged" if converged else messages.get(best_code, f"nlopt stopped with code {best_code}")
     span = upper - lower
-    at_bounds = [
-        n for n, v, lo, s in zip(space.free_names, best_x, lower, span) if min(v - lo, lo + s - v) < 1e-6 * s
-    ]
+    at_bounds = [n for n, v, lo, s in zip(space.free_names, best_x, lower, span) if min(v - lo, lo + s - v) < 1e-6 * s]
     wi, wo, measured, _ = every
     best = space.params(best_x)
     predicted = _core.mixture_eval(space.kernel_name, best, wi, wo, 0, space.per_channel).astype(np.float64)
