@@ -187,7 +187,8 @@ TEST(Lobes, MixtureLobesAreTheModelsOfMicrofacetH) {
     laf.lafortune_c[0][2] = 0.9f;
     const auto fw = eval(ward, wi, wo), fa = eval(as, wi, wo), fl = eval(laf, wi, wo);
     for (size_t i = 0; i < wi.size() / 3; ++i) {
-        const patina::Dir3<float> a{wi[3 * i], wi[3 * i + 1], wi[3 * i + 2]}, b{wo[3 * i], wo[3 * i + 1], wo[3 * i + 2]};
+        const patina::Dir3<float> a{wi[3 * i], wi[3 * i + 1], wi[3 * i + 2]};
+        const patina::Dir3<float> b{wo[3 * i], wo[3 * i + 1], wo[3 * i + 2]};
         ASSERT_FLOAT_EQ(fw[3 * i], ward_eval(a, b, 0.1f, 0.35f, 0.3f));
         ASSERT_FLOAT_EQ(fa[3 * i], ashikhmin_shirley_eval(a, b, 300.0f, 15.0f, 0.05f));
         ASSERT_FLOAT_EQ(fl[3 * i], lafortune_eval(a, b, -1.2f, -0.7f, 0.9f, 25.0f, 0.4f * 27.0f * (0.5f * kInvPi)));
