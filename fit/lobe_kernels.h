@@ -8,19 +8,24 @@
 namespace patina {
 
 // The specular lobes a mixture can hold (all lobes of one mixture are of one kind).
-enum class LobeKind : int { GGX = 0, Beckmann = 1, BlinnPhong = 2, Ward = 3, AshikhminShirley = 4 };
+enum class LobeKind : int { GGX = 0, Beckmann = 1, BlinnPhong = 2, Ward = 3, AshikhminShirley = 4, Lafortune = 5 };
 constexpr int kMaxLobes = 3;
 
 // A Lambert base (RGB albedo rho) under 1 to kMaxLobes specular lobes, each with a shape
-// (GGX / Beckmann / Ward roughness alpha, Blinn-Phong / Ashikhmin-Shirley exponent; the
-// last isotropic here, nu = nv), per channel or shared, and an RGB weight (Schlick
-// f0; Ward's specular albedo, as Ward has no Fresnel term): the shared-shape colour model.
+// (GGX / Beckmann / Ward roughness alpha, Blinn-Phong / Ashikhmin-Shirley / Lafortune
+// exponent), per channel or shared, and an RGB weight (Schlick f0; Ward's specular albedo,
+// as Ward has no Fresnel term; Lafortune's w in w (n + 2) / (2 pi) (Cx xi xo + Cy yi yo +
+// Cz zi zo)^n, the Phong normalisation): the shared-shape colour model.
+// Ward and Ashikhmin-Shirley are anisotropic about the local x axis (the tangent): shape is
+// alpha_x / nu, shape_y alpha_y / nv; an isotropic lobe has shape_y equal to shape.
 struct MixtureParams {
     float rho[3];
     LobeKind kind = LobeKind::GGX;
     int lobes = 1;
-    float shape[kMaxLobes][3] = {};  // per channel (equal in the shared-shape fit)
+    float shape[kMaxLobes][3] = {};    // per channel (equal in the shared-shape fit)
+    float shape_y[kMaxLobes][3] = {};  // Ward, Ashikhmin-Shirley: along y (= shape when isotropic)
     float weight[kMaxLobes][3] = {};
+    float lafortune_c[kMaxLobes][3] = {};  // Lafortune: Cx, Cy, Cz of each lobe, shared by the channels
     // Optional clear coat: a smooth-to-rough dielectric layer (GGX of roughness coat_alpha,
     // exact Fresnel of index coat_eta) over the base, which is dimmed by (1 - F(cos_i)) (1 - F(cos_o)).
     bool coat = false;
@@ -33,7 +38,8 @@ struct LobeKernels {
     // out[i] = the mixture at (wi[i], wo[i]), (n, 3)
     void (*eval_mixture)(const MixtureParams& p, const float* wi, const float* wo, float* out, size_t n);
     // wo[i] sampled from a lobe (GGX, Beckmann, Blinn-Phong: D(h) cos(theta_h); Ward: its own
-    // scheme, isotropic) of the given shape, given wi and two uniforms; pdf[i] its density
+    // scheme, isotropic; Lafortune: the Phong lobe Cx = Cy = -1, Cz = 1 of exponent shape) of the
+    // given shape, given wi and two uniforms; pdf[i] its density
     void (*sample_lobe)(LobeKind kind, float shape, const float* wi, const float* u1, const float* u2, float* wo,
                         float* pdf, size_t n);
     // cosine-weighted wo from two uniforms; pdf[i] = cos / pi

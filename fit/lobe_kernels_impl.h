@@ -58,13 +58,19 @@ void store_lanes(float* p, size_t i, int lanes, F v) {
 F mixture_channel(const MixtureParams& p, const Dir3<F>& a, const Dir3<F>& b, int ch) {
     F f = microfacet::lambert_eval(a, b, F(p.rho[ch]));
     for (int l = 0; l < p.lobes; ++l) {
-        const F shape(p.shape[l][ch]), w(p.weight[l][ch]);
+        const F shape(p.shape[l][ch]), shape_y(p.shape_y[l][ch]), w(p.weight[l][ch]);
         switch (p.kind) {
             case LobeKind::GGX: f += microfacet::ggx_eval(a, b, shape, w); break;
             case LobeKind::Beckmann: f += microfacet::beckmann_eval(a, b, shape, w); break;
             case LobeKind::BlinnPhong: f += microfacet::blinn_phong_eval(a, b, shape, w); break;
-            case LobeKind::Ward: f += microfacet::ward_eval(a, b, shape, shape, w); break;
-            case LobeKind::AshikhminShirley: f += microfacet::ashikhmin_shirley_eval(a, b, shape, shape, w); break;
+            case LobeKind::Ward: f += microfacet::ward_eval(a, b, shape, shape_y, w); break;
+            case LobeKind::AshikhminShirley: f += microfacet::ashikhmin_shirley_eval(a, b, shape, shape_y, w); break;
+            case LobeKind::Lafortune: {
+                const float* c = p.lafortune_c[l];
+                const F rho = w * (shape + F(2.0f)) * F(0.5f * microfacet::kInvPi);
+                f += microfacet::lafortune_eval(a, b, F(c[0]), F(c[1]), F(c[2]), shape, rho);
+                break;
+            }
         }
     }
     if (p.coat) {
@@ -110,6 +116,10 @@ void sample_lobe(LobeKind kind, float shape, const float* wi, const float* u1, c
             case LobeKind::AshikhminShirley:
                 s = microfacet::ashikhmin_shirley_sample(a, s1, s2, k, k);
                 p = microfacet::ashikhmin_shirley_pdf(a, s, k, k);
+                break;
+            case LobeKind::Lafortune:
+                s = microfacet::lafortune_sample(a, s1, s2, F(-1.0f), F(-1.0f), F(1.0f), k);
+                p = microfacet::lafortune_pdf(a, s, F(-1.0f), F(-1.0f), F(1.0f), k);
                 break;
         }
         store_rows(wo, i, lanes, s.x, s.y, s.z);

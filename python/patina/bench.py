@@ -261,8 +261,8 @@ def bench_fit(repeat: int, quick: bool) -> list[Record]:
     for w in _widths():
         t1, tw = _median_times(
             [
-                functools.partial(fs.lambert_ggx_loss, params, "l2cos", 1, 1),
-                functools.partial(fs.lambert_ggx_loss, params, "l2cos", w, 1),
+                functools.partial(fs.mixture_loss, "ggx", params, "l2cos", 1, 1),
+                functools.partial(fs.mixture_loss, "ggx", params, "l2cos", w, 1),
             ],
             repeat,
         )

@@ -5,7 +5,8 @@
     patina eval FILE --wi THETA PHI --wo THETA PHI [--json] [--width 1|4|8]
     patina validate FILE [--json]          (exit 0 clean, 1 problems found, 2 unreadable)
     patina fit FILE [--model ggx+lambert] [--lobes K] [--loss l2cos|log] [--out fit.json]
-    patina fit FILE --compare ggx+lambert beckmann+lambert blinnphong+lambert:2
+               [--coat [--coat-eta 1.5 | --fit-coat-eta]] [--per-channel] [--anisotropic]
+    patina fit FILE --compare ggx+lambert beckmann+lambert lafortune+lambert:2 ward-aniso+lambert
     patina plot FILE [--fit fit.json] --out DIR [--no-3d] [--3d-log] [--3d-no-cos]
     patina slices FILE --out PNG
     patina bench [--only GROUP] [--json FILE]
@@ -149,6 +150,22 @@ def cmd_validate(args: argparse.Namespace) -> int:
     return 0 if report.ok else 1
 
 
+def _model_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The fit options --compare shares with a single fit."""
+    if (args.coat_eta is not None or args.fit_coat_eta) and not args.coat:
+        raise UsageError("fit: --coat-eta and --fit-coat-eta need --coat")
+    if args.coat_eta is not None and args.fit_coat_eta:
+        raise UsageError("fit: give --coat-eta (a held index) or --fit-coat-eta (a fitted one), not both")
+    options: dict[str, Any] = {"loss": args.loss, "coat": args.coat, "per_channel": args.per_channel}
+    if args.coat_eta is not None:
+        options["coat_eta"] = args.coat_eta
+    if args.fit_coat_eta:
+        options["fit_coat_eta"] = True
+    if args.anisotropic:
+        options["anisotropic"] = True
+    return options
+
+
 def cmd_fit(args: argparse.Namespace) -> int:
     from . import load_brdf
     from .fitting import compare, fit, write_fit
@@ -157,7 +174,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
         raise UsageError("fit: --starts must be at least 1")
     brdf = load_brdf(args.file)
     if args.compare:
-        results = compare(brdf, args.compare, loss=args.loss, starts=args.starts, seed=args.seed)
+        results = compare(brdf, args.compare, starts=args.starts, seed=args.seed, **_model_options(args))
         if args.json:
             _print_json([r.as_json() for r in results])
         else:
@@ -176,16 +193,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
         if args.out:
             write_fit(results[0], args.out)
         return 0 if all(r.converged for r in results) else 1
-    result = fit(
-        brdf,
-        model=args.model,
-        loss=args.loss,
-        lobes=args.lobes,
-        coat=args.coat,
-        per_channel=args.per_channel,
-        starts=args.starts,
-        seed=args.seed,
-    )
+    result = fit(brdf, model=args.model, lobes=args.lobes, starts=args.starts, seed=args.seed, **_model_options(args))
     if args.out:
         write_fit(result, args.out)
     if args.json:
@@ -268,9 +276,18 @@ def build_parser() -> argparse.ArgumentParser:
 
     s = sub.add_parser("fit", help="fit an analytic model to a table (nlopt)")
     s.add_argument("file")
-    s.add_argument("--model", default="ggx+lambert", help="ggx, beckmann, blinnphong, ward or ashikhmin + lambert")
+    s.add_argument(
+        "--model",
+        default="ggx+lambert",
+        help="ggx, beckmann, blinnphong, ward, ashikhmin, ward-aniso, ashikhmin-aniso or lafortune + lambert",
+    )
     s.add_argument("--lobes", type=int, default=1, help="specular lobes, 1 to 3")
-    s.add_argument("--coat", action="store_true", help="add a clear coat (roughness, index of refraction)")
+    s.add_argument("--coat", action="store_true", help="add a clear coat (roughness; index of refraction held)")
+    s.add_argument("--coat-eta", type=float, default=None, metavar="ETA", help="the coat's held index (default 1.5)")
+    s.add_argument("--fit-coat-eta", action="store_true", help="fit the coat's index too (weakly identified)")
+    s.add_argument(
+        "--anisotropic", action="store_true", help="lafortune: Cx and Cy apart (default: on anisotropic tables)"
+    )
     s.add_argument("--per-channel", action="store_true", help="a lobe shape per colour channel (default: shared)")
     s.add_argument("--compare", nargs="+", metavar="MODEL", help="fit several models (MODEL or MODEL:LOBES), rank them")
     s.add_argument("--loss", default="l2cos", choices=("l2cos", "log"))

@@ -56,6 +56,14 @@ def isotropic_grid(theta_i: np.ndarray, theta_o: np.ndarray, phi_d: np.ndarray) 
     return wi, wo
 
 
+def anisotropic_grid(
+    theta_i: np.ndarray, phi_i: np.ndarray, theta_o: np.ndarray, phi_o: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Direction pairs (wi, wo) at every knot of an anisotropic grid, C order (phi from the local x axis)."""
+    ti, pi, to, po = np.meshgrid(theta_i, phi_i, theta_o, phi_o, indexing="ij")
+    return angles_to_directions(ti.ravel(), pi.ravel()), angles_to_directions(to.ravel(), po.ravel())
+
+
 def halfdiff_to_directions(
     theta_h: np.ndarray, theta_d: np.ndarray, phi_d: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:

@@ -43,6 +43,7 @@ MixtureParams mixture(float r, float g, float b, float alpha, float f0r, float f
     p.kind = kind;
     p.lobes = 1;
     p.shape[0][0] = p.shape[0][1] = p.shape[0][2] = alpha;
+    p.shape_y[0][0] = p.shape_y[0][1] = p.shape_y[0][2] = alpha;
     p.weight[0][0] = f0r;
     p.weight[0][1] = f0g;
     p.weight[0][2] = f0b;
@@ -126,6 +127,71 @@ TEST(Lobes, WideWidthsMatchScalar) {
         lobe_kernels_for(w).sample_lobe(LobeKind::GGX, 0.3f, wi.data(), u1.data(), u2.data(), sw.data(), pw.data(), pw.size());
         EXPECT_EQ(sw, s1) << "width " << w;
         EXPECT_EQ(pw, p1) << "width " << w;
+    }
+}
+
+// Three lobes of each new kind (anisotropic Ward and Ashikhmin-Shirley, Lafortune), with
+// per-channel shapes and a coat: every wide width gives width 1's values bit for bit, and
+// each mixture is reciprocal bit for bit.
+TEST(Lobes, AnisotropicAndLafortuneMixturesMatchScalarAndAreReciprocal) {
+    const auto wi = hemisphere(10007, 30), wo = hemisphere(10007, 31);
+    struct Case {
+        LobeKind kind;
+        float x[3], y[3];  // shape and shape_y of lobe 0, 1, 2 (channel 0; the others vary)
+    };
+    const Case cases[] = {
+        {LobeKind::Ward, {0.05f, 0.2f, 0.5f}, {0.3f, 0.06f, 0.5f}},
+        {LobeKind::AshikhminShirley, {400.0f, 20.0f, 3.0f}, {30.0f, 900.0f, 3.0f}},
+        {LobeKind::Lafortune, {60.0f, 6.0f, 1.5f}, {0.0f, 0.0f, 0.0f}},
+    };
+    const float c[3][3] = {{-1.1f, -0.9f, 1.0f}, {0.8f, 0.8f, 1.0f}, {0.0f, 0.0f, 0.7f}};  // forward, retro, normal
+    for (const Case& k : cases) {
+        for (bool coat : {false, true}) {
+            MixtureParams p = mixture(0.3f, 0.5f, 0.2f, 0.0f, 0.0f, 0.0f, 0.0f, k.kind);
+            p.lobes = 3;
+            p.coat = coat;
+            for (int l = 0; l < 3; ++l)
+                for (int ch = 0; ch < 3; ++ch) {
+                    p.shape[l][ch] = k.x[l] * (1.0f + 0.1f * ch);
+                    p.shape_y[l][ch] = k.y[l] * (1.0f + 0.1f * ch);
+                    p.weight[l][ch] = 0.05f + 0.1f * float(l + ch);
+                    p.lafortune_c[l][ch] = c[l][ch];
+                }
+            const auto r1 = eval(p, wi, wo, 1);
+            EXPECT_EQ(eval(p, wo, wi, 1), r1) << "kind " << int(k.kind) << " coat " << coat;
+            for (float v : r1) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f) << "kind " << int(k.kind);
+            for (int w : {4, 8}) {
+                if (width_supported(w)) {
+                    EXPECT_EQ(eval(p, wi, wo, w), r1) << "kind " << int(k.kind) << " coat " << coat << " width " << w;
+                }
+            }
+        }
+    }
+}
+
+// The mixture's anisotropic lobes are the microfacet.h lobes with alpha_x / nu along the
+// local x axis, and its Lafortune lobe is w (n + 2) / (2 pi) times lafortune_eval.
+TEST(Lobes, MixtureLobesAreTheModelsOfMicrofacetH) {
+    using patina::microfacet::ashikhmin_shirley_eval;
+    using patina::microfacet::kInvPi;
+    using patina::microfacet::lafortune_eval;
+    using patina::microfacet::ward_eval;
+    const auto wi = hemisphere(2000, 32), wo = hemisphere(2000, 33);
+    MixtureParams ward = mixture(0, 0, 0, 0.1f, 0.3f, 0.3f, 0.3f, LobeKind::Ward);
+    ward.shape_y[0][0] = ward.shape_y[0][1] = ward.shape_y[0][2] = 0.35f;
+    MixtureParams as = mixture(0, 0, 0, 300.0f, 0.05f, 0.05f, 0.05f, LobeKind::AshikhminShirley);
+    as.shape_y[0][0] = as.shape_y[0][1] = as.shape_y[0][2] = 15.0f;
+    MixtureParams laf = mixture(0, 0, 0, 25.0f, 0.4f, 0.4f, 0.4f, LobeKind::Lafortune);
+    laf.lafortune_c[0][0] = -1.2f;
+    laf.lafortune_c[0][1] = -0.7f;
+    laf.lafortune_c[0][2] = 0.9f;
+    const auto fw = eval(ward, wi, wo), fa = eval(as, wi, wo), fl = eval(laf, wi, wo);
+    for (size_t i = 0; i < wi.size() / 3; ++i) {
+        const patina::Dir3<float> a{wi[3 * i], wi[3 * i + 1], wi[3 * i + 2]};
+        const patina::Dir3<float> b{wo[3 * i], wo[3 * i + 1], wo[3 * i + 2]};
+        ASSERT_FLOAT_EQ(fw[3 * i], ward_eval(a, b, 0.1f, 0.35f, 0.3f));
+        ASSERT_FLOAT_EQ(fa[3 * i], ashikhmin_shirley_eval(a, b, 300.0f, 15.0f, 0.05f));
+        ASSERT_FLOAT_EQ(fl[3 * i], lafortune_eval(a, b, -1.2f, -0.7f, 0.9f, 25.0f, 0.4f * 27.0f * (0.5f * kInvPi)));
     }
 }
 
@@ -297,11 +363,15 @@ TEST(Lobes, EveryKindSamplesItsPdf) {
     using namespace patina::microfacet;
     const size_t n = 1000000;
     const auto u1 = uniforms(n, 14), u2 = uniforms(n, 15);
-    for (LobeKind kind :
-         {LobeKind::GGX, LobeKind::Beckmann, LobeKind::BlinnPhong, LobeKind::Ward, LobeKind::AshikhminShirley}) {
+    for (LobeKind kind : {LobeKind::GGX, LobeKind::Beckmann, LobeKind::BlinnPhong, LobeKind::Ward,
+                          LobeKind::AshikhminShirley, LobeKind::Lafortune}) {
         for (float alpha : {0.12f, 0.45f}) {
-            const bool exponent = kind == LobeKind::BlinnPhong || kind == LobeKind::AshikhminShirley;
-            const float shape = exponent ? 2.0f / (alpha * alpha) - 2.0f : alpha;
+            const bool exponent =
+                kind == LobeKind::BlinnPhong || kind == LobeKind::AshikhminShirley || kind == LobeKind::Lafortune;
+            // a Phong lobe about the mirror direction is half as wide in wo as Blinn-Phong's is in h:
+            // a quarter of the exponent gives it a like width (and the binning a like resolution)
+            const float blinn = 2.0f / (alpha * alpha) - 2.0f;
+            const float shape = kind == LobeKind::Lafortune ? 0.25f * blinn : exponent ? blinn : alpha;
             for (double theta : {0.25, 1.1}) {
                 const float w1[3] = {float(std::sin(theta)), 0.0f, float(std::cos(theta))};
                 auto sample = [&](size_t m) {
@@ -317,6 +387,7 @@ TEST(Lobes, EveryKindSamplesItsPdf) {
                         case LobeKind::Beckmann: return double(beckmann_pdf(a, b, shape));
                         case LobeKind::BlinnPhong: return double(blinn_phong_pdf(a, b, shape));
                         case LobeKind::AshikhminShirley: return double(ashikhmin_shirley_pdf(a, b, shape, shape));
+                        case LobeKind::Lafortune: return double(lafortune_pdf(a, b, -1.0f, -1.0f, 1.0f, shape));
                         default: return double(ward_pdf(a, b, shape, shape));
                     }
                 };
