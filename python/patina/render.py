@@ -219,7 +219,7 @@ class _Progress:
     """One line on stderr: a bar, samples/s, rays/s, time left. Quiet when not a terminal."""
 
     def __init__(self, enabled: bool) -> None:
-        self.enabled = enabled
+        self.enabled = enabled and sys.stderr.isatty()
         self.last = 0.0
 
     def update(self, p: dict[str, Any], final: bool = False) -> None:
