@@ -1,5 +1,5 @@
 # Patina's two commands (see README.md):
-#   make demo   set everything up, then import a bundled table, summarise, evaluate and plot it
+#   make demo   set everything up, then render the bundled car paint on the preview object under the studio map
 #   make test   set everything up, then lint (ruff) and run the C++ tests (ctest) and the Python tests (pytest)
 # and a few more for developers: make bench, make setup, make clean.
 
@@ -10,7 +10,8 @@ CPP_BUILD := build/cpp
 SOURCES   := $(shell find core brdf fit render python -name '*.cpp' -o -name '*.h' -o -name '*.py' 2>/dev/null) \
              CMakeLists.txt pyproject.toml tools/setup.sh tools/requirements-build.txt
 DEMO_OUT  := demo-out
-DEMO_TABLE := materials/red-plastic-iso.ptab
+DEMO_TABLE := materials/carpaint-base.ptab
+DEMO_SCENE := materials/scenes/preview-ball.json
 
 .PHONY: demo test lint test-cpp test-python bench setup clean
 
@@ -23,11 +24,8 @@ $(STAMP): $(SOURCES)
 demo: setup
 	@mkdir -p $(DEMO_OUT)
 	$(PATINA) info $(DEMO_TABLE)
-	$(PATINA) convert materials/red-plastic-iso.astm $(DEMO_OUT)/from-astm.ptab
-	$(PATINA) eval $(DEMO_TABLE) --wi 30 0 --wo 30 180
-	$(PATINA) eval $(DEMO_TABLE) --wi 30 0 --wo 60 90
-	$(PATINA) slices $(DEMO_TABLE) --out $(DEMO_OUT)/red-plastic-slices.png
-	@echo "demo: in-plane slices written to $(DEMO_OUT)/red-plastic-slices.png"
+	$(PATINA) render $(DEMO_SCENE) --out $(DEMO_OUT)/preview.exr
+	@echo "demo: car-paint preview in $(DEMO_OUT)/preview.png (tone-mapped) and $(DEMO_OUT)/preview.exr (float, AOVs)"
 
 test: lint test-cpp test-python
 
