@@ -40,6 +40,7 @@ struct ShadingPoint {
     int32_t material;
     float p[3], ng[3];                // position, geometric normal (towards the viewer)
     float t[3], b[3], n[3];           // shading frame: tangent, bitangent, normal
+    float eta;                        // dielectrics: index beyond the surface / index on the viewer's side
 };
 
 // Work arrays a thread reuses from batch to batch.
@@ -53,7 +54,7 @@ struct PathScratch {
     // per shading point, grouped by material
     std::vector<ShadingPoint> points, sorted;
     std::vector<int32_t> material_start;
-    std::vector<float> v_local, l_local, f, pdf, u_pick, u1, u2;
+    std::vector<float> v_local, l_local, f, pdf, eta, u_pick, u1, u2;
     // shadow rays
     std::vector<float> shadow_org, shadow_dir, shadow_tmax, shadow_rgb, shadow_lux;
     std::vector<int32_t> shadow_path;

@@ -75,8 +75,11 @@ inline bool make_shading_point(const RenderScene& s, int32_t prim, float u, floa
     }
     normalize3(sp.n);
     const float wo[3] = {-dir[0], -dir[1], -dir[2]};
+    const bool transmissive = m.kind == MaterialKind::Dielectric;
+    // the geometric normal (from the winding) points out of a closed dielectric
+    sp.eta = transmissive ? (dot3(sp.ng, wo) < 0 ? 1.0f / m.eta[0] : m.eta[0]) : 1.0f;
     if (dot3(sp.ng, wo) < 0) {
-        if (!m.two_sided) return false;
+        if (!m.two_sided && !transmissive) return false;
         for (int k = 0; k < 3; ++k) {
             sp.ng[k] = -sp.ng[k];
             sp.n[k] = -sp.n[k];
@@ -215,6 +218,7 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
         float* ll = grow(sc.l_local, 3 * np);
         float* fv = grow(sc.f, 3 * np);
         float* pdf = grow(sc.pdf, np);
+        float* eta = grow(sc.eta, np);
         float* upick = grow(sc.u_pick, np);
         float* u1 = grow(sc.u1, np);
         float* u2 = grow(sc.u2, np);
@@ -222,6 +226,7 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
             const ShadingPoint& sp = sc.sorted[q];
             const float wo[3] = {-dir[3 * sp.path], -dir[3 * sp.path + 1], -dir[3 * sp.path + 2]};
             to_local(sp, wo, vl + 3 * q);
+            eta[q] = sp.eta;
         }
 
         // 4. light sampling: one sample per point, its shadow ray queued
@@ -239,32 +244,36 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
                 const uint32_t key = cs[sp.path].key;
                 LightSample& ls = samples[q];
                 ok[q] = sample_light(s, sp.p, bounce_uniform(key, depth, kDimLightPick),
-                                     bounce_uniform(key, depth, kDimLightU), bounce_uniform(key, depth, kDimLightV), ls) &&
-                        dot3(ls.dir, sp.ng) > 0;
+                                     bounce_uniform(key, depth, kDimLightU), bounce_uniform(key, depth, kDimLightV), ls);
                 if (ok[q]) to_local(sp, ls.dir, ll + 3 * q);
                 else std::fill(ll + 3 * q, ll + 3 * q + 3, 0.0f);
+                // the light must be on the side the local direction says (shading normals bend)
+                const float side = dot3(ls.dir, sp.ng);
+                const bool transmissive = s.materials[sp.material].kind == MaterialKind::Dielectric;
+                ok[q] = ok[q] && (transmissive ? side * ll[3 * q + 2] > 0 : side > 0);
             }
             for (size_t k = 0; k < nm; ++k) {
                 const size_t a = sc.material_start[k], count = sc.material_start[k + 1] - a;
                 if (count == 0) continue;
-                material_eval(s.materials[k], ll + 3 * a, vl + 3 * a, fv + 3 * a, count);
-                material_pdf(s.materials[k], ll + 3 * a, vl + 3 * a, pdf + a, count);
+                material_eval(s.materials[k], ll + 3 * a, vl + 3 * a, eta + a, fv + 3 * a, count);
+                material_pdf(s.materials[k], ll + 3 * a, vl + 3 * a, eta + a, pdf + a, count);
             }
             for (size_t q = 0; q < np; ++q) {
                 if (!ok[q]) continue;
                 const ShadingPoint& sp = sc.sorted[q];
                 const LightSample& ls = samples[q];
-                const float cos_l = ll[3 * q + 2];
+                const float lz = ll[3 * q + 2], cos_l = std::abs(lz);
                 if (!(cos_l > 0)) continue;
                 const float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, pdf[q]);
                 const float* T = thr + 3 * sp.path;
                 float c[3];
                 for (int k = 0; k < 3; ++k) c[k] = T[k] * fv[3 * q + k] * cos_l * ls.rgb[k] * w / ls.pdf;
-                const float lux = depth == 0 ? kLumensPerWatt * luminance(ls.rgb) * cos_l / ls.pdf : 0.0f;
+                const float lux = depth == 0 && lz > 0 ? kLumensPerWatt * luminance(ls.rgb) * cos_l / ls.pdf : 0.0f;
+                const float side = lz > 0 ? eps : -eps;
                 if (c[0] <= 0 && c[1] <= 0 && c[2] <= 0 && lux <= 0) continue;
                 sc.shadow_path.push_back(sp.path);
                 for (int k = 0; k < 3; ++k) {
-                    sc.shadow_org.push_back(sp.p[k] + eps * sp.ng[k]);
+                    sc.shadow_org.push_back(sp.p[k] + side * sp.ng[k]);
                     sc.shadow_dir.push_back(ls.dir[k]);
                     sc.shadow_rgb.push_back(c[k]);
                 }
@@ -284,29 +293,30 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
             const size_t a = sc.material_start[k], count = sc.material_start[k + 1] - a;
             if (count == 0) continue;
             const Material& mat = s.materials[k];
-            material_sample(mat, vl + 3 * a, upick + a, u1 + a, u2 + a, ll + 3 * a, pdf + a, count);
-            material_eval(mat, ll + 3 * a, vl + 3 * a, fv + 3 * a, count);
+            material_sample(mat, vl + 3 * a, eta + a, upick + a, u1 + a, u2 + a, ll + 3 * a, pdf + a, count);
+            material_eval(mat, ll + 3 * a, vl + 3 * a, eta + a, fv + 3 * a, count);
         }
         sc.next_active.clear();
         for (size_t q = 0; q < np; ++q) {
             const ShadingPoint& sp = sc.sorted[q];
             const int32_t i = sp.path;
             const float* l = ll + 3 * q;
-            if (!(pdf[q] > 0) || !(l[2] > 0) || depth + 1 > st.max_depth) continue;
+            if (!(pdf[q] > 0) || l[2] == 0 || depth + 1 > st.max_depth) continue;
             float wl[3];
             to_world(sp, l, wl);
             normalize3(wl);
-            if (!(dot3(wl, sp.ng) > 0)) continue;
+            if (!(dot3(wl, sp.ng) * l[2] > 0)) continue;  // the side the local direction says
             float* T = thr + 3 * i;
-            for (int k = 0; k < 3; ++k) T[k] *= fv[3 * q + k] * l[2] / pdf[q];
+            for (int k = 0; k < 3; ++k) T[k] *= fv[3 * q + k] * std::abs(l[2]) / pdf[q];
             if (!(T[0] > 0 || T[1] > 0 || T[2] > 0)) continue;
             if (depth + 1 >= st.rr_depth) {
                 const float survive = std::min(0.95f, std::max(T[0], std::max(T[1], T[2])));
                 if (bounce_uniform(cs[i].key, depth, kDimRoulette) >= survive) continue;
                 for (int k = 0; k < 3; ++k) T[k] /= survive;
             }
+            const float side = l[2] > 0 ? eps : -eps;
             for (int k = 0; k < 3; ++k) {
-                org[3 * i + k] = sp.p[k] + eps * sp.ng[k];
+                org[3 * i + k] = sp.p[k] + side * sp.ng[k];
                 dir[3 * i + k] = wl[k];
             }
             prev_pdf[i] = pdf[q];

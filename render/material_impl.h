@@ -1,7 +1,9 @@
 // Materials over arrays of shading points, W lanes at a time (included by render_w{1,4,8}.cpp).
 // Directions are local (z = shading normal, x = tangent): v towards the viewer (the known
 // direction), l towards the light (or the sampled one). Values are RGB BRDFs in 1/sr,
-// zero when either direction is at or below the horizon.
+// zero when either direction is at or below the horizon -- except for the dielectric,
+// which also transmits (l.z < 0) and reads each point's relative index from `eta`
+// (index beyond the surface / index on the viewer's side; the others ignore it).
 #pragma once
 
 #include <vector>
@@ -10,6 +12,7 @@
 #include "core/simd/rows.h"
 #include "fit/lobe_kernels.h"
 #include "fit/microfacet.h"
+#include "render/dielectric.h"
 #include "render/ggx_aniso.h"
 #include "render/scene.h"
 
@@ -46,6 +49,21 @@ inline const LobeKernels& lobe_kernels() {
     else return lobe_kernels_w8();
 }
 
+// The clear coat's GGX reflection with exact dielectric Fresnel (fit/microfacet.h's coat
+// lobe), with D and G from ggx_aniso.h: computed from the directions' components, they
+// keep their precision for the nearly smooth coats of car paint, where D from cos(theta_h)
+// near 1 would lose it (and no longer cancel against the sampling density).
+PATINA_INLINE F coat_value(const D3& l, const D3& v, F alpha, F eta) {
+    const D3 h = microfacet::half_vector(l, v);
+    return microfacet::microfacet_value(l, v, ggx_aniso::d(h, alpha, alpha) * ggx_aniso::g2(l, v, alpha, alpha), F(1.0f),
+                                        microfacet::fresnel_dielectric(microfacet::mean_cos_d(l, v, h), eta));
+}
+
+// l reflected about a GGX normal visible from v (density ggx_aniso::pdf).
+PATINA_INLINE D3 ggx_reflect_sample(const D3& v, F u1, F u2, F alpha) {
+    return microfacet::reflect(v, ggx_aniso::sample_visible(v, u1, u2, alpha, alpha));
+}
+
 // The coat's probability of being sampled, from v alone (so sampling and pdf agree):
 // its Fresnel reflectance against what the base reflects, kept in [0.1, 0.9].
 PATINA_INLINE F coat_pick(const Material& m, F cos_v) {
@@ -55,8 +73,16 @@ PATINA_INLINE F coat_pick(const Material& m, F cos_v) {
 }
 
 // The base layer's value (no coat), RGB into f.
-inline void base_eval(const Material& m, const float* l, const float* v, float* f, size_t n) {
+inline void base_eval(const Material& m, const float* l, const float* v, const float* eta, float* f, size_t n) {
     switch (m.kind) {
+        case MaterialKind::Dielectric:
+            for_blocks(n, [&](size_t i, int lanes) {
+                F value, pdf;
+                dielectric::eval_pdf(load_dir(l, i, lanes), load_dir(v, i, lanes), F(m.alpha_x),
+                                     rows::load1<W>(eta, i, lanes), value, pdf);
+                rows::store3<W>(f, i, lanes, value, value, value);
+            });
+            return;
         case MaterialKind::Table:
             table_kernels().eval(*m.table, l, v, f, 0, n);
             break;
@@ -98,15 +124,15 @@ inline void base_eval(const Material& m, const float* l, const float* v, float* 
 }
 
 // f(l, v) in RGB, the coat included.
-inline void material_eval(const Material& m, const float* l, const float* v, float* f, size_t n) {
-    base_eval(m, l, v, f, n);
+inline void material_eval(const Material& m, const float* l, const float* v, const float* eta, float* f, size_t n) {
+    base_eval(m, l, v, eta, f, n);
     if (!m.coat) return;
     for_blocks(n, [&](size_t i, int lanes) {
         const D3 a = load_dir(l, i, lanes), b = load_dir(v, i, lanes);
         const F eta(m.coat_eta);
         const F through = (F(1.0f) - microfacet::fresnel_dielectric(max(a.z, F(0.0f)), eta)) *
                           (F(1.0f) - microfacet::fresnel_dielectric(max(b.z, F(0.0f)), eta));
-        const F spec = microfacet::coat_eval(a, b, F(m.coat_alpha), eta);
+        const F spec = coat_value(a, b, F(m.coat_alpha), eta);
         F x, y, z;
         rows::load3<W>(f, i, lanes, x, y, z);
         x = madd(x * F(m.coat_tint[0]), through, spec);
@@ -117,8 +143,13 @@ inline void material_eval(const Material& m, const float* l, const float* v, flo
 }
 
 // The base layer's sampling density of l given v.
-PATINA_INLINE F base_pdf(const Material& m, const D3& l, const D3& v) {
+PATINA_INLINE F base_pdf(const Material& m, const D3& l, const D3& v, F eta) {
     switch (m.kind) {
+        case MaterialKind::Dielectric: {
+            F value, pdf;
+            dielectric::eval_pdf(l, v, F(m.alpha_x), eta, value, pdf);
+            return pdf;
+        }
         case MaterialKind::Lambert:
             return microfacet::lambert_pdf(v, l);
         case MaterialKind::Conductor:
@@ -127,7 +158,7 @@ PATINA_INLINE F base_pdf(const Material& m, const D3& l, const D3& v) {
         case MaterialKind::Mixture: {
             const F pd(m.proxy_diffuse);
             return madd(pd, microfacet::lambert_pdf(v, l),
-                        (F(1.0f) - pd) * microfacet::ggx_pdf(v, l, F(m.proxy_alpha)));
+                        (F(1.0f) - pd) * ggx_aniso::pdf(v, l, F(m.proxy_alpha), F(m.proxy_alpha)));
         }
         case MaterialKind::Emitter:
             break;
@@ -135,21 +166,22 @@ PATINA_INLINE F base_pdf(const Material& m, const D3& l, const D3& v) {
     return F(0.0f);
 }
 
-PATINA_INLINE F full_pdf(const Material& m, const D3& l, const D3& v) {
-    const F base = base_pdf(m, l, v);
+PATINA_INLINE F full_pdf(const Material& m, const D3& l, const D3& v, F eta) {
+    const F base = base_pdf(m, l, v, eta);
     if (!m.coat) return base;
     const F c = coat_pick(m, v.z);
-    return madd(c, microfacet::ggx_pdf(v, l, F(m.coat_alpha)), (F(1.0f) - c) * base);
+    return madd(c, ggx_aniso::pdf(v, l, F(m.coat_alpha), F(m.coat_alpha)), (F(1.0f) - c) * base);
 }
 
-inline void material_pdf(const Material& m, const float* l, const float* v, float* pdf, size_t n) {
+inline void material_pdf(const Material& m, const float* l, const float* v, const float* eta, float* pdf, size_t n) {
     for_blocks(n, [&](size_t i, int lanes) {
-        rows::store1<W>(pdf, i, lanes, full_pdf(m, load_dir(l, i, lanes), load_dir(v, i, lanes)));
+        rows::store1<W>(pdf, i, lanes,
+                        full_pdf(m, load_dir(l, i, lanes), load_dir(v, i, lanes), rows::load1<W>(eta, i, lanes)));
     });
 }
 
 // Samples l for each v from three uniforms per point (pick, u1, u2); pdf[i] is full_pdf(l, v).
-inline void material_sample(const Material& m, const float* v, const float* pick, const float* u1,
+inline void material_sample(const Material& m, const float* v, const float* eta, const float* pick, const float* u1,
                             const float* u2, float* l, float* pdf, size_t n) {
     for_blocks(n, [&](size_t i, int lanes) {
         const D3 b = load_dir(v, i, lanes);
@@ -159,19 +191,23 @@ inline void material_sample(const Material& m, const float* v, const float* pick
         // pick rescaled to [0, 1) for the base's own choice of lobe
         const F c = m.coat ? coat_pick(m, b.z) : F(0.0f);
         const F base_pick = m.coat ? (pick_u - c) / (F(1.0f) - c) : pick_u;
+        const F e = rows::load1<W>(eta, i, lanes);
         D3 a{F(0.0f), F(0.0f), F(1.0f)};
         switch (m.kind) {
+            case MaterialKind::Dielectric:
+                a = dielectric::sample(b, base_pick, s1, s2, F(m.alpha_x), e);
+                break;
             case MaterialKind::Lambert:
                 a = microfacet::lambert_sample(s1, s2);
                 break;
             case MaterialKind::Conductor:
-                a = microfacet::reflect(b, ggx_aniso::sample_h(s1, s2, F(m.alpha_x), F(m.alpha_y)));
+                a = microfacet::reflect(b, ggx_aniso::sample_visible(b, s1, s2, F(m.alpha_x), F(m.alpha_y)));
                 break;
             case MaterialKind::Table:
             case MaterialKind::Mixture: {
                 const auto diffuse = base_pick < F(m.proxy_diffuse);
                 const D3 dl = microfacet::lambert_sample(s1, s2);
-                const D3 gl = microfacet::ggx_sample(b, s1, s2, F(m.proxy_alpha));
+                const D3 gl = ggx_reflect_sample(b, s1, s2, F(m.proxy_alpha));
                 a = D3{select(diffuse, dl.x, gl.x), select(diffuse, dl.y, gl.y), select(diffuse, dl.z, gl.z)};
                 break;
             }
@@ -180,11 +216,11 @@ inline void material_sample(const Material& m, const float* v, const float* pick
         }
         if (m.coat) {
             const auto coat = pick_u < c;
-            const D3 cl = microfacet::ggx_sample(b, s1, s2, F(m.coat_alpha));
+            const D3 cl = ggx_reflect_sample(b, s1, s2, F(m.coat_alpha));
             a = D3{select(coat, cl.x, a.x), select(coat, cl.y, a.y), select(coat, cl.z, a.z)};
         }
         rows::store3<W>(l, i, lanes, a.x, a.y, a.z);
-        rows::store1<W>(pdf, i, lanes, full_pdf(m, a, b));
+        rows::store1<W>(pdf, i, lanes, full_pdf(m, a, b, e));
     });
 }
 

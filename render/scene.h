@@ -14,13 +14,13 @@
 
 namespace patina {
 
-enum class MaterialKind : int { Lambert = 0, Conductor = 1, Table = 2, Mixture = 3, Emitter = 4 };
+enum class MaterialKind : int { Lambert = 0, Conductor = 1, Table = 2, Mixture = 3, Emitter = 4, Dielectric = 5 };
 
 struct Material {
     MaterialKind kind = MaterialKind::Lambert;
     float albedo[3] = {0.5f, 0.5f, 0.5f};  // Lambert's reflectance; for the others what the albedo AOV shows
-    float alpha_x = 0.1f, alpha_y = 0.1f;  // Conductor: anisotropic GGX roughness (x along the tangent)
-    float eta[3] = {1, 1, 1}, k[3] = {0, 0, 0};  // Conductor: complex index of refraction per channel
+    float alpha_x = 0.1f, alpha_y = 0.1f;  // Conductor: anisotropic GGX roughness (x along the tangent); Dielectric: alpha_x
+    float eta[3] = {1, 1, 1}, k[3] = {0, 0, 0};  // Conductor: complex index per channel; Dielectric: eta[0] inside / outside
     const TableView* table = nullptr;      // Table: an RGB table
     MixtureParams mixture;                 // Mixture: a fitted analytic model
     float tint[3] = {1, 1, 1};             // scales Table, Mixture and Conductor values

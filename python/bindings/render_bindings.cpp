@@ -106,6 +106,7 @@ int add_material(SceneHandle& h, const nb::dict& d) {
     else if (kind == "table") m.kind = patina::MaterialKind::Table;
     else if (kind == "mixture") m.kind = patina::MaterialKind::Mixture;
     else if (kind == "emitter") m.kind = patina::MaterialKind::Emitter;
+    else if (kind == "dielectric") m.kind = patina::MaterialKind::Dielectric;
     else throw std::invalid_argument("unknown material kind '" + kind + "'");
     get_rgb(d, "albedo", m.albedo);
     m.alpha_x = get_float(d, "alpha_x", m.alpha_x);
@@ -132,6 +133,10 @@ int add_material(SceneHandle& h, const nb::dict& d) {
         nb::tuple mix = nb::cast<nb::tuple>(d["mixture"]);
         m.mixture = mixture_params(nb::cast<std::string>(mix[0]), nb::cast<std::vector<float>>(mix[1]),
                                    nb::cast<bool>(mix[2]));
+    }
+    if (m.kind == patina::MaterialKind::Dielectric) {
+        m.alpha_x = m.alpha_y = std::max(m.alpha_x, 1e-3f);  // smooth: a very narrow lobe
+        if (!(m.eta[0] > 0)) throw std::invalid_argument("dielectric eta must be > 0");
     }
     if (m.kind == patina::MaterialKind::Conductor && !(m.alpha_x > 0 && m.alpha_y > 0))
         throw std::invalid_argument("conductor roughness must be > 0");

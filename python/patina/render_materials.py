@@ -144,7 +144,9 @@ def core_material(m: Material, tables: dict[str, Any]) -> dict[str, Any]:
         )
         return base
     if isinstance(m, DielectricMaterial):
-        raise ValueError("dielectric materials are not rendered yet (reflection and refraction come later)")
+        # eta is inside over outside, the outside being where the triangles' winding normal points
+        a = max(float(m.roughness), 1e-3)
+        return {"kind": "dielectric", "alpha_x": a, "alpha_y": a, "eta": [float(m.eta)] * 3, "albedo": [1.0] * 3}
     raise ValueError(f"unknown material {type(m).__name__}")
 
 

@@ -32,6 +32,15 @@ def furnace(material: dict, spp: int = 64, depth: int = 64, size: int = 32) -> d
     }
 
 
+@pytest.mark.parametrize("eta", [1.5, 1.0001])
+def test_a_smooth_glass_sphere_in_the_furnace_shows_the_furnace(eta):
+    # radiance is conserved through a closed, lossless dielectric (entering and leaving, the
+    # eta^2 factors cancel); index-matched glass is the ill-conditioned generalized half vector
+    r = render(scene_of(furnace({"type": "dielectric", "roughness": 0.0, "eta": eta}, spp=128)))
+    values = r.rgb[np.isfinite(r.depth)]
+    assert abs(values.mean() - 1.0) < 4 * values.std() / math.sqrt(values.size) + 1e-3
+
+
 def test_white_furnace_lambert_albedo_one_renders_one():
     r = render(scene_of(furnace({"type": "lambert", "albedo": 1.0}, spp=128)))
     hit = np.isfinite(r.depth)
@@ -48,6 +57,7 @@ def test_white_furnace_lambert_albedo_one_renders_one():
         {"type": "conductor", "roughness": 0.3, "eta": 1.0, "k": 1e4},  # F = 1: a white GGX lobe
         {"type": "conductor", "roughness": 0.05, "metal": "Au"},
         {"type": "carpaint", "base": {"type": "lambert", "albedo": 0.9}, "coat": {"eta": 1.5, "roughness": 0.0}},
+        {"type": "dielectric", "roughness": 0.3, "eta": 1.5},  # single scattering loses energy, never gains
     ],
 )
 def test_energy_conserving_materials_stay_at_or_below_one_in_the_furnace(material):
@@ -188,11 +198,13 @@ def small_preview(spp: int = 4) -> dict:
                 "coat": {"eta": 1.5, "roughness": 0.0},
             },
             "gold": {"type": "conductor", "roughness": [0.1, 0.3], "metal": "Au"},
+            "glass": {"type": "dielectric", "roughness": 0.1, "eta": 1.5},
             "floor": {"type": "lambert", "albedo": 0.5},
         },
         "shapes": [
             {"type": "ball", "material": "paint"},
             {"type": "sphere", "radius": 0.4, "material": "gold", "transform": {"translate": [1.5, 0.4, 0]}},
+            {"type": "sphere", "radius": 0.4, "material": "glass", "transform": {"translate": [-1.5, 0.4, 0]}},
             {"type": "plane", "material": "floor", "size": [20, 20]},
         ],
         "lights": [{"type": "quad", "center": [0, 3, 0], "u": [0.5, 0, 0], "v": [0, 0, 0.5], "radiance": 5}],
