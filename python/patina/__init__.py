@@ -8,6 +8,8 @@
 >>> patina.validate(brdf).problems                  # checks; patina.fit(brdf, model="ggx+lambert")
 >>> accel = patina.Accel(patina.load_mesh("model.obj"))
 >>> hits = accel.intersect(origins, directions, width=8)   # 8-ray packets
+>>> scene = patina.load_scene("materials/scenes/preview-ball.json")   # docs/scene.md
+>>> result = patina.render_scene(scene)            # result.rgb, .albedo, .normal, .depth, .illuminance
 """
 
 from __future__ import annotations
@@ -18,6 +20,9 @@ from .brdf import Brdf, load_brdf
 from .errors import FormatError
 from .fitting import FitResult, compare, fit
 from .mesh import Mesh, load_mesh
+from .render import RenderResult
+from .render import render as render_scene
+from .scene_file import load_scene
 from .validation import validate
 
 __version__ = _core.__version__
@@ -28,10 +33,13 @@ __all__ = [
     "FormatError",
     "Hits",
     "Mesh",
+    "RenderResult",
     "__version__",
     "compare",
     "fit",
     "load_brdf",
     "load_mesh",
+    "load_scene",
+    "render_scene",
     "validate",
 ]
