@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .synthetic import BrdfFunction
+from .synthetic import BrdfFunction, direction_pairs
 
 CLEAR_COAT_ETA = 1.5
 
@@ -115,11 +115,8 @@ def base_brdf(paint: PaintParameters) -> BrdfFunction:
     m2 = np.asarray(paint.m, dtype=np.float64) ** 2
 
     def f(wi: np.ndarray, wo: np.ndarray) -> np.ndarray:
-        wi = np.asarray(wi, dtype=np.float64)
-        wo = np.asarray(wo, dtype=np.float64)
+        wi, wo, h = direction_pairs(wi, wo)
         ci, co = wi[:, 2], wo[:, 2]
-        h = wi + wo
-        h /= np.maximum(np.linalg.norm(h, axis=1, keepdims=True), 1e-300)
         ch = np.clip(h[:, 2], 1e-12, 1.0)
         vh = np.clip(np.sum(wi * h, axis=1), 1e-12, 1.0)
         cpos_i, cpos_o = np.maximum(ci, 1e-12), np.maximum(co, 1e-12)

@@ -17,6 +17,15 @@ from .formats.tabledata import TableData
 BrdfFunction = Callable[[np.ndarray, np.ndarray], np.ndarray]  # (n,3), (n,3) -> (n, channels)
 
 
+def direction_pairs(wi: np.ndarray, wo: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(wi, wo, h) as float64 (n, 3) rows, h the unit half vector (zero rows stay finite)."""
+    wi = np.asarray(wi, dtype=np.float64)
+    wo = np.asarray(wo, dtype=np.float64)
+    h = wi + wo
+    h /= np.maximum(np.linalg.norm(h, axis=1, keepdims=True), 1e-300)
+    return wi, wo, h
+
+
 def plastic(
     diffuse: tuple[float, ...] = (0.55, 0.08, 0.05), specular: float = 0.04, roughness: float = 0.15
 ) -> BrdfFunction:
@@ -32,11 +41,8 @@ def plastic(
         return 2.0 / (1.0 + np.sqrt(1.0 + a2 * (1.0 - cos2) / cos2))
 
     def f(wi: np.ndarray, wo: np.ndarray) -> np.ndarray:
-        wi = np.asarray(wi, dtype=np.float64)
-        wo = np.asarray(wo, dtype=np.float64)
+        wi, wo, h = direction_pairs(wi, wo)
         ci, co = wi[:, 2], wo[:, 2]
-        h = wi + wo
-        h /= np.maximum(np.linalg.norm(h, axis=1, keepdims=True), 1e-300)
         ch = np.clip(h[:, 2], 0.0, 1.0)
         d = a2 / (np.pi * (ch * ch * (a2 - 1.0) + 1.0) ** 2)
         fresnel = specular + (1.0 - specular) * (1.0 - np.clip(np.sum(wi * h, axis=1), 0, 1)) ** 5

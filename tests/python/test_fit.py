@@ -37,6 +37,19 @@ CASES = [
 ]
 
 
+def assert_recovered(r, names: list[str], expected: list[float], noise: float) -> None:
+    """The fit converged on the named parameters: within 2% noise-free (with a near-zero loss),
+    within 5% at 2% multiplicative noise -- the issue's targets."""
+    assert r.converged, r.message
+    assert list(r.parameters) == names
+    got = [r.parameters[n] for n in names]
+    if noise:
+        np.testing.assert_allclose(got, expected, rtol=0.05, atol=5e-3)
+    else:
+        np.testing.assert_allclose(got, expected, rtol=0.02, atol=1e-3)
+        assert r.metrics["loss_all_samples"] < 1e-8
+
+
 @pytest.mark.parametrize("params", CASES)
 @pytest.mark.parametrize("loss", ["l2cos", "log"])
 def test_noise_free_tables_are_recovered_within_2_percent(params, loss):
@@ -158,14 +171,8 @@ def test_a_coated_table_is_recovered_with_its_coat(noise):
     r = fit(
         model_table(COATED, noise=noise, seed=3, lobe="ggx+coat"), coat=True, starts=3, loss="log" if noise else "l2cos"
     )
-    assert r.model == "ggx+lambert+coat" and r.converged, r.message
-    assert list(r.parameters) == COATED_NAMES and "coat_eta" not in r.at_bounds
-    got = [r.parameters[n] for n in COATED_NAMES]
-    if noise:
-        np.testing.assert_allclose(got, COATED, rtol=0.05, atol=5e-3)
-    else:
-        np.testing.assert_allclose(got, COATED, rtol=0.02, atol=1e-3)
-        assert r.metrics["loss_all_samples"] < 1e-8
+    assert r.model == "ggx+lambert+coat" and "coat_eta" not in r.at_bounds
+    assert_recovered(r, COATED_NAMES, COATED, noise)
 
 
 def test_a_coat_of_another_index_is_recovered_with_its_index_freed_or_given(tmp_path):
