@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "core/simd/rows.h"
 #include "core/simd/upper_state.h"
 #include "fit/lobe_kernels.h"
 #include "fit/microfacet.h"
@@ -24,35 +25,15 @@ void for_blocks(size_t n, Body body) {
     for (size_t i = 0; i < n; i += W) body(i, static_cast<int>(std::min<size_t>(W, n - i)));
 }
 
+// Rows and lanes of the (n, 3) and (n,) arrays, the last block through padded copies (core/simd/rows.h).
 Dir3<F> load_rows(const float* p, size_t i, int lanes) {
     Dir3<F> d;
-    if (lanes == W) {
-        load_xyz(p + 3 * i, d.x, d.y, d.z);
-    } else {
-        float pad[3 * W] = {};
-        std::copy(p + 3 * i, p + 3 * (i + lanes), pad);
-        load_xyz(pad, d.x, d.y, d.z);
-    }
+    rows::load3<W>(p, i, lanes, d.x, d.y, d.z);
     return d;
 }
-
-F load_lanes(const float* p, size_t i, int lanes) {
-    float pad[W] = {};
-    std::copy(p + i, p + i + lanes, pad);
-    return load_n<W>(pad);
-}
-
-void store_rows(float* p, size_t i, int lanes, F x, F y, F z) {
-    float rows[3 * W];
-    store_xyz(rows, x, y, z);
-    std::copy(rows, rows + 3 * lanes, p + 3 * i);
-}
-
-void store_lanes(float* p, size_t i, int lanes, F v) {
-    float tmp[W];
-    store_n<W>(tmp, v);
-    std::copy(tmp, tmp + lanes, p + i);
-}
+F load_lanes(const float* p, size_t i, int lanes) { return rows::load1<W>(p, i, lanes); }
+void store_rows(float* p, size_t i, int lanes, F x, F y, F z) { rows::store3<W>(p, i, lanes, x, y, z); }
+void store_lanes(float* p, size_t i, int lanes, F v) { rows::store1<W>(p, i, lanes, v); }
 
 // The mixture's value in one channel; the lobe kind is uniform, so its switch is one branch.
 F mixture_channel(const MixtureParams& p, const Dir3<F>& a, const Dir3<F>& b, int ch) {
@@ -151,7 +132,7 @@ double loss_blocks(const MixtureParams& p, const float* wi, const float* wo, con
     double total = 0;
     for_blocks(n, [&](size_t i, int lanes) {
         const Dir3<F> a = load_rows(wi, i, lanes), b = load_rows(wo, i, lanes), m = load_rows(measured, i, lanes);
-        const F w = lanes == W ? load_n<W>(weight + i) : load_lanes(weight, i, lanes);  // padded lanes weigh 0
+        const F w = load_lanes(weight, i, lanes);  // padded lanes weigh 0
         const F mc[3] = {m.x, m.y, m.z};
         F sum(0.0f);
         for (int ch = 0; ch < 3; ++ch) {
