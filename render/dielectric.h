@@ -62,12 +62,12 @@ PATINA_INLINE Dir3<F> sample(const Dir3<F>& v, F pick, F u1, F u2, F alpha, F et
     const F k = vh * inv_eta - cos_t;
     const Dir3<F> t{madd(k, h.x, -v.x * inv_eta), madd(k, h.y, -v.y * inv_eta), madd(k, h.z, -v.z * inv_eta)};
     const auto refl = pick < fr;
-    // a microfacet facing away from v has no part in the density: return a direction with
-    // pdf 0 (l.z = 0), so the sample is dropped rather than counted with a wrong pdf
-    const auto facing = vh > F(0.0f);
+    // drop (l = 0, pdf 0) what eval_pdf would count on the other side: a microfacet facing
+    // away from v, a reflection below the surface, a refraction above it
+    const auto keep = (vh > F(0.0f)) & select(refl, r.z > F(0.0f), t.z < F(0.0f));
     const F zero(0.0f);
-    return Dir3<F>{select(facing, select(refl, r.x, t.x), zero), select(facing, select(refl, r.y, t.y), zero),
-                   select(facing, select(refl, r.z, t.z), zero)};
+    return Dir3<F>{select(keep, select(refl, r.x, t.x), zero), select(keep, select(refl, r.y, t.y), zero),
+                   select(keep, select(refl, r.z, t.z), zero)};
 }
 
 }  // namespace dielectric

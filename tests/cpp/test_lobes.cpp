@@ -9,8 +9,10 @@
 #include "core/cpu.h"
 #include "fit/lobe_kernels.h"
 #include "fit/microfacet.h"
+#include "sampling_test.h"
 
 using namespace patina;
+using sampling_test::sampling_p_value;
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
@@ -74,11 +76,6 @@ double quadrature_albedo(const MixtureParams& p, double theta, int nmu = 256, in
     return albedo;
 }
 
-// Upper tail probability of a chi-square statistic (Wilson-Hilferty normal approximation).
-double chi2_tail(double chi2, int dof) {
-    const double k = dof, z = (std::cbrt(chi2 / k) - (1 - 2 / (9 * k))) / std::sqrt(2 / (9 * k));
-    return 0.5 * std::erfc(z / std::sqrt(2.0));
-}
 }  // namespace
 
 TEST(Lobes, Reciprocal) {
@@ -268,48 +265,6 @@ TEST(Lobes, AllKindsConserveEnergy) {
     }
 }
 
-namespace {
-// Chi-square of sampled directions against a pdf over (cos theta, phi) bins; returns the
-// upper tail probability. sample(n) returns n x 3 directions, pdf(wo) the density there.
-template <class Sample, class Pdf>
-double sampling_p_value(Sample sample, Pdf pdf, size_t n = 1000000, int nt = 24, int np = 48) {
-    const std::vector<float> wo = sample(n);
-    std::vector<double> observed(nt * np, 0.0), expected(nt * np, 0.0);
-    for (size_t i = 0; i < n; ++i) {
-        const double z = wo[3 * i + 2];
-        if (!(z > 0)) continue;
-        double phi = std::atan2(wo[3 * i + 1], wo[3 * i]);
-        if (phi < 0) phi += 2 * kPi;
-        observed[std::min(nt - 1, int(z * nt)) * np + std::min(np - 1, int(phi / (2 * kPi) * np))] += 1;
-    }
-    const int sub = 8;
-    for (int a = 0; a < nt; ++a)
-        for (int b = 0; b < np; ++b)
-            for (int s = 0; s < sub; ++s)
-                for (int t = 0; t < sub; ++t) {
-                    const double z = (a + (s + 0.5) / sub) / nt, phi = 2 * kPi * (b + (t + 0.5) / sub) / np;
-                    const double r = std::sqrt(1 - z * z);
-                    const double p = pdf(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z));
-                    expected[a * np + b] += p * (1.0 / nt) * (2 * kPi / np) / (sub * sub) * double(n);
-                }
-    double chi2 = 0, pooled_obs = 0, pooled_exp = 0;
-    int dof = 0;
-    for (size_t k = 0; k < expected.size(); ++k) {
-        if (expected[k] < 5) {
-            pooled_obs += observed[k];
-            pooled_exp += expected[k];
-            continue;
-        }
-        chi2 += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
-        ++dof;
-    }
-    if (pooled_exp >= 5) {
-        chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
-        ++dof;
-    }
-    return chi2_tail(chi2, dof - 1);
-}
-}  // namespace
 
 TEST(Lobes, WardIsReciprocalKeepsEnergyAndSamplesItsPdf) {
     using patina::microfacet::ward_pdf;
