@@ -55,6 +55,12 @@ struct PathScratch {
     std::vector<ShadingPoint> points, sorted;
     std::vector<int32_t> material_start;
     std::vector<float> v_local, l_local, f, pdf, eta, u_pick, u1, u2;
+    // misses (the environment seen), and the points that sample the environment
+    std::vector<int32_t> misses, env_points;
+    std::vector<float> miss_dir, miss_rgb, miss_pdf;
+    // one light sample per shading point
+    std::vector<float> ls_dir, ls_rgb, ls_dist, ls_pdf;
+    std::vector<uint8_t> ls_delta, ls_ok;
     // shadow rays
     std::vector<float> shadow_org, shadow_dir, shadow_tmax, shadow_rgb, shadow_lux;
     std::vector<int32_t> shadow_path;

@@ -11,6 +11,7 @@
 #include "core/simd/upper_state.h"
 #include "render/accel/trace_kernels.h"
 #include "render/camera.h"
+#include "render/env_impl.h"
 #include "render/integrator.h"
 #include "render/lights_impl.h"
 #include "render/material_impl.h"
@@ -110,6 +111,107 @@ inline T* grow(std::vector<T>& v, size_t n) {
     return v.data();
 }
 
+inline void store_light_sample(PathScratch& sc, size_t q, const LightSample& ls) {
+    std::copy(ls.dir, ls.dir + 3, sc.ls_dir.data() + 3 * q);
+    std::copy(ls.rgb, ls.rgb + 3, sc.ls_rgb.data() + 3 * q);
+    sc.ls_dist[q] = ls.dist;
+    sc.ls_pdf[q] = ls.pdf;
+    sc.ls_delta[q] = ls.delta;
+}
+
+inline LightSample load_light_sample(const PathScratch& sc, size_t q) {
+    LightSample ls;
+    std::copy(sc.ls_dir.data() + 3 * q, sc.ls_dir.data() + 3 * q + 3, ls.dir);
+    std::copy(sc.ls_rgb.data() + 3 * q, sc.ls_rgb.data() + 3 * q + 3, ls.rgb);
+    ls.dist = sc.ls_dist[q];
+    ls.pdf = sc.ls_pdf[q];
+    ls.delta = sc.ls_delta[q] != 0;
+    return ls;
+}
+
+// Misses see the environment: W directions at a time, radiance and (for MIS after a BRDF
+// sample) the density of light sampling.
+inline void add_environment(const RenderScene& s, PathScratch& sc, const float* dir, const float* thr,
+                            const float* prev_pdf, bool can_sample_lights, PathResult* out) {
+    const size_t n = sc.misses.size();
+    if (n == 0) return;
+    float* d = grow(sc.miss_dir, 3 * n);
+    float* le = grow(sc.miss_rgb, 3 * n);
+    float* lp = grow(sc.miss_pdf, n);
+    for (size_t j = 0; j < n; ++j) std::copy(dir + 3 * sc.misses[j], dir + 3 * sc.misses[j] + 3, d + 3 * j);
+    for_blocks(n, [&](size_t i, int lanes) {
+        const D3 w = load_dir(d, i, lanes);
+        F r, g, b;
+        env_w::radiance(s.env, w, r, g, b);
+        rows::store3<W>(le, i, lanes, r, g, b);
+        rows::store1<W>(lp, i, lanes, env_w::pdf(s.env, w));
+    });
+    const float select_env = can_sample_lights ? selection_probability(s, static_cast<int>(s.lights.size())) : 0.0f;
+    for (size_t j = 0; j < n; ++j) {
+        const int32_t i = sc.misses[j];
+        const float w = prev_pdf[i] > 0 && can_sample_lights ? power_heuristic(prev_pdf[i], select_env * lp[j]) : 1.0f;
+        for (int k = 0; k < 3; ++k) out[i].rgb[k] += thr[3 * i + k] * le[3 * j + k] * w;
+    }
+}
+
+// One light sample per shading point into sc.ls_*: the light chosen by power; points and
+// quads one point at a time, the environment W points at a time.
+inline void sample_lights(const RenderScene& s, PathScratch& sc, const CameraSample* cs, int depth, size_t np) {
+    sc.ls_dir.resize(3 * np);
+    sc.ls_rgb.resize(3 * np);
+    sc.ls_dist.resize(np);
+    sc.ls_pdf.resize(np);
+    sc.ls_delta.resize(np);
+    sc.ls_ok.resize(np);
+    sc.env_points.clear();
+    const int env_light = static_cast<int>(s.lights.size());
+    float* u1 = grow(sc.u1, np);
+    float* u2 = grow(sc.u2, np);
+    for (size_t q = 0; q < np; ++q) {
+        const ShadingPoint& sp = sc.sorted[q];
+        const uint32_t key = cs[sp.path].key;
+        const int li = cdf_cell(s.light_cdf.data(), light_count(s), bounce_uniform(key, depth, kDimLightPick));
+        u1[q] = bounce_uniform(key, depth, kDimLightU);
+        u2[q] = bounce_uniform(key, depth, kDimLightV);
+        if (li == env_light) {
+            sc.env_points.push_back(static_cast<int32_t>(q));
+            continue;
+        }
+        LightSample ls;
+        sc.ls_ok[q] = sample_point_or_quad(s, li, sp.p, u1[q], u2[q], ls);
+        store_light_sample(sc, q, ls);
+    }
+    const size_t ne = sc.env_points.size();
+    if (ne == 0) return;
+    const float select_env = selection_probability(s, env_light);
+    float* eu1 = grow(sc.miss_pdf, ne);  // reused: the environment points' uniforms
+    float* eu2 = grow(sc.miss_rgb, ne);
+    float* ed = grow(sc.miss_dir, 3 * ne);
+    float* erg = grow(sc.f, 3 * ne);  // not yet in use at this stage of the bounce
+    float* ep = grow(sc.pdf, ne);
+    for (size_t j = 0; j < ne; ++j) eu1[j] = u1[sc.env_points[j]], eu2[j] = u2[sc.env_points[j]];
+    for_blocks(ne, [&](size_t i, int lanes) {
+        D3 w;
+        const F p = env_w::sample(s.env, rows::load1<W>(eu1, i, lanes), rows::load1<W>(eu2, i, lanes), w);
+        F r, g, b;
+        env_w::radiance(s.env, w, r, g, b);
+        rows::store3<W>(ed, i, lanes, w.x, w.y, w.z);
+        rows::store3<W>(erg, i, lanes, r, g, b);
+        rows::store1<W>(ep, i, lanes, p);
+    });
+    for (size_t j = 0; j < ne; ++j) {
+        const size_t q = sc.env_points[j];
+        LightSample ls;
+        std::copy(ed + 3 * j, ed + 3 * j + 3, ls.dir);
+        std::copy(erg + 3 * j, erg + 3 * j + 3, ls.rgb);
+        ls.dist = kInfF;
+        ls.pdf = ep[j] * select_env;
+        ls.delta = false;
+        sc.ls_ok[q] = ep[j] > 0;
+        store_light_sample(sc, q, ls);
+    }
+}
+
 void trace_paths(const RenderScene& s, const IntegratorSettings& st, const CameraSample* cs, size_t n,
                  PathResult* out, PathScratch& sc) {
     if constexpr (W < 8) clear_upper_state();
@@ -133,7 +235,6 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
         r.illuminance = 0;
         sc.active.push_back(static_cast<int32_t>(i));
     }
-    const int env_light = static_cast<int>(s.lights.size());
     const bool can_sample_lights = light_count(s) > 0 && s.light_cdf.back() > 0;
     const float eps = s.ray_offset;
 
@@ -154,20 +255,14 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
         // 2. misses and lights seen add their emission (MIS-weighted after a BRDF sample);
         //    surface hits become shading points
         sc.points.clear();
+        sc.misses.clear();
         for (size_t j = 0; j < m; ++j) {
             const int32_t i = sc.active[j];
             const float* d = dir + 3 * i;
             float* T = thr + 3 * i;
             const int32_t prim = hits.prim[j];
             if (prim < 0) {
-                if (s.env.present) {
-                    float le[3];
-                    env_radiance(s.env, d, le);
-                    float w = 1.0f;
-                    if (prev_pdf[i] > 0 && can_sample_lights)
-                        w = power_heuristic(prev_pdf[i], selection_probability(s, env_light) * env_pdf(s.env, d));
-                    for (int k = 0; k < 3; ++k) out[i].rgb[k] += T[k] * le[k] * w;
-                }
+                if (s.env.present) sc.misses.push_back(i);
                 continue;
             }
             const Material& mat = s.materials[s.tri_material[prim]];
@@ -200,6 +295,8 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
             }
             sc.points.push_back(sp);
         }
+
+        add_environment(s, sc, dir, thr, prev_pdf, can_sample_lights, out);
 
         // 3. group the shading points by material, so each group is shaded W at a time
         const size_t np = sc.points.size();
@@ -237,20 +334,16 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
         sc.shadow_rgb.clear();
         sc.shadow_lux.clear();
         if (can_sample_lights) {
-            std::vector<LightSample> samples(np);
-            std::vector<uint8_t> ok(np);
+            sample_lights(s, sc, cs, depth, np);
             for (size_t q = 0; q < np; ++q) {
                 const ShadingPoint& sp = sc.sorted[q];
-                const uint32_t key = cs[sp.path].key;
-                LightSample& ls = samples[q];
-                ok[q] = sample_light(s, sp.p, bounce_uniform(key, depth, kDimLightPick),
-                                     bounce_uniform(key, depth, kDimLightU), bounce_uniform(key, depth, kDimLightV), ls);
-                if (ok[q]) to_local(sp, ls.dir, ll + 3 * q);
+                const float* ldir = sc.ls_dir.data() + 3 * q;
+                if (sc.ls_ok[q]) to_local(sp, ldir, ll + 3 * q);
                 else std::fill(ll + 3 * q, ll + 3 * q + 3, 0.0f);
                 // the light must be on the side the local direction says (shading normals bend)
-                const float side = dot3(ls.dir, sp.ng);
+                const float side = dot3(ldir, sp.ng);
                 const bool transmissive = s.materials[sp.material].kind == MaterialKind::Dielectric;
-                ok[q] = ok[q] && (transmissive ? side * ll[3 * q + 2] > 0 : side > 0);
+                sc.ls_ok[q] = sc.ls_ok[q] && (transmissive ? side * ll[3 * q + 2] > 0 : side > 0);
             }
             for (size_t k = 0; k < nm; ++k) {
                 const size_t a = sc.material_start[k], count = sc.material_start[k + 1] - a;
@@ -259,9 +352,9 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
                 material_pdf(s.materials[k], ll + 3 * a, vl + 3 * a, eta + a, pdf + a, count);
             }
             for (size_t q = 0; q < np; ++q) {
-                if (!ok[q]) continue;
+                if (!sc.ls_ok[q]) continue;
                 const ShadingPoint& sp = sc.sorted[q];
-                const LightSample& ls = samples[q];
+                const LightSample ls = load_light_sample(sc, q);
                 const float lz = ll[3 * q + 2], cos_l = std::abs(lz);
                 if (!(cos_l > 0)) continue;
                 const float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, pdf[q]);

@@ -35,10 +35,14 @@ static std::vector<double> sampling_weights(const Environment& env) {
 }
 
 void prepare_environment(Environment& env) {
+    env.cos_rotation = std::cos(env.rotation);
+    env.sin_rotation = std::sin(env.rotation);
     if (!env.present || !env.is_map) return;
     const int w = env.width, h = env.height;
     if (w < 1 || h < 1 || env.rgb == nullptr) throw std::invalid_argument("environment map has no pixels");
     const std::vector<double> weight = sampling_weights(env);
+    env.texels.assign(env.rgb, env.rgb + 3 * static_cast<size_t>(w) * h);
+    env.texels.push_back(0.0f);
     env.row_cdf.assign(h + 1, 0.0f);
     env.col_cdf.assign(static_cast<size_t>(h) * (w + 1), 0.0f);
     env.pixel_pdf.assign(static_cast<size_t>(h) * w, 0.0f);

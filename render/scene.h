@@ -61,6 +61,8 @@ struct Environment {
     const float* rgb = nullptr;  // height x width x 3, linear radiance
     float intensity = 1;
     float rotation = 0;          // radians about +y: the map is turned by this angle
+    float cos_rotation = 1, sin_rotation = 0;
+    std::vector<float> texels;   // a copy of rgb with one float of padding (the SIMD gathers load 4 floats per texel)
     std::vector<float> row_cdf;  // height + 1 values, 0 .. 1
     std::vector<float> col_cdf;  // height rows of width + 1 values, 0 .. 1
     std::vector<float> pixel_pdf;  // height x width: pdf over (u, v) in [0,1]^2
