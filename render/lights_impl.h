@@ -38,11 +38,11 @@ inline float quad_pdf(const RenderScene& s, int li, const float* d, float dist) 
 }
 
 struct LightSample {
-    float dir[3];    // unit, from the shading point
-    float dist;      // to the light point (inf: environment)
-    float rgb[3];    // radiance (W/(m^2 sr)), or intensity / dist^2 for a point light
-    float pdf;       // solid-angle pdf including selection; for a point light the selection probability
-    bool delta;      // a point light: no MIS
+    float dir[3] = {0, 0, 0};  // unit, from the shading point
+    float dist = 0;            // to the light point (inf: environment)
+    float rgb[3] = {0, 0, 0};  // radiance (W/(m^2 sr)), or intensity / dist^2 for a point light
+    float pdf = 0;             // solid-angle pdf including selection; for a point light the selection probability
+    bool delta = false;        // a point light: no MIS
 };
 
 // A sample of point or quad light `li` for shading point p (the environment is sampled W
