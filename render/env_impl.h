@@ -43,6 +43,8 @@ PATINA_INLINE void map_uv(const D3& m, F& u, F& v) {
 
 PATINA_INLINE I clamp_int(I x, int lo, int hi) { return min(max(x, I(lo)), I(hi)); }
 
+PATINA_INLINE void radiance_uv(const Environment& e, F u, F v, F& r, F& g, F& b);
+
 // Radiance from unit world directions d (RGB).
 PATINA_INLINE void radiance(const Environment& e, const D3& d, F& r, F& g, F& b) {
     if (!e.present) {
@@ -55,6 +57,11 @@ PATINA_INLINE void radiance(const Environment& e, const D3& d, F& r, F& g, F& b)
     }
     F u, v;
     map_uv(to_map(e, d), u, v);
+    radiance_uv(e, u, v, r, g, b);
+}
+
+// Radiance at map coordinates (u, v) of a map environment, bilinear between pixel centres.
+PATINA_INLINE void radiance_uv(const Environment& e, F u, F v, F& r, F& g, F& b) {
     const int w = e.width, h = e.height;
     const F x = madd(u, F(float(w)), F(-0.5f));
     const F y = clamp(madd(v, F(float(h)), F(-0.5f)), F(0.0f), F(float(h - 1)));
@@ -97,13 +104,15 @@ PATINA_INLINE F pdf(const Environment& e, const D3& d) {
     return select(sin_theta > F(0.0f), p / (F(2.0f * kPi * kPi) * sin_theta), F(0.0f));
 }
 
-// Directions from the environment's distribution for uniforms (u1, u2); returns the pdf.
-PATINA_INLINE F sample(const Environment& e, F u1, F u2, D3& d) {
+// Directions from the environment's distribution for uniforms (u1, u2), with their radiance
+// (from the sampled map coordinates: no inverse trigonometry); returns the pdf.
+PATINA_INLINE F sample(const Environment& e, F u1, F u2, D3& d, F& r, F& g, F& b) {
     if (!e.is_map) {
-        const F z = nmadd(F(2.0f), u1, F(1.0f)), r = sqrt_exact(max(F(1.0f) - z * z, F(0.0f)));
+        const F z = nmadd(F(2.0f), u1, F(1.0f)), rad = sqrt_exact(max(F(1.0f) - z * z, F(0.0f)));
         F s, c;
         fast_sincos(F(2.0f * kPi) * u2, s, c);
-        d = D3{r * c, z, r * s};
+        d = D3{rad * c, z, rad * s};
+        radiance(e, d, r, g, b);
         return F(1.0f / (4 * kPi));
     }
     const int w = e.width, h = e.height;
@@ -127,6 +136,7 @@ PATINA_INLINE F sample(const Environment& e, F u1, F u2, D3& d) {
     fast_sincos(F(kPi) * v, sin_t, cos_t);
     fast_sincos(F(2.0f * kPi) * u, sin_p, cos_p);
     d = from_map(e, D3{sin_p * sin_t, cos_t, -cos_p * sin_t});
+    radiance_uv(e, u, v, r, g, b);
     const F p = gather(e.pixel_pdf.data(), row * I(w) + lo);
     return select(sin_t > F(0.0f), p / (F(2.0f * kPi * kPi) * sin_t), F(0.0f));
 }

@@ -192,9 +192,8 @@ inline void sample_lights(const RenderScene& s, PathScratch& sc, const CameraSam
     for (size_t j = 0; j < ne; ++j) eu1[j] = u1[sc.env_points[j]], eu2[j] = u2[sc.env_points[j]];
     for_blocks(ne, [&](size_t i, int lanes) {
         D3 w;
-        const F p = env_w::sample(s.env, rows::load1<W>(eu1, i, lanes), rows::load1<W>(eu2, i, lanes), w);
         F r, g, b;
-        env_w::radiance(s.env, w, r, g, b);
+        const F p = env_w::sample(s.env, rows::load1<W>(eu1, i, lanes), rows::load1<W>(eu2, i, lanes), w, r, g, b);
         rows::store3<W>(ed, i, lanes, w.x, w.y, w.z);
         rows::store3<W>(erg, i, lanes, r, g, b);
         rows::store1<W>(ep, i, lanes, p);
