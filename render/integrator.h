@@ -55,6 +55,7 @@ struct PathScratch {
     std::vector<ShadingPoint> points, sorted;
     std::vector<int32_t> material_start;
     std::vector<float> v_local, l_local, f, pdf, eta, u_pick, u1, u2;
+    std::vector<int32_t> point_keys;  // the paths' random-number keys (uint32 bits)
     // misses (the environment seen), and the points that sample the environment
     std::vector<int32_t> misses, env_points;
     std::vector<float> miss_dir, miss_rgb, miss_pdf;

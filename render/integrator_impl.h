@@ -111,6 +111,15 @@ inline T* grow(std::vector<T>& v, size_t n) {
     return v.data();
 }
 
+// out[q] = bounce_uniform(keys[q], depth, d), W keys at a time.
+inline void fill_uniforms(const int32_t* keys, size_t n, int depth, RandomDim d, float* out) {
+    for_blocks(n, [&](size_t i, int lanes) {
+        int32_t pad[W] = {};
+        std::copy(keys + i, keys + i + lanes, pad);
+        rows::store1<W>(out, i, lanes, bounce_uniform_lanes(load_n<W>(pad), depth, d));
+    });
+}
+
 inline void store_light_sample(PathScratch& sc, size_t q, const LightSample& ls) {
     std::copy(ls.dir, ls.dir + 3, sc.ls_dir.data() + 3 * q);
     std::copy(ls.rgb, ls.rgb + 3, sc.ls_rgb.data() + 3 * q);
@@ -156,7 +165,7 @@ inline void add_environment(const RenderScene& s, PathScratch& sc, const float* 
 
 // One light sample per shading point into sc.ls_*: the light chosen by power; points and
 // quads one point at a time, the environment W points at a time.
-inline void sample_lights(const RenderScene& s, PathScratch& sc, const CameraSample* cs, int depth, size_t np) {
+inline void sample_lights(const RenderScene& s, PathScratch& sc, int depth, size_t np) {
     sc.ls_dir.resize(3 * np);
     sc.ls_rgb.resize(3 * np);
     sc.ls_dist.resize(np);
@@ -165,14 +174,15 @@ inline void sample_lights(const RenderScene& s, PathScratch& sc, const CameraSam
     sc.ls_ok.resize(np);
     sc.env_points.clear();
     const int env_light = static_cast<int>(s.lights.size());
+    float* pick = grow(sc.u_pick, np);
     float* u1 = grow(sc.u1, np);
     float* u2 = grow(sc.u2, np);
+    fill_uniforms(sc.point_keys.data(), np, depth, kDimLightPick, pick);
+    fill_uniforms(sc.point_keys.data(), np, depth, kDimLightU, u1);
+    fill_uniforms(sc.point_keys.data(), np, depth, kDimLightV, u2);
     for (size_t q = 0; q < np; ++q) {
         const ShadingPoint& sp = sc.sorted[q];
-        const uint32_t key = cs[sp.path].key;
-        const int li = cdf_cell(s.light_cdf.data(), light_count(s), bounce_uniform(key, depth, kDimLightPick));
-        u1[q] = bounce_uniform(key, depth, kDimLightU);
-        u2[q] = bounce_uniform(key, depth, kDimLightV);
+        const int li = cdf_cell(s.light_cdf.data(), light_count(s), pick[q]);
         if (li == env_light) {
             sc.env_points.push_back(static_cast<int32_t>(q));
             continue;
@@ -324,6 +334,8 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
             to_local(sp, wo, vl + 3 * q);
             eta[q] = sp.eta;
         }
+        sc.point_keys.resize(np);
+        for (size_t q = 0; q < np; ++q) sc.point_keys[q] = static_cast<int32_t>(cs[sc.sorted[q].path].key);
 
         // 4. light sampling: one sample per point, its shadow ray queued
         sc.shadow_path.clear();
@@ -333,7 +345,7 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
         sc.shadow_rgb.clear();
         sc.shadow_lux.clear();
         if (can_sample_lights) {
-            sample_lights(s, sc, cs, depth, np);
+            sample_lights(s, sc, depth, np);
             for (size_t q = 0; q < np; ++q) {
                 const ShadingPoint& sp = sc.sorted[q];
                 const float* ldir = sc.ls_dir.data() + 3 * q;
@@ -375,12 +387,9 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
         }
 
         // 5. BRDF sampling: the next bounce's rays
-        for (size_t q = 0; q < np; ++q) {
-            const uint32_t key = cs[sc.sorted[q].path].key;
-            upick[q] = bounce_uniform(key, depth, kDimBsdfPick);
-            u1[q] = bounce_uniform(key, depth, kDimBsdfU);
-            u2[q] = bounce_uniform(key, depth, kDimBsdfV);
-        }
+        fill_uniforms(sc.point_keys.data(), np, depth, kDimBsdfPick, upick);
+        fill_uniforms(sc.point_keys.data(), np, depth, kDimBsdfU, u1);
+        fill_uniforms(sc.point_keys.data(), np, depth, kDimBsdfV, u2);
         for (size_t k = 0; k < nm; ++k) {
             const size_t a = sc.material_start[k], count = sc.material_start[k + 1] - a;
             if (count == 0) continue;

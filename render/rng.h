@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-#include "core/simd/target.h"
+#include "core/simd/simd.h"
 
 // Inside the target namespace: each ISA's copy has its own symbols (see core/simd/target.h).
 PATINA_BEGIN_TARGET
@@ -39,6 +39,23 @@ enum RandomDim : uint32_t {
 
 inline float bounce_uniform(uint32_t key, int bounce, RandomDim d) {
     return uniform(key, static_cast<uint32_t>(bounce) * kDimsPerBounce + d);
+}
+
+// The same numbers for W keys at once (lanes hold the uint32 bits of the keys).
+template <class I>
+PATINA_INLINE I hash_lanes(I x) {
+    x = x ^ srl(x, 16);
+    x = mul_wrap(x, I(0x7feb352d));
+    x = x ^ srl(x, 15);
+    x = mul_wrap(x, I(static_cast<int32_t>(0x846ca68bu)));
+    return x ^ srl(x, 16);
+}
+
+template <class I>
+PATINA_INLINE auto bounce_uniform_lanes(I keys, int bounce, RandomDim d) {
+    const uint32_t salt = hash_u32(static_cast<uint32_t>(bounce) * kDimsPerBounce + d + 0x632be5abu);
+    const I h = hash_lanes(keys ^ I(static_cast<int32_t>(salt)));
+    return to_float(srl(h, 8)) * decltype(to_float(h))(1.0f / 16777216.0f);
 }
 
 PATINA_END_TARGET

@@ -49,6 +49,12 @@ PATINA_INLINE float xorsign(float a, float sgn) {
 PATINA_INLINE bool signbit(float a) { return (as_bits(a) >> 31) != 0; }
 PATINA_INLINE bool isnan(float a) { return a != a; }
 
+// Bit operations on 32-bit lanes as on unsigned integers (hashes): logical shift right and
+// a multiply that wraps modulo 2^32 (int32_t overflow would be undefined).
+PATINA_INLINE int32_t srl(int32_t a, int s) { return static_cast<int32_t>(static_cast<uint32_t>(a) >> s); }
+PATINA_INLINE int32_t mul_wrap(int32_t a, int32_t b) {
+    return static_cast<int32_t>(static_cast<uint32_t>(a) * static_cast<uint32_t>(b));
+}
 PATINA_INLINE int32_t to_int_trunc(float a) { return static_cast<int32_t>(a); }
 PATINA_INLINE int32_t as_int(float a) { return static_cast<int32_t>(as_bits(a)); }
 PATINA_INLINE float as_float(int32_t a) { return from_bits(static_cast<uint32_t>(a)); }

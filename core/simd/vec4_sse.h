@@ -106,6 +106,9 @@ PATINA_INLINE vint4 operator*(vint4 a, vint4 b) { return vint4(_mm_mullo_epi32(a
 PATINA_INLINE vint4 operator&(vint4 a, vint4 b) { return vint4(_mm_and_si128(a.v, b.v)); }
 PATINA_INLINE vint4 operator|(vint4 a, vint4 b) { return vint4(_mm_or_si128(a.v, b.v)); }
 PATINA_INLINE vint4 operator<<(vint4 a, int s) { return vint4(_mm_slli_epi32(a.v, s)); }
+PATINA_INLINE vint4 operator^(vint4 a, vint4 b) { return vint4(_mm_xor_si128(a.v, b.v)); }
+PATINA_INLINE vint4 srl(vint4 a, int s) { return vint4(_mm_srli_epi32(a.v, s)); }
+PATINA_INLINE vint4 mul_wrap(vint4 a, vint4 b) { return vint4(_mm_mullo_epi32(a.v, b.v)); }
 PATINA_INLINE vint4 operator>>(vint4 a, int s) { return vint4(_mm_srai_epi32(a.v, s)); }
 PATINA_INLINE vint4& operator+=(vint4& a, vint4 b) { return a = a + b; }
 PATINA_INLINE vint4 min(vint4 a, vint4 b) { return vint4(_mm_min_epi32(a.v, b.v)); }

@@ -112,6 +112,9 @@ PATINA_INLINE vint8 operator*(vint8 a, vint8 b) { return vint8(_mm256_mullo_epi3
 PATINA_INLINE vint8 operator&(vint8 a, vint8 b) { return vint8(_mm256_and_si256(a.v, b.v)); }
 PATINA_INLINE vint8 operator|(vint8 a, vint8 b) { return vint8(_mm256_or_si256(a.v, b.v)); }
 PATINA_INLINE vint8 operator<<(vint8 a, int s) { return vint8(_mm256_slli_epi32(a.v, s)); }
+PATINA_INLINE vint8 operator^(vint8 a, vint8 b) { return vint8(_mm256_xor_si256(a.v, b.v)); }
+PATINA_INLINE vint8 srl(vint8 a, int s) { return vint8(_mm256_srli_epi32(a.v, s)); }
+PATINA_INLINE vint8 mul_wrap(vint8 a, vint8 b) { return vint8(_mm256_mullo_epi32(a.v, b.v)); }
 PATINA_INLINE vint8 operator>>(vint8 a, int s) { return vint8(_mm256_srai_epi32(a.v, s)); }
 PATINA_INLINE vint8& operator+=(vint8& a, vint8 b) { return a = a + b; }
 PATINA_INLINE vint8 min(vint8 a, vint8 b) { return vint8(_mm256_min_epi32(a.v, b.v)); }

@@ -136,6 +136,7 @@ LANE_TEST(IntegerOpsAndMasks) {
         const I sum = va + vb, diff = va - vb, prod = va * I(3), mn = patina::min(va, vb), mx = patina::max(va, vb);
         const I sel = patina::select(va < vb, va, vb), shl = va << 2, shr = va >> 3;
         const I trunc = patina::to_int_trunc(load_n<N>(fa));
+        const I x = va ^ vb, logical = patina::srl(va, 7), wrapped = patina::mul_wrap(va, I(int32_t(0x846ca68b)));
         const B lt = va < vb, eq = va == vb;
         const int mask = patina::movemask(lt);
         int expect_mask = 0;
@@ -149,6 +150,9 @@ LANE_TEST(IntegerOpsAndMasks) {
             EXPECT_EQ(patina::lane(shl, j), a[j] * 4);
             EXPECT_EQ(patina::lane(shr, j), a[j] >> 3);
             EXPECT_EQ(patina::lane(trunc, j), static_cast<int32_t>(fa[j]));
+            EXPECT_EQ(patina::lane(x, j), a[j] ^ b[j]);
+            EXPECT_EQ(patina::lane(logical, j), static_cast<int32_t>(static_cast<uint32_t>(a[j]) >> 7));
+            EXPECT_EQ(patina::lane(wrapped, j), static_cast<int32_t>(static_cast<uint32_t>(a[j]) * 0x846ca68bu));
             EXPECT_EQ(patina::lane(lt, j), a[j] < b[j]);
             EXPECT_EQ(patina::lane(eq, j), a[j] == b[j]);
             expect_mask |= (a[j] < b[j]) << j;
