@@ -16,6 +16,8 @@ python3 -c 'import venv, ensurepip' 2>/dev/null || need_apt+=(python3-venv)
 # VTK's wheel loads these at run time to render without a display (no GPU needed).
 compgen -G '/usr/lib/*/libEGL_mesa.so.0' >/dev/null && compgen -G '/usr/lib/*/dri/swrast_dri.so' >/dev/null \
   || need_apt+=(libegl1 libgl1-mesa-dri)
+# Mitsuba's llvm_ad_rgb variant (the render.vs_mitsuba_llvm benchmark) needs a newer libLLVM than Debian 12's default 15.
+compgen -G '/usr/lib/*/libLLVM-19.so*' >/dev/null || need_apt+=(libllvm19)
 if [ ${#need_apt[@]} -gt 0 ]; then
   echo "setup: installing from Debian: ${need_apt[*]}"
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"

@@ -295,11 +295,18 @@ def bench_trace(repeat: int, quick: bool) -> list[Record]:
     return run(repeat, quick)
 
 
+def bench_render(repeat: int, quick: bool) -> list[Record]:
+    from .bench_render import run_render_group
+
+    return run_render_group(repeat, quick)
+
+
 GROUPS: dict[str, Callable[[int, bool], list[Record]]] = {
     "math": bench_math,
     "brdf": bench_brdf,
     "fit": bench_fit,
     "trace": bench_trace,
+    "render": bench_render,
 }
 
 
