@@ -72,7 +72,7 @@ def _median_times(fns: list[Callable[[], Any]], repeat: int) -> tuple[list[float
 
 
 def _preview(quick: bool) -> tuple[Scene, PreparedScene, str]:
-    """The preview scene, path traced (8 segments), at 256 x 192 and 32 spp (quick: 64 x 48, 4 spp)."""
+    """The preview scene, path traced (the file's max_depth), at 256 x 192 and 32 spp (quick: 64 x 48, 4 spp)."""
     w, h, spp = (64, 48, 4) if quick else (256, 192, 32)
     scene = with_overrides(load_scene(_scene_path("preview-ball")), integrator="path", width=w, height=h, spp=spp)
     label = f"preview-ball {w}x{h}, {spp} spp, path (max_depth {scene.render.max_depth})"
