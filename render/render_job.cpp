@@ -92,7 +92,9 @@ RenderProgress RenderJob::progress() const {
     p.samples_done = m_samples_done.load();
     p.cancelled = m_cancel.load();
     p.finished = p.items_done == p.items_total;
-    p.seconds = m_started ? std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count() : 0;
+    // a finished job's time is when its last item finished, not when someone asked
+    const double now = m_started ? std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count() : 0;
+    p.seconds = p.finished ? 1e-9 * static_cast<double>(m_last_done_ns.load()) : now;
     return p;
 }
 
@@ -115,6 +117,11 @@ void RenderJob::worker() {
             run_item(item, scratch, cs, out);
             m_rays.fetch_add(scratch.rays_traced - before);
             m_tile_passes[item.tile].store(item.pass + 1, std::memory_order_release);
+            const int64_t ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                   std::chrono::steady_clock::now() - m_start).count();
+            int64_t seen = m_last_done_ns.load();
+            while (ns > seen && !m_last_done_ns.compare_exchange_weak(seen, ns)) {
+            }
             m_done.fetch_add(1);
         }
     } catch (...) {

@@ -77,6 +77,7 @@ private:
     std::mutex m_error_lock;
     std::exception_ptr m_error;
     std::chrono::steady_clock::time_point m_start;
+    std::atomic<int64_t> m_last_done_ns{0};  // when the last item so far finished, since m_start
     bool m_started = false;
 };
 

@@ -247,6 +247,11 @@ def render(
     """Renders `scene` (its render settings as given: apply CLI overrides with
     `scene_file.with_overrides` first). width: SIMD width 1, 4 or 8 (None: the widest)."""
     prep = prepared or PreparedScene(scene)
+    if (prep.scene.camera.width, prep.scene.camera.height) != (scene.camera.width, scene.camera.height):
+        raise ValueError(
+            f"the prepared scene renders {prep.scene.camera.width}x{prep.scene.camera.height}, this scene "
+            f"{scene.camera.width}x{scene.camera.height}: prepare the scene as it is rendered"
+        )
     simd = core_width(width)
     job = _core.RenderJob(
         prep.core,
