@@ -8,18 +8,9 @@
 
 #include "core/cpu.h"
 #include "core/parallel.h"
-#include "render/rng.h"
 
 namespace patina {
 namespace {
-
-// Interleaves the bits of x and y: pixels in Morton order, so neighbouring paths (one
-// SIMD packet) look through neighbouring pixels: 2 x 2 blocks for 4 rays, 4 x 2 for 8.
-uint32_t morton(uint32_t x, uint32_t y) {
-    uint32_t m = 0;
-    for (int b = 0; b < 16; ++b) m |= ((x >> b) & 1u) << (2 * b) | ((y >> b) & 1u) << (2 * b + 1);
-    return m;
-}
 
 constexpr size_t kMaxBatch = 4096;  // camera samples traced as one wavefront
 
@@ -34,7 +25,10 @@ const RenderKernels& render_kernels_for(int width) {
 }
 
 RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
-    : m_scene(scene), m_settings(settings), m_kernels(&render_kernels_for(settings.width)) {
+    : m_scene(scene),
+      m_settings(settings),
+      m_kernels(&render_kernels_for(settings.width)),
+      m_film(std::max(scene.camera.width, 1), std::max(scene.camera.height, 1)) {
     if (settings.spp < 1) throw std::invalid_argument("spp must be at least 1");
     if (settings.max_depth < 1) throw std::invalid_argument("max_depth must be at least 1");
     if (settings.tile_size < 1) throw std::invalid_argument("tile_size must be at least 1");
@@ -51,14 +45,6 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
         for (int t = 0; t < tiles; ++t) m_items.push_back({t, p});
     m_tile_passes = std::vector<std::atomic<int>>(tiles);
     for (auto& a : m_tile_passes) a.store(0);
-    const size_t pixels = static_cast<size_t>(c.width) * c.height;
-    m_rgb.assign(3 * pixels, 0.0);
-    m_albedo.assign(3 * pixels, 0.0);
-    m_normal.assign(3 * pixels, 0.0);
-    m_lux.assign(pixels, 0.0);
-    m_depth.assign(pixels, 0.0);
-    m_samples.assign(pixels, 0.0f);
-    m_depth_hits.assign(pixels, 0.0f);
 }
 
 RenderJob::~RenderJob() {
@@ -100,6 +86,7 @@ RenderProgress RenderJob::progress() const {
 
 void RenderJob::worker() {
     PathScratch scratch;
+    UniformSampler sampler(m_film, m_settings.seed, m_pass_begin, kMaxBatch);
     std::vector<CameraSample> cs;
     std::vector<PathResult> out;
     try {
@@ -114,7 +101,7 @@ void RenderJob::worker() {
                 std::this_thread::yield();
             }
             const size_t before = scratch.rays_traced;
-            run_item(item, scratch, cs, out);
+            run_item(item, sampler, scratch, cs, out);
             m_rays.fetch_add(scratch.rays_traced - before);
             m_tile_passes[item.tile].store(item.pass + 1, std::memory_order_release);
             const int64_t ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -131,68 +118,22 @@ void RenderJob::worker() {
     }
 }
 
-void RenderJob::run_item(const Item& item, PathScratch& scratch, std::vector<CameraSample>& cs,
+void RenderJob::run_item(const Item& item, PixelSampler& sampler, PathScratch& scratch, std::vector<CameraSample>& cs,
                          std::vector<PathResult>& out) {
     const Camera& cam = m_scene.camera;
     const int ts = m_settings.tile_size;
     const int x0 = (item.tile % m_tiles_x) * ts, y0 = (item.tile / m_tiles_x) * ts;
-    const int x1 = std::min(x0 + ts, cam.width), y1 = std::min(y0 + ts, cam.height);
-    std::vector<std::pair<uint32_t, int>> order;  // (morton code, pixel index)
-    for (int y = y0; y < y1; ++y)
-        for (int x = x0; x < x1; ++x) order.push_back({morton(x - x0, y - y0), y * cam.width + x});
-    std::sort(order.begin(), order.end());
-    const int s_begin = m_pass_begin[item.pass], s_end = m_pass_begin[item.pass + 1];
-    const size_t per_sample = order.size();
-    const int samples_per_batch = std::max<int>(1, static_cast<int>(kMaxBatch / std::max<size_t>(per_sample, 1)));
-    for (int s0 = s_begin; s0 < s_end; s0 += samples_per_batch) {
-        const int s1 = std::min(s_end, s0 + samples_per_batch);
-        cs.clear();
-        for (int s = s0; s < s1; ++s)
-            for (const auto& [code, pixel] : order) {
-                const uint32_t key = path_key(m_settings.seed, static_cast<uint32_t>(pixel), static_cast<uint32_t>(s));
-                const float fx = static_cast<float>(pixel % cam.width) + bounce_uniform(key, 0, kDimPixelX);
-                const float fy = static_cast<float>(pixel / cam.width) + bounce_uniform(key, 0, kDimPixelY);
-                cs.push_back({fx, fy, key});
-            }
+    sampler.begin(TileRect{x0, y0, std::min(x0 + ts, cam.width), std::min(y0 + ts, cam.height)}, item.pass);
+    while (sampler.next_batch(cs)) {
         out.resize(cs.size());
         m_kernels->trace_paths(m_scene, m_integrator, cs.data(), cs.size(), out.data(), scratch);
-        // a box filter: every sample adds to its own pixel, in sample order
-        for (size_t q = 0; q < cs.size(); ++q) {
-            const int pixel = order[q % per_sample].second;
-            const PathResult& r = out[q];
-            for (int k = 0; k < 3; ++k) {
-                m_rgb[3 * pixel + k] += r.rgb[k];
-                m_albedo[3 * pixel + k] += r.albedo[k];
-                m_normal[3 * pixel + k] += r.normal[k];
-            }
-            m_lux[pixel] += r.illuminance;
-            if (std::isfinite(r.depth)) {
-                m_depth[pixel] += r.depth;
-                m_depth_hits[pixel] += 1;
-            }
-            m_samples[pixel] += 1;
-        }
+        sampler.take_results(cs.data(), out.data(), cs.size());
         m_samples_done.fetch_add(cs.size());
     }
 }
 
 void RenderJob::resolve(float* rgb, float* albedo, float* normal, float* depth, float* lux, float* samples) const {
-    const size_t pixels = m_samples.size();
-    for (size_t i = 0; i < pixels; ++i) {
-        const double n = m_samples[i];
-        const double inv = n > 0 ? 1.0 / n : 0.0;
-        for (int k = 0; k < 3; ++k) {
-            rgb[3 * i + k] = static_cast<float>(m_rgb[3 * i + k] * inv);
-            albedo[3 * i + k] = static_cast<float>(m_albedo[3 * i + k] * inv);
-        }
-        const double len = std::sqrt(m_normal[3 * i] * m_normal[3 * i] + m_normal[3 * i + 1] * m_normal[3 * i + 1] +
-                                     m_normal[3 * i + 2] * m_normal[3 * i + 2]);
-        for (int k = 0; k < 3; ++k) normal[3 * i + k] = len > 0 ? static_cast<float>(m_normal[3 * i + k] / len) : 0.0f;
-        depth[i] = m_depth_hits[i] > 0 ? static_cast<float>(m_depth[i] / m_depth_hits[i])
-                                       : std::numeric_limits<float>::infinity();
-        lux[i] = static_cast<float>(m_lux[i] * inv);
-        samples[i] = m_samples[i];
-    }
+    m_film.resolve(rgb, albedo, normal, depth, lux, samples);
 }
 
 }  // namespace patina

@@ -13,7 +13,9 @@
 #include <thread>
 #include <vector>
 
+#include "render/film.h"
 #include "render/integrator.h"
+#include "render/pixel_sampler.h"
 #include "render/scene.h"
 
 namespace patina {
@@ -58,7 +60,8 @@ private:
         int tile, pass;
     };
     void worker();
-    void run_item(const Item& item, PathScratch& scratch, std::vector<CameraSample>& cs, std::vector<PathResult>& out);
+    void run_item(const Item& item, PixelSampler& sampler, PathScratch& scratch, std::vector<CameraSample>& cs,
+                  std::vector<PathResult>& out);
 
     const RenderScene& m_scene;
     RenderSettings m_settings;
@@ -68,9 +71,7 @@ private:
     std::vector<int> m_pass_begin;  // sample index where each pass starts; back() = spp
     std::vector<Item> m_items;
     std::vector<std::atomic<int>> m_tile_passes;  // passes finished per tile
-    // per pixel sums
-    std::vector<double> m_rgb, m_albedo, m_normal, m_lux, m_depth;
-    std::vector<float> m_samples, m_depth_hits;
+    Film m_film;
     std::atomic<size_t> m_next{0}, m_done{0}, m_rays{0}, m_samples_done{0};
     std::atomic<bool> m_cancel{false};
     std::vector<std::thread> m_threads;

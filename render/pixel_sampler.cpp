@@ -1,0 +1,60 @@
+#include "render/pixel_sampler.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "render/rng.h"
+
+namespace patina {
+namespace {
+
+// Interleaves the bits of x and y: pixels in Morton order, so neighbouring paths (one
+// SIMD packet) look through neighbouring pixels.
+uint32_t morton(uint32_t x, uint32_t y) {
+    uint32_t m = 0;
+    for (int b = 0; b < 16; ++b) m |= ((x >> b) & 1u) << (2 * b) | ((y >> b) & 1u) << (2 * b + 1);
+    return m;
+}
+
+}  // namespace
+
+UniformSampler::UniformSampler(Film& film, uint32_t seed, std::vector<int> pass_begin, size_t max_batch)
+    : m_film(film), m_seed(seed), m_pass_begin(std::move(pass_begin)), m_max_batch(max_batch) {}
+
+void UniformSampler::begin(const TileRect& tile, int pass) {
+    std::vector<std::pair<uint32_t, int>> order;
+    for (int y = tile.y0; y < tile.y1; ++y)
+        for (int x = tile.x0; x < tile.x1; ++x)
+            order.push_back({morton(x - tile.x0, y - tile.y0), y * m_film.width() + x});
+    std::sort(order.begin(), order.end());
+    m_pixels.clear();
+    for (const auto& [code, pixel] : order) m_pixels.push_back(pixel);
+    m_next_sample = m_pass_begin[pass];
+    m_end_sample = m_pass_begin[pass + 1];
+}
+
+bool UniformSampler::next_batch(std::vector<CameraSample>& samples) {
+    samples.clear();
+    if (m_next_sample >= m_end_sample || m_pixels.empty()) return false;
+    const int per_round = std::max<int>(1, static_cast<int>(m_max_batch / m_pixels.size()));
+    const int s1 = std::min(m_end_sample, m_next_sample + per_round);
+    const int width = m_film.width();
+    for (int s = m_next_sample; s < s1; ++s)
+        for (const int pixel : m_pixels) {
+            const uint32_t key = path_key(m_seed, static_cast<uint32_t>(pixel), static_cast<uint32_t>(s));
+            samples.push_back({static_cast<float>(pixel % width) + bounce_uniform(key, 0, kDimPixelX),
+                               static_cast<float>(pixel / width) + bounce_uniform(key, 0, kDimPixelY), key});
+        }
+    m_next_sample = s1;
+    return true;
+}
+
+void UniformSampler::take_results(const CameraSample* samples, const PathResult* results, size_t n) {
+    // a box filter: every sample adds to the pixel it was shot through, in sample order (the
+    // round's samples are the pixels' in order, repeated; not recomputed from fx, fy, which
+    // round up to the next pixel at the far edge of a pixel of a wide image)
+    (void)samples;
+    for (size_t q = 0; q < n; ++q) m_film.add(m_pixels[q % m_pixels.size()], results[q], 1.0f);
+}
+
+}  // namespace patina

@@ -1,0 +1,51 @@
+// Where a tile's camera samples go, and how their results become pixels.
+//
+// The render job hands each (tile, pass) work item to a PixelSampler: begin(), then
+// next_batch() / take_results() in rounds until next_batch() has nothing more. The uniform
+// sampler below shoots a fixed number of jittered samples per pixel in one or more rounds
+// and box-filters them; the adaptive antialiasing (DESIGN.md, thesis chapter 3) implements
+// the same interface, deciding each round's positions from the previous round's results.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "render/film.h"
+#include "render/integrator.h"
+
+namespace patina {
+
+struct TileRect {
+    int x0, y0, x1, y1;  // pixels [x0, x1) x [y0, y1)
+};
+
+class PixelSampler {
+public:
+    virtual ~PixelSampler() = default;
+    virtual void begin(const TileRect& tile, int pass) = 0;
+    // The next round's camera samples; false (and no samples) when the work item is done.
+    virtual bool next_batch(std::vector<CameraSample>& samples) = 0;
+    // The results of the round just traced, in the order of its samples.
+    virtual void take_results(const CameraSample* samples, const PathResult* results, size_t n) = 0;
+};
+
+// Samples [pass_begin[p], pass_begin[p + 1]) of every pixel, jittered uniformly within the
+// pixel, box-filtered. Pixels go in Morton order (2 x 2 blocks for 4-ray packets, 4 x 2 for
+// 8); a round holds at most max_batch samples.
+class UniformSampler final : public PixelSampler {
+public:
+    UniformSampler(Film& film, uint32_t seed, std::vector<int> pass_begin, size_t max_batch = 4096);
+    void begin(const TileRect& tile, int pass) override;
+    bool next_batch(std::vector<CameraSample>& samples) override;
+    void take_results(const CameraSample* samples, const PathResult* results, size_t n) override;
+
+private:
+    Film& m_film;
+    uint32_t m_seed;
+    std::vector<int> m_pass_begin;
+    size_t m_max_batch;
+    std::vector<int> m_pixels;  // the tile's pixels in Morton order
+    int m_next_sample = 0, m_end_sample = 0;
+};
+
+}  // namespace patina
