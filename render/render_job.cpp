@@ -32,17 +32,19 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     if (settings.spp < 1) throw std::invalid_argument("spp must be at least 1");
     if (settings.max_depth < 1) throw std::invalid_argument("max_depth must be at least 1");
     if (settings.tile_size < 1) throw std::invalid_argument("tile_size must be at least 1");
+    if (settings.max_pass_spp < 1) throw std::invalid_argument("max_pass_spp must be at least 1");
     const Camera& c = scene.camera;
     if (c.width < 1 || c.height < 1) throw std::invalid_argument("the image must be at least 1 x 1 pixels");
     m_integrator.max_depth = settings.max_depth;
     m_tiles_x = (c.width + settings.tile_size - 1) / settings.tile_size;
     m_tiles_y = (c.height + settings.tile_size - 1) / settings.tile_size;
-    const int passes = std::clamp(settings.passes, 1, settings.spp);
+    const int per_pass = std::max(1, std::min(settings.max_pass_spp, (settings.spp + std::max(settings.passes, 1) - 1) /
+                                                                       std::max(settings.passes, 1)));
+    const int passes = (settings.spp + per_pass - 1) / per_pass;
     for (int p = 0; p <= passes; ++p)
         m_pass_begin.push_back(static_cast<int>(static_cast<int64_t>(settings.spp) * p / passes));
     const int tiles = m_tiles_x * m_tiles_y;
-    for (int p = 0; p < passes; ++p)
-        for (int t = 0; t < tiles; ++t) m_items.push_back({t, p});
+    m_item_count = static_cast<size_t>(passes) * tiles;  // item k: pass k / tiles, tile k % tiles
     m_tile_passes = std::vector<std::atomic<int>>(tiles);
     for (auto& a : m_tile_passes) a.store(0);
 }
@@ -73,7 +75,7 @@ void RenderJob::wait() {
 RenderProgress RenderJob::progress() const {
     RenderProgress p;
     p.items_done = m_done.load();
-    p.items_total = m_items.size();
+    p.items_total = m_item_count;
     p.rays = m_rays.load();
     p.samples_done = m_samples_done.load();
     p.cancelled = m_cancel.load();
@@ -92,8 +94,9 @@ void RenderJob::worker() {
     try {
         while (!m_cancel.load()) {
             const size_t k = m_next.fetch_add(1);
-            if (k >= m_items.size()) break;
-            const Item item = m_items[k];
+            if (k >= m_item_count) break;
+            const size_t tiles = m_tile_passes.size();
+            const Item item{static_cast<int>(k % tiles), static_cast<int>(k / tiles)};
             // a tile's passes are added in order: wait for the previous one (rare: only when
             // there are fewer tiles than threads)
             while (m_tile_passes[item.tile].load(std::memory_order_acquire) != item.pass) {

@@ -27,7 +27,8 @@ struct RenderSettings {
     int threads = 0;    // 0: all hardware threads
     int width = 0;      // SIMD width 1, 4, 8; 0: the widest the CPU runs
     int tile_size = 16;
-    int passes = 8;     // the samples of a pixel are split into at most this many passes
+    int passes = 8;     // a pixel's samples are split into at least this many passes (fewer if spp is smaller)...
+    int max_pass_spp = 16;  // ...of at most this many samples, so a cancel never waits long for a pass
 };
 
 struct RenderProgress {
@@ -69,7 +70,7 @@ private:
     const RenderKernels* m_kernels;
     int m_tiles_x = 0, m_tiles_y = 0;
     std::vector<int> m_pass_begin;  // sample index where each pass starts; back() = spp
-    std::vector<Item> m_items;
+    size_t m_item_count = 0;  // passes x tiles, taken pass by pass
     std::vector<std::atomic<int>> m_tile_passes;  // passes finished per tile
     Film m_film;
     std::atomic<size_t> m_next{0}, m_done{0}, m_rays{0}, m_samples_done{0};

@@ -17,9 +17,15 @@ def _png_path(exr: str, png: str | None) -> str | None:
 
 
 def _render_and_write(scene: Any, args: argparse.Namespace) -> int:
-    from .render import render, write_outputs
+    from .render import PreparedScene, render, write_outputs
 
-    result = render(scene, threads=args.threads, width=args.simd, progress=not args.quiet)
+    prepared = PreparedScene(scene)
+    print(
+        f"rendering {scene.camera.width}x{scene.camera.height}, {scene.render.spp} spp, "
+        f"{scene.render.integrator}, {prepared.triangles} triangles (Ctrl-C keeps the passes done so far)",
+        flush=True,
+    )
+    result = render(scene, threads=args.threads, width=args.simd, progress=not args.quiet, prepared=prepared)
     png = _png_path(args.out, args.png)
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
     write_outputs(scene, result, args.out, png, exposure=args.exposure, curve=args.tonemap)

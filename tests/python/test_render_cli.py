@@ -5,6 +5,9 @@ from __future__ import annotations
 
 import json
 import os
+import signal
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -103,3 +106,26 @@ def test_bad_json_and_bad_options(tmp_path, capsys):
     good = write_scene(tmp_path, GOOD)
     assert main(["render", good, "--spp", "0", "--quiet"]) == 2
     assert "--spp" in capsys.readouterr().err
+
+
+def test_ctrl_c_writes_a_valid_partial_image_and_exits_130(tmp_path):
+    scene = write_scene(tmp_path, {**GOOD, "camera": {**GOOD["camera"], "width": 64, "height": 48}})
+    out = tmp_path / "partial.exr"
+    cmd = [sys.executable, "-m", "patina.cli", "render", scene, "--out", str(out), "--spp", "1000000", "--quiet"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout is not None and proc.stdout.readline().startswith("rendering")
+        import time
+
+        time.sleep(1.0)  # some passes finish
+        proc.send_signal(signal.SIGINT)
+        stdout, stderr = proc.communicate(timeout=60)
+    finally:
+        proc.kill()
+    assert proc.returncode == 130, stderr
+    assert "Traceback" not in stderr and "PARTIAL" in stdout
+    layers, meta = read_exr_layers(str(out))
+    assert int(meta["patina:complete"]) == 0
+    assert 0 < int(meta["patina:samples_min"]) < 1000000
+    assert np.isfinite(layers["beauty"]).all() and layers["beauty"].mean() > 0.1
+    assert sorted(os.listdir(tmp_path)) == ["partial.exr", "partial.png", "scene.json"]
