@@ -35,38 +35,78 @@ F load_lanes(const float* p, size_t i, int lanes) { return rows::load1<W>(p, i, 
 void store_rows(float* p, size_t i, int lanes, F x, F y, F z) { rows::store3<W>(p, i, lanes, x, y, z); }
 void store_lanes(float* p, size_t i, int lanes, F v) { rows::store1<W>(p, i, lanes, v); }
 
-// The mixture's value in one channel; the lobe kind is uniform, so its switch is one branch.
-F mixture_channel(const MixtureParams& p, const Dir3<F>& a, const Dir3<F>& b, int ch) {
-    F f = microfacet::lambert_eval(a, b, F(p.rho[ch]));
+// A lobe as base x (m + (1 - m) w): for the Schlick-Fresnel lobes (GGX, Beckmann,
+// Blinn-Phong, Ashikhmin-Shirley) w is f0, base the lobe at f0 = 1 and m = (1 - cos_d)^5,
+// since f0 + (1 - f0) m = m + (1 - m) f0; for Ward and Lafortune, linear in their weight,
+// m = 0. With the shape shared by the channels (the usual colour model), the geometry is
+// evaluated once for all three.
+struct LobeParts {
+    F base, m;
+};
+
+LobeParts lobe_parts(const MixtureParams& p, int l, const Dir3<F>& a, const Dir3<F>& b, F shape, F shape_y) {
+    using namespace microfacet;
+    const F zero(0.0f), one(1.0f);
+    switch (p.kind) {
+        case LobeKind::GGX: {
+            const Dir3<F> h = half_vector(a, b);
+            return {microfacet_value(a, b, ggx_d(h.z, shape), ggx_g2(a.z, b.z, shape), one),
+                    fresnel_schlick(zero, mean_cos_d(a, b, h))};
+        }
+        case LobeKind::Beckmann: {
+            const Dir3<F> h = half_vector(a, b);
+            return {microfacet_value(a, b, beckmann_d(h.z, shape), beckmann_g2(a.z, b.z, shape), one),
+                    fresnel_schlick(zero, mean_cos_d(a, b, h))};
+        }
+        case LobeKind::BlinnPhong: {
+            const Dir3<F> h = half_vector(a, b);
+            const F alpha = sqrt_exact(F(2.0f) / (shape + F(2.0f)));
+            return {microfacet_value(a, b, blinn_phong_d(h.z, shape), beckmann_g2(a.z, b.z, alpha), one),
+                    fresnel_schlick(zero, mean_cos_d(a, b, h))};
+        }
+        case LobeKind::AshikhminShirley: {
+            const Dir3<F> h = half_vector(a, b);
+            const F kh = mean_cos_d(a, b, h);
+            return {ashikhmin_shirley_eval(a, b, shape, shape_y, one), fresnel_schlick(zero, kh)};
+        }
+        case LobeKind::Ward:
+            return {ward_eval(a, b, shape, shape_y, one), zero};
+        case LobeKind::Lafortune: {
+            const float* c = p.lafortune_c[l];
+            return {lafortune_eval(a, b, F(c[0]), F(c[1]), F(c[2]), shape, (shape + F(2.0f)) * F(0.5f * kInvPi)), zero};
+        }
+    }
+    return {zero, zero};
+}
+
+// The mixture's RGB value: Lambert, the lobes, and the coat over them.
+void mixture_rgb(const MixtureParams& p, const Dir3<F>& a, const Dir3<F>& b, F f[3]) {
+    for (int ch = 0; ch < 3; ++ch) f[ch] = microfacet::lambert_eval(a, b, F(p.rho[ch]));
     for (int l = 0; l < p.lobes; ++l) {
-        const F shape(p.shape[l][ch]), shape_y(p.shape_y[l][ch]), w(p.weight[l][ch]);
-        switch (p.kind) {
-            case LobeKind::GGX: f += microfacet::ggx_eval(a, b, shape, w); break;
-            case LobeKind::Beckmann: f += microfacet::beckmann_eval(a, b, shape, w); break;
-            case LobeKind::BlinnPhong: f += microfacet::blinn_phong_eval(a, b, shape, w); break;
-            case LobeKind::Ward: f += microfacet::ward_eval(a, b, shape, shape_y, w); break;
-            case LobeKind::AshikhminShirley: f += microfacet::ashikhmin_shirley_eval(a, b, shape, shape_y, w); break;
-            case LobeKind::Lafortune: {
-                const float* c = p.lafortune_c[l];
-                const F rho = w * (shape + F(2.0f)) * F(0.5f * microfacet::kInvPi);
-                f += microfacet::lafortune_eval(a, b, F(c[0]), F(c[1]), F(c[2]), shape, rho);
-                break;
-            }
+        const float* s = p.shape[l];
+        const float* sy = p.shape_y[l];
+        const bool shared = s[0] == s[1] && s[1] == s[2] && sy[0] == sy[1] && sy[1] == sy[2];
+        LobeParts parts = lobe_parts(p, l, a, b, F(s[0]), F(sy[0]));
+        for (int ch = 0; ch < 3; ++ch) {
+            if (!shared && ch > 0) parts = lobe_parts(p, l, a, b, F(s[ch]), F(sy[ch]));
+            f[ch] = madd(parts.base, madd(F(1.0f) - parts.m, F(p.weight[l][ch]), parts.m), f[ch]);
         }
     }
     if (p.coat) {
         const F eta(p.coat_eta);
         const F through = (F(1.0f) - microfacet::fresnel_dielectric(a.z, eta)) *
                           (F(1.0f) - microfacet::fresnel_dielectric(b.z, eta));
-        f = madd(f, through, microfacet::coat_eval(a, b, F(p.coat_alpha), eta));
+        const F coat = microfacet::coat_eval(a, b, F(p.coat_alpha), eta);
+        for (int ch = 0; ch < 3; ++ch) f[ch] = madd(f[ch], through, coat);
     }
-    return f;
 }
 
 void eval_mixture(const MixtureParams& p, const float* wi, const float* wo, float* out, size_t n) {
     for_blocks(n, [&](size_t i, int lanes) {
         const Dir3<F> a = load_rows(wi, i, lanes), b = load_rows(wo, i, lanes);
-        store_rows(out, i, lanes, mixture_channel(p, a, b, 0), mixture_channel(p, a, b, 1), mixture_channel(p, a, b, 2));
+        F f[3];
+        mixture_rgb(p, a, b, f);
+        store_rows(out, i, lanes, f[0], f[1], f[2]);
     });
 }
 
@@ -129,23 +169,34 @@ void sample_lambert(const float* u1, const float* u2, float* wo, float* pdf, siz
 template <bool kLogSpace>
 double loss_blocks(const MixtureParams& p, const float* wi, const float* wo, const float* measured,
                    const float* weight, size_t n) {
+    // lanes accumulate in float for up to kFlush blocks, then into one double: the
+    // horizontal sum per block cost as much as a lobe at width 8
+    constexpr int kFlush = 64;
     double total = 0;
+    F acc(0.0f);
+    int blocks = 0;
+    auto flush = [&] {
+        float lane_sums[W];
+        store_n<W>(lane_sums, acc);
+        for (int j = 0; j < W; ++j) total += lane_sums[j];
+        acc = F(0.0f);
+        blocks = 0;
+    };
     for_blocks(n, [&](size_t i, int lanes) {
         const Dir3<F> a = load_rows(wi, i, lanes), b = load_rows(wo, i, lanes), m = load_rows(measured, i, lanes);
         const F w = load_lanes(weight, i, lanes);  // padded lanes weigh 0
         const F mc[3] = {m.x, m.y, m.z};
-        F sum(0.0f);
+        F model[3];
+        mixture_rgb(p, a, b, model);
         for (int ch = 0; ch < 3; ++ch) {
-            const F f = mixture_channel(p, a, b, ch);
             F d;
-            if constexpr (kLogSpace) d = fast_log(madd(f, w, F(1.0f))) - fast_log(madd(mc[ch], w, F(1.0f)));
-            else d = (f - mc[ch]) * w;
-            sum = madd(d, d, sum);
+            if constexpr (kLogSpace) d = fast_log(madd(model[ch], w, F(1.0f))) - fast_log(madd(mc[ch], w, F(1.0f)));
+            else d = (model[ch] - mc[ch]) * w;
+            acc = madd(d, d, acc);
         }
-        float lane_sums[W];
-        store_n<W>(lane_sums, sum);
-        for (int j = 0; j < W; ++j) total += lane_sums[j];
+        if (++blocks == kFlush) flush();
     });
+    flush();
     return total;
 }
 
