@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "render/grid2.h"
 #include "render/scene.h"
 
 namespace patina {
@@ -73,6 +74,8 @@ struct RenderKernels {
     int width;
     void (*trace_paths)(const RenderScene& scene, const IntegratorSettings& settings, const CameraSample* samples,
                         size_t n, PathResult* out, PathScratch& scratch);
+    // out[i] = the 2-D table at (x[i], y[i]), bilinear, clamped to the axes
+    void (*grid2_eval)(const Grid2View& grid, const float* x, const float* y, float* out, size_t n);
 };
 
 const RenderKernels& render_kernels_w1();

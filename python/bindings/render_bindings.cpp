@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "bindings.h"
+#include "render/grid2.h"
+#include "render/integrator.h"
 #include "render/render_job.h"
 #include "render/scene.h"
 
@@ -263,9 +265,62 @@ nb::dict resolve(const JobHandle& j) {
     return d;
 }
 
+// A 2-D table (a goniometric light's candela over C-plane and gamma angles), checked and
+// kept; evaluated by the render kernels' grid2_eval at any width.
+struct Grid2Handle {
+    std::vector<float> x, y, values;
+    patina::Grid2View view() const {
+        return {x.data(), static_cast<int>(x.size()), y.data(), static_cast<int>(y.size()), values.data()};
+    }
+};
+
+using FloatVector = nb::ndarray<const float, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+using FloatMatrix = nb::ndarray<const float, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+
+void check_axis(const FloatVector& a, const char* name) {
+    if (a.shape(0) < 1) throw std::invalid_argument(std::string(name) + ": needs at least one knot");
+    for (size_t i = 0; i < a.shape(0); ++i) {
+        if (!std::isfinite(a.data()[i])) throw std::invalid_argument(std::string(name) + ": knot " + std::to_string(i) + " is not finite");
+        if (i > 0 && !(a.data()[i] > a.data()[i - 1]))
+            throw std::invalid_argument(std::string(name) + ": knots must increase strictly (at " + std::to_string(i) + ")");
+    }
+}
+
+std::unique_ptr<Grid2Handle> make_grid2(FloatVector x, FloatVector y, FloatMatrix values) {
+    check_axis(x, "x");
+    check_axis(y, "y");
+    if (values.shape(0) != x.shape(0) || values.shape(1) != y.shape(0))
+        throw std::invalid_argument("values must have shape (len(x), len(y))");
+    auto g = std::make_unique<Grid2Handle>();
+    g->x.assign(x.data(), x.data() + x.shape(0));
+    g->y.assign(y.data(), y.data() + y.shape(0));
+    g->values.assign(values.data(), values.data() + values.size());
+    for (size_t i = 0; i < g->values.size(); ++i)
+        if (!std::isfinite(g->values[i])) throw std::invalid_argument("value " + std::to_string(i) + " is not finite");
+    return g;
+}
+
+nb::object grid2_eval(const Grid2Handle& g, FloatVector x, FloatVector y, int width) {
+    const size_t n = x.shape(0);
+    if (y.shape(0) != n) throw std::invalid_argument("x and y have different lengths");
+    float* out;
+    auto result = new_array<float, 1>({n}, &out);
+    const patina::Grid2View v = g.view();
+    const patina::RenderKernels& k = patina::render_kernels_for(width);
+    {
+        nb::gil_scoped_release release;
+        k.grid2_eval(v, x.data(), y.data(), out, n);
+    }
+    return nb::cast(result);
+}
+
 }  // namespace
 
 void bind_render(nb::module_& m) {
+    nb::class_<Grid2Handle>(m, "Grid2", "A 2-D table on an irregular tensor grid, bilinear, clamped to its axes.")
+        .def(nb::new_(&make_grid2), nb::arg("x"), nb::arg("y"), nb::arg("values"))
+        .def("eval", &grid2_eval, nb::arg("x"), nb::arg("y"), nb::arg("width") = 0,
+             "values at (x[i], y[i]) by the coherent search and bilinear interpolation, W points at a time");
     nb::class_<SceneHandle>(m, "RenderScene", "Geometry, materials, lights, environment and camera for RenderJob.")
         .def(nb::new_(&make_scene), nb::arg("accel"), nb::arg("indices"), nb::arg("normals"),
              nb::arg("tangents").none(), nb::arg("tri_material"), nb::arg("camera"))

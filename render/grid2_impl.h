@@ -1,0 +1,62 @@
+// A 2-D table on an irregular tensor grid, W points at a time (included by
+// render_w{1,4,8}.cpp): the goniometric light's candela table over (C-plane, gamma) angles.
+// Evaluated like the BRDF tables: per axis the coherent binary search of brdf/search.h
+// (one search for both; not a copy), then bilinear interpolation of the cell's corners.
+// Coordinates outside an axis clamp to its ends.
+#pragma once
+
+#include "brdf/search.h"
+#include "core/simd/rows.h"
+#include "render/grid2.h"
+
+#ifndef PATINA_KERNEL_WIDTH
+#error "define PATINA_KERNEL_WIDTH before including grid2_impl.h"
+#endif
+
+PATINA_BEGIN_TARGET
+namespace render_detail {
+namespace grid2_w {
+
+constexpr int W = PATINA_KERNEL_WIDTH;
+using F = vfloat<W>;
+using I = vint<W>;
+
+// The cell and the fraction within it along one axis, clamped to the axis.
+PATINA_INLINE void locate(const float* knots, int n, F x, I& cell, F& t) {
+    if (n == 1) {
+        cell = I(0);
+        t = F(0.0f);
+        return;
+    }
+    const F xc = clamp(x, F(knots[0]), F(knots[n - 1]));
+    cell = coherent_search<W>(knots, n, xc, F(0.0f) == F(0.0f));
+    const F k0 = gather(knots, cell), k1 = gather(knots, cell + I(1));
+    t = clamp((xc - k0) / (k1 - k0), F(0.0f), F(1.0f));
+}
+
+PATINA_INLINE F eval(const Grid2View& g, F x, F y) {
+    I ix, iy;
+    F tx, ty;
+    locate(g.x, g.nx, x, ix, tx);
+    locate(g.y, g.ny, y, iy, ty);
+    const I ix1 = g.nx > 1 ? ix + I(1) : ix, iy1 = g.ny > 1 ? iy + I(1) : iy;
+    const I row0 = ix * I(g.ny), row1 = ix1 * I(g.ny);
+    const F v00 = gather(g.values, row0 + iy), v01 = gather(g.values, row0 + iy1);
+    const F v10 = gather(g.values, row1 + iy), v11 = gather(g.values, row1 + iy1);
+    // (1 - t) a + t b, not a + t (b - a): exact at both ends of a cell, so the table's own
+    // values come back at every knot, the last included
+    const F sy = F(1.0f) - ty, sx = F(1.0f) - tx;
+    const F a = madd(ty, v01, sy * v00), b = madd(ty, v11, sy * v10);
+    return madd(tx, b, sx * a);
+}
+
+inline void eval_array(const Grid2View& g, const float* x, const float* y, float* out, size_t n) {
+    for (size_t i = 0; i < n; i += W) {
+        const int lanes = static_cast<int>(std::min<size_t>(W, n - i));
+        rows::store1<W>(out, i, lanes, eval(g, rows::load1<W>(x, i, lanes), rows::load1<W>(y, i, lanes)));
+    }
+}
+
+}  // namespace grid2_w
+}  // namespace render_detail
+PATINA_END_TARGET
