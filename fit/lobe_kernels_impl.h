@@ -49,9 +49,17 @@ LobeParts lobe_parts(const MixtureParams& p, int l, const Dir3<F>& a, const Dir3
     const F zero(0.0f), one(1.0f);
     switch (p.kind) {
         case LobeKind::GGX: {
-            const Dir3<F> h = half_vector(a, b);
-            return {microfacet_value(a, b, ggx_d(h.z, shape), ggx_g2(a.z, b.z, shape), one),
-                    fresnel_schlick(zero, mean_cos_d(a, b, h))};
+            // ggx_eval's D G2 / (4 cos_i cos_o) with one division: for s = a + b, cos^2(theta_h)
+            // = (cos_i + cos_o)^2 / |s|^2 and cos_d = |s| / 2; G2 / (4 cos_i cos_o) =
+            // 1 / (2 (cos_o sqrt(cos_i^2 (1 - a2) + a2) + cos_i sqrt(cos_o^2 (1 - a2) + a2)))
+            // (height-correlated Smith). The loss is bound by divisions at width 8.
+            const F a2 = shape * shape, ci = a.z, co = b.z;
+            const F sx = a.x + b.x, sy = a.y + b.y, sz = ci + co;
+            const F len2 = sx * sx + sy * sy + sz * sz;
+            const F t = madd(sz * sz, a2, sx * sx + sy * sy);  // |s|^2 (cos^2(theta_h) (a2 - 1) + 1), no cancellation
+            const F vis = co * sqrt_exact(madd(ci * ci, one - a2, a2)) + ci * sqrt_exact(madd(co * co, one - a2, a2));
+            const F base = a2 * len2 * len2 / (F(2.0f * kPi) * t * t * vis);
+            return {select((ci > zero) & (co > zero), base, zero), fresnel_schlick(zero, F(0.5f) * sqrt_exact(len2))};
         }
         case LobeKind::Beckmann: {
             const Dir3<F> h = half_vector(a, b);

@@ -168,6 +168,50 @@ TEST(Lobes, AnisotropicAndLafortuneMixturesMatchScalarAndAreReciprocal) {
 
 // The mixture's anisotropic lobes are the microfacet.h lobes with alpha_x / nu along the
 // local x axis, and its Lafortune lobe is w (n + 2) / (2 pi) times lafortune_eval.
+// GGX with Schlick Fresnel in double precision: the reference for the mixture's GGX lobe.
+double ggx_reference(const float* a, const float* b, double alpha, double f0) {
+    const double s[3] = {double(a[0]) + b[0], double(a[1]) + b[1], double(a[2]) + b[2]};
+    const double len = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+    const double c = s[2] / len, ci = a[2], co = b[2], a2 = alpha * alpha;
+    if (!(ci > 0 && co > 0)) return 0;
+    const double t = c * c * (a2 - 1) + 1, d = a2 / (kPi * t * t);
+    const double lambda_i = 0.5 * (std::sqrt(1 + a2 * (1 - ci * ci) / (ci * ci)) - 1);
+    const double lambda_o = 0.5 * (std::sqrt(1 + a2 * (1 - co * co) / (co * co)) - 1);
+    const double cos_d = (double(a[0]) * s[0] + double(a[1]) * s[1] + double(a[2]) * s[2]) / len;
+    const double fresnel = f0 + (1 - f0) * std::pow(1 - cos_d, 5);
+    return d / (1 + lambda_i + lambda_o) * fresnel / (4 * ci * co);
+}
+
+// The mixture evaluates each lobe's shape once for the three channels: GGX (in a one-division
+// form, its D free of the cancellation of cos(theta_h) near 1) against double precision,
+// Beckmann and Blinn-Phong against microfacet.h's per-channel functions.
+TEST(Lobes, MixtureMicrofacetLobesMatchTheirModels) {
+    const auto wi = hemisphere(4000, 34), wo = hemisphere(4000, 35);
+    for (LobeKind kind : {LobeKind::GGX, LobeKind::Beckmann, LobeKind::BlinnPhong}) {
+        for (float shape : {0.02f, 0.3f, 0.9f}) {
+            const float s = kind == LobeKind::BlinnPhong ? 2.0f / (shape * shape) - 2.0f : shape;
+            const MixtureParams p = mixture(0, 0, 0, s, 0.04f, 0.5f, 1.0f, kind);
+            const auto f = eval(p, wi, wo);
+            for (size_t i = 0; i < wi.size() / 3; ++i) {
+                const patina::Dir3<float> a{wi[3 * i], wi[3 * i + 1], wi[3 * i + 2]};
+                const patina::Dir3<float> b{wo[3 * i], wo[3 * i + 1], wo[3 * i + 2]};
+                for (int c = 0; c < 3; ++c) {
+                    const float f0 = c == 0 ? 0.04f : c == 1 ? 0.5f : 1.0f;
+                    if (kind == LobeKind::GGX) {
+                        const double ref = ggx_reference(&wi[3 * i], &wo[3 * i], s, f0);
+                        ASSERT_NEAR(f[3 * i + c], ref, 2e-5 * ref + 1e-30) << "shape " << s << " pair " << i;
+                        continue;
+                    }
+                    const float ref = kind == LobeKind::Beckmann ? patina::microfacet::beckmann_eval(a, b, s, f0)
+                                                                 : patina::microfacet::blinn_phong_eval(a, b, s, f0);
+                    ASSERT_NEAR(f[3 * i + c], ref, 2e-5f * ref + 1e-30f)
+                        << "kind " << int(kind) << " shape " << s << " pair " << i << " channel " << c;
+                }
+            }
+        }
+    }
+}
+
 TEST(Lobes, MixtureLobesAreTheModelsOfMicrofacetH) {
     using patina::microfacet::ashikhmin_shirley_eval;
     using patina::microfacet::kInvPi;
