@@ -58,8 +58,11 @@ struct PathScratch {
     std::vector<float> v_local, l_local, f, pdf, eta, u_pick, u1, u2;
     std::vector<int32_t> point_keys;  // the paths' random-number keys (uint32 bits)
     // misses (the environment seen), and the points that sample the environment
-    std::vector<int32_t> misses, env_points;
+    std::vector<int32_t> misses;
     std::vector<float> miss_dir, miss_rgb, miss_pdf;
+    // the points grouped by the light they chose, and one group's inputs and results
+    std::vector<int32_t> light_of_point, light_start, light_fill, light_points;
+    std::vector<float> group_pos, group_u1, group_u2, group_dir, group_rgb, group_dist, group_pdf;
     // one light sample per shading point
     std::vector<float> ls_dir, ls_rgb, ls_dist, ls_pdf;
     std::vector<uint8_t> ls_delta, ls_ok;

@@ -120,14 +120,6 @@ inline void fill_uniforms(const int32_t* keys, size_t n, int depth, RandomDim d,
     });
 }
 
-inline void store_light_sample(PathScratch& sc, size_t q, const LightSample& ls) {
-    std::copy(ls.dir, ls.dir + 3, sc.ls_dir.data() + 3 * q);
-    std::copy(ls.rgb, ls.rgb + 3, sc.ls_rgb.data() + 3 * q);
-    sc.ls_dist[q] = ls.dist;
-    sc.ls_pdf[q] = ls.pdf;
-    sc.ls_delta[q] = ls.delta;
-}
-
 inline LightSample load_light_sample(const PathScratch& sc, size_t q) {
     LightSample ls;
     std::copy(sc.ls_dir.data() + 3 * q, sc.ls_dir.data() + 3 * q + 3, ls.dir);
@@ -163,8 +155,78 @@ inline void add_environment(const RenderScene& s, PathScratch& sc, const float* 
     }
 }
 
-// One light sample per shading point into sc.ls_*: the light chosen by power; points and
-// quads one point at a time, the environment W points at a time.
+// Light samples for the points that chose light `li` (every lane the same light: coherent),
+// W points at a time: inputs gathered from the points, results scattered back to sc.ls_*.
+inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, const int32_t* points, size_t n,
+                               const float* u1, const float* u2) {
+    float* pos = grow(sc.group_pos, 3 * n);
+    float* g1 = grow(sc.group_u1, n);
+    float* g2 = grow(sc.group_u2, n);
+    float* dir = grow(sc.group_dir, 3 * n);
+    float* rgb = grow(sc.group_rgb, 3 * n);
+    float* dist = grow(sc.group_dist, n);
+    float* pdf = grow(sc.group_pdf, n);
+    for (size_t j = 0; j < n; ++j) {
+        const int32_t q = points[j];
+        std::copy(sc.sorted[q].p, sc.sorted[q].p + 3, pos + 3 * j);
+        g1[j] = u1[q];
+        g2[j] = u2[q];
+    }
+    const F sel(selection_probability(s, li));
+    const bool env = li == static_cast<int>(s.lights.size());
+    const Light* light = env ? nullptr : &s.lights[li];
+    for_blocks(n, [&](size_t i, int lanes) {
+        const F s1 = rows::load1<W>(g1, i, lanes), s2 = rows::load1<W>(g2, i, lanes);
+        D3 w;
+        F r, g, b, d, p;
+        if (env) {
+            p = sel * env_w::sample(s.env, s1, s2, w, r, g, b);
+            d = F(kInfF);
+        } else {
+            const D3 at = load_dir(pos, i, lanes);
+            D3 target{F(light->position[0]), F(light->position[1]), F(light->position[2])};
+            if (light->kind == LightKind::Quad) {  // a uniform point on the parallelogram
+                const F ua = madd(F(2.0f), s1, F(-1.0f)), ub = madd(F(2.0f), s2, F(-1.0f));
+                target.x = madd(ua, F(light->u[0]), madd(ub, F(light->v[0]), target.x));
+                target.y = madd(ua, F(light->u[1]), madd(ub, F(light->v[1]), target.y));
+                target.z = madd(ua, F(light->u[2]), madd(ub, F(light->v[2]), target.z));
+            }
+            const F dx = target.x - at.x, dy = target.y - at.y, dz = target.z - at.z;
+            const F dist2 = dx * dx + dy * dy + dz * dz;
+            d = sqrt_exact(dist2);
+            const F inv = F(1.0f) / d;
+            w = D3{dx * inv, dy * inv, dz * inv};
+            if (light->kind == LightKind::Point) {
+                const F inv2 = F(1.0f) / dist2;
+                r = F(light->power[0]) * inv2, g = F(light->power[1]) * inv2, b = F(light->power[2]) * inv2;
+                p = select(dist2 > F(0.0f), sel, F(0.0f));
+            } else {
+                // emitting side: -dir . n > 0, or either side when two-sided
+                const F facing = -(w.x * F(light->normal[0]) + w.y * F(light->normal[1]) + w.z * F(light->normal[2]));
+                const F cos_l = light->two_sided ? abs(facing) : facing;
+                r = F(light->power[0]), g = F(light->power[1]), b = F(light->power[2]);
+                p = select((cos_l > F(0.0f)) & (dist2 > F(0.0f)), sel * dist2 / (F(light->area) * cos_l), F(0.0f));
+            }
+        }
+        rows::store3<W>(dir, i, lanes, w.x, w.y, w.z);
+        rows::store3<W>(rgb, i, lanes, r, g, b);
+        rows::store1<W>(dist, i, lanes, d);
+        rows::store1<W>(pdf, i, lanes, p);
+    });
+    const bool delta = light != nullptr && light->kind == LightKind::Point;
+    for (size_t j = 0; j < n; ++j) {
+        const int32_t q = points[j];
+        std::copy(dir + 3 * j, dir + 3 * j + 3, sc.ls_dir.data() + 3 * q);
+        std::copy(rgb + 3 * j, rgb + 3 * j + 3, sc.ls_rgb.data() + 3 * q);
+        sc.ls_dist[q] = dist[j];
+        sc.ls_pdf[q] = pdf[j];
+        sc.ls_delta[q] = delta;
+        sc.ls_ok[q] = pdf[j] > 0 && std::isfinite(pdf[j]);
+    }
+}
+
+// One light sample per shading point into sc.ls_*: each point picks a light by power, the
+// points are grouped by the light they picked, and each group is sampled W points at a time.
 inline void sample_lights(const RenderScene& s, PathScratch& sc, int depth, size_t np) {
     sc.ls_dir.resize(3 * np);
     sc.ls_rgb.resize(3 * np);
@@ -172,52 +234,27 @@ inline void sample_lights(const RenderScene& s, PathScratch& sc, int depth, size
     sc.ls_pdf.resize(np);
     sc.ls_delta.resize(np);
     sc.ls_ok.resize(np);
-    sc.env_points.clear();
-    const int env_light = static_cast<int>(s.lights.size());
     float* pick = grow(sc.u_pick, np);
     float* u1 = grow(sc.u1, np);
     float* u2 = grow(sc.u2, np);
     fill_uniforms(sc.point_keys.data(), np, depth, kDimLightPick, pick);
     fill_uniforms(sc.point_keys.data(), np, depth, kDimLightU, u1);
     fill_uniforms(sc.point_keys.data(), np, depth, kDimLightV, u2);
+    const int count = light_count(s);
+    std::vector<int32_t>& chosen = sc.light_of_point;
+    chosen.resize(np);
+    sc.light_start.assign(count + 1, 0);
     for (size_t q = 0; q < np; ++q) {
-        const ShadingPoint& sp = sc.sorted[q];
-        const int li = cdf_cell(s.light_cdf.data(), light_count(s), pick[q]);
-        if (li == env_light) {
-            sc.env_points.push_back(static_cast<int32_t>(q));
-            continue;
-        }
-        LightSample ls;
-        sc.ls_ok[q] = sample_point_or_quad(s, li, sp.p, u1[q], u2[q], ls);
-        store_light_sample(sc, q, ls);
+        chosen[q] = cdf_cell(s.light_cdf.data(), count, pick[q]);
+        ++sc.light_start[chosen[q] + 1];
     }
-    const size_t ne = sc.env_points.size();
-    if (ne == 0) return;
-    const float select_env = selection_probability(s, env_light);
-    float* eu1 = grow(sc.miss_pdf, ne);  // reused: the environment points' uniforms
-    float* eu2 = grow(sc.miss_rgb, ne);
-    float* ed = grow(sc.miss_dir, 3 * ne);
-    float* erg = grow(sc.f, 3 * ne);  // not yet in use at this stage of the bounce
-    float* ep = grow(sc.pdf, ne);
-    for (size_t j = 0; j < ne; ++j) eu1[j] = u1[sc.env_points[j]], eu2[j] = u2[sc.env_points[j]];
-    for_blocks(ne, [&](size_t i, int lanes) {
-        D3 w;
-        F r, g, b;
-        const F p = env_w::sample(s.env, rows::load1<W>(eu1, i, lanes), rows::load1<W>(eu2, i, lanes), w, r, g, b);
-        rows::store3<W>(ed, i, lanes, w.x, w.y, w.z);
-        rows::store3<W>(erg, i, lanes, r, g, b);
-        rows::store1<W>(ep, i, lanes, p);
-    });
-    for (size_t j = 0; j < ne; ++j) {
-        const size_t q = sc.env_points[j];
-        LightSample ls;
-        std::copy(ed + 3 * j, ed + 3 * j + 3, ls.dir);
-        std::copy(erg + 3 * j, erg + 3 * j + 3, ls.rgb);
-        ls.dist = kInfF;
-        ls.pdf = ep[j] * select_env;
-        ls.delta = false;
-        sc.ls_ok[q] = ep[j] > 0;
-        store_light_sample(sc, q, ls);
+    for (int k = 0; k < count; ++k) sc.light_start[k + 1] += sc.light_start[k];
+    sc.light_points.resize(np);
+    sc.light_fill.assign(sc.light_start.begin(), sc.light_start.end() - 1);
+    for (size_t q = 0; q < np; ++q) sc.light_points[sc.light_fill[chosen[q]]++] = static_cast<int32_t>(q);
+    for (int k = 0; k < count; ++k) {
+        const size_t a = sc.light_start[k], n = sc.light_start[k + 1] - a;
+        if (n > 0) sample_light_group(s, sc, k, sc.light_points.data() + a, n, u1, u2);
     }
 }
 

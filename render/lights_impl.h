@@ -1,6 +1,6 @@
-// Light selection and the point and quad lights for the integrator (included by
-// render_w{1,4,8}.cpp), one shading point at a time; the environment is sampled W points at
-// a time (env_impl.h). (Coherent SIMD sampling of every light is the luminaires issue's work.)
+// Light selection and the quad lights' density for the integrator (included by
+// render_w{1,4,8}.cpp). The lights themselves are sampled W points at a time, grouped by
+// the light each point chose (integrator_impl.h, env_impl.h).
 #pragma once
 
 #include <algorithm>
@@ -44,39 +44,6 @@ struct LightSample {
     float pdf = 0;             // solid-angle pdf including selection; for a point light the selection probability
     bool delta = false;        // a point light: no MIS
 };
-
-// A sample of point or quad light `li` for shading point p (the environment is sampled W
-// points at a time: env_impl.h); false when it cannot light p.
-inline bool sample_point_or_quad(const RenderScene& s, int li, const float* p, float u1, float u2, LightSample& ls) {
-    const float sel = selection_probability(s, li);
-    if (!(sel > 0) || li >= static_cast<int>(s.lights.size())) return false;
-    const Light& l = s.lights[li];
-    float target[3];
-    if (l.kind == LightKind::Point) {
-        for (int k = 0; k < 3; ++k) target[k] = l.position[k];
-    } else {
-        const float a = 2 * u1 - 1, b = 2 * u2 - 1;
-        for (int k = 0; k < 3; ++k) target[k] = l.position[k] + a * l.u[k] + b * l.v[k];
-    }
-    float d[3] = {target[0] - p[0], target[1] - p[1], target[2] - p[2]};
-    const float dist2 = dot3(d, d);
-    if (!(dist2 > 0)) return false;
-    const float dist = std::sqrt(dist2);
-    for (int k = 0; k < 3; ++k) ls.dir[k] = d[k] / dist;
-    ls.dist = dist;
-    if (l.kind == LightKind::Point) {
-        for (int k = 0; k < 3; ++k) ls.rgb[k] = l.power[k] / dist2;
-        ls.pdf = sel;
-        ls.delta = true;
-        return true;
-    }
-    const float facing = -dot3(ls.dir, l.normal);
-    if (!(facing > 0) && !(l.two_sided && facing < 0)) return false;
-    for (int k = 0; k < 3; ++k) ls.rgb[k] = l.power[k];
-    ls.pdf = quad_pdf(s, li, ls.dir, dist);
-    ls.delta = false;
-    return ls.pdf > 0;
-}
 
 // Veach's power heuristic a^2 / (a^2 + b^2), written so near-delta pdfs cannot overflow.
 inline float power_heuristic(float a, float b) {
