@@ -140,19 +140,88 @@ inline void add_environment(const RenderScene& s, PathScratch& sc, const float* 
     float* le = grow(sc.miss_rgb, 3 * n);
     float* lp = grow(sc.miss_pdf, n);
     for (size_t j = 0; j < n; ++j) std::copy(dir + 3 * sc.misses[j], dir + 3 * sc.misses[j] + 3, d + 3 * j);
-    for_blocks(n, [&](size_t i, int lanes) {
+    if (s.env.present) for_blocks(n, [&](size_t i, int lanes) {
         const D3 w = load_dir(d, i, lanes);
         F r, g, b;
         env_w::radiance(s.env, w, r, g, b);
         rows::store3<W>(le, i, lanes, r, g, b);
         rows::store1<W>(lp, i, lanes, env_w::pdf(s.env, w));
     });
-    const float select_env = can_sample_lights ? selection_probability(s, static_cast<int>(s.lights.size())) : 0.0f;
+    const float select_env =
+        can_sample_lights && s.env.present ? selection_probability(s, static_cast<int>(s.lights.size())) : 0.0f;
     for (size_t j = 0; j < n; ++j) {
         const int32_t i = sc.misses[j];
-        const float w = prev_pdf[i] > 0 && can_sample_lights ? power_heuristic(prev_pdf[i], select_env * lp[j]) : 1.0f;
-        for (int k = 0; k < 3; ++k) out[i].rgb[k] += thr[3 * i + k] * le[3 * j + k] * w;
+        if (s.env.present) {
+            const float w =
+                prev_pdf[i] > 0 && can_sample_lights ? power_heuristic(prev_pdf[i], select_env * lp[j]) : 1.0f;
+            for (int k = 0; k < 3; ++k) out[i].rgb[k] += thr[3 * i + k] * le[3 * j + k] * w;
+        }
+        // the sun's disc, where the ray goes through it
+        for (size_t li = 0; li < s.lights.size(); ++li) {
+            const Light& l = s.lights[li];
+            if (l.kind != LightKind::Sun || !(dot3(d + 3 * j, l.direction) >= l.cos_sun)) continue;
+            const float sun_pdf = selection_probability(s, static_cast<int>(li)) /
+                                  (2.0f * kPiF * std::max(1.0f - l.cos_sun, 1e-12f));
+            const float w = prev_pdf[i] > 0 && can_sample_lights ? power_heuristic(prev_pdf[i], sun_pdf) : 1.0f;
+            for (int k = 0; k < 3; ++k) out[i].rgb[k] += thr[3 * i + k] * l.power[k] * w;
+        }
     }
+}
+
+// A point light's relative intensity towards unit direction `out` (from the light): 1 for
+// a point light, the smooth cone of a spot, the candela table of a goniometric luminaire.
+PATINA_INLINE F delta_intensity(const Light& l, const D3& out) {
+    if (l.kind == LightKind::Spot) {
+        const F c = out.x * F(l.direction[0]) + out.y * F(l.direction[1]) + out.z * F(l.direction[2]);
+        const F t = clamp((c - F(l.cos_outer)) / F(std::max(l.cos_inner - l.cos_outer, 1e-6f)), F(0.0f), F(1.0f));
+        return t * t * nmadd(F(2.0f), t, F(3.0f));  // smoothstep
+    }
+    if (l.kind == LightKind::Goniometric) {
+        // photometric type C: gamma from the nadir (-axis_z), C from axis_x towards axis_y
+        const F x = out.x * F(l.axis_x[0]) + out.y * F(l.axis_x[1]) + out.z * F(l.axis_x[2]);
+        const F y = out.x * F(l.axis_y[0]) + out.y * F(l.axis_y[1]) + out.z * F(l.axis_y[2]);
+        const F z = out.x * F(l.axis_z[0]) + out.y * F(l.axis_z[1]) + out.z * F(l.axis_z[2]);
+        const F gamma = fast_acos(clamp(-z, F(-1.0f), F(1.0f)));
+        F c = fast_atan2(y, x);
+        c = select(c < F(0.0f), c + F(2.0f * kPiF), c);
+        return grid2_w::eval(l.candela, c, gamma);
+    }
+    return F(1.0f);
+}
+
+// The sun: a direction uniform in its disc's cone (pdf 1 / (2 pi (1 - cos))), its radiance.
+PATINA_INLINE F sample_sun(const Light& l, F u1, F u2, D3& w, F& r, F& g, F& b) {
+    const F cos_t = nmadd(u1, F(1.0f - l.cos_sun), F(1.0f));
+    const F sin_t = sqrt_exact(max(F(1.0f) - cos_t * cos_t, F(0.0f)));
+    F sp, cp;
+    fast_sincos(F(2.0f * kPiF) * u2, sp, cp);
+    const F a = sin_t * cp, c = sin_t * sp;
+    w = D3{madd(a, F(l.frame_t[0]), madd(c, F(l.frame_b[0]), cos_t * F(l.direction[0]))),
+           madd(a, F(l.frame_t[1]), madd(c, F(l.frame_b[1]), cos_t * F(l.direction[1]))),
+           madd(a, F(l.frame_t[2]), madd(c, F(l.frame_b[2]), cos_t * F(l.direction[2])))};
+    r = F(l.power[0]), g = F(l.power[1]), b = F(l.power[2]);
+    return F(1.0f / (2.0f * kPiF * std::max(1.0f - l.cos_sun, 1e-12f)));
+}
+
+// A point uniform by area over a triangle light's triangles (the triangle by its area cdf,
+// u1 reused within the cell), with that triangle's geometric normal.
+PATINA_INLINE D3 sample_triangles(const RenderScene& s, const Light& l, F u1, F u2, D3& n) {
+    const int count = static_cast<int>(l.triangles.size());
+    const vint<W> k = coherent_search<W>(l.area_cdf.data(), count + 1, u1, F(0.0f) == F(0.0f));
+    const F c0 = gather(l.area_cdf.data(), k), c1 = gather(l.area_cdf.data(), k + vint<W>(1));
+    const F r1 = select(c1 > c0, clamp((u1 - c0) / (c1 - c0), F(0.0f), F(1.0f)), F(0.5f));
+    const vint<W> tri = gather(l.triangles.data(), k);
+    const float* v = s.tree->triangles.data();
+    const vint<W> base = tri * vint<W>(9), nb = tri * vint<W>(3);
+    D3 p[3];
+    for (int j = 0; j < 3; ++j)
+        p[j] = D3{gather(v, base + vint<W>(3 * j)), gather(v, base + vint<W>(3 * j + 1)),
+                  gather(v, base + vint<W>(3 * j + 2))};
+    n = D3{gather(s.tree->normals.data(), nb), gather(s.tree->normals.data(), nb + vint<W>(1)),
+           gather(s.tree->normals.data(), nb + vint<W>(2))};
+    const F su = sqrt_exact(r1), b0 = F(1.0f) - su, b1 = su * (F(1.0f) - u2), b2 = su * u2;
+    return D3{madd(b0, p[0].x, madd(b1, p[1].x, b2 * p[2].x)), madd(b0, p[0].y, madd(b1, p[1].y, b2 * p[2].y)),
+              madd(b0, p[0].z, madd(b1, p[1].z, b2 * p[2].z))};
 }
 
 // Light samples for the points that chose light `li` (every lane the same light: coherent),
@@ -182,30 +251,36 @@ inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, co
         if (env) {
             p = sel * env_w::sample(s.env, s1, s2, w, r, g, b);
             d = F(kInfF);
+        } else if (light->kind == LightKind::Sun) {
+            p = sample_sun(*light, s1, s2, w, r, g, b) * sel;
+            d = F(kInfF);
         } else {
             const D3 at = load_dir(pos, i, lanes);
             D3 target{F(light->position[0]), F(light->position[1]), F(light->position[2])};
+            D3 n{F(light->normal[0]), F(light->normal[1]), F(light->normal[2])};
             if (light->kind == LightKind::Quad) {  // a uniform point on the parallelogram
                 const F ua = madd(F(2.0f), s1, F(-1.0f)), ub = madd(F(2.0f), s2, F(-1.0f));
                 target.x = madd(ua, F(light->u[0]), madd(ub, F(light->v[0]), target.x));
                 target.y = madd(ua, F(light->u[1]), madd(ub, F(light->v[1]), target.y));
                 target.z = madd(ua, F(light->u[2]), madd(ub, F(light->v[2]), target.z));
+            } else if (light->kind == LightKind::Triangles) {
+                target = sample_triangles(s, *light, s1, s2, n);
             }
             const F dx = target.x - at.x, dy = target.y - at.y, dz = target.z - at.z;
             const F dist2 = dx * dx + dy * dy + dz * dz;
             d = sqrt_exact(dist2);
             const F inv = F(1.0f) / d;
             w = D3{dx * inv, dy * inv, dz * inv};
-            if (light->kind == LightKind::Point) {
-                const F inv2 = F(1.0f) / dist2;
-                r = F(light->power[0]) * inv2, g = F(light->power[1]) * inv2, b = F(light->power[2]) * inv2;
-                p = select(dist2 > F(0.0f), sel, F(0.0f));
-            } else {
+            if (light->kind == LightKind::Quad || light->kind == LightKind::Triangles) {
                 // emitting side: -dir . n > 0, or either side when two-sided
-                const F facing = -(w.x * F(light->normal[0]) + w.y * F(light->normal[1]) + w.z * F(light->normal[2]));
+                const F facing = -(w.x * n.x + w.y * n.y + w.z * n.z);
                 const F cos_l = light->two_sided ? abs(facing) : facing;
                 r = F(light->power[0]), g = F(light->power[1]), b = F(light->power[2]);
                 p = select((cos_l > F(0.0f)) & (dist2 > F(0.0f)), sel * dist2 / (F(light->area) * cos_l), F(0.0f));
+            } else {  // delta lights: intensity towards the point / distance^2
+                const F scale = delta_intensity(*light, D3{-w.x, -w.y, -w.z}) / dist2;
+                r = F(light->power[0]) * scale, g = F(light->power[1]) * scale, b = F(light->power[2]) * scale;
+                p = select(dist2 > F(0.0f), sel, F(0.0f));
             }
         }
         rows::store3<W>(dir, i, lanes, w.x, w.y, w.z);
@@ -213,7 +288,8 @@ inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, co
         rows::store1<W>(dist, i, lanes, d);
         rows::store1<W>(pdf, i, lanes, p);
     });
-    const bool delta = light != nullptr && light->kind == LightKind::Point;
+    const bool delta = light != nullptr && (light->kind == LightKind::Point || light->kind == LightKind::Spot ||
+                                            light->kind == LightKind::Goniometric);
     for (size_t j = 0; j < n; ++j) {
         const int32_t q = points[j];
         std::copy(dir + 3 * j, dir + 3 * j + 3, sc.ls_dir.data() + 3 * q);
@@ -282,6 +358,8 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
         sc.active.push_back(static_cast<int32_t>(i));
     }
     const bool can_sample_lights = light_count(s) > 0 && s.light_cdf.back() > 0;
+    bool has_sun = false;
+    for (const Light& l : s.lights) has_sun = has_sun || l.kind == LightKind::Sun;
     const float eps = s.ray_offset;
 
     for (int depth = 0; !sc.active.empty(); ++depth) {
@@ -308,17 +386,18 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
             float* T = thr + 3 * i;
             const int32_t prim = hits.prim[j];
             if (prim < 0) {
-                if (s.env.present) sc.misses.push_back(i);
+                if (s.env.present || has_sun) sc.misses.push_back(i);
                 continue;
             }
             const Material& mat = s.materials[s.tri_material[prim]];
             if (mat.kind == MaterialKind::Emitter) {
                 const Light& l = s.lights[mat.light];
-                const float facing = -dot3(d, l.normal);
+                const float* ng = s.tree->normals.data() + 3 * static_cast<size_t>(prim);  // quads: their normal
+                const float facing = -dot3(d, ng);
                 if (facing > 0 || (l.two_sided && facing < 0)) {
                     float w = 1.0f;
                     if (prev_pdf[i] > 0 && can_sample_lights)
-                        w = power_heuristic(prev_pdf[i], quad_pdf(s, mat.light, d, hits.t[j]));
+                        w = power_heuristic(prev_pdf[i], area_light_pdf(s, mat.light, facing, hits.t[j]));
                     for (int k = 0; k < 3; ++k) out[i].rgb[k] += T[k] * l.power[k] * w;
                 }
                 if (depth == 0) out[i].depth = hits.t[j];

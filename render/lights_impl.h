@@ -28,13 +28,13 @@ inline float selection_probability(const RenderScene& s, int light) {
 }
 inline int light_count(const RenderScene& s) { return static_cast<int>(s.light_cdf.size()) - 1; }
 
-// Density (solid angle at the shading point, selection included) of reaching quad light `li`
-// at distance `dist` along unit `d` by light sampling.
-inline float quad_pdf(const RenderScene& s, int li, const float* d, float dist) {
-    const Light& l = s.lights[li];
-    const float cos_l = std::abs(dot3(d, l.normal));
+// Density (solid angle at the shading point, selection included) with which light sampling
+// reaches area light `li` (a quad or triangles: uniform by area) at distance `dist`, where
+// the light's surface has cosine `facing` with the direction.
+inline float area_light_pdf(const RenderScene& s, int li, float facing, float dist) {
+    const float cos_l = std::abs(facing);
     if (cos_l <= 0) return 0;
-    return selection_probability(s, li) * dist * dist / (l.area * cos_l);
+    return selection_probability(s, li) * dist * dist / (s.lights[li].area * cos_l);
 }
 
 struct LightSample {

@@ -80,8 +80,18 @@ void prepare_light_selection(RenderScene& s) {
     std::vector<double> power;
     for (const Light& l : s.lights) {
         const double lum = std::max(0.0, luminance(l.power));
-        if (l.kind == LightKind::Point) power.push_back(4 * kPi * lum);
-        else power.push_back(l.area * kPi * lum * (l.two_sided ? 2 : 1));
+        if (l.power_estimate >= 0) {
+            power.push_back(l.power_estimate);
+            continue;
+        }
+        switch (l.kind) {
+            case LightKind::Point: power.push_back(4 * kPi * lum); break;
+            case LightKind::Spot: power.push_back(2 * kPi * (1 - 0.5 * (l.cos_inner + l.cos_outer)) * lum); break;
+            case LightKind::Sun:  // its flux through the scene's bounding disc
+                power.push_back(kPi * (1 - double(l.cos_sun) * l.cos_sun) * lum * kPi * s.scene_radius * s.scene_radius);
+                break;
+            default: power.push_back(l.area * kPi * lum * (l.two_sided ? 2 : 1));
+        }
     }
     if (s.env.present) {
         const double mean = s.env.is_map ? s.env.mean_luminance : std::max(0.0, luminance(s.env.constant));

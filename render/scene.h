@@ -11,6 +11,7 @@
 #include "fit/lobe_kernels.h"
 #include "render/accel/kdtree.h"
 #include "render/camera.h"
+#include "render/grid2.h"
 
 namespace patina {
 
@@ -38,16 +39,34 @@ struct Material {
     int light = -1;  // Emitter: the quad light whose triangles these are
 };
 
-enum class LightKind : int { Point = 0, Quad = 1, Environment = 2 };
+// Lights: delta lights (point, spot, goniometric) sampled at their position; area lights
+// (quad, triangles: disks, spheres, emissive meshes) sampled uniformly by area over the very
+// triangles the rays hit; the sun, a disc of uniform radiance at infinity; the environment.
+enum class LightKind : int { Point = 0, Quad = 1, Environment = 2, Spot = 3, Sun = 4, Triangles = 5, Goniometric = 6 };
 
 struct Light {
     LightKind kind = LightKind::Point;
-    float position[3] = {0, 0, 0};  // Point: position; Quad: centre
+    float position[3] = {0, 0, 0};  // Point, Spot, Goniometric: position; Quad: centre
     float u[3] = {1, 0, 0}, v[3] = {0, 0, 1};  // Quad: half-edge vectors (corners centre +- u +- v)
     float normal[3] = {0, -1, 0};   // Quad: unit normal, normalize(cross(u, v)); emits on this side
-    float area = 4;                 // Quad: 4 |u x v|
-    float power[3] = {1, 1, 1};     // Point: intensity (W/sr); Quad: radiance (W/(m^2 sr))
+    float area = 4;                 // Quad: 4 |u x v|; Triangles: the total area
+    // Point, Spot: intensity (W/sr); Quad, Triangles, Sun: radiance (W/(m^2 sr));
+    // Goniometric: the factor (1/sr... per candela) that turns the table's candela into RGB W/sr
+    float power[3] = {1, 1, 1};
     bool two_sided = false;
+    float direction[3] = {0, -1, 0};  // Spot: the axis it shines along; Sun: towards the sun (unit)
+    float cos_inner = 1, cos_outer = 0;  // Spot: full inside cos_inner, smoothly to none at cos_outer
+    float cos_sun = 1;                   // Sun: cosine of the disc's angular radius
+    float frame_t[3] = {1, 0, 0}, frame_b[3] = {0, 0, 1};  // Sun: a frame around `direction`
+    // Triangles: the light's triangles (scene triangle ids) and their area cdf (size + 1 values)
+    std::vector<int32_t> triangles;
+    std::vector<float> area_cdf;
+    // Goniometric: the luminaire's axes in the world (photometric type C: gamma = 0 along
+    // -axis_z, C = 0 along axis_x, C = 90 along axis_y) and its candela table over
+    // (C, gamma) in radians
+    float axis_x[3] = {1, 0, 0}, axis_y[3] = {0, 1, 0}, axis_z[3] = {0, 0, 1};
+    Grid2View candela{};
+    float power_estimate = -1;  // W (luminance-weighted), when known better than from `power`
 };
 
 // A lat-long environment (Mitsuba 3's convention: u -> phi = 2 pi u, v -> theta = pi v,

@@ -36,6 +36,15 @@ struct SceneHandle {
     std::vector<nb::object> keep;  // arrays, tables and the accel the pointers point into
 };
 
+// A 2-D table (a goniometric light's candela over C-plane and gamma angles), checked and
+// kept; evaluated by the render kernels' grid2_eval at any width.
+struct Grid2Handle {
+    std::vector<float> x, y, values;
+    patina::Grid2View view() const {
+        return {x.data(), static_cast<int>(x.size()), y.data(), static_cast<int>(y.size()), values.data()};
+    }
+};
+
 float get_float(const nb::dict& d, const char* key, float fallback) {
     return d.contains(key) ? nb::cast<float>(d[key]) : fallback;
 }
@@ -146,24 +155,92 @@ int add_material(SceneHandle& h, const nb::dict& d) {
     return static_cast<int>(h.scene.materials.size()) - 1;
 }
 
+// An orthonormal pair (t, b) around unit n.
+void frame_around(const float* n, float* t, float* b) {
+    const float sign = std::copysign(1.0f, n[2]);
+    const float a = -1.0f / (sign + n[2]), c = n[0] * n[1] * a;
+    t[0] = 1.0f + sign * n[0] * n[0] * a, t[1] = sign * c, t[2] = -sign * n[0];
+    b[0] = c, b[1] = sign + n[1] * n[1] * a, b[2] = -n[1];
+}
+
+void normalize(float* v, const char* what) {
+    const float len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (!(len > 0) || !std::isfinite(len)) throw std::invalid_argument(std::string(what) + " must be a non-zero vector");
+    for (int k = 0; k < 3; ++k) v[k] /= len;
+}
+
 int add_light(SceneHandle& h, const nb::dict& d) {
     patina::Light l;
     const std::string kind = nb::cast<std::string>(d["kind"]);
     if (kind == "point") l.kind = patina::LightKind::Point;
     else if (kind == "quad") l.kind = patina::LightKind::Quad;
+    else if (kind == "spot") l.kind = patina::LightKind::Spot;
+    else if (kind == "sun") l.kind = patina::LightKind::Sun;
+    else if (kind == "triangles") l.kind = patina::LightKind::Triangles;
+    else if (kind == "goniometric") l.kind = patina::LightKind::Goniometric;
     else throw std::invalid_argument("unknown light kind '" + kind + "'");
     get_vec3(d, "position", l.position);
     get_vec3(d, "u", l.u);
     get_vec3(d, "v", l.v);
     get_rgb(d, "power", l.power);
     l.two_sided = get_bool(d, "two_sided", false);
-    if (l.kind == patina::LightKind::Quad) {
-        const float n[3] = {l.u[1] * l.v[2] - l.u[2] * l.v[1], l.u[2] * l.v[0] - l.u[0] * l.v[2],
-                            l.u[0] * l.v[1] - l.u[1] * l.v[0]};
-        const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        if (!(len > 0)) throw std::invalid_argument("a quad light needs non-parallel u and v");
-        for (int k = 0; k < 3; ++k) l.normal[k] = n[k] / len;
-        l.area = 4 * len;
+    l.power_estimate = get_float(d, "power_estimate", -1.0f);
+    switch (l.kind) {
+        case patina::LightKind::Quad: {
+            const float n[3] = {l.u[1] * l.v[2] - l.u[2] * l.v[1], l.u[2] * l.v[0] - l.u[0] * l.v[2],
+                                l.u[0] * l.v[1] - l.u[1] * l.v[0]};
+            const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            if (!(len > 0)) throw std::invalid_argument("a quad light needs non-parallel u and v");
+            for (int k = 0; k < 3; ++k) l.normal[k] = n[k] / len;
+            l.area = 4 * len;
+            break;
+        }
+        case patina::LightKind::Spot:
+            get_vec3(d, "direction", l.direction);
+            normalize(l.direction, "a spot light's direction");
+            l.cos_inner = get_float(d, "cos_inner", 1.0f);
+            l.cos_outer = get_float(d, "cos_outer", 0.0f);
+            if (!(l.cos_outer < l.cos_inner)) throw std::invalid_argument("a spot light's cone: cos_outer < cos_inner");
+            break;
+        case patina::LightKind::Sun:
+            get_vec3(d, "direction", l.direction);
+            normalize(l.direction, "the sun's direction");
+            l.cos_sun = get_float(d, "cos_sun", 1.0f);
+            if (!(l.cos_sun < 1.0f && l.cos_sun > 0.0f)) throw std::invalid_argument("the sun's disc: 0 < cos_sun < 1");
+            frame_around(l.direction, l.frame_t, l.frame_b);
+            break;
+        case patina::LightKind::Triangles: {
+            const std::vector<int32_t> tris = nb::cast<std::vector<int32_t>>(d["triangles"]);
+            const patina::KdTree& tree = *h.scene.tree;
+            double total = 0;
+            l.area_cdf.push_back(0.0f);
+            std::vector<double> acc;
+            for (int32_t t : tris) {
+                if (t < 0 || static_cast<size_t>(t) >= tree.triangle_count())
+                    throw std::invalid_argument("an emissive triangle id is out of range");
+                const float* v = tree.triangles.data() + 9 * static_cast<size_t>(t);
+                const double e1[3] = {v[3] - v[0], v[4] - v[1], v[5] - v[2]}, e2[3] = {v[6] - v[0], v[7] - v[1], v[8] - v[2]};
+                const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+                total += 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+                acc.push_back(total);
+            }
+            if (!(total > 0)) throw std::invalid_argument("an emissive mesh needs a positive area");
+            l.triangles = tris;
+            for (double a : acc) l.area_cdf.push_back(static_cast<float>(a / total));
+            l.area_cdf.back() = 1.0f;
+            l.area = static_cast<float>(total);
+            break;
+        }
+        case patina::LightKind::Goniometric: {
+            get_vec3(d, "axis_x", l.axis_x);
+            get_vec3(d, "axis_y", l.axis_y);
+            get_vec3(d, "axis_z", l.axis_z);
+            nb::object grid = d["candela"];
+            l.candela = nb::cast<const Grid2Handle&>(grid).view();
+            h.keep.push_back(grid);
+            break;
+        }
+        default: break;
     }
     h.scene.lights.push_back(l);
     return static_cast<int>(h.scene.lights.size()) - 1;
@@ -199,8 +276,9 @@ void check_materials(const SceneHandle& h) {
     for (const auto& m : s.materials)
         if (m.kind == patina::MaterialKind::Emitter &&
             (m.light < 0 || m.light >= static_cast<int>(s.lights.size()) ||
-             s.lights[m.light].kind != patina::LightKind::Quad))
-            throw std::invalid_argument("an emitter material must name a quad light");
+             (s.lights[m.light].kind != patina::LightKind::Quad &&
+              s.lights[m.light].kind != patina::LightKind::Triangles)))
+            throw std::invalid_argument("an emitter material must name a quad or triangles light");
 }
 
 struct JobHandle {
@@ -264,15 +342,6 @@ nb::dict resolve(const JobHandle& j) {
     d["samples"] = a_samples;
     return d;
 }
-
-// A 2-D table (a goniometric light's candela over C-plane and gamma angles), checked and
-// kept; evaluated by the render kernels' grid2_eval at any width.
-struct Grid2Handle {
-    std::vector<float> x, y, values;
-    patina::Grid2View view() const {
-        return {x.data(), static_cast<int>(x.size()), y.data(), static_cast<int>(y.size()), values.data()};
-    }
-};
 
 using FloatVector = nb::ndarray<const float, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using FloatMatrix = nb::ndarray<const float, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
