@@ -10,7 +10,7 @@ evaluated by the same coherent search and bilinear interpolation as the BRDF tab
 `flux()` integrates the interpolated table exactly: the table is bilinear in (h, v), so the
 integral over each cell of I dOmega (dOmega = sin(gamma) dgamma dC for type C, cos(H) dH dV
 for type B) is a weighted sum of the four corner values with closed-form weights. The only
-error left is floating-point rounding (relative ~1e-12), not a quadrature error.
+error left is floating-point rounding (relative < 1e-8), not a quadrature error.
 """
 
 from __future__ import annotations

@@ -70,6 +70,30 @@ def test_flux_is_exact_for_known_distributions(tmp_path):
     assert hemi.flux() == pytest.approx(50 * 2 * np.pi, rel=1e-4)  # plus the 0.01 deg drop past V = +-90
 
 
+@pytest.mark.parametrize("kind", ["C", "B"])
+def test_flux_equals_brute_force_integration_of_the_interpolated_table(tmp_path, kind):
+    rng = np.random.default_rng(11)
+    if kind == "C":
+        h = np.concatenate([[0], np.sort(rng.uniform(1, 359, 9)), [360]])
+        v = np.concatenate([[0], np.sort(rng.uniform(1, 179, 12)), [180]])
+    else:
+        h = np.concatenate([[-90], np.sort(rng.uniform(-89, 89, 9)), [90]])
+        v = np.concatenate([[-90], np.sort(rng.uniform(-89, 89, 12)), [90]])
+    table = rng.uniform(0, 1000, (len(h), len(v)))
+    if kind == "B":
+        table[:, [0, -1]] = 0  # no 0.01 deg drop at V = +-90, which a 0.1 deg grid cannot resolve
+    path = write(tmp_path, "r.ies", format_ies(h, v, table, photometric_type=1 if kind == "C" else 2, fmt="{:.9g}"))
+    lum = patina.load_luminaire(path)
+    # midpoint rule on a 0.1 deg grid in the table's own angles, with the solid-angle density
+    step = np.radians(0.1)
+    hs = np.arange(0, 2 * np.pi, step) + step / 2 if kind == "C" else np.arange(-np.pi / 2, np.pi / 2, step) + step / 2
+    vs = np.arange(0, np.pi, step) + step / 2 if kind == "C" else np.arange(-np.pi, np.pi, step) + step / 2
+    hh, vv = np.meshgrid(hs, vs, indexing="ij")
+    density = np.sin(vv) if kind == "C" else np.cos(hh)
+    brute = float(np.sum(lum.intensity(vv.astype(np.float32), hh.astype(np.float32)) * density)) * step * step
+    assert lum.flux() == pytest.approx(brute, rel=2e-5)
+
+
 def bilinear(hk, vk, table, h, v):
     """Numpy bilinear reference, clamped."""
     i = np.clip(np.searchsorted(hk, h, side="right") - 1, 0, len(hk) - 2)
