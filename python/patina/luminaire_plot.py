@@ -43,7 +43,7 @@ def plot_luminaire(lum: Luminaire, out_path: str) -> None:
         ax.plot(np.radians(s), values, color=colour, lw=1.4, label=label)
     ax.set_thetagrids(range(0, 360, 30), [f"{abs(a if a <= 180 else a - 360)}" for a in range(0, 360, 30)])
     ax.set_rlabel_position(157.5)
-    ax.legend(loc="upper left", bbox_to_anchor=(-0.12, 1.12), fontsize=8)
+    ax.legend(loc="lower left", bbox_to_anchor=(-0.12, -0.14), fontsize=8, ncols=2)
     axis = "gamma from nadir" if lum.kind == "C" else "angle from the beam axis"
     ax.set_title(f"{os.path.basename(p.path)}: candela ({axis})", fontsize=10, pad=28)
     fig.tight_layout()
