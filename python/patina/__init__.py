@@ -19,6 +19,7 @@ from .accel import Accel, Hits
 from .brdf import Brdf, load_brdf
 from .errors import FormatError
 from .fitting import FitResult, compare, fit
+from .luminaire import Luminaire, load_luminaire
 from .mesh import Mesh, load_mesh
 from .render import RenderResult
 from .render import render as render_scene
@@ -32,12 +33,14 @@ __all__ = [
     "FitResult",
     "FormatError",
     "Hits",
+    "Luminaire",
     "Mesh",
     "RenderResult",
     "__version__",
     "compare",
     "fit",
     "load_brdf",
+    "load_luminaire",
     "load_mesh",
     "load_scene",
     "render_scene",

@@ -11,6 +11,7 @@
     patina slices FILE --out PNG
     patina bench [--only GROUP] [--json FILE]
     patina render SCENE.json [--out out.exr] [--spp N] [--integrator direct|path] [--threads T] [--seed S]
+    patina luminaire info FILE [--json] | patina luminaire plot FILE --out PNG
     patina preview MATERIAL [--env ENV] [--shape sphere|ball|panel|MESH] [--spp N] [--out out.exr]
 
 Bad input ends with one line naming the file, the place and the problem, and exit status 2.
@@ -322,6 +323,9 @@ def build_parser() -> argparse.ArgumentParser:
     from .cli_render import add_render_commands
 
     add_render_commands(sub)
+    from .cli_luminaire import add_luminaire_commands
+
+    add_luminaire_commands(sub)
     return p
 
 
