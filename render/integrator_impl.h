@@ -161,7 +161,7 @@ inline void add_environment(const RenderScene& s, PathScratch& sc, const float* 
             const Light& l = s.lights[li];
             if (l.kind != LightKind::Sun || !(dot3(d + 3 * j, l.direction) >= l.cos_sun)) continue;
             const float sun_pdf = selection_probability(s, static_cast<int>(li)) /
-                                  (2.0f * kPiF * std::max(1.0f - l.cos_sun, 1e-12f));
+                                  (2.0f * kPiF * l.sun_one_minus_cos);
             const float w = prev_pdf[i] > 0 && can_sample_lights ? power_heuristic(prev_pdf[i], sun_pdf) : 1.0f;
             for (int k = 0; k < 3; ++k) out[i].rgb[k] += thr[3 * i + k] * l.power[k] * w;
         }
@@ -191,8 +191,10 @@ PATINA_INLINE F delta_intensity(const Light& l, const D3& out) {
 
 // The sun: a direction uniform in its disc's cone (pdf 1 / (2 pi (1 - cos))), its radiance.
 PATINA_INLINE F sample_sun(const Light& l, F u1, F u2, D3& w, F& r, F& g, F& b) {
-    const F cos_t = nmadd(u1, F(1.0f - l.cos_sun), F(1.0f));
-    const F sin_t = sqrt_exact(max(F(1.0f) - cos_t * cos_t, F(0.0f)));
+    // 1 - cos(theta) = u1 (1 - cos_sun), uniform over the cone; sin from it without cancellation
+    const F one_minus = u1 * F(l.sun_one_minus_cos);
+    const F cos_t = F(1.0f) - one_minus;
+    const F sin_t = sqrt_exact(max(one_minus * (F(2.0f) - one_minus), F(0.0f)));
     F sp, cp;
     fast_sincos(F(2.0f * kPiF) * u2, sp, cp);
     const F a = sin_t * cp, c = sin_t * sp;
@@ -200,7 +202,7 @@ PATINA_INLINE F sample_sun(const Light& l, F u1, F u2, D3& w, F& r, F& g, F& b) 
            madd(a, F(l.frame_t[1]), madd(c, F(l.frame_b[1]), cos_t * F(l.direction[1]))),
            madd(a, F(l.frame_t[2]), madd(c, F(l.frame_b[2]), cos_t * F(l.direction[2])))};
     r = F(l.power[0]), g = F(l.power[1]), b = F(l.power[2]);
-    return F(1.0f / (2.0f * kPiF * std::max(1.0f - l.cos_sun, 1e-12f)));
+    return F(1.0f / (2.0f * kPiF * l.sun_one_minus_cos));
 }
 
 // A point uniform by area over a triangle light's triangles (the triangle by its area cdf,
@@ -492,12 +494,24 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
                 const float side = lz > 0 ? eps : -eps;
                 if (c[0] <= 0 && c[1] <= 0 && c[2] <= 0 && lux <= 0) continue;
                 sc.shadow_path.push_back(sp.path);
+                float o[3], d[3] = {ls.dir[0], ls.dir[1], ls.dir[2]};
+                for (int k = 0; k < 3; ++k) o[k] = sp.p[k] + side * sp.ng[k];
+                float tmax = kInfF;
+                if (!std::isinf(ls.dist)) {
+                    // aim from the offset origin at the light's point: seen at a grazing angle, an
+                    // origin lifted off the surface is much nearer the light than `dist` says
+                    float to[3];
+                    for (int k = 0; k < 3; ++k) to[k] = sp.p[k] + ls.dir[k] * ls.dist - o[k];
+                    const float len = std::sqrt(dot3(to, to));
+                    for (int k = 0; k < 3; ++k) d[k] = to[k] / len;
+                    tmax = len * (1.0f - 1e-4f);
+                }
                 for (int k = 0; k < 3; ++k) {
-                    sc.shadow_org.push_back(sp.p[k] + side * sp.ng[k]);
-                    sc.shadow_dir.push_back(ls.dir[k]);
+                    sc.shadow_org.push_back(o[k]);
+                    sc.shadow_dir.push_back(d[k]);
                     sc.shadow_rgb.push_back(c[k]);
                 }
-                sc.shadow_tmax.push_back(std::isinf(ls.dist) ? kInfF : ls.dist * (1.0f - 1e-4f) - eps);
+                sc.shadow_tmax.push_back(tmax);
                 sc.shadow_lux.push_back(lux);
             }
         }

@@ -88,7 +88,8 @@ void prepare_light_selection(RenderScene& s) {
             case LightKind::Point: power.push_back(4 * kPi * lum); break;
             case LightKind::Spot: power.push_back(2 * kPi * (1 - 0.5 * (l.cos_inner + l.cos_outer)) * lum); break;
             case LightKind::Sun:  // its flux through the scene's bounding disc
-                power.push_back(kPi * (1 - double(l.cos_sun) * l.cos_sun) * lum * kPi * s.scene_radius * s.scene_radius);
+                power.push_back(kPi * l.sun_one_minus_cos * (1 + double(l.cos_sun)) * lum * kPi * s.scene_radius *
+                                s.scene_radius);
                 break;
             default: power.push_back(l.area * kPi * lum * (l.two_sided ? 2 : 1));
         }

@@ -56,7 +56,8 @@ struct Light {
     bool two_sided = false;
     float direction[3] = {0, -1, 0};  // Spot: the axis it shines along; Sun: towards the sun (unit)
     float cos_inner = 1, cos_outer = 0;  // Spot: full inside cos_inner, smoothly to none at cos_outer
-    float cos_sun = 1;                   // Sun: cosine of the disc's angular radius
+    float cos_sun = 1;                   // Sun: cosine of the disc's angular radius...
+    float sun_one_minus_cos = 0;         // ...and 1 - that cosine, computed without cancellation
     float frame_t[3] = {1, 0, 0}, frame_b[3] = {0, 0, 1};  // Sun: a frame around `direction`
     // Triangles: the light's triangles (scene triangle ids) and their area cdf (size + 1 values)
     std::vector<int32_t> triangles;

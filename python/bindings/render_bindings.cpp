@@ -205,8 +205,12 @@ int add_light(SceneHandle& h, const nb::dict& d) {
         case patina::LightKind::Sun:
             get_vec3(d, "direction", l.direction);
             normalize(l.direction, "the sun's direction");
-            l.cos_sun = get_float(d, "cos_sun", 1.0f);
-            if (!(l.cos_sun < 1.0f && l.cos_sun > 0.0f)) throw std::invalid_argument("the sun's disc: 0 < cos_sun < 1");
+            {
+                const double half = get_float(d, "half_angle", 0.0f);  // radians
+                if (!(half > 0 && half < 1.5)) throw std::invalid_argument("the sun's disc: 0 < half_angle < 1.5 rad");
+                l.cos_sun = static_cast<float>(std::cos(half));
+                l.sun_one_minus_cos = static_cast<float>(2 * std::sin(half / 2) * std::sin(half / 2));
+            }
             frame_around(l.direction, l.frame_t, l.frame_b);
             break;
         case patina::LightKind::Triangles: {

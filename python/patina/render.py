@@ -27,7 +27,10 @@ from .render_materials import core_material
 from .scene_types import (
     BallShape,
     ConstantEnvironment,
+    DiskLight,
+    Light,
     MapEnvironment,
+    MeshLight,
     MeshShape,
     PanelShape,
     PlaneShape,
@@ -35,7 +38,10 @@ from .scene_types import (
     QuadLight,
     Scene,
     Shape,
+    SphereLight,
     SphereShape,
+    SpotLight,
+    SunLight,
 )
 from .widths import core_width
 
@@ -69,14 +75,19 @@ class _Geometry:
     tangents: list[np.ndarray] = field(default_factory=list)
     materials: list[np.ndarray] = field(default_factory=list)
     count: int = 0
+    triangles: int = 0
 
-    def add(self, v: np.ndarray, f: np.ndarray, n: np.ndarray, t: np.ndarray, material: int) -> None:
+    def add(self, v: np.ndarray, f: np.ndarray, n: np.ndarray, t: np.ndarray, material: int) -> list[int]:
+        """Appends a mesh; returns the global ids of its triangles."""
+        ids = list(range(self.triangles, self.triangles + len(f)))
+        self.triangles += len(f)
         self.vertices.append(v.astype(np.float32))
         self.indices.append(f.astype(np.int64) + self.count)
         self.normals.append(n.astype(np.float32))
         self.tangents.append(t.astype(np.float32))
         self.materials.append(np.full(len(f), material, np.int32))
         self.count += len(v)
+        return ids
 
     def arrays(self) -> tuple[np.ndarray, ...]:
         if not self.vertices:
@@ -142,6 +153,81 @@ def _quad_triangles(light: QuadLight) -> tuple[np.ndarray, ...]:
     return verts, faces, normal, tangent
 
 
+def _core_light(light: Light) -> dict[str, Any]:
+    """A scene light as a `RenderScene.add_light` dictionary (triangle ids added later)."""
+    if isinstance(light, PointLight):
+        return {"kind": "point", "position": list(light.position), "power": list(light.intensity), "two_sided": False}
+    if isinstance(light, SpotLight):
+        return {
+            "kind": "spot",
+            "position": list(light.position),
+            "direction": list(light.direction),
+            "power": list(light.intensity),
+            "cos_inner": math.cos(math.radians(light.inner_angle)),
+            "cos_outer": math.cos(math.radians(light.outer_angle)),
+            "two_sided": False,
+        }
+    if isinstance(light, SunLight):
+        half = math.radians(light.angular_diameter / 2)
+        # uniform radiance L over a cone of half-angle d gives irradiance L pi sin^2 d facing it
+        radiance = [e / (math.pi * math.sin(half) ** 2) for e in light.irradiance]
+        return {
+            "kind": "sun",
+            "direction": list(light.direction),
+            "half_angle": half,
+            "power": radiance,
+            "two_sided": False,
+        }
+    if isinstance(light, QuadLight):
+        return {
+            "kind": "quad",
+            "position": list(light.center),
+            "u": list(light.u),
+            "v": list(light.v),
+            "power": list(light.radiance),
+            "two_sided": light.two_sided,
+        }
+    if isinstance(light, DiskLight | SphereLight | MeshLight):
+        two_sided = bool(getattr(light, "two_sided", False))
+        return {"kind": "triangles", "power": list(light.radiance), "two_sided": two_sided}
+    raise ValueError(f"light type '{light.type}' is not rendered yet")
+
+
+DISK_SEGMENTS = 128
+
+
+def _disk_triangles(light: DiskLight) -> tuple[np.ndarray, ...]:
+    """A fan of DISK_SEGMENTS triangles, its radius raised so its area is exactly pi r^2."""
+    n = np.asarray(light.normal, np.float64)
+    t = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
+    t /= np.linalg.norm(t)
+    b = np.cross(n, t)
+    k = DISK_SEGMENTS
+    r = light.radius * math.sqrt(2 * math.pi / (k * math.sin(2 * math.pi / k)))
+    phi = 2 * math.pi * np.arange(k) / k
+    rim = np.asarray(light.center) + r * (np.cos(phi)[:, None] * t + np.sin(phi)[:, None] * b)
+    verts = np.vstack([np.asarray(light.center, np.float64), rim])
+    faces = np.array([[0, 1 + i, 1 + (i + 1) % k] for i in range(k)])  # counter-clockwise about n
+    return verts, faces, np.tile(n, (k + 1, 1)), np.tile(t, (k + 1, 1))
+
+
+def _emitter_mesh(light: Light) -> tuple[np.ndarray, ...] | None:
+    """The triangles of an area light (vertices, faces, normals, tangents), None for the others."""
+    from . import shapes
+
+    if isinstance(light, QuadLight):
+        return _quad_triangles(light)
+    if isinstance(light, DiskLight):
+        return _disk_triangles(light)
+    if isinstance(light, SphereLight):
+        m = np.eye(4)
+        m[:3, 3] = light.center
+        return _place(shapes.sphere(light.radius), m)
+    if isinstance(light, MeshLight):
+        return _place(shapes.from_file(light.file), light.transform)
+    return None
+
+
 def camera_dict(scene: Scene, width: int | None = None, height: int | None = None) -> dict[str, Any]:
     cam = scene.camera
     right, up, forward = cam.basis()
@@ -172,23 +258,14 @@ class PreparedScene:
             geometry.add(v, f, n, t, names.index(shape.material))
         lights: list[dict[str, Any]] = []
         for light in scene.lights:
-            if isinstance(light, PointLight):
-                lights.append({"kind": "point", "position": list(light.position), "power": list(light.intensity)})
-            elif isinstance(light, QuadLight):
-                lights.append(
-                    {
-                        "kind": "quad",
-                        "position": list(light.center),
-                        "u": list(light.u),
-                        "v": list(light.v),
-                        "power": list(light.radiance),
-                        "two_sided": light.two_sided,
-                    }
-                )
-                core_materials.append({"kind": "emitter", "light": len(lights) - 1, "two_sided": light.two_sided})
-                geometry.add(*_quad_triangles(light), len(core_materials) - 1)
-            else:
-                raise ValueError(f"light type '{light.type}' is not rendered yet")
+            entry = _core_light(light)
+            mesh = _emitter_mesh(light)
+            if mesh is not None:  # area lights are triangles the rays hit, and sampled as such
+                core_materials.append({"kind": "emitter", "light": len(lights), "two_sided": entry["two_sided"]})
+                ids = geometry.add(*mesh, len(core_materials) - 1)
+                if entry["kind"] == "triangles":
+                    entry["triangles"] = ids
+            lights.append(entry)
         vertices, indices, normals, tangents, tri_material = geometry.arrays()
         self.triangles = len(indices)
         self.accel = _core.Accel(vertices, indices)

@@ -41,12 +41,14 @@ from .scene_types import (
     ConductorMaterial,
     ConstantEnvironment,
     DielectricMaterial,
+    DiskLight,
     Environment,
     FitMaterial,
     LambertMaterial,
     Light,
     MapEnvironment,
     Material,
+    MeshLight,
     MeshShape,
     PanelShape,
     PlaneShape,
@@ -55,7 +57,10 @@ from .scene_types import (
     Render,
     Scene,
     Shape,
+    SphereLight,
     SphereShape,
+    SpotLight,
+    SunLight,
     TableMaterial,
 )
 
@@ -336,13 +341,102 @@ def _identity() -> np.ndarray:
 # --- lights and environment -----------------------------------------------------------------
 
 
+# Photometric units become Patina's radiometric RGB by 683 lm/W of luminance: a value V in
+# candela, cd/m^2 or lux with a colour c gives V / 683 x c / Y(c), Y the Rec. 709 luminance.
+LUMENS_PER_WATT = 683.0
+
+
+def _emission(o: Obj, radiometric: str, photometric: str, what: str) -> tuple[float, float, float]:
+    """The radiometric RGB of `radiometric` (RGB or grey), or of `photometric` (a number in
+    photometric units) with an optional `color`; exactly one of the two must be given."""
+    given = [k for k in (radiometric, photometric) if o.has(k)]
+    if len(given) != 1:
+        o.ctx.fail(o.where, f"{what} needs exactly one of '{radiometric}' or '{photometric}'")
+    if given[0] == radiometric:
+        if o.has("color"):
+            o.ctx.fail(o.at("color"), f"a colour goes with '{photometric}'; '{radiometric}' is already RGB")
+        return o.read(radiometric, rgb, lo=0.0)
+    value = o.read(photometric, number, lo=0.0)
+    color = o.read("color", rgb, (1.0, 1.0, 1.0), lo=0.0)
+    y = 0.2126 * color[0] + 0.7152 * color[1] + 0.0722 * color[2]
+    if not y > 0:
+        o.ctx.fail(o.at("color"), "the colour must have a positive luminance")
+    c0, c1, c2 = (value / LUMENS_PER_WATT * c / y for c in color)
+    return (c0, c1, c2)
+
+
+def _unit_vec3(ctx: Ctx, where: str, value: Any) -> tuple[float, float, float]:
+    v = np.asarray(vec3(ctx, where, value), np.float64)
+    u = _unit_or_fail(ctx, where, v, "must be a non-zero direction")
+    return (float(u[0]), float(u[1]), float(u[2]))
+
+
 def _point_light(o: Obj) -> PointLight:
-    o.allow(("type", "position", "intensity"), "a point light")
-    return PointLight(position=o.read("position", vec3), intensity=o.read("intensity", rgb, lo=0.0))
+    o.allow(("type", "position", "intensity", "intensity_cd", "color"), "a point light")
+    return PointLight(
+        position=o.read("position", vec3), intensity=_emission(o, "intensity", "intensity_cd", "a point light")
+    )
+
+
+def _spot_light(o: Obj) -> SpotLight:
+    keys = ("type", "position", "direction", "intensity", "intensity_cd", "color", "inner_angle", "outer_angle")
+    o.allow(keys, "a spot light")
+    outer = o.read("outer_angle", number, 30.0, lo=0.0, hi=180.0, lo_open=True)
+    inner = o.read("inner_angle", number, 0.8 * outer, lo=0.0)
+    if not inner < outer:
+        o.ctx.fail(o.at("inner_angle"), f"must be smaller than outer_angle ({outer:g})")
+    return SpotLight(
+        position=o.read("position", vec3),
+        direction=o.read("direction", _unit_vec3),
+        intensity=_emission(o, "intensity", "intensity_cd", "a spot light"),
+        inner_angle=inner,
+        outer_angle=outer,
+    )
+
+
+def _disk_light(o: Obj) -> DiskLight:
+    o.allow(("type", "center", "normal", "radius", "radiance", "luminance", "color", "two_sided"), "a disk light")
+    return DiskLight(
+        center=o.read("center", vec3),
+        normal=o.read("normal", _unit_vec3),
+        radius=o.read("radius", number, lo=0.0, lo_open=True),
+        radiance=_emission(o, "radiance", "luminance", "a disk light"),
+        two_sided=o.read("two_sided", boolean, False),
+    )
+
+
+def _sphere_light(o: Obj) -> SphereLight:
+    o.allow(("type", "center", "radius", "radiance", "luminance", "color"), "a sphere light")
+    return SphereLight(
+        center=o.read("center", vec3),
+        radius=o.read("radius", number, lo=0.0, lo_open=True),
+        radiance=_emission(o, "radiance", "luminance", "a sphere light"),
+    )
+
+
+def _mesh_light(o: Obj) -> MeshLight:
+    o.allow(("type", "file", "transform", "radiance", "luminance", "color", "two_sided"), "a mesh light")
+    transform = _transform(o.obj("transform")) if o.has("transform") else _identity()
+    return MeshLight(
+        "",
+        transform,
+        o.read("file", _file, suffixes=MESH_SUFFIXES),
+        _emission(o, "radiance", "luminance", "a mesh light"),
+        o.read("two_sided", boolean, False),
+    )
+
+
+def _sun_light(o: Obj) -> SunLight:
+    o.allow(("type", "direction", "angular_diameter", "irradiance", "illuminance", "color"), "a sun")
+    return SunLight(
+        direction=o.read("direction", _unit_vec3),
+        angular_diameter=o.read("angular_diameter", number, 0.53, lo=0.0, hi=20.0, lo_open=True),
+        irradiance=_emission(o, "irradiance", "illuminance", "a sun"),
+    )
 
 
 def _quad_light(o: Obj) -> QuadLight:
-    o.allow(("type", "center", "u", "v", "radiance", "two_sided"), "a quad light")
+    o.allow(("type", "center", "u", "v", "radiance", "luminance", "color", "two_sided"), "a quad light")
     u, v = o.read("u", vec3), o.read("v", vec3)
     for key, w in (("u", u), ("v", v)):
         _unit_or_fail(o.ctx, o.at(key), np.asarray(w), "a half-edge vector must be non-zero")
@@ -355,7 +449,7 @@ def _quad_light(o: Obj) -> QuadLight:
         center=o.read("center", vec3),
         u=u,
         v=v,
-        radiance=o.read("radiance", rgb, lo=0.0),
+        radiance=_emission(o, "radiance", "luminance", "a quad light"),
         two_sided=o.read("two_sided", boolean, False),
     )
 
@@ -364,6 +458,11 @@ def _quad_light(o: Obj) -> QuadLight:
 LIGHT_KINDS: dict[str, Callable[[Obj], Light]] = {
     "point": _point_light,
     "quad": _quad_light,
+    "spot": _spot_light,
+    "disk": _disk_light,
+    "sphere": _sphere_light,
+    "mesh": _mesh_light,
+    "sun": _sun_light,
 }
 
 
@@ -480,6 +579,14 @@ def _shape_json(s: Shape) -> dict[str, Any]:
     return d
 
 
+def _light_json(light: Light) -> dict[str, Any]:
+    d = _plain(light)
+    if isinstance(light, MeshLight):
+        del d["material"]  # a mesh light's own placement, no material
+        d["transform"] = {"matrix": d["transform"]}
+    return d
+
+
 def scene_to_json(scene: Scene) -> dict[str, Any]:
     """The scene as canonical JSON values: every default written out, paths absolute.
 
@@ -494,7 +601,7 @@ def scene_to_json(scene: Scene) -> dict[str, Any]:
         "render": _plain(scene.render),
         "materials": {name: _material_json(m) for name, m in scene.materials.items()},
         "shapes": [_shape_json(s) for s in scene.shapes],
-        "lights": [_plain(light) for light in scene.lights],
+        "lights": [_light_json(light) for light in scene.lights],
     }
     if scene.environment is not None:
         out["environment"] = _plain(scene.environment)

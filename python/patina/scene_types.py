@@ -256,7 +256,65 @@ class QuadLight:
         return float(4 * np.linalg.norm(np.cross(self.u, self.v)))
 
 
-Light = PointLight | QuadLight
+@dataclass(frozen=True)
+class SpotLight:
+    """A point light limited to a cone about `direction`: full `intensity` (W/sr) within
+    `inner_angle` of the axis, falling smoothly to none at `outer_angle` (degrees, half-angles)."""
+
+    position: Vec3
+    direction: Vec3  # unit
+    intensity: RGB
+    inner_angle: float
+    outer_angle: float
+    type: str = field(default="spot", init=False)
+
+
+@dataclass(frozen=True)
+class DiskLight:
+    """A disc of uniform `radiance` (W/m^2/sr), centre, unit normal (the emitting side), radius."""
+
+    center: Vec3
+    normal: Vec3
+    radius: float
+    radiance: RGB
+    two_sided: bool
+    type: str = field(default="disk", init=False)
+
+
+@dataclass(frozen=True)
+class SphereLight:
+    """A sphere of uniform `radiance` (W/m^2/sr) emitting outwards."""
+
+    center: Vec3
+    radius: float
+    radiance: RGB
+    type: str = field(default="sphere", init=False)
+
+
+@dataclass(frozen=True, eq=False)
+class MeshLight(_Placed):
+    """A triangle mesh file whose front faces emit uniform `radiance` (W/m^2/sr); `material` is
+    unused (""), the transform places it."""
+
+    file: str
+    radiance: RGB
+    two_sided: bool
+    type: str = field(default="mesh", init=False)
+
+
+@dataclass(frozen=True)
+class SunLight:
+    """The sun: a disc of uniform radiance at infinity towards unit `direction`, of angular
+    diameter `angular_diameter` (degrees), giving `irradiance` (W/m^2 per channel) on a
+    surface facing it."""
+
+    direction: Vec3
+    angular_diameter: float
+    irradiance: RGB
+    type: str = field(default="sun", init=False)
+
+
+Light = PointLight | QuadLight | SpotLight | DiskLight | SphereLight | MeshLight | SunLight
 
 
 def rotation_y(degrees: float) -> np.ndarray:

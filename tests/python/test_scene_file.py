@@ -317,7 +317,7 @@ ERRORS = [
     (("lights", 0, "radiance"), 1, "lights[0].radiance", "unknown key"),
     (("lights", 1, "v"), [1, 0, 0], "lights[1].v", "parallel"),
     (("lights", 1, "u"), [0, 0, 0], "lights[1].u", "non-zero"),
-    (("lights", 1, "type"), "spot", "lights[1].type", "expected one of 'point', 'quad'"),
+    (("lights", 1, "type"), "laser", "lights[1].type", "expected one of 'point', 'quad', 'spot'"),
     (("environment", "file"), "env/studio.png", "environment.file", "file kinds"),
     (("environment", "file"), "env/other.exr", "environment.file", "no such file"),
     (("environment", "intensity"), -1, "environment.intensity", ">= 0"),
