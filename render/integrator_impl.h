@@ -177,10 +177,14 @@ PATINA_INLINE F delta_intensity(const Light& l, const D3& out) {
         return t * t * nmadd(F(2.0f), t, F(3.0f));  // smoothstep
     }
     if (l.kind == LightKind::Goniometric) {
-        // photometric type C: gamma from the nadir (-axis_z), C from axis_x towards axis_y
         const F x = out.x * F(l.axis_x[0]) + out.y * F(l.axis_x[1]) + out.z * F(l.axis_x[2]);
         const F y = out.x * F(l.axis_y[0]) + out.y * F(l.axis_y[1]) + out.z * F(l.axis_y[2]);
         const F z = out.x * F(l.axis_z[0]) + out.y * F(l.axis_z[1]) + out.z * F(l.axis_z[2]);
+        if (l.type_b) {
+            // type B (docs/luminaires.md): H = asin(-x) within the plane, V = atan2(y, z) about x
+            return grid2_w::eval(l.candela, fast_asin(clamp(-x, F(-1.0f), F(1.0f))), fast_atan2(y, z));
+        }
+        // photometric type C: gamma from the nadir (-axis_z), C from axis_x towards axis_y
         const F gamma = fast_acos(clamp(-z, F(-1.0f), F(1.0f)));
         F c = fast_atan2(y, x);
         c = select(c < F(0.0f), c + F(2.0f * kPiF), c);

@@ -239,6 +239,7 @@ int add_light(SceneHandle& h, const nb::dict& d) {
             get_vec3(d, "axis_x", l.axis_x);
             get_vec3(d, "axis_y", l.axis_y);
             get_vec3(d, "axis_z", l.axis_z);
+            l.type_b = get_bool(d, "type_b", false);
             nb::object grid = d["candela"];
             l.candela = nb::cast<const Grid2Handle&>(grid).view();
             h.keep.push_back(grid);

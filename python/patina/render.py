@@ -29,6 +29,7 @@ from .scene_types import (
     ConstantEnvironment,
     DiskLight,
     Light,
+    LuminaireLight,
     MapEnvironment,
     MeshLight,
     MeshShape,
@@ -187,10 +188,50 @@ def _core_light(light: Light) -> dict[str, Any]:
             "power": list(light.radiance),
             "two_sided": light.two_sided,
         }
+    if isinstance(light, LuminaireLight):
+        return _luminaire(light)
     if isinstance(light, DiskLight | SphereLight | MeshLight):
         two_sided = bool(getattr(light, "two_sided", False))
         return {"kind": "triangles", "power": list(light.radiance), "two_sided": two_sided}
     raise ValueError(f"light type '{light.type}' is not rendered yet")
+
+
+def luminaire_axes(aim: Any, rotation_deg: float, kind: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The luminaire's x, y, z axes in the world. Type C: the nadir (-z) along `aim`; type B:
+    the beam axis (+z) along `aim`. x is the world's +x (or +z, when aim is along x) made
+    perpendicular to the axis, then turned by `rotation` degrees about it; y = z x x."""
+    a = np.asarray(aim, np.float64) / np.linalg.norm(aim)
+    z = -a if kind == "C" else a
+    ref = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 0.0, 1.0])
+    x = ref - (ref @ z) * z
+    x /= np.linalg.norm(x)
+    y = np.cross(z, x)
+    t = math.radians(rotation_deg)
+    x, y = math.cos(t) * x + math.sin(t) * y, -math.sin(t) * x + math.cos(t) * y
+    return x, y, z
+
+
+def _luminaire(light: LuminaireLight) -> dict[str, Any]:
+    from .luminaire import load_luminaire
+
+    lum = load_luminaire(light.file)
+    kind, h, v, candela = lum.grid()
+    x, y, z = luminaire_axes(light.aim, light.rotation, kind)
+    lum_y = 0.2126 * light.color[0] + 0.7152 * light.color[1] + 0.0722 * light.color[2]
+    # candela -> W/sr of Patina's radiometric RGB (683 lm/W of luminance), coloured
+    per_cd = [light.multiplier * c / (lum_y * 683.0) for c in light.color]
+    return {
+        "kind": "goniometric",
+        "position": list(light.position),
+        "axis_x": x.tolist(),
+        "axis_y": y.tolist(),
+        "axis_z": z.tolist(),
+        "type_b": kind == "B",
+        "candela": _core.Grid2(h, v, np.ascontiguousarray(candela, np.float32)),
+        "power": per_cd,
+        "power_estimate": lum.flux() * light.multiplier / 683.0,
+        "two_sided": False,
+    }
 
 
 DISK_SEGMENTS = 128

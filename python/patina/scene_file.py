@@ -46,6 +46,7 @@ from .scene_types import (
     FitMaterial,
     LambertMaterial,
     Light,
+    LuminaireLight,
     MapEnvironment,
     Material,
     MeshLight,
@@ -426,6 +427,24 @@ def _mesh_light(o: Obj) -> MeshLight:
     )
 
 
+LUMINAIRE_SUFFIXES = (".ies", ".ldt")
+
+
+def _luminaire_light(o: Obj) -> LuminaireLight:
+    o.allow(("type", "file", "position", "aim", "rotation", "multiplier", "color"), "a luminaire")
+    color = o.read("color", rgb, (1.0, 1.0, 1.0), lo=0.0)
+    if not 0.2126 * color[0] + 0.7152 * color[1] + 0.0722 * color[2] > 0:
+        o.ctx.fail(o.at("color"), "the colour must have a positive luminance")
+    return LuminaireLight(
+        file=o.read("file", _file, suffixes=LUMINAIRE_SUFFIXES),
+        position=o.read("position", vec3),
+        aim=o.read("aim", _unit_vec3, (0.0, -1.0, 0.0)),
+        rotation=o.read("rotation", number, 0.0),
+        multiplier=o.read("multiplier", number, 1.0, lo=0.0),
+        color=color,
+    )
+
+
 def _sun_light(o: Obj) -> SunLight:
     o.allow(("type", "direction", "angular_diameter", "irradiance", "illuminance", "color"), "a sun")
     return SunLight(
@@ -463,6 +482,7 @@ LIGHT_KINDS: dict[str, Callable[[Obj], Light]] = {
     "sphere": _sphere_light,
     "mesh": _mesh_light,
     "sun": _sun_light,
+    "luminaire": _luminaire_light,
 }
 
 

@@ -314,7 +314,23 @@ class SunLight:
     type: str = field(default="sun", init=False)
 
 
-Light = PointLight | QuadLight | SpotLight | DiskLight | SphereLight | MeshLight | SunLight
+@dataclass(frozen=True)
+class LuminaireLight:
+    """A goniometric point light from a photometric file (IES LM-63 or EULUMDAT; candela as
+    the file gives them, times `multiplier`, of colour `color`) at `position`. Its photometric
+    axis points along unit `aim` (type C: the nadir, gamma 0; type B: the beam axis), turned
+    by `rotation` degrees about it (docs/luminaires.md, docs/scene.md)."""
+
+    file: str
+    position: Vec3
+    aim: Vec3
+    rotation: float
+    multiplier: float
+    color: RGB
+    type: str = field(default="luminaire", init=False)
+
+
+Light = PointLight | QuadLight | SpotLight | DiskLight | SphereLight | MeshLight | SunLight | LuminaireLight
 
 
 def rotation_y(degrees: float) -> np.ndarray:

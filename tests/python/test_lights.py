@@ -205,3 +205,36 @@ def test_bad_lights_name_the_key(light, where):
     with pytest.raises(FormatError) as e:
         plane_scene([light])
     assert where in str(e.value)
+
+
+@pytest.mark.parametrize(
+    ("file", "aim", "rotation"),
+    [
+        ("streetlight.ies", [0.0, -1.0, 0.0], 30.0),  # type C, asymmetric: its street side turned
+        ("streetlight.ldt", [0.0, -1.0, 0.0], 30.0),  # the same table as EULUMDAT
+        ("floodlight.ies", [0.3, -1.0, 0.2], 0.0),  # type B, aimed off the vertical
+    ],
+)
+def test_luminaire_illuminance_is_its_candela_times_cosine_over_distance_squared(file, aim, rotation):
+    from patina.luminaire import load_luminaire
+    from patina.render import luminaire_axes
+
+    path = os.path.join(ROOT, "materials", "luminaires", file)
+    position = np.array([0.4, 3.0, -0.3])
+    scene = plane_scene(
+        [{"type": "luminaire", "file": path, "position": position.tolist(), "aim": aim, "rotation": rotation}],
+        spp=64,
+    )
+    r = render(scene)
+    lum = load_luminaire(path)
+    x, y, z = luminaire_axes(aim, rotation, lum.kind)
+    p, box = plane_points(scene)
+    out = p - position  # from the luminaire to the floor
+    d2 = (out**2).sum(-1)
+    w = out / np.sqrt(d2)[..., None]
+    local = np.stack([w @ x, w @ y, w @ z], -1).reshape(-1, 3)
+    candela = lum.intensity_at(local).reshape(d2.shape)
+    lux = box(candela * (-w[..., 1]) / d2)  # E = I cos / d^2, cos against the floor's normal +y
+    lit = lux > 0.02 * lux.max()
+    rel = np.abs(r.illuminance[lit] / lux[lit] - 1)
+    assert np.median(rel) < 0.01 and abs(r.illuminance.sum() / lux.sum() - 1) < 0.01
