@@ -47,7 +47,7 @@ struct ShadingPoint {
 // Work arrays a thread reuses from batch to batch.
 struct PathScratch {
     // per path
-    std::vector<float> org, dir, throughput, prev_pdf;
+    std::vector<float> org, dir, throughput, prev_pdf, prev_pos;
     std::vector<int32_t> active, next_active;
     // per traced ray of a bounce
     std::vector<float> ray_org, ray_dir, hit_t, hit_u, hit_v;
@@ -62,7 +62,8 @@ struct PathScratch {
     std::vector<float> miss_dir, miss_rgb, miss_pdf;
     // the points grouped by the light they chose, and one group's inputs and results
     std::vector<int32_t> light_of_point, light_start, light_fill, light_points;
-    std::vector<float> group_pos, group_u1, group_u2, group_dir, group_rgb, group_dist, group_pdf;
+    std::vector<float> group_pos, group_u1, group_u2, group_dir, group_rgb, group_dist, group_pdf, group_sel;
+    std::vector<float> point_sel, selection_scratch;  // each point's probability of its light; weights
     // one light sample per shading point
     std::vector<float> ls_dir, ls_rgb, ls_dist, ls_pdf;
     std::vector<uint8_t> ls_delta, ls_ok;
@@ -77,6 +78,10 @@ struct RenderKernels {
     int width;
     void (*trace_paths)(const RenderScene& scene, const IntegratorSettings& settings, const CameraSample* samples,
                         size_t n, PathResult* out, PathScratch& scratch);
+    // lux[i] = direct illuminance (lux) on a sensor at points[i] facing unit normals[i], the
+    // mean of `samples` light samples (each shadowed), for sensors [begin, end)
+    void (*sensor_illuminance)(const RenderScene& scene, const float* points, const float* normals, size_t begin,
+                               size_t end, int samples, uint32_t seed, float* lux, PathScratch& scratch);
     // out[i] = the 2-D table at (x[i], y[i]), bilinear, clamped to the axes
     void (*grid2_eval)(const Grid2View& grid, const float* x, const float* y, float* out, size_t n);
 };

@@ -133,7 +133,7 @@ inline LightSample load_light_sample(const PathScratch& sc, size_t q) {
 // Misses see the environment: W directions at a time, radiance and (for MIS after a BRDF
 // sample) the density of light sampling.
 inline void add_environment(const RenderScene& s, PathScratch& sc, const float* dir, const float* thr,
-                            const float* prev_pdf, bool can_sample_lights, PathResult* out) {
+                            const float* prev_pdf, const float* prev_pos, bool can_sample_lights, PathResult* out) {
     const size_t n = sc.misses.size();
     if (n == 0) return;
     float* d = grow(sc.miss_dir, 3 * n);
@@ -147,22 +147,22 @@ inline void add_environment(const RenderScene& s, PathScratch& sc, const float* 
         rows::store3<W>(le, i, lanes, r, g, b);
         rows::store1<W>(lp, i, lanes, env_w::pdf(s.env, w));
     });
-    const float select_env =
-        can_sample_lights && s.env.present ? selection_probability(s, static_cast<int>(s.lights.size())) : 0.0f;
+    const int env_light = static_cast<int>(s.lights.size());
     for (size_t j = 0; j < n; ++j) {
         const int32_t i = sc.misses[j];
+        const bool mis = prev_pdf[i] > 0 && can_sample_lights;  // after a BRDF sample (not a camera ray)
         if (s.env.present) {
             const float w =
-                prev_pdf[i] > 0 && can_sample_lights ? power_heuristic(prev_pdf[i], select_env * lp[j]) : 1.0f;
+                mis ? power_heuristic(prev_pdf[i], selection_probability(s, prev_pos + 3 * i, env_light) * lp[j]) : 1.0f;
             for (int k = 0; k < 3; ++k) out[i].rgb[k] += thr[3 * i + k] * le[3 * j + k] * w;
         }
         // the sun's disc, where the ray goes through it
         for (size_t li = 0; li < s.lights.size(); ++li) {
             const Light& l = s.lights[li];
             if (l.kind != LightKind::Sun || !(dot3(d + 3 * j, l.direction) >= l.cos_sun)) continue;
-            const float sun_pdf = selection_probability(s, static_cast<int>(li)) /
-                                  (2.0f * kPiF * l.sun_one_minus_cos);
-            const float w = prev_pdf[i] > 0 && can_sample_lights ? power_heuristic(prev_pdf[i], sun_pdf) : 1.0f;
+            const float w = mis ? power_heuristic(prev_pdf[i], selection_probability(s, prev_pos + 3 * i, int(li)) /
+                                                                   (2.0f * kPiF * l.sun_one_minus_cos))
+                                : 1.0f;
             for (int k = 0; k < 3; ++k) out[i].rgb[k] += thr[3 * i + k] * l.power[k] * w;
         }
     }
@@ -241,17 +241,19 @@ inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, co
     float* rgb = grow(sc.group_rgb, 3 * n);
     float* dist = grow(sc.group_dist, n);
     float* pdf = grow(sc.group_pdf, n);
+    float* gsel = grow(sc.group_sel, n);
     for (size_t j = 0; j < n; ++j) {
         const int32_t q = points[j];
         std::copy(sc.sorted[q].p, sc.sorted[q].p + 3, pos + 3 * j);
         g1[j] = u1[q];
         g2[j] = u2[q];
+        gsel[j] = sc.point_sel[q];
     }
-    const F sel(selection_probability(s, li));
     const bool env = li == static_cast<int>(s.lights.size());
     const Light* light = env ? nullptr : &s.lights[li];
     for_blocks(n, [&](size_t i, int lanes) {
         const F s1 = rows::load1<W>(g1, i, lanes), s2 = rows::load1<W>(g2, i, lanes);
+        const F sel = rows::load1<W>(gsel, i, lanes);
         D3 w;
         F r, g, b, d, p;
         if (env) {
@@ -325,10 +327,23 @@ inline void sample_lights(const RenderScene& s, PathScratch& sc, int depth, size
     const int count = light_count(s);
     std::vector<int32_t>& chosen = sc.light_of_point;
     chosen.resize(np);
+    sc.point_sel.resize(np);
     sc.light_start.assign(count + 1, 0);
+    std::vector<float>& w = sc.selection_scratch;
+    w.resize(count + 1);
     for (size_t q = 0; q < np; ++q) {
-        chosen[q] = cdf_cell(s.light_cdf.data(), count, pick[q]);
-        ++sc.light_start[chosen[q] + 1];
+        // the light by its estimated irradiance at this point
+        const float sum = selection_weights(s, sc.sorted[q].p, w.data());
+        float acc = 0, target = pick[q] * sum;
+        int k = 0;
+        for (; k < count - 1; ++k) {
+            if (target < acc + w[k]) break;
+            acc += w[k];
+        }
+        while (k > 0 && !(w[k] > 0)) --k;  // never a light of zero weight (rounding at the top)
+        chosen[q] = k;
+        sc.point_sel[q] = sum > 0 ? w[k] / sum : 0.0f;
+        ++sc.light_start[k + 1];
     }
     for (int k = 0; k < count; ++k) sc.light_start[k + 1] += sc.light_start[k];
     sc.light_points.resize(np);
@@ -348,6 +363,7 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
     float* dir = grow(sc.dir, 3 * n);
     float* thr = grow(sc.throughput, 3 * n);
     float* prev_pdf = grow(sc.prev_pdf, n);
+    float* prev_pos = grow(sc.prev_pos, 3 * n);  // where the path's last BRDF sample left from
     sc.active.clear();
     for (size_t i = 0; i < n; ++i) {
         const uint32_t key = cs[i].key;
@@ -403,7 +419,7 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
                 if (facing > 0 || (l.two_sided && facing < 0)) {
                     float w = 1.0f;
                     if (prev_pdf[i] > 0 && can_sample_lights)
-                        w = power_heuristic(prev_pdf[i], area_light_pdf(s, mat.light, facing, hits.t[j]));
+                        w = power_heuristic(prev_pdf[i], area_light_pdf(s, prev_pos + 3 * i, mat.light, facing, hits.t[j]));
                     for (int k = 0; k < 3; ++k) out[i].rgb[k] += T[k] * l.power[k] * w;
                 }
                 if (depth == 0) out[i].depth = hits.t[j];
@@ -427,7 +443,7 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
             sc.points.push_back(sp);
         }
 
-        add_environment(s, sc, dir, thr, prev_pdf, can_sample_lights, out);
+        add_environment(s, sc, dir, thr, prev_pdf, prev_pos, can_sample_lights, out);
 
         // 3. group the shading points by material, so each group is shaded W at a time
         const size_t np = sc.points.size();
@@ -555,6 +571,7 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
                 dir[3 * i + k] = wl[k];
             }
             prev_pdf[i] = pdf[q];
+            std::copy(sp.p, sp.p + 3, prev_pos + 3 * i);
             sc.next_active.push_back(i);
         }
 
@@ -574,6 +591,75 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
         }
         std::swap(sc.active, sc.next_active);
     }
+}
+
+// Direct illuminance on sensors (patina illuminance): the same light sampling and shadow
+// packets as the renderer's, with the sensor's cosine instead of a BRDF.
+void sensor_illuminance(const RenderScene& s, const float* points, const float* normals, size_t begin, size_t end,
+                        int samples, uint32_t seed, float* lux, PathScratch& sc) {
+    if constexpr (W < 8) clear_upper_state();
+    const TraceKernels& tk = trace_kernels();
+    const size_t np = end - begin;
+    std::fill(lux + begin, lux + end, 0.0f);
+    if (np == 0 || light_count(s) <= 0 || !(s.light_cdf.back() > 0)) return;
+    sc.sorted.resize(np);
+    for (size_t q = 0; q < np; ++q) {
+        ShadingPoint& sp = sc.sorted[q];
+        const size_t i = begin + q;
+        std::copy(points + 3 * i, points + 3 * i + 3, sp.p);
+        std::copy(normals + 3 * i, normals + 3 * i + 3, sp.ng);
+        normalize3(sp.ng);
+        std::copy(sp.ng, sp.ng + 3, sp.n);
+        frame_from_normal(sp.n, sp.t, sp.b);
+        sp.path = static_cast<int32_t>(q);
+        sp.material = 0;
+        sp.eta = 1;
+    }
+    const float eps = s.ray_offset;
+    std::vector<double> sum(np, 0.0);
+    sc.point_keys.resize(np);
+    for (int k = 0; k < samples; ++k) {
+        for (size_t q = 0; q < np; ++q)
+            sc.point_keys[q] = static_cast<int32_t>(path_key(seed, static_cast<uint32_t>(begin + q), static_cast<uint32_t>(k)));
+        sample_lights(s, sc, 0, np);
+        sc.shadow_org.clear();
+        sc.shadow_dir.clear();
+        sc.shadow_tmax.clear();
+        sc.shadow_lux.clear();
+        sc.shadow_path.clear();
+        for (size_t q = 0; q < np; ++q) {
+            if (!sc.ls_ok[q]) continue;
+            const ShadingPoint& sp = sc.sorted[q];
+            const LightSample ls = load_light_sample(sc, q);
+            const float cos_s = dot3(ls.dir, sp.n);
+            if (!(cos_s > 0)) continue;
+            float o[3], d[3] = {ls.dir[0], ls.dir[1], ls.dir[2]}, tmax = kInfF;
+            for (int c = 0; c < 3; ++c) o[c] = sp.p[c] + eps * sp.n[c];
+            if (!std::isinf(ls.dist)) {
+                float to[3];
+                for (int c = 0; c < 3; ++c) to[c] = sp.p[c] + ls.dir[c] * ls.dist - o[c];
+                const float len = std::sqrt(dot3(to, to));
+                for (int c = 0; c < 3; ++c) d[c] = to[c] / len;
+                tmax = len * (1.0f - 1e-4f);
+            }
+            sc.shadow_path.push_back(static_cast<int32_t>(q));
+            for (int c = 0; c < 3; ++c) {
+                sc.shadow_org.push_back(o[c]);
+                sc.shadow_dir.push_back(d[c]);
+            }
+            sc.shadow_tmax.push_back(tmax);
+            sc.shadow_lux.push_back(kLumensPerWatt * luminance(ls.rgb) * cos_s / ls.pdf);
+        }
+        const size_t ns = sc.shadow_path.size();
+        if (ns == 0) continue;
+        uint8_t* blocked = grow(sc.blocked, ns);
+        tk.occluded(*s.tree, RayBatch{sc.shadow_org.data(), sc.shadow_dir.data(), 0.0f, sc.shadow_tmax.data(), kInfF},
+                    blocked, 0, ns);
+        sc.rays_traced += ns;
+        for (size_t j = 0; j < ns; ++j)
+            if (!blocked[j]) sum[sc.shadow_path[j]] += sc.shadow_lux[j];
+    }
+    for (size_t q = 0; q < np; ++q) lux[begin + q] = static_cast<float>(sum[q] / samples);
 }
 
 }  // namespace render_detail

@@ -23,18 +23,43 @@ inline int cdf_cell(const float* cdf, int count, float u) {
     return std::clamp(i, 0, count - 1);
 }
 
-inline float selection_probability(const RenderScene& s, int light) {
-    return s.light_cdf[light + 1] - s.light_cdf[light];
+// Each light's estimated irradiance at point p (the selection weights); returns their sum.
+inline float selection_weights(const RenderScene& s, const float* p, float* w) {
+    float sum = 0;
+    for (size_t k = 0; k < s.selection.size(); ++k) {
+        const RenderScene::Selection& sel = s.selection[k];
+        float wk = sel.weight;
+        if (sel.local) {
+            const float d[3] = {sel.center[0] - p[0], sel.center[1] - p[1], sel.center[2] - p[2]};
+            wk = sel.weight / (4.0f * kPiF * std::max(dot3(d, d), sel.size2));
+        }
+        w[k] = wk;
+        sum += wk;
+    }
+    return sum;
+}
+
+// The probability that a shading point at p picks light k.
+inline float selection_probability(const RenderScene& s, const float* p, int k) {
+    float w[64];
+    std::vector<float> many;
+    float* weights = w;
+    if (s.selection.size() > 64) {
+        many.resize(s.selection.size());
+        weights = many.data();
+    }
+    const float sum = selection_weights(s, p, weights);
+    return sum > 0 ? weights[k] / sum : 0.0f;
 }
 inline int light_count(const RenderScene& s) { return static_cast<int>(s.light_cdf.size()) - 1; }
 
-// Density (solid angle at the shading point, selection included) with which light sampling
+// Density (solid angle at the shading point `from`, selection included) with which light sampling
 // reaches area light `li` (a quad or triangles: uniform by area) at distance `dist`, where
 // the light's surface has cosine `facing` with the direction.
-inline float area_light_pdf(const RenderScene& s, int li, float facing, float dist) {
+inline float area_light_pdf(const RenderScene& s, const float* from, int li, float facing, float dist) {
     const float cos_l = std::abs(facing);
     if (cos_l <= 0) return 0;
-    return selection_probability(s, li) * dist * dist / (s.lights[li].area * cos_l);
+    return selection_probability(s, from, li) * dist * dist / (s.lights[li].area * cos_l);
 }
 
 struct LightSample {

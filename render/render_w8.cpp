@@ -6,7 +6,8 @@
 namespace patina {
 
 const RenderKernels& render_kernels_w8() {
-    static const RenderKernels k{8, &render_detail::trace_paths, &render_detail::grid2_w::eval_array};
+    static const RenderKernels k{8, &render_detail::trace_paths, &render_detail::sensor_illuminance,
+                                 &render_detail::grid2_w::eval_array};
     return k;
 }
 

@@ -94,11 +94,38 @@ void prepare_light_selection(RenderScene& s) {
             default: power.push_back(l.area * kPi * lum * (l.two_sided ? 2 : 1));
         }
     }
+    const double env_mean = !s.env.present ? 0.0
+                            : s.env.is_map ? s.env.mean_luminance
+                                           : std::max(0.0, luminance(s.env.constant)) * s.env.intensity;
     if (s.env.present) {
-        const double mean = s.env.is_map ? s.env.mean_luminance : std::max(0.0, luminance(s.env.constant));
         // the environment's flux through the scene's bounding disc (as pbrt estimates it)
-        power.push_back(kPi * s.scene_radius * s.scene_radius * 4 * kPi * mean);
+        power.push_back(kPi * s.scene_radius * s.scene_radius * 4 * kPi * env_mean);
     }
+    // per-point selection: local lights by flux and distance, infinite ones by irradiance
+    s.selection.clear();
+    const float small2 = 1e-4f * s.scene_radius * s.scene_radius;
+    for (size_t i = 0; i < s.lights.size(); ++i) {
+        const Light& l = s.lights[i];
+        RenderScene::Selection sel{true, static_cast<float>(power[i]), {l.position[0], l.position[1], l.position[2]}, small2};
+        if (l.kind == LightKind::Sun) {
+            sel.local = false;
+            sel.weight = static_cast<float>(kPi * l.sun_one_minus_cos * (1 + double(l.cos_sun)) * luminance(l.power));
+        } else if (l.kind == LightKind::Quad || l.kind == LightKind::Triangles) {
+            sel.size2 = std::max(small2, static_cast<float>(l.area / kPi));
+            if (l.kind == LightKind::Triangles) {  // the area-weighted centroid
+                double c[3] = {0, 0, 0}, prev = 0;
+                for (size_t t = 0; t < l.triangles.size(); ++t) {
+                    const float* v = s.tree->triangles.data() + 9 * static_cast<size_t>(l.triangles[t]);
+                    const double w = l.area_cdf[t + 1] - prev;
+                    prev = l.area_cdf[t + 1];
+                    for (int k = 0; k < 3; ++k) c[k] += w * (v[k] + v[3 + k] + v[6 + k]) / 3;
+                }
+                for (int k = 0; k < 3; ++k) sel.center[k] = static_cast<float>(c[k]);
+            }
+        }
+        s.selection.push_back(sel);
+    }
+    if (s.env.present) s.selection.push_back({false, static_cast<float>(kPi * env_mean), {0, 0, 0}, 0});
     double total = 0;
     for (double p : power) total += p;
     s.light_cdf.assign(power.size() + 1, 0.0f);

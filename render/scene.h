@@ -107,11 +107,20 @@ struct RenderScene {
     Camera camera;
     float scene_radius = 1;              // bounding-sphere radius of the geometry (environment power)
     float ray_offset = 1e-4f;            // secondary-ray origin offset, scaled by the scene's size
-    // Light selection probabilities, proportional to estimated power: lights first, then the environment.
-    std::vector<float> light_cdf;        // lights.size() + (env.present ? 1 : 0) + 1 values
+    // Light selection, per shading point in proportion to each light's estimated irradiance
+    // there: a local light's flux / (4 pi max(d^2, size^2)) (d to its centre), an infinite
+    // one's (sun, environment) irradiance. Lights first, then the environment.
+    struct Selection {
+        bool local;
+        float weight;     // local: flux (W, luminance); infinite: irradiance (W/m^2, luminance)
+        float center[3];
+        float size2;      // local: a squared size below which distance does not count
+    };
+    std::vector<Selection> selection;
+    std::vector<float> light_cdf;        // the same by global power (count + 1 values): what can light at all
 };
 
-// Fills light_cdf from the lights' and environment's estimated power.
+// Fills light_cdf and selection from the lights' and environment's estimated power.
 void prepare_light_selection(RenderScene& s);
 
 }  // namespace patina

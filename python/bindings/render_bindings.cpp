@@ -19,6 +19,7 @@
 #include "render/integrator.h"
 #include "render/render_job.h"
 #include "render/scene.h"
+#include "core/parallel.h"
 
 namespace nb = nanobind;
 
@@ -388,6 +389,28 @@ nb::object grid2_eval(const Grid2Handle& g, FloatVector x, FloatVector y, int wi
     return nb::cast(result);
 }
 
+// Direct illuminance (lux) on sensors: points and unit normals (n, 3); split over threads.
+nb::object sensor_illuminance(nb::object scene_obj, Rows3 points, Rows3 normals, int samples, uint32_t seed,
+                              int width, int threads) {
+    SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
+    const size_t n = points.shape(0);
+    if (normals.shape(0) != n) throw std::invalid_argument("points and normals have different lengths");
+    if (samples < 1) throw std::invalid_argument("samples must be at least 1");
+    check_materials(h);
+    patina::prepare_light_selection(h.scene);
+    float* out;
+    auto result = new_array<float, 1>({n}, &out);
+    const patina::RenderKernels& k = patina::render_kernels_for(width);
+    {
+        nb::gil_scoped_release release;
+        patina::parallel_for(n, 256, threads, [&](size_t b, size_t e) {
+            patina::PathScratch scratch;
+            k.sensor_illuminance(h.scene, points.data(), normals.data(), b, e, samples, seed, out, scratch);
+        });
+    }
+    return nb::cast(result);
+}
+
 }  // namespace
 
 void bind_render(nb::module_& m) {
@@ -403,6 +426,9 @@ void bind_render(nb::module_& m) {
         .def("set_environment", &set_environment, nb::arg("rgb").none(), nb::arg("constant"),
              nb::arg("intensity") = 1.0f, nb::arg("rotation") = 0.0f)
         .def_prop_ro("scene_radius", [](const SceneHandle& h) { return h.scene.scene_radius; });
+    m.def("sensor_illuminance", &sensor_illuminance, nb::arg("scene"), nb::arg("points"), nb::arg("normals"),
+          nb::arg("samples") = 64, nb::arg("seed") = 0, nb::arg("width") = 0, nb::arg("threads") = 0,
+          "Direct illuminance in lux on sensors at points facing normals, by shadowed light sampling.");
     nb::class_<JobHandle>(m, "RenderJob", "A render running on worker threads: start, poll progress, cancel, resolve.")
         .def(nb::new_(&make_job), nb::arg("scene"), nb::arg("spp"), nb::arg("max_depth"), nb::arg("seed") = 0,
              nb::arg("threads") = 0, nb::arg("width") = 0, nb::arg("tile_size") = 16, nb::arg("passes") = 8)

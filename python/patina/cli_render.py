@@ -1,4 +1,4 @@
-"""The `patina render` and `patina preview` commands (registered by cli.py)."""
+"""The `patina render`, `patina preview` and `patina illuminance` commands (registered by cli.py)."""
 
 from __future__ import annotations
 
@@ -16,6 +16,26 @@ def _png_path(exr: str, png: str | None) -> str | None:
     return png or os.path.splitext(exr)[0] + ".png"
 
 
+def auto_exposure(rgb: Any) -> float:
+    """Stops that bring the image's log-average luminance to 0.18 (Reinhard's key value)."""
+    import numpy as np
+
+    y = rgb[..., 0] * 0.2126 + rgb[..., 1] * 0.7152 + rgb[..., 2] * 0.0722
+    y = y[np.isfinite(y) & (y > 0)]
+    if y.size == 0:
+        return 0.0
+    return float(np.log2(0.18 / np.exp(np.mean(np.log(y)))))
+
+
+def _exposure(value: str) -> str:
+    if value != "auto":
+        try:
+            float(value)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected stops (a number) or auto, got '{value}'") from None
+    return value
+
+
 def _render_and_write(scene: Any, args: argparse.Namespace) -> int:
     from .render import PreparedScene, render, write_outputs
 
@@ -28,7 +48,8 @@ def _render_and_write(scene: Any, args: argparse.Namespace) -> int:
     result = render(scene, threads=args.threads, width=args.simd, progress=not args.quiet, prepared=prepared)
     png = _png_path(args.out, args.png)
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-    write_outputs(scene, result, args.out, png, exposure=args.exposure, curve=args.tonemap)
+    exposure = auto_exposure(result.rgb) if args.exposure == "auto" else float(args.exposure)
+    write_outputs(scene, result, args.out, png, exposure=exposure, curve=args.tonemap)
     rate = result.rays / max(result.seconds, 1e-9) / 1e6
     state = "complete" if result.complete else f"PARTIAL (at least {int(result.samples.min())} of {result.spp} spp)"
     print(
@@ -108,7 +129,7 @@ def cmd_preview(args: argparse.Namespace) -> int:
 def _output_options(s: argparse.ArgumentParser, default_out: str) -> None:
     s.add_argument("--out", default=default_out, metavar="EXR", help=f"float EXR with AOVs (default {default_out})")
     s.add_argument("--png", default=None, metavar="PNG", help="tone-mapped PNG (default: beside the EXR; none: skip)")
-    s.add_argument("--exposure", type=float, default=0.0, help="PNG exposure in stops")
+    s.add_argument("--exposure", type=_exposure, default="0", help="PNG exposure in stops, or auto")
     s.add_argument("--tonemap", choices=("filmic", "clamp"), default="filmic", help="PNG tone curve")
     s.add_argument("--spp", type=int, default=None, help="samples per pixel")
     s.add_argument("--integrator", choices=("direct", "path"), default=None)
@@ -118,6 +139,30 @@ def _output_options(s: argparse.ArgumentParser, default_out: str) -> None:
     s.add_argument("--threads", type=int, default=0, help="worker threads (default: all cores)")
     s.add_argument("--simd", type=int, choices=(1, 4, 8), default=None, help="force a SIMD width")
     s.add_argument("--quiet", action="store_true", help="no progress line")
+
+
+def cmd_illuminance(args: argparse.Namespace) -> int:
+    from . import illuminance as il
+    from .scene_file import load_scene
+
+    scene = load_scene(args.scene)
+    grid = il.parse_grid(args.grid, args.height, args.facing)
+    if args.samples < 1:
+        raise ValueError("--samples must be at least 1")
+    report = il.compute(scene, grid, samples=args.samples, threads=args.threads, width=args.simd)
+    if args.json:
+        import json
+
+        json.dump(report.as_json(), sys.stdout)
+        sys.stdout.write("\n")
+    else:
+        print(il.summary(report, args.scene))
+    for path, write in ((args.csv, il.write_csv), (args.json_out, il.write_json)):
+        if path:
+            write(report, path)
+    if args.png:
+        il.write_png(report, args.png, os.path.basename(args.scene))
+    return 0
 
 
 def add_render_commands(sub: Any) -> None:
@@ -133,3 +178,17 @@ def add_render_commands(sub: Any) -> None:
     s.add_argument("--coat", action="store_true", help="put a smooth clear coat (eta 1.5) over the material")
     _output_options(s, "preview.exr")
     s.set_defaults(func=cmd_preview)
+
+    s = sub.add_parser("illuminance", help="direct illuminance (lux) on a grid of sensors, with uniformity")
+    s.add_argument("scene", metavar="SCENE_JSON")
+    s.add_argument("--grid", required=True, metavar="X0,Z0,X1,Z1,NX,NZ", help="sensors on a horizontal grid (m)")
+    s.add_argument("--height", type=float, default=0.0, help="the grid's height y (m)")
+    s.add_argument("--facing", default="up", help="sensors facing up (default) or down")
+    s.add_argument("--samples", type=int, default=256, help="light samples per sensor")
+    s.add_argument("--threads", type=int, default=0)
+    s.add_argument("--simd", type=int, choices=(1, 4, 8), default=None)
+    s.add_argument("--json", action="store_true", help="print the report as JSON")
+    s.add_argument("--json-out", default=None, metavar="FILE", help="also write the JSON report")
+    s.add_argument("--csv", default=None, metavar="FILE", help="also write x, y, z, lux rows")
+    s.add_argument("--png", default=None, metavar="FILE", help="a false-colour map")
+    s.set_defaults(func=cmd_illuminance)
