@@ -301,12 +301,19 @@ def bench_render(repeat: int, quick: bool) -> list[Record]:
     return run_render_group(repeat, quick)
 
 
+def bench_lights(repeat: int, quick: bool) -> list[Record]:
+    from .bench_lights import run_lights_group
+
+    return run_lights_group(repeat, quick)
+
+
 GROUPS: dict[str, Callable[[int, bool], list[Record]]] = {
     "math": bench_math,
     "brdf": bench_brdf,
     "fit": bench_fit,
     "trace": bench_trace,
     "render": bench_render,
+    "lights": bench_lights,
 }
 
 
