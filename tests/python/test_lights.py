@@ -238,3 +238,24 @@ def test_luminaire_illuminance_is_its_candela_times_cosine_over_distance_squared
     lit = lux > 0.02 * lux.max()
     rel = np.abs(r.illuminance[lit] / lux[lit] - 1)
     assert np.median(rel) < 0.01 and abs(r.illuminance.sum() / lux.sum() - 1) < 0.01
+
+
+def test_an_ies_tilt_table_scales_a_tilted_luminaire(tmp_path):
+    from patina.photometry.writers import format_ies
+    from patina.render import _luminaire
+    from patina.scene_types import LuminaireLight
+
+    tilt = (1, [0, 30, 60, 90], [1.0, 0.9, 0.75, 0.5])
+    path = tmp_path / "t.ies"
+    path.write_text(
+        format_ies([0], [0.0, 45.0, 90.0], np.array([[300.0, 200.0, 0.0]]), tilt="INCLUDE", tilt_block=tilt)
+    )
+
+    def power(aim: list[float]) -> float:
+        light = LuminaireLight(str(path), (0.0, 3.0, 0.0), tuple(aim), 0.0, 1.0, (1.0, 1.0, 1.0))
+        return _luminaire(light)["power"][0]
+
+    down = power([0, -1, 0])
+    assert power([math.sin(math.radians(30)), -math.cos(math.radians(30)), 0]) == pytest.approx(0.9 * down, rel=1e-6)
+    assert power([1, -1, 0]) == pytest.approx(0.825 * down, rel=1e-6)  # 45 degrees: between 0.9 and 0.75
+    assert power([1, 0, 0]) == pytest.approx(0.5 * down, rel=1e-6)
