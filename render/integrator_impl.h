@@ -130,6 +130,32 @@ inline LightSample load_light_sample(const PathScratch& sc, size_t q) {
     return ls;
 }
 
+// Queues the shadow ray of a light sample taken at p: from p lifted by `offset` along n to
+// the light's point (or to infinity), carrying the radiance `rgb` and illuminance `lux` it
+// adds to path `owner` if nothing is in the way.
+inline void queue_shadow_ray(PathScratch& sc, int32_t owner, const float* p, const float* n, float offset,
+                             const LightSample& ls, const float* rgb, float lux) {
+    float o[3], d[3] = {ls.dir[0], ls.dir[1], ls.dir[2]}, tmax = kInfF;
+    for (int k = 0; k < 3; ++k) o[k] = p[k] + offset * n[k];
+    if (!std::isinf(ls.dist)) {
+        // aim from the lifted origin at the light's point: seen at a grazing angle, an origin
+        // lifted off the surface is much nearer the light than `dist` says
+        float to[3];
+        for (int k = 0; k < 3; ++k) to[k] = p[k] + ls.dir[k] * ls.dist - o[k];
+        const float len = std::sqrt(dot3(to, to));
+        for (int k = 0; k < 3; ++k) d[k] = to[k] / len;
+        tmax = len * (1.0f - 1e-4f);
+    }
+    sc.shadow_path.push_back(owner);
+    for (int k = 0; k < 3; ++k) {
+        sc.shadow_org.push_back(o[k]);
+        sc.shadow_dir.push_back(d[k]);
+        sc.shadow_rgb.push_back(rgb[k]);
+    }
+    sc.shadow_tmax.push_back(tmax);
+    sc.shadow_lux.push_back(lux);
+}
+
 // Misses see the environment: W directions at a time, radiance and (for MIS after a BRDF
 // sample) the density of light sampling.
 inline void add_environment(const RenderScene& s, PathScratch& sc, const float* dir, const float* thr,
@@ -513,26 +539,7 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
                 const float lux = depth == 0 && lz > 0 ? kLumensPerWatt * luminance(ls.rgb) * cos_l / ls.pdf : 0.0f;
                 const float side = lz > 0 ? eps : -eps;
                 if (c[0] <= 0 && c[1] <= 0 && c[2] <= 0 && lux <= 0) continue;
-                sc.shadow_path.push_back(sp.path);
-                float o[3], d[3] = {ls.dir[0], ls.dir[1], ls.dir[2]};
-                for (int k = 0; k < 3; ++k) o[k] = sp.p[k] + side * sp.ng[k];
-                float tmax = kInfF;
-                if (!std::isinf(ls.dist)) {
-                    // aim from the offset origin at the light's point: seen at a grazing angle, an
-                    // origin lifted off the surface is much nearer the light than `dist` says
-                    float to[3];
-                    for (int k = 0; k < 3; ++k) to[k] = sp.p[k] + ls.dir[k] * ls.dist - o[k];
-                    const float len = std::sqrt(dot3(to, to));
-                    for (int k = 0; k < 3; ++k) d[k] = to[k] / len;
-                    tmax = len * (1.0f - 1e-4f);
-                }
-                for (int k = 0; k < 3; ++k) {
-                    sc.shadow_org.push_back(o[k]);
-                    sc.shadow_dir.push_back(d[k]);
-                    sc.shadow_rgb.push_back(c[k]);
-                }
-                sc.shadow_tmax.push_back(tmax);
-                sc.shadow_lux.push_back(lux);
+                queue_shadow_ray(sc, sp.path, sp.p, sp.ng, side, ls, c, lux);
             }
         }
 
@@ -625,6 +632,7 @@ void sensor_illuminance(const RenderScene& s, const float* points, const float* 
         sc.shadow_org.clear();
         sc.shadow_dir.clear();
         sc.shadow_tmax.clear();
+        sc.shadow_rgb.clear();
         sc.shadow_lux.clear();
         sc.shadow_path.clear();
         for (size_t q = 0; q < np; ++q) {
@@ -633,22 +641,9 @@ void sensor_illuminance(const RenderScene& s, const float* points, const float* 
             const LightSample ls = load_light_sample(sc, q);
             const float cos_s = dot3(ls.dir, sp.n);
             if (!(cos_s > 0)) continue;
-            float o[3], d[3] = {ls.dir[0], ls.dir[1], ls.dir[2]}, tmax = kInfF;
-            for (int c = 0; c < 3; ++c) o[c] = sp.p[c] + eps * sp.n[c];
-            if (!std::isinf(ls.dist)) {
-                float to[3];
-                for (int c = 0; c < 3; ++c) to[c] = sp.p[c] + ls.dir[c] * ls.dist - o[c];
-                const float len = std::sqrt(dot3(to, to));
-                for (int c = 0; c < 3; ++c) d[c] = to[c] / len;
-                tmax = len * (1.0f - 1e-4f);
-            }
-            sc.shadow_path.push_back(static_cast<int32_t>(q));
-            for (int c = 0; c < 3; ++c) {
-                sc.shadow_org.push_back(o[c]);
-                sc.shadow_dir.push_back(d[c]);
-            }
-            sc.shadow_tmax.push_back(tmax);
-            sc.shadow_lux.push_back(kLumensPerWatt * luminance(ls.rgb) * cos_s / ls.pdf);
+            const float none[3] = {0, 0, 0};
+            queue_shadow_ray(sc, static_cast<int32_t>(q), sp.p, sp.n, eps, ls, none,
+                             kLumensPerWatt * luminance(ls.rgb) * cos_s / ls.pdf);
         }
         const size_t ns = sc.shadow_path.size();
         if (ns == 0) continue;

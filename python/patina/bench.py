@@ -35,17 +35,21 @@ class Record:
     unit: str
 
 
-def _median_times(fns: list[Callable[[], Any]], repeat: int) -> list[float]:
-    """Median wall time of each function, runs interleaved so drift hits all alike."""
-    for f in fns:
-        f()  # warm caches and page in buffers
+def _median_times_and_values(fns: list[Callable[[], Any]], repeat: int) -> tuple[list[float], list[Any]]:
+    """Median wall time of each function, runs interleaved so drift hits all alike, and the
+    value each returned on its warm-up run (which also warms caches and pages in buffers)."""
+    values = [f() for f in fns]
     samples: list[list[float]] = [[] for _ in fns]
     for _ in range(repeat):
         for i, f in enumerate(fns):
             t0 = time.perf_counter()
             f()
             samples[i].append(time.perf_counter() - t0)
-    return [statistics.median(s) for s in samples]
+    return [statistics.median(s) for s in samples], values
+
+
+def _median_times(fns: list[Callable[[], Any]], repeat: int) -> list[float]:
+    return _median_times_and_values(fns, repeat)[0]
 
 
 def _widths() -> list[int]:

@@ -16,15 +16,13 @@ import os
 import statistics
 import subprocess
 import sys
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from . import _core
-from .bench import Record
+from .bench import Record, _median_times_and_values
 from .render import PreparedScene, core_depth
 from .scene_file import load_scene, with_overrides
 from .scene_types import Scene
@@ -55,19 +53,6 @@ def _render(prep: PreparedScene, scene: Scene, width: int, threads: int, spp: in
     return np.asarray(job.resolve()["rgb"], np.float64)
 
 
-def _median_times(fns: list[Callable[[], Any]], repeat: int) -> tuple[list[float], list[Any]]:
-    """Median wall time of each function (runs interleaved, after one warm-up run each) and the
-    value each returned on its warm-up run."""
-    values = [f() for f in fns]
-    samples: list[list[float]] = [[] for _ in fns]
-    for _ in range(repeat):
-        for i, f in enumerate(fns):
-            t0 = time.perf_counter()
-            f()
-            samples[i].append(time.perf_counter() - t0)
-    return [statistics.median(s) for s in samples], values
-
-
 # --- SIMD width and threads on the preview scene ---------------------------------------------
 
 
@@ -82,7 +67,7 @@ def _preview(quick: bool) -> tuple[Scene, PreparedScene, str]:
 def _simd_records(scene: Scene, prep: PreparedScene, label: str, repeat: int) -> list[Record]:
     widths = [w for w in (4, 8) if _core.width_supported(w)]
     fns = [lambda w=w: _render(prep, scene, w, 1) for w in (1, *widths)]
-    times, _ = _median_times(fns, repeat)
+    times, _ = _median_times_and_values(fns, repeat)
     samples = scene.camera.width * scene.camera.height * scene.render.spp
     return [
         Record(
@@ -101,7 +86,7 @@ def _thread_record(scene: Scene, prep: PreparedScene, label: str, repeat: int) -
     cores = os.cpu_count() or 1
     width = _core.default_width()
     one, all_cores = (lambda n=n: _render(prep, scene, width, n) for n in (1, cores))
-    times, _ = _median_times([one, all_cores], repeat)
+    times, _ = _median_times_and_values([one, all_cores], repeat)
     speedup = times[0] / times[1]
     return Record(
         "render.threads",
@@ -140,7 +125,7 @@ def _convergence(render_at: Callable[[int], np.ndarray], levels: list[int], refe
     Time is fitted as t0 + per_spp * spp through the lowest and highest level (a fixed cost
     per render, then a cost per sample).
     """
-    times, images = _median_times([lambda n=n: render_at(n) for n in levels], repeat)
+    times, images = _median_times_and_values([lambda n=n: render_at(n) for n in levels], repeat)
     mean = float(reference.mean())
     c2 = statistics.fmean(
         n * max(float(((img - reference) ** 2).mean()) - reference_mse, 0.0) / mean**2 for n, img in zip(levels, images)

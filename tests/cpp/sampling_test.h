@@ -5,11 +5,21 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <random>
 #include <vector>
 
 namespace sampling_test {
 
 constexpr double kPi = 3.14159265358979323846;
+
+// n uniforms in [0, 1) from a fixed seed.
+inline std::vector<float> uniforms(size_t n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<float> v(n);
+    for (float& x : v) x = u(rng);
+    return v;
+}
 
 // Upper tail probability of a chi-square statistic (Wilson-Hilferty normal approximation).
 inline double chi2_tail(double chi2, int dof) {

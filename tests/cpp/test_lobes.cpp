@@ -13,6 +13,7 @@
 
 using namespace patina;
 using sampling_test::sampling_p_value;
+using sampling_test::uniforms;
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
@@ -26,14 +27,6 @@ std::vector<float> hemisphere(size_t n, unsigned seed) {
         d.insert(d.end(), {float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)});
     }
     return d;
-}
-
-std::vector<float> uniforms(size_t n, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    std::vector<float> v(n);
-    for (float& x : v) x = u(rng);
-    return v;
 }
 
 MixtureParams mixture(float r, float g, float b, float alpha, float f0r, float f0g, float f0b,

@@ -17,16 +17,9 @@ using patina::render_detail::material_eval;
 using patina::render_detail::material_pdf;
 using patina::render_detail::material_sample;
 using sampling_test::sampling_p_value;
+using sampling_test::uniforms;
 
 namespace {
-
-std::vector<float> uniforms(size_t n, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    std::vector<float> v(n);
-    for (float& x : v) x = u(rng);
-    return v;
-}
 
 struct Batch {
     std::vector<float> v, eta, l, pdf;
