@@ -200,7 +200,7 @@ def read_ies(path: str) -> Photometry:
             raise FormatError(path, f"line {ln}", f"candela value {value:g} is negative")
 
     factor = multiplier * ballast * (second if old else 1.0)
-    with np.errstate(over="ignore"):
+    with np.errstate(over="ignore", invalid="ignore"):  # inf x 0: check_finite reports it
         rows = np.array(cd, np.float64).reshape(n_h, n_v) * factor
     check_finite(path, rows, multiplier_line)
     if ptype == 1:

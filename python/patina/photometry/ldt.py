@@ -162,7 +162,7 @@ def read_ldt(path: str) -> Photometry:
     first = sets[0]
     absolute = first["lamps"] < 0
     factor = first["flux"] / 1000.0 * conversion
-    with np.errstate(over="ignore"):
+    with np.errstate(over="ignore", invalid="ignore"):  # inf x 0: check_finite reports it
         rows = rows * factor
     check_finite(path, rows, 24)
     full_h, full_v, candela = finish_type_c(h, np.array(g), rows, SYMMETRY[isym])
