@@ -35,18 +35,6 @@ inline void normalize3(float* a) {
         for (int k = 0; k < 3; ++k) a[k] /= len;
 }
 
-// An orthonormal frame around unit n (Duff et al. 2017, "Building an orthonormal basis, revisited").
-inline void frame_from_normal(const float* n, float* t, float* b) {
-    const float sign = std::copysign(1.0f, n[2]);
-    const float a = -1.0f / (sign + n[2]), c = n[0] * n[1] * a;
-    t[0] = 1.0f + sign * n[0] * n[0] * a;
-    t[1] = sign * c;
-    t[2] = -sign * n[0];
-    b[0] = c;
-    b[1] = sign + n[1] * n[1] * a;
-    b[2] = -n[1];
-}
-
 inline void cross3(const float* a, const float* b, float* c) {
     c[0] = a[1] * b[2] - a[2] * b[1];
     c[1] = a[2] * b[0] - a[0] * b[2];
@@ -101,7 +89,7 @@ inline bool make_shading_point(const RenderScene& s, int32_t prim, float u, floa
             return true;
         }
     }
-    frame_from_normal(sp.n, sp.t, sp.b);
+    orthonormal_frame(sp.n, sp.t, sp.b);
     return true;
 }
 
@@ -154,6 +142,28 @@ inline void queue_shadow_ray(PathScratch& sc, int32_t owner, const float* p, con
     }
     sc.shadow_tmax.push_back(tmax);
     sc.shadow_lux.push_back(lux);
+}
+
+inline void clear_shadow_rays(PathScratch& sc) {
+    sc.shadow_path.clear();
+    sc.shadow_org.clear();
+    sc.shadow_dir.clear();
+    sc.shadow_tmax.clear();
+    sc.shadow_rgb.clear();
+    sc.shadow_lux.clear();
+}
+
+// Traces the queued shadow rays, W per packet; returns sc.blocked (one byte per ray).
+inline const uint8_t* trace_shadow_rays(const RenderScene& s, PathScratch& sc) {
+    const size_t ns = sc.shadow_path.size();
+    uint8_t* blocked = grow(sc.blocked, ns);
+    if (ns > 0) {
+        trace_kernels().occluded(
+            *s.tree, RayBatch{sc.shadow_org.data(), sc.shadow_dir.data(), 0.0f, sc.shadow_tmax.data(), kInfF}, blocked,
+            0, ns);
+        sc.rays_traced += ns;
+    }
+    return blocked;
 }
 
 // Misses see the environment: W directions at a time, radiance and (for MIS after a BRDF
@@ -335,8 +345,9 @@ inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, co
     }
 }
 
-// One light sample per shading point into sc.ls_*: each point picks a light by power, the
-// points are grouped by the light they picked, and each group is sampled W points at a time.
+// One light sample per shading point into sc.ls_*: each point picks a light in proportion to
+// its estimated irradiance there, the points are grouped by the light they picked, and each
+// group is sampled W points at a time.
 inline void sample_lights(const RenderScene& s, PathScratch& sc, int depth, size_t np) {
     sc.ls_dir.resize(3 * np);
     sc.ls_rgb.resize(3 * np);
@@ -405,7 +416,7 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
         r.illuminance = 0;
         sc.active.push_back(static_cast<int32_t>(i));
     }
-    const bool can_sample_lights = light_count(s) > 0 && s.light_cdf.back() > 0;
+    const bool can_sample_lights = lights_emit(s);
     bool has_sun = false;
     for (const Light& l : s.lights) has_sun = has_sun || l.kind == LightKind::Sun;
     const float eps = s.ray_offset;
@@ -502,12 +513,7 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
         for (size_t q = 0; q < np; ++q) sc.point_keys[q] = static_cast<int32_t>(cs[sc.sorted[q].path].key);
 
         // 4. light sampling: one sample per point, its shadow ray queued
-        sc.shadow_path.clear();
-        sc.shadow_org.clear();
-        sc.shadow_dir.clear();
-        sc.shadow_tmax.clear();
-        sc.shadow_rgb.clear();
-        sc.shadow_lux.clear();
+        clear_shadow_rays(sc);
         if (can_sample_lights) {
             sample_lights(s, sc, depth, np);
             for (size_t q = 0; q < np; ++q) {
@@ -583,18 +589,12 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
         }
 
         // 6. shadow rays, W per packet; the unblocked ones add their light
-        const size_t ns = sc.shadow_path.size();
-        if (ns > 0) {
-            uint8_t* blocked = grow(sc.blocked, ns);
-            tk.occluded(*s.tree, RayBatch{sc.shadow_org.data(), sc.shadow_dir.data(), 0.0f, sc.shadow_tmax.data(), kInfF},
-                        blocked, 0, ns);
-            sc.rays_traced += ns;
-            for (size_t q = 0; q < ns; ++q) {
-                if (blocked[q]) continue;
-                PathResult& r = out[sc.shadow_path[q]];
-                for (int k = 0; k < 3; ++k) r.rgb[k] += sc.shadow_rgb[3 * q + k];
-                r.illuminance += sc.shadow_lux[q];
-            }
+        const uint8_t* blocked = trace_shadow_rays(s, sc);
+        for (size_t q = 0; q < sc.shadow_path.size(); ++q) {
+            if (blocked[q]) continue;
+            PathResult& r = out[sc.shadow_path[q]];
+            for (int k = 0; k < 3; ++k) r.rgb[k] += sc.shadow_rgb[3 * q + k];
+            r.illuminance += sc.shadow_lux[q];
         }
         std::swap(sc.active, sc.next_active);
     }
@@ -605,10 +605,9 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
 void sensor_illuminance(const RenderScene& s, const float* points, const float* normals, size_t begin, size_t end,
                         int samples, uint32_t seed, float* lux, PathScratch& sc) {
     if constexpr (W < 8) clear_upper_state();
-    const TraceKernels& tk = trace_kernels();
     const size_t np = end - begin;
     std::fill(lux + begin, lux + end, 0.0f);
-    if (np == 0 || light_count(s) <= 0 || !(s.light_cdf.back() > 0)) return;
+    if (np == 0 || !lights_emit(s)) return;
     sc.sorted.resize(np);
     for (size_t q = 0; q < np; ++q) {
         ShadingPoint& sp = sc.sorted[q];
@@ -617,7 +616,7 @@ void sensor_illuminance(const RenderScene& s, const float* points, const float* 
         std::copy(normals + 3 * i, normals + 3 * i + 3, sp.ng);
         normalize3(sp.ng);
         std::copy(sp.ng, sp.ng + 3, sp.n);
-        frame_from_normal(sp.n, sp.t, sp.b);
+        orthonormal_frame(sp.n, sp.t, sp.b);
         sp.path = static_cast<int32_t>(q);
         sp.material = 0;
         sp.eta = 1;
@@ -629,12 +628,7 @@ void sensor_illuminance(const RenderScene& s, const float* points, const float* 
         for (size_t q = 0; q < np; ++q)
             sc.point_keys[q] = static_cast<int32_t>(path_key(seed, static_cast<uint32_t>(begin + q), static_cast<uint32_t>(k)));
         sample_lights(s, sc, 0, np);
-        sc.shadow_org.clear();
-        sc.shadow_dir.clear();
-        sc.shadow_tmax.clear();
-        sc.shadow_rgb.clear();
-        sc.shadow_lux.clear();
-        sc.shadow_path.clear();
+        clear_shadow_rays(sc);
         for (size_t q = 0; q < np; ++q) {
             if (!sc.ls_ok[q]) continue;
             const ShadingPoint& sp = sc.sorted[q];
@@ -645,13 +639,8 @@ void sensor_illuminance(const RenderScene& s, const float* points, const float* 
             queue_shadow_ray(sc, static_cast<int32_t>(q), sp.p, sp.n, eps, ls, none,
                              kLumensPerWatt * luminance(ls.rgb) * cos_s / ls.pdf);
         }
-        const size_t ns = sc.shadow_path.size();
-        if (ns == 0) continue;
-        uint8_t* blocked = grow(sc.blocked, ns);
-        tk.occluded(*s.tree, RayBatch{sc.shadow_org.data(), sc.shadow_dir.data(), 0.0f, sc.shadow_tmax.data(), kInfF},
-                    blocked, 0, ns);
-        sc.rays_traced += ns;
-        for (size_t j = 0; j < ns; ++j)
+        const uint8_t* blocked = trace_shadow_rays(s, sc);
+        for (size_t j = 0; j < sc.shadow_path.size(); ++j)
             if (!blocked[j]) sum[sc.shadow_path[j]] += sc.shadow_lux[j];
     }
     for (size_t q = 0; q < np; ++q) lux[begin + q] = static_cast<float>(sum[q] / samples);

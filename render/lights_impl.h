@@ -17,12 +17,6 @@ constexpr float kInfF = std::numeric_limits<float>::infinity();
 
 inline float dot3(const float* a, const float* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-// The index i with cdf[i] <= u < cdf[i + 1] among count cells (cdf has count + 1 values).
-inline int cdf_cell(const float* cdf, int count, float u) {
-    const int i = static_cast<int>(std::upper_bound(cdf, cdf + count + 1, u) - cdf) - 1;
-    return std::clamp(i, 0, count - 1);
-}
-
 // Each light's estimated irradiance at point p (the selection weights); returns their sum.
 inline float selection_weights(const RenderScene& s, const float* p, float* w) {
     float sum = 0;
@@ -51,7 +45,14 @@ inline float selection_probability(const RenderScene& s, const float* p, int k) 
     const float sum = selection_weights(s, p, weights);
     return sum > 0 ? weights[k] / sum : 0.0f;
 }
-inline int light_count(const RenderScene& s) { return static_cast<int>(s.light_cdf.size()) - 1; }
+inline int light_count(const RenderScene& s) { return static_cast<int>(s.selection.size()); }
+
+// Whether any light (or the environment) can light anything.
+inline bool lights_emit(const RenderScene& s) {
+    for (const RenderScene::Selection& sel : s.selection)
+        if (sel.weight > 0) return true;
+    return false;
+}
 
 // Density (solid angle at the shading point `from`, selection included) with which light sampling
 // reaches area light `li` (a quad or triangles: uniform by area) at distance `dist`, where

@@ -129,10 +129,10 @@ inline void material_eval(const Material& m, const float* l, const float* v, con
     if (!m.coat) return;
     for_blocks(n, [&](size_t i, int lanes) {
         const D3 a = load_dir(l, i, lanes), b = load_dir(v, i, lanes);
-        const F eta(m.coat_eta);
-        const F through = (F(1.0f) - microfacet::fresnel_dielectric(max(a.z, F(0.0f)), eta)) *
-                          (F(1.0f) - microfacet::fresnel_dielectric(max(b.z, F(0.0f)), eta));
-        const F spec = coat_value(a, b, F(m.coat_alpha), eta);
+        const F coat_eta(m.coat_eta);
+        const F through = (F(1.0f) - microfacet::fresnel_dielectric(max(a.z, F(0.0f)), coat_eta)) *
+                          (F(1.0f) - microfacet::fresnel_dielectric(max(b.z, F(0.0f)), coat_eta));
+        const F spec = coat_value(a, b, F(m.coat_alpha), coat_eta);
         F x, y, z;
         rows::load3<W>(f, i, lanes, x, y, z);
         x = madd(x * F(m.coat_tint[0]), through, spec);

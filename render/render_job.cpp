@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <limits>
 #include <stdexcept>
 
 #include "core/cpu.h"
@@ -38,8 +36,9 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     m_integrator.max_depth = settings.max_depth;
     m_tiles_x = (c.width + settings.tile_size - 1) / settings.tile_size;
     m_tiles_y = (c.height + settings.tile_size - 1) / settings.tile_size;
-    const int per_pass = std::max(1, std::min(settings.max_pass_spp, (settings.spp + std::max(settings.passes, 1) - 1) /
-                                                                       std::max(settings.passes, 1)));
+    // at least `passes` passes, each of at most max_pass_spp samples
+    const int min_passes = std::max(settings.passes, 1);
+    const int per_pass = std::clamp((settings.spp + min_passes - 1) / min_passes, 1, settings.max_pass_spp);
     const int passes = (settings.spp + per_pass - 1) / per_pass;
     for (int p = 0; p <= passes; ++p)
         m_pass_begin.push_back(static_cast<int>(static_cast<int64_t>(settings.spp) * p / passes));

@@ -34,6 +34,17 @@ static std::vector<double> sampling_weights(const Environment& env) {
     return out;
 }
 
+void orthonormal_frame(const float* n, float* t, float* b) {
+    const float sign = std::copysign(1.0f, n[2]);
+    const float a = -1.0f / (sign + n[2]), c = n[0] * n[1] * a;
+    t[0] = 1.0f + sign * n[0] * n[0] * a;
+    t[1] = sign * c;
+    t[2] = -sign * n[0];
+    b[0] = c;
+    b[1] = sign + n[1] * n[1] * a;
+    b[2] = -n[1];
+}
+
 void prepare_environment(Environment& env) {
     env.cos_rotation = std::cos(env.rotation);
     env.sin_rotation = std::sin(env.rotation);
@@ -76,41 +87,45 @@ void prepare_environment(Environment& env) {
         env.pixel_pdf[i] = total > 0 ? static_cast<float>(weight[i] * w * h / total) : 1.0f;
 }
 
+void prepare_scale(RenderScene& s) {
+    const Box3& b = s.tree->bounds;
+    float r2 = 0, extent = 0;
+    for (int k = 0; k < 3; ++k) {
+        r2 += 0.25f * (b.hi[k] - b.lo[k]) * (b.hi[k] - b.lo[k]);
+        extent = std::max({extent, std::abs(b.lo[k]), std::abs(b.hi[k])});
+    }
+    s.scene_radius = s.triangle_count > 0 ? std::max(std::sqrt(r2), 1e-3f) : 1.0f;
+    // far enough off a surface for float positions at the scene's largest coordinate
+    s.ray_offset = std::max(1e-5f, 2e-5f * std::max(extent, s.scene_radius));
+}
+
+// A local light's flux (W of luminance), for its selection weight.
+static double light_flux(const Light& l) {
+    if (l.power_estimate >= 0) return l.power_estimate;
+    const double lum = std::max(0.0, luminance(l.power));
+    switch (l.kind) {
+        case LightKind::Point: return 4 * kPi * lum;
+        case LightKind::Spot: return 2 * kPi * (1 - 0.5 * (l.cos_inner + l.cos_outer)) * lum;
+        default: return l.area * kPi * lum * (l.two_sided ? 2 : 1);  // quads and triangles
+    }
+}
+
 void prepare_light_selection(RenderScene& s) {
-    std::vector<double> power;
-    for (const Light& l : s.lights) {
-        const double lum = std::max(0.0, luminance(l.power));
-        if (l.power_estimate >= 0) {
-            power.push_back(l.power_estimate);
-            continue;
-        }
-        switch (l.kind) {
-            case LightKind::Point: power.push_back(4 * kPi * lum); break;
-            case LightKind::Spot: power.push_back(2 * kPi * (1 - 0.5 * (l.cos_inner + l.cos_outer)) * lum); break;
-            case LightKind::Sun:  // its flux through the scene's bounding disc
-                power.push_back(kPi * l.sun_one_minus_cos * (1 + double(l.cos_sun)) * lum * kPi * s.scene_radius *
-                                s.scene_radius);
-                break;
-            default: power.push_back(l.area * kPi * lum * (l.two_sided ? 2 : 1));
-        }
-    }
-    const double env_mean = !s.env.present ? 0.0
-                            : s.env.is_map ? s.env.mean_luminance
-                                           : std::max(0.0, luminance(s.env.constant)) * s.env.intensity;
-    if (s.env.present) {
-        // the environment's flux through the scene's bounding disc (as pbrt estimates it)
-        power.push_back(kPi * s.scene_radius * s.scene_radius * 4 * kPi * env_mean);
-    }
-    // per-point selection: local lights by flux and distance, infinite ones by irradiance
+    // local lights by flux and distance, infinite ones (sun, environment) by irradiance
     s.selection.clear();
     const float small2 = 1e-4f * s.scene_radius * s.scene_radius;
-    for (size_t i = 0; i < s.lights.size(); ++i) {
-        const Light& l = s.lights[i];
-        RenderScene::Selection sel{true, static_cast<float>(power[i]), {l.position[0], l.position[1], l.position[2]}, small2};
+    for (const Light& l : s.lights) {
+        RenderScene::Selection sel{true, 0, {l.position[0], l.position[1], l.position[2]}, small2};
         if (l.kind == LightKind::Sun) {
+            // uniform radiance over a cone of half-angle d: irradiance pi sin^2 d L facing it
             sel.local = false;
-            sel.weight = static_cast<float>(kPi * l.sun_one_minus_cos * (1 + double(l.cos_sun)) * luminance(l.power));
-        } else if (l.kind == LightKind::Quad || l.kind == LightKind::Triangles) {
+            sel.weight = static_cast<float>(kPi * l.sun_one_minus_cos * (1 + double(l.cos_sun)) *
+                                            std::max(0.0, luminance(l.power)));
+            s.selection.push_back(sel);
+            continue;
+        }
+        sel.weight = static_cast<float>(light_flux(l));
+        if (l.kind == LightKind::Quad || l.kind == LightKind::Triangles) {
             sel.size2 = std::max(small2, static_cast<float>(l.area / kPi));
             if (l.kind == LightKind::Triangles) {  // the area-weighted centroid
                 double c[3] = {0, 0, 0}, prev = 0;
@@ -125,16 +140,11 @@ void prepare_light_selection(RenderScene& s) {
         }
         s.selection.push_back(sel);
     }
-    if (s.env.present) s.selection.push_back({false, static_cast<float>(kPi * env_mean), {0, 0, 0}, 0});
-    double total = 0;
-    for (double p : power) total += p;
-    s.light_cdf.assign(power.size() + 1, 0.0f);
-    double acc = 0;
-    for (size_t i = 0; i < power.size(); ++i) {
-        acc += total > 0 ? power[i] / total : 0.0;
-        s.light_cdf[i + 1] = static_cast<float>(acc);
+    if (s.env.present) {  // a uniform environment of mean luminance Y gives irradiance pi Y
+        const double mean = s.env.is_map ? s.env.mean_luminance
+                                         : std::max(0.0, luminance(s.env.constant)) * s.env.intensity;
+        s.selection.push_back({false, static_cast<float>(kPi * mean), {0, 0, 0}, 0});
     }
-    if (total > 0) s.light_cdf.back() = 1.0f;
 }
 
 }  // namespace patina

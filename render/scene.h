@@ -90,6 +90,10 @@ struct Environment {
     float mean_luminance = 0;
 };
 
+// An orthonormal tangent t and bitangent b around unit n (Duff et al. 2017, "Building an
+// orthonormal basis, revisited"): continuous everywhere but at n.z = -1's sign switch.
+void orthonormal_frame(const float* n, float* t, float* b);
+
 // Builds the sampling distribution of a map environment (no-op for a constant one).
 void prepare_environment(Environment& env);
 
@@ -117,10 +121,12 @@ struct RenderScene {
         float size2;      // local: a squared size below which distance does not count
     };
     std::vector<Selection> selection;
-    std::vector<float> light_cdf;        // the same by global power (count + 1 values): what can light at all
 };
 
-// Fills light_cdf and selection from the lights' and environment's estimated power.
+// Sets scene_radius and ray_offset from the tree's bounds.
+void prepare_scale(RenderScene& s);
+
+// Fills `selection` from the lights' and the environment's estimated flux and irradiance.
 void prepare_light_selection(RenderScene& s);
 
 }  // namespace patina

@@ -100,13 +100,7 @@ std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, nb::object indices
     c.height = nb::cast<int>(camera["height"]);
     c.aperture_radius = get_float(camera, "aperture_radius", 0.0f);
     c.focus_distance = get_float(camera, "focus_distance", 1.0f);
-    const patina::Box3& b = accel.tree.bounds;
-    float r2 = 0;
-    for (int k = 0; k < 3; ++k) r2 += 0.25f * (b.hi[k] - b.lo[k]) * (b.hi[k] - b.lo[k]);
-    s.scene_radius = nt > 0 ? std::max(std::sqrt(r2), 1e-3f) : 1.0f;
-    float extent = 0;
-    for (int k = 0; k < 3; ++k) extent = std::max({extent, std::abs(b.lo[k]), std::abs(b.hi[k])});
-    s.ray_offset = std::max(1e-5f, 2e-5f * std::max(extent, s.scene_radius));
+    patina::prepare_scale(s);
     return h;
 }
 
@@ -154,14 +148,6 @@ int add_material(SceneHandle& h, const nb::dict& d) {
         throw std::invalid_argument("conductor roughness must be > 0");
     h.scene.materials.push_back(m);
     return static_cast<int>(h.scene.materials.size()) - 1;
-}
-
-// An orthonormal pair (t, b) around unit n.
-void frame_around(const float* n, float* t, float* b) {
-    const float sign = std::copysign(1.0f, n[2]);
-    const float a = -1.0f / (sign + n[2]), c = n[0] * n[1] * a;
-    t[0] = 1.0f + sign * n[0] * n[0] * a, t[1] = sign * c, t[2] = -sign * n[0];
-    b[0] = c, b[1] = sign + n[1] * n[1] * a, b[2] = -n[1];
 }
 
 void normalize(float* v, const char* what) {
@@ -212,7 +198,7 @@ int add_light(SceneHandle& h, const nb::dict& d) {
                 l.cos_sun = static_cast<float>(std::cos(half));
                 l.sun_one_minus_cos = static_cast<float>(2 * std::sin(half / 2) * std::sin(half / 2));
             }
-            frame_around(l.direction, l.frame_t, l.frame_b);
+            patina::orthonormal_frame(l.direction, l.frame_t, l.frame_b);
             break;
         case patina::LightKind::Triangles: {
             const std::vector<int32_t> tris = nb::cast<std::vector<int32_t>>(d["triangles"]);
