@@ -20,7 +20,9 @@ def auto_exposure(rgb: Any) -> float:
     """Stops that bring the image's log-average luminance to 0.18 (Reinhard's key value)."""
     import numpy as np
 
-    y = rgb[..., 0] * 0.2126 + rgb[..., 1] * 0.7152 + rgb[..., 2] * 0.0722
+    from .envmap import luminance
+
+    y = luminance(rgb)
     y = y[np.isfinite(y) & (y > 0)]
     if y.size == 0:
         return 0.0

@@ -69,6 +69,16 @@ def luminance(rgb: np.ndarray) -> np.ndarray:
     return np.asarray(rgb, dtype=np.float64) @ LUMINANCE_WEIGHTS
 
 
+def photometric_to_rgb(value: float, color: tuple[float, float, float]) -> tuple[float, float, float]:
+    """Patina's radiometric RGB for a photometric value (candela, cd/m^2, lux) of a colour:
+    value / 683 lm/W x color / Y(color). The colour must have a positive luminance."""
+    y = float(luminance(np.asarray(color)))
+    if not y > 0:
+        raise ValueError("the colour must have a positive luminance")
+    r, g, b = (value / LUMINOUS_EFFICACY * c / y for c in color)
+    return (r, g, b)
+
+
 def irradiance(rgb: np.ndarray, normal: tuple[float, float, float] = (0.0, 1.0, 0.0)) -> np.ndarray:
     """Irradiance (3,) on a plane facing `normal` (default up) from a radiance map (H, W, 3).
 

@@ -24,10 +24,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .brdf import Brdf, angles_to_directions
+from .envmap import LUMINANCE_WEIGHTS, luminance
 from .fitting import FittedModel
 
 RENDERER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "lobe3d_render.py")
-REC709_Y = np.array([0.2126, 0.7152, 0.0722])  # luminance of linear sRGB
 Evaluate = Callable[[np.ndarray, np.ndarray], np.ndarray]  # (wi, wo) (n, 3) -> luminance (n,)
 
 
@@ -50,7 +50,7 @@ def luminance_of(brdf: Brdf) -> Evaluate:
     """Luminance of the table's value: Y for XYZ and spectral (D65), Rec. 709 Y for RGB, the value if mono."""
     kind = brdf.channel_kind
     if kind == "rgb":
-        weights = REC709_Y
+        weights = LUMINANCE_WEIGHTS
     elif kind == "xyz":
         weights = np.array([0.0, 1.0, 0.0])
     elif kind == "spectral":
@@ -64,7 +64,7 @@ def luminance_of(brdf: Brdf) -> Evaluate:
 
 def luminance_of_fit(fitted: FittedModel) -> Evaluate:
     """Fits are of linear sRGB (see fitting.table_samples), so Rec. 709 Y."""
-    return lambda wi, wo: fitted.eval(wi, wo).astype(np.float64) @ REC709_Y
+    return lambda wi, wo: luminance(fitted.eval(wi, wo))
 
 
 def incidence_direction(theta_i_deg: float) -> np.ndarray:

@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from . import _core
+from .envmap import LUMINOUS_EFFICACY, photometric_to_rgb
 from .render_materials import core_material
 from .scene_types import (
     BallShape,
@@ -217,7 +218,6 @@ def _luminaire(light: LuminaireLight) -> dict[str, Any]:
     lum = load_luminaire(light.file)
     kind, h, v, candela = lum.grid()
     x, y, z = luminaire_axes(light.aim, light.rotation, kind)
-    lum_y = 0.2126 * light.color[0] + 0.7152 * light.color[1] + 0.0722 * light.color[2]
     # an IES TILT table: the lamp's output against its tilt from the nadir-down position the
     # file was measured in, here the angle between `aim` and straight down
     tilt = lum.photometry.tilt
@@ -227,7 +227,7 @@ def _luminaire(light: LuminaireLight) -> dict[str, Any]:
         angle = math.degrees(math.acos(max(-1.0, min(1.0, -aim[1]))))
         factor = float(np.interp(angle, tilt.angles_deg, tilt.factors))
     # candela -> W/sr of Patina's radiometric RGB (683 lm/W of luminance), coloured
-    per_cd = [light.multiplier * factor * c / (lum_y * 683.0) for c in light.color]
+    per_cd = list(photometric_to_rgb(light.multiplier * factor, light.color))
     return {
         "kind": "goniometric",
         "position": list(light.position),
@@ -237,7 +237,7 @@ def _luminaire(light: LuminaireLight) -> dict[str, Any]:
         "type_b": kind == "B",
         "candela": _core.Grid2(h, v, np.ascontiguousarray(candela, np.float32)),
         "power": per_cd,
-        "power_estimate": lum.flux() * light.multiplier * factor / 683.0,
+        "power_estimate": lum.flux() * light.multiplier * factor / LUMINOUS_EFFICACY,
         "two_sided": False,
     }
 

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from .brdf import Brdf, angles_to_directions, load_brdf
+from .envmap import luminance
 from .scene_types import (
     CarpaintMaterial,
     ConductorMaterial,
@@ -28,7 +29,6 @@ from .scene_types import (
 )
 
 Eval = Callable[[np.ndarray, np.ndarray], np.ndarray]
-_LUMA = np.array([0.2126, 0.7152, 0.0722])
 
 
 def _rgb_table(brdf: Brdf) -> Brdf:
@@ -87,10 +87,10 @@ def sampling_proxy(evaluate: Eval, theta_deg: float = 30.0) -> tuple[float, floa
         evaluate(np.ascontiguousarray(np.broadcast_to(wi, wo.shape), np.float32), np.ascontiguousarray(wo, np.float32)),
         np.float64,
     )[:, :3]
-    lum = np.where(ok, f @ _LUMA, np.nan)
+    lum = np.where(ok, luminance(f), np.nan)
     floor = float(np.nanmin(lum)) if np.isfinite(lum).any() else 0.0
     spec = lum - floor
-    albedo = float(directional_albedo(evaluate, theta_deg) @ _LUMA)
+    albedo = float(luminance(directional_albedo(evaluate, theta_deg)))
     diffuse = min(0.9, max(0.1, math.pi * max(floor, 0.0) / albedo)) if albedo > 0 else 0.5
     if not np.isfinite(spec[0]) or spec[0] <= 0.05 * max(floor, 1e-12):
         return 0.9, 0.5  # no specular peak worth aiming at

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from .envmap import luminance, photometric_to_rgb
 from .errors import FormatError
 from .mesh import MESH_FORMATS
 from .metals import METALS
@@ -342,9 +343,12 @@ def _identity() -> np.ndarray:
 # --- lights and environment -----------------------------------------------------------------
 
 
-# Photometric units become Patina's radiometric RGB by 683 lm/W of luminance: a value V in
-# candela, cd/m^2 or lux with a colour c gives V / 683 x c / Y(c), Y the Rec. 709 luminance.
-LUMENS_PER_WATT = 683.0
+def _color(o: Obj) -> tuple[float, float, float]:
+    """The optional `color` of a photometric emission (white by default), of positive luminance."""
+    color = o.read("color", rgb, (1.0, 1.0, 1.0), lo=0.0)
+    if not float(luminance(np.asarray(color))) > 0:
+        o.ctx.fail(o.at("color"), "the colour must have a positive luminance")
+    return color
 
 
 def _emission(o: Obj, radiometric: str, photometric: str, what: str) -> tuple[float, float, float]:
@@ -357,13 +361,8 @@ def _emission(o: Obj, radiometric: str, photometric: str, what: str) -> tuple[fl
         if o.has("color"):
             o.ctx.fail(o.at("color"), f"a colour goes with '{photometric}'; '{radiometric}' is already RGB")
         return o.read(radiometric, rgb, lo=0.0)
-    value = o.read(photometric, number, lo=0.0)
-    color = o.read("color", rgb, (1.0, 1.0, 1.0), lo=0.0)
-    y = 0.2126 * color[0] + 0.7152 * color[1] + 0.0722 * color[2]
-    if not y > 0:
-        o.ctx.fail(o.at("color"), "the colour must have a positive luminance")
-    c0, c1, c2 = (value / LUMENS_PER_WATT * c / y for c in color)
-    return (c0, c1, c2)
+    # a value in candela, cd/m^2 or lux becomes radiometric RGB at 683 lm/W of luminance
+    return photometric_to_rgb(o.read(photometric, number, lo=0.0), _color(o))
 
 
 def _unit_vec3(ctx: Ctx, where: str, value: Any) -> tuple[float, float, float]:
@@ -432,9 +431,7 @@ LUMINAIRE_SUFFIXES = (".ies", ".ldt")
 
 def _luminaire_light(o: Obj) -> LuminaireLight:
     o.allow(("type", "file", "position", "aim", "rotation", "multiplier", "color"), "a luminaire")
-    color = o.read("color", rgb, (1.0, 1.0, 1.0), lo=0.0)
-    if not 0.2126 * color[0] + 0.7152 * color[1] + 0.0722 * color[2] > 0:
-        o.ctx.fail(o.at("color"), "the colour must have a positive luminance")
+    color = _color(o)
     return LuminaireLight(
         file=o.read("file", _file, suffixes=LUMINAIRE_SUFFIXES),
         position=o.read("position", vec3),
