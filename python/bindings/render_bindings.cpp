@@ -115,18 +115,20 @@ int add_material(SceneHandle& h, const nb::dict& d) {
     else if (kind == "dielectric") m.kind = patina::MaterialKind::Dielectric;
     else throw std::invalid_argument("unknown material kind '" + kind + "'");
     get_rgb(d, "albedo", m.albedo);
-    m.alpha_x = get_float(d, "alpha_x", m.alpha_x);
-    m.alpha_y = get_float(d, "alpha_y", m.alpha_y);
+    // GGX roughness: 0 (smooth) is taken as 1e-3, a very narrow lobe the same code samples
+    constexpr float kSmooth = 1e-3f;
+    m.alpha_x = std::max(get_float(d, "alpha_x", m.alpha_x), kSmooth);
+    m.alpha_y = std::max(get_float(d, "alpha_y", m.alpha_y), kSmooth);
     get_rgb(d, "eta", m.eta);
     get_rgb(d, "k", m.k);
     get_rgb(d, "tint", m.tint);
     m.two_sided = get_bool(d, "two_sided", false);
     m.coat = get_bool(d, "coat", false);
     m.coat_eta = get_float(d, "coat_eta", m.coat_eta);
-    m.coat_alpha = std::max(get_float(d, "coat_alpha", m.coat_alpha), 1e-3f);
+    m.coat_alpha = std::max(get_float(d, "coat_alpha", m.coat_alpha), kSmooth);
     get_rgb(d, "coat_tint", m.coat_tint);
     m.proxy_diffuse = get_float(d, "proxy_diffuse", m.proxy_diffuse);
-    m.proxy_alpha = std::max(get_float(d, "proxy_alpha", m.proxy_alpha), 1e-3f);
+    m.proxy_alpha = std::max(get_float(d, "proxy_alpha", m.proxy_alpha), kSmooth);
     m.light = d.contains("light") ? nb::cast<int>(d["light"]) : -1;
     if (m.kind == patina::MaterialKind::Table) {
         nb::object t = d["table"];
@@ -140,12 +142,8 @@ int add_material(SceneHandle& h, const nb::dict& d) {
         m.mixture = mixture_params(nb::cast<std::string>(mix[0]), nb::cast<std::vector<float>>(mix[1]),
                                    nb::cast<bool>(mix[2]));
     }
-    if (m.kind == patina::MaterialKind::Dielectric) {
-        m.alpha_x = m.alpha_y = std::max(m.alpha_x, 1e-3f);  // smooth: a very narrow lobe
-        if (!(m.eta[0] > 0)) throw std::invalid_argument("dielectric eta must be > 0");
-    }
-    if (m.kind == patina::MaterialKind::Conductor && !(m.alpha_x > 0 && m.alpha_y > 0))
-        throw std::invalid_argument("conductor roughness must be > 0");
+    if (m.kind == patina::MaterialKind::Dielectric && !(m.eta[0] > 0))
+        throw std::invalid_argument("dielectric eta must be > 0");
     h.scene.materials.push_back(m);
     return static_cast<int>(h.scene.materials.size()) - 1;
 }

@@ -7,8 +7,6 @@ import os
 import sys
 from typing import Any
 
-PREVIEW_SHAPES = ("sphere", "ball", "panel")
-
 
 def _png_path(exr: str, png: str | None) -> str | None:
     if png == "none":

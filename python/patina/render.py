@@ -66,7 +66,6 @@ class RenderResult:
     complete: bool
     simd_width: int
     threads: int
-    metadata: dict[str, Any] = field(default_factory=dict)
 
 
 @dataclass
@@ -277,7 +276,7 @@ def _emitter_mesh(light: Light) -> tuple[np.ndarray, ...] | None:
     return None
 
 
-def camera_dict(scene: Scene, width: int | None = None, height: int | None = None) -> dict[str, Any]:
+def camera_dict(scene: Scene) -> dict[str, Any]:
     cam = scene.camera
     right, up, forward = cam.basis()
     return {
@@ -286,8 +285,8 @@ def camera_dict(scene: Scene, width: int | None = None, height: int | None = Non
         "right": right.tolist(),
         "up": up.tolist(),
         "tan_half_fov": math.tan(math.radians(cam.fov) / 2),
-        "width": int(width or cam.width),
-        "height": int(height or cam.height),
+        "width": int(cam.width),
+        "height": int(cam.height),
         "aperture_radius": float(cam.aperture_radius),
         "focus_distance": float(cam.focus_distance),
     }
@@ -391,9 +390,9 @@ def render(
     interrupted = False
     job.start()
     try:
-        while not job.progress()["finished"]:
+        while not (p := job.progress())["finished"]:
+            bar.update(p)
             time.sleep(0.05)
-            bar.update(job.progress())
     except KeyboardInterrupt:
         interrupted = True
         job.cancel()

@@ -119,12 +119,11 @@ def core_material(m: Material, tables: dict[str, Any]) -> dict[str, Any]:
     if isinstance(m, LambertMaterial):
         return {"kind": "lambert", "albedo": _rgb(m.albedo), "two_sided": m.two_sided}
     if isinstance(m, ConductorMaterial):
-        ax, ay = (max(float(r), 1e-3) for r in m.roughness)
         f0 = _conductor_f0(m.eta, m.k)
-        return {
+        return {  # roughness 0 (a mirror) becomes the renderer's narrowest lobe
             "kind": "conductor",
-            "alpha_x": ax,
-            "alpha_y": ay,
+            "alpha_x": float(m.roughness[0]),
+            "alpha_y": float(m.roughness[1]),
             "eta": _rgb(m.eta),
             "k": _rgb(m.k),
             "tint": _rgb(m.tint),
@@ -138,14 +137,14 @@ def core_material(m: Material, tables: dict[str, Any]) -> dict[str, Any]:
         base.update(
             coat=True,
             coat_eta=float(m.coat.eta),
-            coat_alpha=max(float(m.coat.roughness), 1e-3),
+            coat_alpha=float(m.coat.roughness),
             coat_tint=_rgb(m.coat.thickness_tint),
             two_sided=m.two_sided,
         )
         return base
     if isinstance(m, DielectricMaterial):
         # eta is inside over outside, the outside being where the triangles' winding normal points
-        a = max(float(m.roughness), 1e-3)
+        a = float(m.roughness)
         return {"kind": "dielectric", "alpha_x": a, "alpha_y": a, "eta": [float(m.eta)] * 3, "albedo": [1.0] * 3}
     raise ValueError(f"unknown material {type(m).__name__}")
 
