@@ -14,19 +14,9 @@ import numpy as np
 
 from . import _core
 from .bench import Record, _median_times, _widths
+from .bundled import materials_path
 from .render import PreparedScene
 from .scene_file import parse_scene
-
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-
-
-def _materials_dir() -> str:
-    """The repository's materials/ (the bench runs from a checkout)."""
-    for base in (os.getcwd(), ROOT):
-        path = os.path.join(base, "materials")
-        if os.path.isdir(path):
-            return path
-    raise FileNotFoundError("the bench needs the repository's materials/ folder (run it from the checkout)")
 
 
 def _scene(light: dict | None, environment: dict | None) -> object:
@@ -42,11 +32,11 @@ def _scene(light: dict | None, environment: dict | None) -> object:
     }
     if environment:
         obj["environment"] = environment
-    return parse_scene(obj, os.path.join(_materials_dir(), "bench.json"))
+    return parse_scene(obj, os.path.join(materials_path(), "bench.json"))
 
 
 def run_lights_group(repeat: int, quick: bool) -> list[Record]:
-    mat = _materials_dir()
+    mat = materials_path()
     cases = {
         "goniometric": (
             {"type": "luminaire", "file": os.path.join(mat, "luminaires", "streetlight.ies"), "position": [-1, 6, 0]},

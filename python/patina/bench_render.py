@@ -23,19 +23,16 @@ import numpy as np
 
 from . import _core
 from .bench import Record, _median_times_and_values
+from .bundled import materials_path
 from .render import PreparedScene, core_depth
 from .scene_file import load_scene, with_overrides
 from .scene_types import Scene
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-SCENES = os.path.join(ROOT, "materials", "scenes")
 TARGET_RMSE = 0.02  # per-pixel RMSE relative to the reference's image mean: a clean preview
 
 
 def _scene_path(name: str) -> str:
-    """A bundled scene: from the source tree, else from the working directory's materials/."""
-    path = os.path.join(SCENES, f"{name}.json")
-    return path if os.path.exists(path) else os.path.join("materials", "scenes", f"{name}.json")
+    return materials_path("scenes", f"{name}.json")
 
 
 def _render(prep: PreparedScene, scene: Scene, width: int, threads: int, spp: int | None = None) -> np.ndarray:

@@ -77,14 +77,15 @@ def cmd_render(args: argparse.Namespace) -> int:
 
 def default_environment() -> str:
     """The bundled studio environment: installed with the package, else the repository's."""
-    here = os.path.dirname(os.path.abspath(__file__))
-    for path in (
-        os.path.join(here, "data", "studio.exr"),
-        os.path.join(here, "..", "..", "materials", "env", "studio.exr"),
-    ):
-        if os.path.isfile(path):
-            return os.path.abspath(path)
-    raise FileNotFoundError("the bundled studio environment is missing; pass --env FILE")
+    from .bundled import materials_path
+
+    installed = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "studio.exr")
+    if os.path.isfile(installed):
+        return installed
+    try:
+        return materials_path("env", "studio.exr")
+    except FileNotFoundError:
+        raise FileNotFoundError("the bundled studio environment is missing; pass --env FILE") from None
 
 
 def preview_scene_dict(material: str, env: str, shape: str, coat: bool) -> dict[str, Any]:
