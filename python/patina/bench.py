@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from . import _core
+from .atomic import write_text
 
 
 @dataclass
@@ -355,9 +356,6 @@ def run_bench(only: str | None = None, json_path: str | None = None, repeat: int
             "quick": quick,
             "records": [asdict(r) for r in records],
         }
-        tmp = f"{json_path}.tmp{os.getpid()}"
-        with open(tmp, "w") as f:
-            json.dump(doc, f, indent=2)
-        os.replace(tmp, json_path)
+        write_text(json_path, json.dumps(doc, indent=2))
         print(f"wrote {json_path}")
     return 0

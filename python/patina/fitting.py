@@ -520,7 +520,6 @@ def read_fit(path: str) -> FittedModel:
 
 def write_fit(result: FitResult, path: str) -> None:
     """fit.json, written to a temporary file and renamed."""
-    tmp = f"{path}.tmp{os.getpid()}"
-    with open(tmp, "w") as f:
-        json.dump(result.as_json(), f, indent=2)
-    os.replace(tmp, path)
+    from .atomic import write_text
+
+    write_text(path, json.dumps(result.as_json(), indent=2))

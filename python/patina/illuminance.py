@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from . import _core
+from .atomic import write_text
 from .errors import FormatError
 from .scene_types import Scene
 
@@ -115,16 +116,6 @@ def compute(
     return IlluminanceReport(grid, np.asarray(lux).reshape(grid.nz, grid.nx), samples)
 
 
-def _atomic_text(path: str, text: str) -> None:
-    from .images import atomic_output
-
-    def write(tmp: str) -> None:
-        with open(tmp, "w", encoding="utf-8") as f:
-            f.write(text)
-
-    atomic_output(path, write)
-
-
 def write_csv(report: IlluminanceReport, path: str) -> None:
     _, _, pts = report.grid.points()
     out = io.StringIO()
@@ -132,11 +123,11 @@ def write_csv(report: IlluminanceReport, path: str) -> None:
     w.writerow(["x", "y", "z", "lux"])
     for p, e in zip(pts, report.lux.ravel()):
         w.writerow([f"{p[0]:.6g}", f"{p[1]:.6g}", f"{p[2]:.6g}", f"{e:.6g}"])
-    _atomic_text(path, out.getvalue())
+    write_text(path, out.getvalue())
 
 
 def write_json(report: IlluminanceReport, path: str) -> None:
-    _atomic_text(path, json.dumps(report.as_json(), indent=1) + "\n")
+    write_text(path, json.dumps(report.as_json(), indent=1) + "\n")
 
 
 def write_png(report: IlluminanceReport, path: str, title: str = "") -> None:

@@ -18,13 +18,13 @@ from __future__ import annotations
 
 import math
 import os
-import tempfile
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 import OpenImageIO as oiio
 
+from .atomic import atomic_output
 from .errors import FormatError
 
 EXR_MAGIC = b"\x76\x2f\x31\x01"
@@ -217,32 +217,6 @@ def _metadata_from_spec(spec: oiio.ImageSpec) -> dict[str, str | float | int]:
 
 
 # ---------------------------------------------------------------- writing
-
-
-def _umask() -> int:
-    mask = os.umask(0o022)
-    os.umask(mask)
-    return mask
-
-
-_NEW_FILE_MODE = 0o666 & ~_umask()  # read once, at import: changing the umask is process-wide
-
-
-def atomic_output(path: str | os.PathLike, write: Callable[[str], None]) -> None:
-    """Run `write(temporary_path)` on a temporary file beside `path` (same extension), then
-    rename it over `path`. If `write` fails, the temporary file is removed and `path` is
-    left as it was."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=path.parent or ".")
-    os.close(fd)
-    try:
-        write(tmp)
-        os.chmod(tmp, _NEW_FILE_MODE)  # mkstemp makes it private; give it an ordinary file's mode
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 def _write_oiio(tmp: str, spec: oiio.ImageSpec, pixels: np.ndarray) -> None:

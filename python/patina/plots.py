@@ -62,11 +62,9 @@ def save_figure(fig: Any, path: str) -> None:
     """Writes a matplotlib figure as PNG through a temporary file and a rename, then closes it."""
     import matplotlib.pyplot as plt
 
-    tmp = f"{path}.tmp{os.getpid()}.png"
+    from .atomic import atomic_output
+
     try:
-        fig.savefig(tmp, dpi=110)
-        os.replace(tmp, path)
+        atomic_output(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
     finally:
         plt.close(fig)
-        if os.path.exists(tmp):
-            os.remove(tmp)

@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from .atomic import write_text
 from .brdf import Brdf, angles_to_directions
 from .fitting import FittedModel
 from .lobe3d import LobeOptions, render_lobes
@@ -128,9 +129,7 @@ def write_report(
     plot_polar(brdf, fitted, os.path.join(out_dir, "polar.png"), incidence)
     lobe_html = _lobe_view(brdf, fitted, out_dir, lobes, on_skip)
     report = validate(brdf)
-    with open(os.path.join(out_dir, "validate.json.tmp"), "w") as f:
-        json.dump(report.as_json(), f, indent=2)
-    os.replace(os.path.join(out_dir, "validate.json.tmp"), os.path.join(out_dir, "validate.json"))
+    write_text(os.path.join(out_dir, "validate.json"), json.dumps(report.as_json(), indent=2))
     info = brdf.info()
     parts = [
         f"<h1>{html.escape(os.path.basename(brdf.source) or 'table')}</h1>",
@@ -153,8 +152,5 @@ def write_report(
         parts += [f"<h2>Fit: {html.escape(str(fit_doc.get('model')))}</h2>", _html_table(params + metrics)]
     parts += ['<h2>Slices</h2><img src="slices.png">', '<h2>Polar</h2><img src="polar.png">', lobe_html]
     page = "<!doctype html><meta charset=utf-8><title>Patina report</title>" + "\n".join(parts)
-    tmp = os.path.join(out_dir, "index.html.tmp")
-    with open(tmp, "w", encoding="utf-8") as f:
-        f.write(page)
-    os.replace(tmp, os.path.join(out_dir, "index.html"))
+    write_text(os.path.join(out_dir, "index.html"), page)
     return report

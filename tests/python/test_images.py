@@ -13,7 +13,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from patina import images
+from patina import atomic, images
 from patina.errors import FormatError
 
 RNG = np.random.default_rng(7)
@@ -327,7 +327,7 @@ def test_png_values(tmp_path):
     assert back.tolist() == images.tonemap(rgb, curve="clamp").tolist()
     assert back[0, 0].tolist() == [0, 188, 255]
     assert os.listdir(tmp_path) == ["out.png"]
-    assert os.stat(path).st_mode & 0o777 == images._NEW_FILE_MODE
+    assert os.stat(path).st_mode & 0o777 == atomic.NEW_FILE_MODE
 
 
 # ---------------------------------------------------------------- atomic writes
