@@ -44,3 +44,21 @@ def merl_file(tmp_path_factory, merl_raw_values) -> str:
     path = str(tmp_path_factory.mktemp("merl") / "synthetic.binary")
     write_merl(path, raw)
     return path
+
+
+def load_or_format_error(content: bytes, filename: str, load, check) -> None:
+    """Saves `content` as `filename` in a fresh folder and loads it with `load(path)`: either a
+    FormatError naming the file, or a result that passes `check(result)` -- never anything else
+    (the parsers' fuzz tests)."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, filename)
+        with open(path, "wb") as f:
+            f.write(content)
+        try:
+            result = load(path)
+        except patina.FormatError as e:
+            assert e.path == path and path in str(e)
+            return
+        check(result)

@@ -2,15 +2,13 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
-
 import numpy as np
 import pytest
 import trimesh
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from conftest import load_or_format_error
 from patina.errors import FormatError
 from patina.mesh import MESH_FORMATS, Mesh, MeshError, load_mesh
 
@@ -215,19 +213,14 @@ def test_truncated_binary_files(tmp_path):
 SETTINGS = settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 
 
+def _check_mesh(m) -> None:
+    assert m.triangle_count > 0 and np.isfinite(m.vertices).all()
+    assert m.indices.max() < m.vertex_count
+
+
 def _load_or_format_error(content: bytes, filename: str) -> None:
     """Load `content` saved as `filename`: a FormatError naming the file, or a checked mesh."""
-    with tempfile.TemporaryDirectory() as d:
-        path = os.path.join(d, filename)
-        with open(path, "wb") as f:
-            f.write(content)
-        try:
-            m = load_mesh(path)
-        except FormatError as e:
-            assert path in str(e)
-        else:
-            assert m.triangle_count > 0 and np.isfinite(m.vertices).all()
-            assert m.indices.max() < m.vertex_count
+    load_or_format_error(content, filename, load_mesh, _check_mesh)
 
 
 @SETTINGS

@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import patina
-from conftest import ROOT
+from conftest import ROOT, load_or_format_error
 from patina.photometry import angles_of, direction_of, read_photometry
 from patina.photometry.writers import format_ies, format_ldt
 
@@ -443,20 +443,13 @@ SMALL_LDT = GOOD_LDT.encode()
 SMALL_IES = GOOD_IES.encode()
 
 
-def _load_or_format_error(data: bytes, suffix: str) -> None:
-    import tempfile
+def _check_luminaire(lum) -> None:
+    out = lum.intensity_at(random_directions(16, 7))
+    assert out.shape == (16,) and np.all(out >= 0) and np.isfinite(lum.flux())
 
-    with tempfile.TemporaryDirectory() as d:
-        path = os.path.join(d, "f" + suffix)
-        with open(path, "wb") as f:
-            f.write(data)
-        try:
-            lum = patina.load_luminaire(path)
-        except patina.FormatError as e:
-            assert e.path == path
-            return
-        out = lum.intensity_at(random_directions(16, 7))
-        assert out.shape == (16,) and np.all(out >= 0) and np.isfinite(lum.flux())
+
+def _load_or_format_error(data: bytes, suffix: str) -> None:
+    load_or_format_error(data, "f" + suffix, patina.load_luminaire, _check_luminaire)
 
 
 def _mutate(data: bytes, edits: list[tuple[int, int]]) -> bytes:
