@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from .brdf import Brdf, angles_to_directions, load_brdf
+from .brdf import angles_to_directions, load_brdf
 from .envmap import luminance
 from .scene_types import (
     CarpaintMaterial,
@@ -27,38 +27,9 @@ from .scene_types import (
     Material,
     TableMaterial,
 )
+from .spectral import as_linear_srgb
 
 Eval = Callable[[np.ndarray, np.ndarray], np.ndarray]
-
-
-def _rgb_table(brdf: Brdf) -> Brdf:
-    """The table with RGB channels: spectral and XYZ through colour-science, mono repeated."""
-    from .formats import table_from_data
-    from .formats.tabledata import TableData
-    from .spectral import to_rgb, xyz_to_linear_srgb
-
-    kind = brdf.channel_kind
-    if kind == "rgb":
-        return brdf
-    if kind == "spectral":
-        return to_rgb(brdf)
-    values = brdf.values.astype(np.float64)
-    if kind == "xyz":
-        values = values @ xyz_to_linear_srgb().T
-    else:
-        values = np.repeat(values.reshape(-1, 1), 3, axis=1)
-    info = brdf.info()
-    data = TableData(
-        parametrization=brdf.parametrization,
-        axes=[a.astype(np.float64) for a in brdf.axes],
-        values=values.astype(np.float32),
-        channel_kind="rgb",
-        units=info["units"],
-        provenance=f"{info['provenance']}; {kind} shown as linear sRGB",
-        mask=brdf.valid,
-        symmetry=set(info["symmetry"]),
-    )
-    return Brdf(table_from_data(data), brdf.source, brdf.source_format)
 
 
 def directional_albedo(evaluate: Eval, theta_deg: float = 30.0, n: int = 48) -> np.ndarray:
@@ -152,7 +123,7 @@ def core_material(m: Material, tables: dict[str, Any]) -> dict[str, Any]:
 def _measured(m: TableMaterial | FitMaterial, tables: dict[str, Any]) -> dict[str, Any]:
     if m.file not in tables:
         if isinstance(m, TableMaterial):
-            brdf = _rgb_table(load_brdf(m.file))
+            brdf = as_linear_srgb(load_brdf(m.file))
             evaluate: Eval = brdf.eval
             entry: dict[str, Any] = {"kind": "table", "table": brdf.table}
         else:

@@ -65,16 +65,39 @@ def to_rgb(brdf: Brdf, space: str = "srgb") -> Brdf:
     m = xyz_weights(brdf.wavelengths)
     if space == "srgb":
         m = xyz_to_linear_srgb() @ m
-    values = brdf.values.astype(np.float64) @ m.T
+    note = (
+        f"converted from {brdf.channels} wavelengths to "
+        f"{'linear sRGB' if space == 'srgb' else 'XYZ'} (CIE 1931 2 deg, D65)"
+    )
+    return _with_values(brdf, brdf.values.astype(np.float64) @ m.T, "rgb" if space == "srgb" else "xyz", note)
+
+
+def as_linear_srgb(brdf: Brdf) -> Brdf:
+    """The table with linear-sRGB channels: RGB as it is, spectral and XYZ converted (CIE
+    1931 2 deg, D65), a single channel repeated."""
+    kind = brdf.channel_kind
+    if kind == "rgb":
+        return brdf
+    if kind == "spectral":
+        return to_rgb(brdf)
+    values = brdf.values.astype(np.float64)
+    if kind == "xyz":
+        values = values @ xyz_to_linear_srgb().T
+    else:
+        values = np.repeat(values.reshape(-1, 1), 3, axis=1)
+    return _with_values(brdf, values, "rgb", f"{kind} shown as linear sRGB")
+
+
+def _with_values(brdf: Brdf, values: np.ndarray, channel_kind: str, note: str) -> Brdf:
+    """The same grid, mask and symmetries with other channel values; `note` joins the provenance."""
     info = brdf.info()
     data = TableData(
         parametrization=brdf.parametrization,
         axes=[a.astype(np.float64) for a in brdf.axes],
         values=values.astype(np.float32),
-        channel_kind="rgb" if space == "srgb" else "xyz",
+        channel_kind=channel_kind,
         units=info["units"],
-        provenance=f"{info['provenance']}; converted from {brdf.channels} wavelengths to "
-        f"{'linear sRGB' if space == 'srgb' else 'XYZ'} (CIE 1931 2 deg, D65)",
+        provenance=f"{info['provenance']}; {note}",
         mask=brdf.valid,
         symmetry=set(info["symmetry"]),
     )
