@@ -278,15 +278,16 @@ inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, co
     float* dist = grow(sc.group_dist, n);
     float* pdf = grow(sc.group_pdf, n);
     float* gsel = grow(sc.group_sel, n);
+    const bool env = li == static_cast<int>(s.lights.size());
+    const Light* light = env ? nullptr : &s.lights[li];
+    const bool at_infinity = env || light->kind == LightKind::Sun;  // the points' positions do not matter
     for (size_t j = 0; j < n; ++j) {
         const int32_t q = points[j];
-        std::copy(sc.sorted[q].p, sc.sorted[q].p + 3, pos + 3 * j);
+        if (!at_infinity) std::copy(sc.sorted[q].p, sc.sorted[q].p + 3, pos + 3 * j);
         g1[j] = u1[q];
         g2[j] = u2[q];
         gsel[j] = sc.point_sel[q];
     }
-    const bool env = li == static_cast<int>(s.lights.size());
-    const Light* light = env ? nullptr : &s.lights[li];
     for_blocks(n, [&](size_t i, int lanes) {
         const F s1 = rows::load1<W>(g1, i, lanes), s2 = rows::load1<W>(g2, i, lanes);
         const F sel = rows::load1<W>(gsel, i, lanes);
