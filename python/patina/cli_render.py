@@ -7,6 +7,8 @@ import os
 import sys
 from typing import Any
 
+from .errors import FormatError
+
 
 def _png_path(exr: str, png: str | None) -> str | None:
     if png == "none":
@@ -118,6 +120,9 @@ def preview_scene_dict(material: str, env: str, shape: str, coat: bool) -> dict[
 def cmd_preview(args: argparse.Namespace) -> int:
     from .scene_file import parse_scene, with_overrides
 
+    for what, path in (("the material to preview", args.material), ("the --env map", args.env)):
+        if path is not None and not os.path.isfile(path):
+            raise FormatError(path, "", f"no such file ({what})")
     env = args.env or default_environment()
     obj = preview_scene_dict(args.material, env, args.shape, args.coat)
     scene = parse_scene(obj, os.path.join(os.getcwd(), "(preview)"))
