@@ -21,7 +21,7 @@ constexpr int W = PATINA_KERNEL_WIDTH;
 using F = vfloat<W>;
 using I = vint<W>;
 using D3 = Dir3<F>;
-constexpr float kPi = 3.14159265358979323846f;
+constexpr float kPi = microfacet::kPi;
 
 // World direction -> the map's frame (turned back by the rotation about +y), and back.
 PATINA_INLINE D3 to_map(const Environment& e, const D3& d) {
@@ -42,23 +42,6 @@ PATINA_INLINE void map_uv(const D3& m, F& u, F& v) {
 }
 
 PATINA_INLINE I clamp_int(I x, int lo, int hi) { return min(max(x, I(lo)), I(hi)); }
-
-PATINA_INLINE void radiance_uv(const Environment& e, F u, F v, F& r, F& g, F& b);
-
-// Radiance from unit world directions d (RGB).
-PATINA_INLINE void radiance(const Environment& e, const D3& d, F& r, F& g, F& b) {
-    if (!e.present) {
-        r = g = b = F(0.0f);
-        return;
-    }
-    if (!e.is_map) {
-        r = F(e.constant[0] * e.intensity), g = F(e.constant[1] * e.intensity), b = F(e.constant[2] * e.intensity);
-        return;
-    }
-    F u, v;
-    map_uv(to_map(e, d), u, v);
-    radiance_uv(e, u, v, r, g, b);
-}
 
 // Radiance at map coordinates (u, v) of a map environment, bilinear between pixel centres.
 PATINA_INLINE void radiance_uv(const Environment& e, F u, F v, F& r, F& g, F& b) {
@@ -83,6 +66,21 @@ PATINA_INLINE void radiance_uv(const Environment& e, F u, F v, F& r, F& g, F& b)
         out[k] = F(e.intensity) * madd(fy, bottom - top, top);
     }
     r = out[0], g = out[1], b = out[2];
+}
+
+// Radiance from unit world directions d (RGB).
+PATINA_INLINE void radiance(const Environment& e, const D3& d, F& r, F& g, F& b) {
+    if (!e.present) {
+        r = g = b = F(0.0f);
+        return;
+    }
+    if (!e.is_map) {
+        r = F(e.constant[0] * e.intensity), g = F(e.constant[1] * e.intensity), b = F(e.constant[2] * e.intensity);
+        return;
+    }
+    F u, v;
+    map_uv(to_map(e, d), u, v);
+    radiance_uv(e, u, v, r, g, b);
 }
 
 // The pixel (row, column) a map-frame (u, v) falls in.
