@@ -1,19 +1,21 @@
 # Patina's two commands (see README.md):
 #   make demo   set everything up, then render the bundled car paint on the preview object under the studio map
-#   make test   set everything up, then lint (ruff) and run the C++ tests (ctest) and the Python tests (pytest)
-# and a few more for developers: make bench, make setup, make clean.
+#   make test   set everything up, then lint (ruff) and run the C++ tests (ctest; once more under
+#               AddressSanitizer + UBSan, make check-sanitize) and the Python tests (pytest)
+# and a few more for developers: make bench, make setup, make check-sanitize, make clean.
 
 PY        := .venv/bin/python
 PATINA    := .venv/bin/patina
 STAMP     := .venv/.patina-installed
 CPP_BUILD := build/cpp
+SAN_BUILD := build/cpp-sanitize
 SOURCES   := $(shell find core brdf fit render python -name '*.cpp' -o -name '*.h' -o -name '*.py' 2>/dev/null) \
              CMakeLists.txt pyproject.toml tools/setup.sh tools/requirements-build.txt
 DEMO_OUT  := demo-out
 DEMO_TABLE := materials/carpaint-base.ptab
 DEMO_SCENE := materials/scenes/preview-ball.json
 
-.PHONY: demo test lint test-cpp test-python bench setup clean
+.PHONY: demo test lint test-cpp check-sanitize test-python bench setup clean
 
 setup: $(STAMP)
 
@@ -27,7 +29,7 @@ demo: setup
 	$(PATINA) render $(DEMO_SCENE) --out $(DEMO_OUT)/preview.exr
 	@echo "demo: car-paint preview in $(DEMO_OUT)/preview.png (tone-mapped) and $(DEMO_OUT)/preview.exr (float, AOVs)"
 
-test: lint test-cpp test-python
+test: lint test-cpp check-sanitize test-python
 
 lint: setup
 	.venv/bin/ruff check python tests tools
@@ -38,6 +40,14 @@ test-cpp: setup
 	      -DPATINA_BUILD_PYTHON=OFF -DPATINA_BUILD_TESTS=ON -DPATINA_WERROR=ON
 	cmake --build $(CPP_BUILD) -j 2
 	ctest --test-dir $(CPP_BUILD) --output-on-failure -j 2
+
+# The C++ tests under ASan + UBSan at -O1 (any finding aborts the test: -fno-sanitize-recover).
+check-sanitize: setup
+	cmake -S . -B $(SAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" \
+	      -DPATINA_BUILD_PYTHON=OFF -DPATINA_BUILD_TESTS=ON -DPATINA_WERROR=ON -DPATINA_SANITIZE=ON
+	cmake --build $(SAN_BUILD) -j 2
+	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	      ctest --test-dir $(SAN_BUILD) --output-on-failure -j 2
 
 test-python: setup
 	$(PY) -m pytest -q tests/python
