@@ -16,6 +16,7 @@
 
 #include "brdf/search.h"
 #include "brdf/table.h"
+#include "core/constants.h"
 #include "core/simd/fastmath.h"
 
 PATINA_BEGIN_TARGET
@@ -49,10 +50,6 @@ struct LibmTrig {
 };
 
 namespace eval_detail {
-constexpr float kPi = 3.14159265358979323846f;
-constexpr float kTwoPi = 6.28318530717958647692f;
-constexpr float kHalfPi = 1.57079632679489661923f;
-
 template <int N, class Trig>
 PATINA_INLINE vfloat<N> acos_clamped(vfloat<N> c) {
     return Trig::acos(clamp(c, vfloat<N>(-1.0f), vfloat<N>(1.0f)));

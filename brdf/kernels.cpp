@@ -1,17 +1,11 @@
 #include "brdf/kernels.h"
 
-#include "core/cpu.h"
 #include "core/parallel.h"
+#include "core/width_dispatch.h"
 
 namespace patina {
 
-const Kernels& kernels_for(int width) {
-    switch (resolve_width(width)) {
-        case 8: return kernels_w8();
-        case 4: return kernels_w4();
-        default: return kernels_w1();
-    }
-}
+const Kernels& kernels_for(int width) { return kernels_for_width(width, kernels_w1, kernels_w4, kernels_w8); }
 
 void eval_batch(const TableView& t, const float* wi, const float* wo, float* out, size_t n, int width, int threads,
                 bool libm_trig) {

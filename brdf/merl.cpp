@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/binary_io.h"
+#include "core/constants.h"
 #include "core/errors.h"
 
 namespace patina {
@@ -28,8 +29,7 @@ Table read_merl(const std::string& path) {
     std::vector<double> raw(3 * n);
     in.read(raw.data(), expected, "values");
 
-    constexpr double kPi = 3.14159265358979323846;
-    constexpr double kDeg = kPi / 180.0;
+    constexpr double kDeg = kPiDouble / 180.0;
     Table t;
     t.parametrization = Parametrization::HalfDiff;
     t.channel_kind = ChannelKind::RGB;

@@ -1,15 +1,11 @@
 #include "fit/lobe_kernels.h"
 
-#include "core/cpu.h"
+#include "core/width_dispatch.h"
 
 namespace patina {
 
 const LobeKernels& lobe_kernels_for(int width) {
-    switch (resolve_width(width)) {
-        case 8: return lobe_kernels_w8();
-        case 4: return lobe_kernels_w4();
-        default: return lobe_kernels_w1();
-    }
+    return kernels_for_width(width, lobe_kernels_w1, lobe_kernels_w4, lobe_kernels_w8);
 }
 
 }  // namespace patina

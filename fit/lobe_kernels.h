@@ -1,6 +1,6 @@
 // Batch kernels over the analytic lobes (microfacet.h), one copy per SIMD width
-// (lobe_w1.cpp, lobe_w4.cpp with -msse4.1, lobe_w8.cpp with -mavx2 -mfma), chosen at
-// run time like the table evaluator's. Arrays are (n, 3) rows of local directions.
+// (lobe_kernels_w1.cpp, lobe_kernels_w4.cpp with -msse4.1, lobe_kernels_w8.cpp with
+// -mavx2 -mfma), chosen at run time like the table evaluator's. Arrays are (n, 3) rows of local directions.
 #pragma once
 
 #include <cstddef>

@@ -1,4 +1,4 @@
-// The body of lobe_w{1,4,8}.cpp: defines lobe_kernels_wN() for PATINA_KERNEL_WIDTH.
+// The body of lobe_kernels_w{1,4,8}.cpp: defines lobe_kernels_wN() for PATINA_KERNEL_WIDTH.
 #pragma once
 
 #include <algorithm>
@@ -170,7 +170,7 @@ void sample_lambert(const float* u1, const float* u2, float* wo, float* pdf, siz
     for_blocks(n, [&](size_t i, int lanes) {
         const Dir3<F> s = microfacet::lambert_sample(load_lanes(u1, i, lanes), load_lanes(u2, i, lanes));
         store_rows(wo, i, lanes, s.x, s.y, s.z);
-        store_lanes(pdf, i, lanes, s.z * F(microfacet::kInvPi));
+        store_lanes(pdf, i, lanes, s.z * F(kInvPi));
     });
 }
 

@@ -4,6 +4,7 @@
 // sampling and its pdf. Directions are in the local frame (z = normal), unit length.
 #pragma once
 
+#include "core/constants.h"
 #include "core/simd/fastmath.h"
 
 PATINA_BEGIN_TARGET
@@ -14,9 +15,6 @@ struct Dir3 {
 };
 
 namespace microfacet {
-constexpr float kPi = 3.14159265358979323846f;
-constexpr float kInvPi = 0.31830988618379067154f;
-
 // Schlick's approximation: f0 + (1 - f0) (1 - cos)^5.
 template <class F>
 PATINA_INLINE F fresnel_schlick(F f0, F cos_theta) {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "core/constants.h"
 #include "core/simd/target.h"
 
 namespace patina {
@@ -37,7 +38,7 @@ inline void camera_ray(const Camera& c, float fx, float fy, float lu, float lv, 
         // the point in focus along this pixel's pinhole ray, seen from a point on the lens disc
         float focus[3];
         for (int k = 0; k < 3; ++k) focus[k] = o[k] + c.focus_distance * d[k];
-        const float r = c.aperture_radius * std::sqrt(lu), phi = 6.28318530718f * lv;
+        const float r = c.aperture_radius * std::sqrt(lu), phi = kTwoPi * lv;
         const float ox = r * std::cos(phi), oy = r * std::sin(phi);
         for (int k = 0; k < 3; ++k) {
             o[k] += ox * c.right[k] + oy * c.up[k];

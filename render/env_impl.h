@@ -1,4 +1,4 @@
-// The environment light W directions at a time (included by render_w{1,4,8}.cpp): radiance
+// The environment light W directions at a time (included by integrator_w{1,4,8}.cpp): radiance
 // (bilinear over the lat-long map), the density of light sampling, and light sampling itself
 // -- a coherent binary search over the rows' cdf, then a masked binary search (one gather per
 // level) over each lane's own row. The same code at width 1 is the scalar path.
@@ -21,7 +21,6 @@ constexpr int W = PATINA_KERNEL_WIDTH;
 using F = vfloat<W>;
 using I = vint<W>;
 using D3 = Dir3<F>;
-constexpr float kPi = microfacet::kPi;
 
 // World direction -> the map's frame (turned back by the rotation about +y), and back.
 PATINA_INLINE D3 to_map(const Environment& e, const D3& d) {

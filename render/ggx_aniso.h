@@ -15,7 +15,7 @@ template <class F>
 PATINA_INLINE F d(const Dir3<F>& h, F ax, F ay) {
     const F x = h.x / ax, y = h.y / ay;
     const F t = x * x + y * y + h.z * h.z;
-    return select(h.z > F(0.0f), F(1.0f) / (F(microfacet::kPi) * ax * ay * t * t), F(0.0f));
+    return select(h.z > F(0.0f), F(1.0f) / (F(kPi) * ax * ay * t * t), F(0.0f));
 }
 
 template <class F>
@@ -51,7 +51,7 @@ PATINA_INLINE Dir3<F> sample_visible(const Dir3<F>& v, F u1, F u2, F ax, F ay) {
     // a point on the unit disc, its lower half squeezed by the projected visible hemisphere
     const F r = sqrt_exact(u1);
     F sn, cs;
-    fast_sincos(F(2.0f * microfacet::kPi) * u2, sn, cs);
+    fast_sincos(F(2.0f * kPi) * u2, sn, cs);
     const F p1 = r * cs;
     const F s = F(0.5f) * (F(1.0f) + vz);
     const F p2 = madd(F(1.0f) - s, sqrt_exact(max(F(1.0f) - p1 * p1, F(0.0f))), s * (r * sn));

@@ -1,5 +1,5 @@
 // A 2-D table on an irregular tensor grid, W points at a time (included by
-// render_w{1,4,8}.cpp): the goniometric light's candela table over (C-plane, gamma) angles.
+// integrator_w{1,4,8}.cpp): the goniometric light's candela table over (C-plane, gamma) angles.
 // Evaluated like the BRDF tables: per axis the coherent binary search of brdf/search.h
 // (one search for both; not a copy), then bilinear interpolation of the cell's corners.
 // Coordinates outside an axis clamp to its ends.

@@ -1,5 +1,5 @@
 // The wavefront path integrator (see integrator.h), compiled once per width by
-// render_w{1,4,8}.cpp. Everything random comes from rng.h's counter-based hash, and every
+// integrator_w{1,4,8}.cpp. Everything random comes from rng.h's counter-based hash, and every
 // kernel it calls gives the same bits at every width, so one seed renders the same image
 // at widths 1, 4 and 8 (the tests check this).
 #pragma once
@@ -26,8 +26,6 @@ inline const TraceKernels& trace_kernels() {
     else return trace_kernels_w8();
 }
 
-inline float luminance(const float* c) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
-constexpr float kLumensPerWatt = 683.0f;
 
 inline void normalize3(float* a) {
     const float len = std::sqrt(dot3(a, a));
@@ -123,7 +121,7 @@ inline LightSample load_light_sample(const PathScratch& sc, size_t q) {
 // adds to path `owner` if nothing is in the way.
 inline void queue_shadow_ray(PathScratch& sc, int32_t owner, const float* p, const float* n, float offset,
                              const LightSample& ls, const float* rgb, float lux) {
-    float o[3], d[3] = {ls.dir[0], ls.dir[1], ls.dir[2]}, tmax = kInfF;
+    float o[3], d[3] = {ls.dir[0], ls.dir[1], ls.dir[2]}, tmax = kInfinity;
     for (int k = 0; k < 3; ++k) o[k] = p[k] + offset * n[k];
     if (!std::isinf(ls.dist)) {
         // aim from the lifted origin at the light's point: seen at a grazing angle, an origin
@@ -159,7 +157,7 @@ inline const uint8_t* trace_shadow_rays(const RenderScene& s, PathScratch& sc) {
     uint8_t* blocked = grow(sc.blocked, ns);
     if (ns > 0) {
         trace_kernels().occluded(
-            *s.tree, RayBatch{sc.shadow_org.data(), sc.shadow_dir.data(), 0.0f, sc.shadow_tmax.data(), kInfF}, blocked,
+            *s.tree, RayBatch{sc.shadow_org.data(), sc.shadow_dir.data(), 0.0f, sc.shadow_tmax.data(), kInfinity}, blocked,
             0, ns);
         sc.rays_traced += ns;
     }
@@ -197,7 +195,7 @@ inline void add_environment(const RenderScene& s, PathScratch& sc, const float* 
             const Light& l = s.lights[li];
             if (l.kind != LightKind::Sun || !(dot3(d + 3 * j, l.direction) >= l.cos_sun)) continue;
             const float w = mis ? power_heuristic(prev_pdf[i], selection_probability(s, prev_pos + 3 * i, int(li)) /
-                                                                   (2.0f * kPiF * l.sun_one_minus_cos))
+                                                                   (2.0f * kPi * l.sun_one_minus_cos))
                                 : 1.0f;
             for (int k = 0; k < 3; ++k) out[i].rgb[k] += thr[3 * i + k] * l.power[k] * w;
         }
@@ -223,7 +221,7 @@ PATINA_INLINE F delta_intensity(const Light& l, const D3& out) {
         // photometric type C: gamma from the nadir (-axis_z), C from axis_x towards axis_y
         const F gamma = fast_acos(clamp(-z, F(-1.0f), F(1.0f)));
         F c = fast_atan2(y, x);
-        c = select(c < F(0.0f), c + F(2.0f * kPiF), c);
+        c = select(c < F(0.0f), c + F(2.0f * kPi), c);
         return grid2_w::eval(l.candela, c, gamma);
     }
     return F(1.0f);
@@ -236,13 +234,13 @@ PATINA_INLINE F sample_sun(const Light& l, F u1, F u2, D3& w, F& r, F& g, F& b) 
     const F cos_t = F(1.0f) - one_minus;
     const F sin_t = sqrt_exact(max(one_minus * (F(2.0f) - one_minus), F(0.0f)));
     F sp, cp;
-    fast_sincos(F(2.0f * kPiF) * u2, sp, cp);
+    fast_sincos(F(2.0f * kPi) * u2, sp, cp);
     const F a = sin_t * cp, c = sin_t * sp;
     w = D3{madd(a, F(l.frame_t[0]), madd(c, F(l.frame_b[0]), cos_t * F(l.direction[0]))),
            madd(a, F(l.frame_t[1]), madd(c, F(l.frame_b[1]), cos_t * F(l.direction[1]))),
            madd(a, F(l.frame_t[2]), madd(c, F(l.frame_b[2]), cos_t * F(l.direction[2])))};
     r = F(l.power[0]), g = F(l.power[1]), b = F(l.power[2]);
-    return F(1.0f / (2.0f * kPiF * l.sun_one_minus_cos));
+    return F(1.0f / (2.0f * kPi * l.sun_one_minus_cos));
 }
 
 // A point uniform by area over a triangle light's triangles (the triangle by its area cdf,
@@ -295,10 +293,10 @@ inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, co
         F r, g, b, d, p;
         if (env) {
             p = sel * env_w::sample(s.env, s1, s2, w, r, g, b);
-            d = F(kInfF);
+            d = F(kInfinity);
         } else if (light->kind == LightKind::Sun) {
             p = sample_sun(*light, s1, s2, w, r, g, b) * sel;
-            d = F(kInfF);
+            d = F(kInfinity);
         } else {
             const D3 at = load_dir(pos, i, lanes);
             D3 target{F(light->position[0]), F(light->position[1]), F(light->position[2])};
@@ -413,7 +411,7 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
         std::fill(r.rgb, r.rgb + 3, 0.0f);
         std::fill(r.albedo, r.albedo + 3, 0.0f);
         std::fill(r.normal, r.normal + 3, 0.0f);
-        r.depth = std::numeric_limits<float>::infinity();
+        r.depth = kInfinity;
         r.illuminance = 0;
         sc.active.push_back(static_cast<int32_t>(i));
     }
@@ -433,7 +431,7 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
             std::copy(dir + 3 * i, dir + 3 * i + 3, rd + 3 * j);
         }
         HitBatch hits{grow(sc.hit_t, m), grow(sc.hit_prim, m), grow(sc.hit_u, m), grow(sc.hit_v, m)};
-        tk.intersect(*s.tree, RayBatch{ro, rd, 0.0f, nullptr, kInfF}, hits, 0, m);
+        tk.intersect(*s.tree, RayBatch{ro, rd, 0.0f, nullptr, kInfinity}, hits, 0, m);
         sc.rays_traced += m;
 
         // 2. misses and lights seen add their emission (MIS-weighted after a BRDF sample);

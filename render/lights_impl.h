@@ -1,19 +1,16 @@
 // Light selection and the quad lights' density for the integrator (included by
-// render_w{1,4,8}.cpp). The lights themselves are sampled W points at a time, grouped by
+// integrator_w{1,4,8}.cpp). The lights themselves are sampled W points at a time, grouped by
 // the light each point chose (integrator_impl.h, env_impl.h).
 #pragma once
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
+#include "core/constants.h"
 #include "render/scene.h"
 
 PATINA_BEGIN_TARGET
 namespace render_detail {
-
-constexpr float kPiF = 3.14159265358979323846f;
-constexpr float kInfF = std::numeric_limits<float>::infinity();
 
 inline float dot3(const float* a, const float* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
@@ -25,7 +22,7 @@ inline float selection_weights(const RenderScene& s, const float* p, float* w) {
         float wk = sel.weight;
         if (sel.local) {
             const float d[3] = {sel.center[0] - p[0], sel.center[1] - p[1], sel.center[2] - p[2]};
-            wk = sel.weight / (4.0f * kPiF * std::max(dot3(d, d), sel.size2));
+            wk = sel.weight / (4.0f * kPi * std::max(dot3(d, d), sel.size2));
         }
         w[k] = wk;
         sum += wk;

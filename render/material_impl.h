@@ -1,4 +1,4 @@
-// Materials over arrays of shading points, W lanes at a time (included by render_w{1,4,8}.cpp).
+// Materials over arrays of shading points, W lanes at a time (included by integrator_w{1,4,8}.cpp).
 // Directions are local (z = shading normal, x = tangent): v towards the viewer (the known
 // direction), l towards the light (or the sampled one). Values are RGB BRDFs in 1/sr,
 // zero when either direction is at or below the horizon -- except for the dielectric,
@@ -68,7 +68,7 @@ PATINA_INLINE D3 ggx_reflect_sample(const D3& v, F u1, F u2, F alpha) {
 // its Fresnel reflectance against what the base reflects, kept in [0.1, 0.9].
 PATINA_INLINE F coat_pick(const Material& m, F cos_v) {
     const F fr = microfacet::fresnel_dielectric(max(cos_v, F(0.0f)), F(m.coat_eta));
-    const float base = 0.2126f * m.albedo[0] + 0.7152f * m.albedo[1] + 0.0722f * m.albedo[2];
+    const float base = luminance(m.albedo);
     return clamp(fr / (fr + (F(1.0f) - fr) * F(std::max(base, 1e-3f))), F(0.1f), F(0.9f));
 }
 

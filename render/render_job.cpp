@@ -4,7 +4,6 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "core/cpu.h"
 #include "core/parallel.h"
 
 namespace patina {
@@ -13,14 +12,6 @@ namespace {
 constexpr size_t kMaxBatch = 4096;  // camera samples traced as one wavefront
 
 }  // namespace
-
-const RenderKernels& render_kernels_for(int width) {
-    switch (resolve_width(width)) {
-        case 8: return render_kernels_w8();
-        case 4: return render_kernels_w4();
-        default: return render_kernels_w1();
-    }
-}
 
 RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     : m_scene(scene),

@@ -4,13 +4,9 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/constants.h"
+
 namespace patina {
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-
-double luminance(const float* rgb) { return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]; }
-}  // namespace
-
 // Pixel weights for sampling: luminance x sin(theta), each pixel taking the largest
 // luminance of its 3 x 3 neighbourhood. The radiance is filtered bilinearly, so a bright
 // pixel lights up half of each neighbour too; dilating the weights keeps the pdf high
@@ -18,9 +14,9 @@ double luminance(const float* rgb) { return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 
 static std::vector<double> sampling_weights(const Environment& env) {
     const int w = env.width, h = env.height;
     std::vector<double> lum(static_cast<size_t>(w) * h), out(lum.size());
-    for (size_t i = 0; i < lum.size(); ++i) lum[i] = std::max(0.0, luminance(env.rgb + 3 * i));
+    for (size_t i = 0; i < lum.size(); ++i) lum[i] = std::max(0.0, luminance<double>(env.rgb + 3 * i));
     for (int r = 0; r < h; ++r) {
-        const double sin_theta = std::sin(kPi * (r + 0.5) / h);
+        const double sin_theta = std::sin(kPiDouble * (r + 0.5) / h);
         for (int c = 0; c < w; ++c) {
             double m = 0;
             for (int dr = -1; dr <= 1; ++dr)
@@ -60,22 +56,22 @@ void prepare_environment(Environment& env) {
     std::vector<double> row_sum(h, 0.0);
     double total = 0, lum_integral = 0;
     for (int r = 0; r < h; ++r) {
-        const double sin_theta = std::sin(kPi * (r + 0.5) / h);
+        const double sin_theta = std::sin(kPiDouble * (r + 0.5) / h);
         double acc = 0;
         float* cdf = &env.col_cdf[static_cast<size_t>(r) * (w + 1)];
         for (int c = 0; c < w; ++c) {
             const size_t i = static_cast<size_t>(r) * w + c;
             acc += weight[i];
             cdf[c + 1] = static_cast<float>(acc);
-            lum_integral += std::max(0.0, luminance(env.rgb + 3 * i)) * sin_theta;
+            lum_integral += std::max(0.0, luminance<double>(env.rgb + 3 * i)) * sin_theta;
         }
         for (int c = 1; c <= w; ++c) cdf[c] = acc > 0 ? static_cast<float>(cdf[c] / acc) : static_cast<float>(c) / w;
         cdf[w] = 1.0f;
         row_sum[r] = acc;
         total += acc;
     }
-    lum_integral *= (2 * kPi / w) * (kPi / h);  // the integral of luminance over the sphere
-    env.mean_luminance = static_cast<float>(lum_integral / (4 * kPi) * env.intensity);
+    lum_integral *= (2 * kPiDouble / w) * (kPiDouble / h);  // the integral of luminance over the sphere
+    env.mean_luminance = static_cast<float>(lum_integral / (4 * kPiDouble) * env.intensity);
     double acc = 0;
     for (int r = 0; r < h; ++r) {
         acc += row_sum[r];
@@ -102,11 +98,11 @@ void prepare_scale(RenderScene& s) {
 // A local light's flux (W of luminance), for its selection weight.
 static double light_flux(const Light& l) {
     if (l.power_estimate >= 0) return l.power_estimate;
-    const double lum = std::max(0.0, luminance(l.power));
+    const double lum = std::max(0.0, luminance<double>(l.power));
     switch (l.kind) {
-        case LightKind::Point: return 4 * kPi * lum;
-        case LightKind::Spot: return 2 * kPi * (1 - 0.5 * (l.cos_inner + l.cos_outer)) * lum;
-        default: return l.area * kPi * lum * (l.two_sided ? 2 : 1);  // quads and triangles
+        case LightKind::Point: return 4 * kPiDouble * lum;
+        case LightKind::Spot: return 2 * kPiDouble * (1 - 0.5 * (l.cos_inner + l.cos_outer)) * lum;
+        default: return l.area * kPiDouble * lum * (l.two_sided ? 2 : 1);  // quads and triangles
     }
 }
 
@@ -119,14 +115,14 @@ void prepare_light_selection(RenderScene& s) {
         if (l.kind == LightKind::Sun) {
             // uniform radiance over a cone of half-angle d: irradiance pi sin^2 d L facing it
             sel.local = false;
-            sel.weight = static_cast<float>(kPi * l.sun_one_minus_cos * (1 + double(l.cos_sun)) *
-                                            std::max(0.0, luminance(l.power)));
+            sel.weight = static_cast<float>(kPiDouble * l.sun_one_minus_cos * (1 + double(l.cos_sun)) *
+                                            std::max(0.0, luminance<double>(l.power)));
             s.selection.push_back(sel);
             continue;
         }
         sel.weight = static_cast<float>(light_flux(l));
         if (l.kind == LightKind::Quad || l.kind == LightKind::Triangles) {
-            sel.size2 = std::max(small2, static_cast<float>(l.area / kPi));
+            sel.size2 = std::max(small2, static_cast<float>(l.area / kPiDouble));
             if (l.kind == LightKind::Triangles) {  // the area-weighted centroid
                 double c[3] = {0, 0, 0}, prev = 0;
                 for (size_t t = 0; t < l.triangles.size(); ++t) {
@@ -142,8 +138,8 @@ void prepare_light_selection(RenderScene& s) {
     }
     if (s.env.present) {  // a uniform environment of mean luminance Y gives irradiance pi Y
         const double mean = s.env.is_map ? s.env.mean_luminance
-                                         : std::max(0.0, luminance(s.env.constant)) * s.env.intensity;
-        s.selection.push_back({false, static_cast<float>(kPi * mean), {0, 0, 0}, 0});
+                                         : std::max(0.0, luminance<double>(s.env.constant)) * s.env.intensity;
+        s.selection.push_back({false, static_cast<float>(kPiDouble * mean), {0, 0, 0}, 0});
     }
 }
 

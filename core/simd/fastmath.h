@@ -25,14 +25,12 @@
 
 #include <limits>
 
-#include "simd.h"
+#include "core/constants.h"
+#include "core/simd/simd.h"
 
 PATINA_BEGIN_TARGET
 
 namespace fastmath_detail {
-constexpr float kPi = 3.14159265358979323846f;
-constexpr float kHalfPi = 1.57079632679489661923f;
-
 // atan(a) for a in [0, 1]: a + a z P(z), z = a^2 (fit error 5.3e-8).
 template <class F>
 PATINA_INLINE F atan_unit(F a) {

@@ -2,17 +2,13 @@
 
 #include <cmath>
 
-#include "core/cpu.h"
 #include "core/parallel.h"
+#include "core/width_dispatch.h"
 
 namespace patina {
 
 const TraceKernels& trace_kernels_for(int width) {
-    switch (resolve_width(width)) {
-        case 8: return trace_kernels_w8();
-        case 4: return trace_kernels_w4();
-        default: return trace_kernels_w1();
-    }
+    return kernels_for_width(width, trace_kernels_w1, trace_kernels_w4, trace_kernels_w8);
 }
 
 size_t first_invalid_ray(const RayBatch& rays, size_t n) {

@@ -1,5 +1,5 @@
 // Run-time dispatch to the ray-tracing kernels compiled for each packet width
-// (trace_w1.cpp, trace_w4.cpp with -msse4.1, trace_w8.cpp with -mavx2 -mfma).
+// (trace_kernels_w1.cpp, trace_kernels_w4.cpp with -msse4.1, trace_kernels_w8.cpp with -mavx2 -mfma).
 // Rays [i, i + K) of the input arrays form one packet, so the caller's ray order
 // decides how coherent packets are.
 #pragma once

@@ -1,4 +1,4 @@
-// The body of trace_w{1,4,8}.cpp: defines trace_kernels_wN() for PATINA_KERNEL_WIDTH.
+// The body of trace_kernels_w{1,4,8}.cpp: defines trace_kernels_wN() for PATINA_KERNEL_WIDTH.
 #pragma once
 
 #include <limits>

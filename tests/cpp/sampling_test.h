@@ -8,9 +8,12 @@
 #include <random>
 #include <vector>
 
+#include "core/constants.h"
+
 namespace sampling_test {
 
-constexpr double kPi = 3.14159265358979323846;
+using patina::kPiDouble;
+
 
 // n uniforms in [0, 1) from a fixed seed.
 inline std::vector<float> uniforms(size_t n, unsigned seed) {
@@ -37,28 +40,28 @@ double sampling_p_value(Sample sample, Pdf pdf, size_t n = 1000000, int nt = 24,
                         bool whole_sphere = false) {
     const std::vector<float> wo = sample(n);
     // the bin coordinate: cos theta in [0, 1], or theta in [0, pi]
-    auto coord = [&](double z) { return whole_sphere ? std::acos(std::clamp(z, -1.0, 1.0)) / kPi : z; };
+    auto coord = [&](double z) { return whole_sphere ? std::acos(std::clamp(z, -1.0, 1.0)) / kPiDouble : z; };
     std::vector<double> observed(nt * np, 0.0), expected(nt * np, 0.0);
     for (size_t i = 0; i < n; ++i) {
         const double z = wo[3 * i + 2];
         const double len2 = double(wo[3 * i]) * wo[3 * i] + double(wo[3 * i + 1]) * wo[3 * i + 1] + z * z;
         if (!(std::abs(len2 - 1) < 1e-3) || z == 0 || (!whole_sphere && !(z > 0))) continue;
         double phi = std::atan2(wo[3 * i + 1], wo[3 * i]);
-        if (phi < 0) phi += 2 * kPi;
-        observed[std::min(nt - 1, int(coord(z) * nt)) * np + std::min(np - 1, int(phi / (2 * kPi) * np))] += 1;
+        if (phi < 0) phi += 2 * kPiDouble;
+        observed[std::min(nt - 1, int(coord(z) * nt)) * np + std::min(np - 1, int(phi / (2 * kPiDouble) * np))] += 1;
     }
     const int sub = 8;
     for (int a = 0; a < nt; ++a)
         for (int b = 0; b < np; ++b)
             for (int s = 0; s < sub; ++s)
                 for (int t = 0; t < sub; ++t) {
-                    const double c = (a + (s + 0.5) / sub) / nt, phi = 2 * kPi * (b + (t + 0.5) / sub) / np;
+                    const double c = (a + (s + 0.5) / sub) / nt, phi = 2 * kPiDouble * (b + (t + 0.5) / sub) / np;
                     // solid angle per unit of the bin coordinate: dz, or sin(theta) pi dc
-                    const double z = whole_sphere ? std::cos(kPi * c) : c;
-                    const double jacobian = whole_sphere ? kPi * std::sin(kPi * c) : 1.0;
+                    const double z = whole_sphere ? std::cos(kPiDouble * c) : c;
+                    const double jacobian = whole_sphere ? kPiDouble * std::sin(kPiDouble * c) : 1.0;
                     const double r = std::sqrt(std::max(0.0, 1 - z * z));
                     const double p = pdf(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z));
-                    expected[a * np + b] += p * jacobian * (1.0 / nt) * (2 * kPi / np) / (sub * sub) * double(n);
+                    expected[a * np + b] += p * jacobian * (1.0 / nt) * (2 * kPiDouble / np) / (sub * sub) * double(n);
                 }
     double chi2 = 0, pooled_obs = 0, pooled_exp = 0;
     int dof = 0;

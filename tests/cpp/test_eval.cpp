@@ -10,12 +10,12 @@
 
 #include "brdf/kernels.h"
 #include "brdf/table.h"
+#include "core/constants.h"
 #include "core/cpu.h"
 
 using namespace patina;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 std::vector<float> irregular_axis(int n, double lo, double hi, double power) {
     std::vector<float> k(n);
@@ -52,15 +52,15 @@ Table make_table(Parametrization p, int channels, uint32_t symmetry, bool with_h
     t.symmetry = symmetry;
     switch (p) {
         case Parametrization::Isotropic:
-            t.axes = {irregular_axis(17, 0, kPi / 2, 1.3), irregular_axis(19, 0, kPi / 2, 0.8), irregular_axis(23, 0, kPi, 1.5)};
+            t.axes = {irregular_axis(17, 0, kPiDouble / 2, 1.3), irregular_axis(19, 0, kPiDouble / 2, 0.8), irregular_axis(23, 0, kPiDouble, 1.5)};
             break;
         case Parametrization::HalfDiff:
-            t.axes = {irregular_axis(25, 0, kPi / 2, 2.0), irregular_axis(15, 0, kPi / 2, 1.0),
-                      irregular_axis(31, 0, (symmetry & kSymPhiMirror) ? kPi / 2 : kPi, 1.0)};
+            t.axes = {irregular_axis(25, 0, kPiDouble / 2, 2.0), irregular_axis(15, 0, kPiDouble / 2, 1.0),
+                      irregular_axis(31, 0, (symmetry & kSymPhiMirror) ? kPiDouble / 2 : kPiDouble, 1.0)};
             break;
         case Parametrization::Anisotropic:
-            t.axes = {irregular_axis(9, 0, kPi / 2, 1.2), irregular_axis(13, 0, 2 * kPi, 1.0), irregular_axis(11, 0, kPi / 2, 0.9),
-                      irregular_axis(14, 0, 2 * kPi, 1.1)};
+            t.axes = {irregular_axis(9, 0, kPiDouble / 2, 1.2), irregular_axis(13, 0, 2 * kPiDouble, 1.0), irregular_axis(11, 0, kPiDouble / 2, 0.9),
+                      irregular_axis(14, 0, 2 * kPiDouble, 1.1)};
             break;
     }
     const int dims = axis_count(p);
@@ -100,10 +100,10 @@ void ref_coords(const TableView& t, const double* wi, const double* wo, double* 
         const double cy = std::cos(-th), sy = std::sin(-th);
         const double d0 = cy * t0 + sy * t2, d1 = t1, d2 = -sy * t0 + cy * t2;
         double pd = std::atan2(d1, d0);
-        if ((t.symmetry & kSymReciprocity) && pd < 0) pd += kPi;
+        if ((t.symmetry & kSymReciprocity) && pd < 0) pd += kPiDouble;
         if (t.symmetry & kSymPhiMirror) {
             pd = std::fabs(pd);
-            if (pd > kPi / 2) pd = kPi - pd;
+            if (pd > kPiDouble / 2) pd = kPiDouble - pd;
         }
         c[0] = th;
         c[1] = acos_c(d2);
@@ -120,8 +120,8 @@ void ref_coords(const TableView& t, const double* wi, const double* wo, double* 
     } else {
         double ti = acos_c(wi[2]), to = acos_c(wo[2]);
         double pi = std::atan2(wi[1], wi[0]), po = std::atan2(wo[1], wo[0]);
-        if (pi < 0) pi += 2 * kPi;
-        if (po < 0) po += 2 * kPi;
+        if (pi < 0) pi += 2 * kPiDouble;
+        if (po < 0) po += 2 * kPiDouble;
         if ((t.symmetry & kSymReciprocity) && ti > to) {
             std::swap(ti, to);
             std::swap(pi, po);
@@ -178,7 +178,7 @@ void make_pairs(size_t n, unsigned seed, std::vector<float>& wi, std::vector<flo
         if (rng() % 40 == 0) z = -z;     // below the horizon
         if (rng() % 40 == 0) z = 1.0;    // the pole
         if (rng() % 40 == 0) z = 0.0;    // grazing
-        const double phi = 2 * kPi * u(rng), r = std::sqrt(std::max(0.0, 1 - z * z));
+        const double phi = 2 * kPiDouble * u(rng), r = std::sqrt(std::max(0.0, 1 - z * z));
         out.push_back(float(r * std::cos(phi)));
         out.push_back(float(r * std::sin(phi)));
         out.push_back(float(z));
@@ -336,7 +336,7 @@ TEST(Eval, MissingCellsGiveZeroNotData) {
 }
 
 TEST(Eval, SearchFindsTheCell) {
-    const std::vector<float> knots = irregular_axis(90, 0.0, kPi / 2, 2.0);
+    const std::vector<float> knots = irregular_axis(90, 0.0, kPiDouble / 2, 2.0);
     std::vector<float> xs = {-1.0f, 0.0f, knots[1], knots[45], knots[88], knots[89], 2.0f, std::nanf("")};
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> u(-0.1f, 1.7f);

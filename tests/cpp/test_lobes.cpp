@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "core/constants.h"
 #include "core/cpu.h"
 #include "fit/lobe_kernels.h"
 #include "fit/microfacet.h"
@@ -16,14 +17,13 @@ using sampling_test::sampling_p_value;
 using sampling_test::uniforms;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 std::vector<float> hemisphere(size_t n, unsigned seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(0, 1);
     std::vector<float> d;
     for (size_t i = 0; i < n; ++i) {
-        const double z = u(rng), phi = 2 * kPi * u(rng), r = std::sqrt(1 - z * z);
+        const double z = u(rng), phi = 2 * kPiDouble * u(rng), r = std::sqrt(1 - z * z);
         d.insert(d.end(), {float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)});
     }
     return d;
@@ -58,10 +58,10 @@ double quadrature_albedo(const MixtureParams& p, double theta, int nmu = 256, in
     std::vector<double> weight;
     for (int a = 0; a < nmu; ++a)
         for (int b = 0; b < nphi; ++b) {
-            const double mu = (a + 0.5) / nmu, phi = 2 * kPi * (b + 0.5) / nphi, r = std::sqrt(1 - mu * mu);
+            const double mu = (a + 0.5) / nmu, phi = 2 * kPiDouble * (b + 0.5) / nphi, r = std::sqrt(1 - mu * mu);
             wi.insert(wi.end(), {float(std::sin(theta)), 0.0f, float(std::cos(theta))});
             wo.insert(wo.end(), {float(r * std::cos(phi)), float(r * std::sin(phi)), float(mu)});
-            weight.push_back(mu * (1.0 / nmu) * (2 * kPi / nphi));
+            weight.push_back(mu * (1.0 / nmu) * (2 * kPiDouble / nphi));
         }
     const auto f = eval(p, wi, wo);
     double albedo = 0;
@@ -167,7 +167,7 @@ double ggx_reference(const float* a, const float* b, double alpha, double f0) {
     const double len = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
     const double c = s[2] / len, ci = a[2], co = b[2], a2 = alpha * alpha;
     if (!(ci > 0 && co > 0)) return 0;
-    const double t = c * c * (a2 - 1) + 1, d = a2 / (kPi * t * t);
+    const double t = c * c * (a2 - 1) + 1, d = a2 / (kPiDouble * t * t);
     const double lambda_i = 0.5 * (std::sqrt(1 + a2 * (1 - ci * ci) / (ci * ci)) - 1);
     const double lambda_o = 0.5 * (std::sqrt(1 + a2 * (1 - co * co) / (co * co)) - 1);
     const double cos_d = (double(a[0]) * s[0] + double(a[1]) * s[1] + double(a[2]) * s[2]) / len;
@@ -207,7 +207,7 @@ TEST(Lobes, MixtureMicrofacetLobesMatchTheirModels) {
 
 TEST(Lobes, MixtureLobesAreTheModelsOfMicrofacetH) {
     using patina::microfacet::ashikhmin_shirley_eval;
-    using patina::microfacet::kInvPi;
+    using patina::kInvPi;
     using patina::microfacet::lafortune_eval;
     using patina::microfacet::ward_eval;
     const auto wi = hemisphere(2000, 32), wo = hemisphere(2000, 33);
@@ -473,7 +473,7 @@ TEST(Lobes, LambertSamplesItsPdf) {
         lobe_kernels_w1().sample_lambert(u1.data(), u2.data(), wo.data(), pdf.data(), m);
         return wo;
     };
-    auto pdf = [](float, float, float z) { return z > 0 ? double(z) / kPi : 0.0; };
+    auto pdf = [](float, float, float z) { return z > 0 ? double(z) / kPiDouble : 0.0; };
     EXPECT_GT(sampling_p_value(sample, pdf), 1e-3);
     std::vector<float> w1(3 * 1001), p1(1001);
     lobe_kernels_w1().sample_lambert(u1.data(), u2.data(), w1.data(), p1.data(), 1001);
@@ -496,11 +496,11 @@ TEST(Lobes, LafortunePhongLobeKeepsEnergy) {
             double albedo = 0;
             for (int i = 0; i < nmu; ++i)
                 for (int j = 0; j < nphi; ++j) {
-                    const double mu = (i + 0.5) / nmu, phi = 2 * kPi * (j + 0.5) / nphi, r = std::sqrt(1 - mu * mu);
+                    const double mu = (i + 0.5) / nmu, phi = 2 * kPiDouble * (j + 0.5) / nphi, r = std::sqrt(1 - mu * mu);
                     const patina::Dir3<float> b{float(r * std::cos(phi)), float(r * std::sin(phi)), float(mu)};
-                    const float rho = (e + 2.0f) / float(2 * kPi);
+                    const float rho = (e + 2.0f) / float(2 * kPiDouble);
                     albedo += patina::microfacet::lafortune_eval(a, b, -1.0f, -1.0f, 1.0f, e, rho) * mu * (1.0 / nmu) *
-                              (2 * kPi / nphi);
+                              (2 * kPiDouble / nphi);
                 }
             EXPECT_LE(albedo, 1.02) << "exponent " << e << " theta " << theta;
         }
