@@ -17,15 +17,15 @@ import os
 import numpy as np
 
 from patina import Brdf, validate
-from patina.carpaint import PAINTS, base_brdf, coated_base, coated_paint, dielectric_fresnel
-from patina.carpaint_table import (
+from patina.synthetic.carpaint import PAINTS, base_brdf, coated_base, coated_paint, dielectric_fresnel
+from patina.synthetic.carpaint_table import (
     BUNDLED_PAINT,
     base_table,
     interpolation_errors,
     peak_pairs,
     random_pairs,
 )
-from patina.formats import table_from_data
+from patina.table.formats import table_from_data
 
 MATERIALS = os.path.join(os.path.dirname(__file__), "..", "materials")
 

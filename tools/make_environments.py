@@ -9,7 +9,7 @@ sky.exr     a clear sky (Preetham, Shirley and Smits 1999) with a sun disc (blac
             5772 K solar spectrum through Rayleigh and Angstrom aerosol extinction) over a
             grey ground (albedo 0.3), 1024 x 512 float (the sun exceeds half range).
 
-Both follow patina.envmap's lat-long convention (Mitsuba 3's, y up) and units: linear
+Both follow patina.render.envmap's lat-long convention (Mitsuba 3's, y up) and units: linear
 Rec.709 tristimulus radiance in W/(m^2 sr), 683 lm/W x Y = luminance in cd/m^2. The
 materials/env/*.md provenance files give the parameters and the measured irradiance.
 """
@@ -24,8 +24,9 @@ from dataclasses import dataclass
 import colour
 import numpy as np
 
-from patina.envmap import LUMINOUS_EFFICACY, irradiance, lat_long_direction, pixel_directions, solid_angles
-from patina.images import write_exr
+from patina.colour_constants import LUMINOUS_EFFICACY
+from patina.render.envmap import irradiance, lat_long_direction, pixel_directions, solid_angles
+from patina.render.images import write_exr
 
 OUT_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "materials", "env")
 WIDTH, HEIGHT = 1024, 512

@@ -7,7 +7,7 @@ red-plastic-iso.ptab  an irregular isotropic 30 x 30 x 60 RGB table (phi_d dense
                       180 deg, where the specular peak lies), Patina's native format;
 red-plastic-iso.astm  the same material on a coarser 10 x 10 x 19 grid as ASTM E1392
                       text, to show the importer.
-Both sample patina.synthetic.plastic(): Lambert base (albedo 0.55, 0.08, 0.05) under a
+Both sample patina.synthetic.analytic.plastic(): Lambert base (albedo 0.55, 0.08, 0.05) under a
 GGX lobe (roughness 0.2, Schlick F0 = 0.04, separable Smith masking).
 """
 
@@ -19,8 +19,8 @@ import numpy as np
 
 # the installed package (make setup), which carries the compiled core
 from patina import Brdf
-from patina.formats import table_from_data
-from patina.synthetic import isotropic_grid, plastic, sample_isotropic
+from patina.synthetic.analytic import isotropic_grid, plastic, sample_isotropic
+from patina.table.formats import table_from_data
 
 MATERIALS = os.path.join(os.path.dirname(__file__), "..", "materials")
 MODEL = plastic(diffuse=(0.55, 0.08, 0.05), specular=0.04, roughness=0.2)

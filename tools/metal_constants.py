@@ -1,4 +1,4 @@
-"""Prints the eta and k of patina.metals from the spectra an installed mitsuba ships.
+"""Prints the eta and k of patina.scene.metals from the spectra an installed mitsuba ships.
 
     python tools/metal_constants.py        # needs `pip install mitsuba==3.9.1` (the test extra)
 

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Renders the built-in shapes (patina.shapes) to a PNG for a look: primary rays through patina.Accel, n.l shading.
+"""Renders the built-in shapes (patina.geometry.shapes) to a PNG for a look: primary rays through
+patina.Accel, n.l shading.
 
     PYTHONPATH=python .venv/bin/python tools/view_shapes.py [OUT.png] [--size 320]
 
@@ -17,7 +18,7 @@ import math
 import numpy as np
 
 from patina import Accel
-from patina.shapes import ShapeMesh, car_panel, plane, preview_ball
+from patina.geometry.shapes import ShapeMesh, car_panel, plane, preview_ball
 
 
 def _camera(eye: np.ndarray, target: np.ndarray, size: int, fov_deg: float) -> tuple[np.ndarray, np.ndarray]:

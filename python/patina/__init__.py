@@ -14,17 +14,15 @@
 
 from __future__ import annotations
 
-from . import _core
-from .accel import Accel, Hits
-from .brdf import Brdf, load_brdf
-from .errors import FormatError
-from .fitting import FitResult, compare, fit
-from .luminaire import Luminaire, load_luminaire
-from .mesh import Mesh, load_mesh
-from .render import RenderResult
-from .render import render as render_scene
-from .scene_file import load_scene
-from .validation import validate
+from patina.errors import FormatError
+from patina.fitting import FitResult, compare, fit
+from patina.geometry import Accel, Hits, Mesh, load_mesh
+from patina.native import _core
+from patina.photometry import Luminaire, load_luminaire
+from patina.render import RenderResult
+from patina.render import render as render_scene
+from patina.scene import load_scene
+from patina.table import Brdf, load_brdf, validate
 
 __version__ = _core.__version__
 __all__ = [

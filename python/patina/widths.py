@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from . import _core
+from patina.native import _core
 
 WIDTHS = (1, 4, 8)
 

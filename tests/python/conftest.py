@@ -9,9 +9,9 @@ import pytest
 sys.path.insert(0, os.path.dirname(__file__))
 
 import patina
-from patina.synthetic import merl_raw, plastic, write_merl
+from patina.synthetic.analytic import merl_raw, plastic, write_merl
+from repo_paths import ROOT
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 WIDTHS = [w for w in (1, 4, 8) if patina._core.width_supported(w)]
 
 

@@ -7,7 +7,8 @@ import os
 import re
 from typing import Any
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+from repo_paths import ROOT
+
 DOC = os.path.join(ROOT, "docs", "scene.md")
 
 

@@ -16,8 +16,8 @@ SETTINGS = settings(max_examples=150, deadline=None, suppress_health_check=[Heal
 
 
 def _small_ptab_bytes() -> bytes:
-    from patina.formats import table_from_data
-    from patina.formats.tabledata import TableData
+    from patina.table.formats import table_from_data
+    from patina.table.formats.tabledata import TableData
 
     axes = [np.linspace(0, 1.5, 3), np.linspace(0, 1.5, 4), np.linspace(0, np.pi, 5)]
     values = np.linspace(0.1, 2, 3 * 4 * 5 * 3, dtype=np.float32).reshape(3, 4, 5, 3)

@@ -1,0 +1,237 @@
+"""`patina bench --only render`: the preview renderer's speed, as ratios measured in one run.
+
+SIMD: the preview scene (car paint on the preview object, path tracing) rendered at
+width 4 and 8 against the same render at width 1, one thread, one prepared scene.
+Threads: all cores against one. Against Mitsuba 3: the time each renderer needs to reach
+the same RMSE against a converged reference on a scene both render (the rough gold sphere
+under the studio map), at the same thread count. docs/bench.md describes the records.
+
+Renders are timed from job start to resolved image, calling the C++ job directly:
+`render.render` polls progress every 50 ms, which would blur short renders.
+"""
+
+from __future__ import annotations
+
+import os
+import statistics
+import subprocess
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from patina.bench.records import Record, median_times_and_values
+from patina.bundled import materials_path
+from patina.native import _core
+from patina.render.run import PreparedScene, core_depth
+from patina.scene.mitsuba import to_mitsuba
+from patina.scene.reading import load_scene, with_overrides
+from patina.scene.types import Scene
+
+TARGET_RMSE = 0.02  # per-pixel RMSE relative to the reference's image mean: a clean preview
+
+
+def _scene_path(name: str) -> str:
+    return materials_path("scenes", f"{name}.json")
+
+
+def _render(prep: PreparedScene, scene: Scene, width: int, threads: int, spp: int | None = None) -> np.ndarray:
+    """One render of the prepared scene, start to resolved image; the linear RGB image."""
+    job = _core.RenderJob(
+        prep.core,
+        spp=spp or scene.render.spp,
+        max_depth=core_depth(scene),
+        seed=scene.render.seed,
+        threads=threads,
+        width=width,
+    )
+    job.start()
+    job.wait()
+    return np.asarray(job.resolve()["rgb"], np.float64)
+
+
+# --- SIMD width and threads on the preview scene ---------------------------------------------
+
+
+def _preview(quick: bool) -> tuple[Scene, PreparedScene, str]:
+    """The preview scene, path traced (the file's max_depth), at 256 x 192 and 32 spp (quick: 64 x 48, 4 spp)."""
+    w, h, spp = (64, 48, 4) if quick else (256, 192, 32)
+    scene = with_overrides(load_scene(_scene_path("preview-ball")), integrator="path", width=w, height=h, spp=spp)
+    label = f"preview-ball {w}x{h}, {spp} spp, path (max_depth {scene.render.max_depth})"
+    return scene, PreparedScene(scene), label
+
+
+def _simd_records(scene: Scene, prep: PreparedScene, label: str, repeat: int) -> list[Record]:
+    widths = [w for w in (4, 8) if _core.width_supported(w)]
+    fns = [lambda w=w: _render(prep, scene, w, 1) for w in (1, *widths)]
+    times, _ = median_times_and_values(fns, repeat)
+    samples = scene.camera.width * scene.camera.height * scene.render.spp
+    return [
+        Record(
+            f"render.preview.w{w}",
+            f"{label}, SIMD width {w}, 1 thread",
+            "the same render at width 1",
+            times[0] / t,
+            samples / t / 1e6,
+            "Msamples/s",
+        )
+        for w, t in zip(widths, times[1:])
+    ]
+
+
+def _thread_record(scene: Scene, prep: PreparedScene, label: str, repeat: int) -> Record:
+    cores = os.cpu_count() or 1
+    width = _core.default_width()
+    one, all_cores = (lambda n=n: _render(prep, scene, width, n) for n in (1, cores))
+    times, _ = median_times_and_values([one, all_cores], repeat)
+    speedup = times[0] / times[1]
+    return Record(
+        "render.threads",
+        f"{label}, width {width}, {cores} threads; value = speedup / threads",
+        "the same render on 1 thread",
+        speedup,
+        speedup / cores,
+        "per core",
+    )
+
+
+# --- against Mitsuba 3 -----------------------------------------------------------------------
+
+
+@dataclass
+class _Convergence:
+    """A renderer's noise and speed on one scene: RMSE^2 = c2 / spp, render time = t0 + per_spp * spp."""
+
+    c2: float
+    t0: float
+    per_spp: float
+
+    def spp_for(self, rmse: float) -> float:
+        return self.c2 / rmse**2
+
+    def seconds_for(self, rmse: float) -> float:
+        return max(self.t0, 0.0) + self.per_spp * self.spp_for(rmse)
+
+
+def _convergence(render_at: Callable[[int], np.ndarray], levels: list[int], reference: np.ndarray,
+                 reference_mse: float, repeat: int) -> _Convergence:  # fmt: skip
+    """Times the renderer at each spp level and measures its error against the reference.
+
+    RMSE, relative to the reference's image mean, goes as c / sqrt(spp) for an unbiased
+    renderer; c^2 is the mean over the levels of spp * (MSE - the reference's own MSE).
+    Time is fitted as t0 + per_spp * spp through the lowest and highest level (a fixed cost
+    per render, then a cost per sample).
+    """
+    times, images = median_times_and_values([lambda n=n: render_at(n) for n in levels], repeat)
+    mean = float(reference.mean())
+    c2 = statistics.fmean(
+        n * max(float(((img - reference) ** 2).mean()) - reference_mse, 0.0) / mean**2 for n, img in zip(levels, images)
+    )
+    per_spp = (times[-1] - times[0]) / (levels[-1] - levels[0])
+    if per_spp <= 0:  # timing noise swamped the growth (tiny quick-mode renders): all time counts as per sample
+        return _Convergence(c2, 0.0, times[-1] / levels[-1])
+    return _Convergence(c2, times[0] - per_spp * levels[0], per_spp)
+
+
+def _mitsuba_renderer(scene: Scene, variant: str, threads: int) -> Callable[[int], np.ndarray]:
+    """Renders of the scene by Mitsuba's `variant` on `threads` threads: spp (and seed) -> image."""
+    import drjit as dr
+    import mitsuba as mi
+
+    dr.set_thread_count(threads)
+    loaded = mi.load_dict(to_mitsuba(scene, variant=variant))  # to_mitsuba sets the variant
+
+    def render_at(spp: int, seed: int = 0) -> np.ndarray:
+        mi.set_variant(variant)
+        return np.asarray(mi.render(loaded, spp=spp, seed=seed), np.float64)
+
+    return render_at
+
+
+def llvm_variant_works(timeout: float = 300.0) -> bool:
+    """Whether Mitsuba's llvm_ad_rgb renders here. Tried in a child process: with an LLVM that
+    lacks what Dr.Jit needs (e.g. Debian 12's libLLVM 15), the JIT aborts the whole process."""
+    code = (
+        "import mitsuba as mi; mi.set_variant('llvm_ad_rgb'); "
+        "import numpy as np; s = mi.load_dict(mi.cornell_box()); "
+        "assert np.isfinite(np.asarray(mi.render(s, spp=2))).all()"
+    )
+    try:
+        done = subprocess.run([sys.executable, "-c", code], capture_output=True, timeout=timeout, check=False)
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+    return done.returncode == 0
+
+
+def _vs_mitsuba_records(repeat: int, quick: bool, llvm: bool) -> list[Record]:
+    """Time to the same RMSE, Patina against Mitsuba 3, same scene and thread count.
+
+    Scene: the rough gold sphere under the studio map (`conductor-sphere.json`, direct
+    lighting with MIS on both sides), 128 x 96 (quick: 32 x 24). Method:
+
+    1. Reference: Mitsuba at a high spp (llvm_ad_rgb if it works here, it is faster; else
+       scalar_rgb), rendered as two halves with different seeds: their mean is the
+       reference and a quarter of their mean squared difference its own MSE, subtracted
+       from every measured MSE.
+    2. Each renderer at two spp levels: median render time over `repeat` runs, and the MSE
+       against the reference; c^2 = mean of spp * MSE (relative to the image mean), since
+       RMSE = c / sqrt(spp); time = t0 + per_spp * spp through the two levels.
+    3. The spp each needs for a relative RMSE of TARGET_RMSE (c^2 / target^2), and the time
+       that takes; ratio = Mitsuba's time / Patina's time, value = Patina's time.
+
+    Patina's GGX uses the height-correlated Smith term and Mitsuba's the separable one
+    (0.2 % brighter image mean on this scene, tests/python/render/test_against_mitsuba.py): that
+    bias counts as Patina's error, but its square is under 0.1 % of the MSE at the levels
+    measured.
+    """
+    import mitsuba  # noqa: F401  (ImportError: no records)
+
+    threads = os.cpu_count() or 1
+    w, h, levels, ref_spp = (32, 24, [4, 16], 1024) if quick else (128, 96, [32, 128], 8192)
+    scene = with_overrides(load_scene(_scene_path("conductor-sphere")), width=w, height=h, seed=0)
+    prep = PreparedScene(scene)
+
+    ref_render = _mitsuba_renderer(scene, "llvm_ad_rgb" if llvm else "scalar_rgb", threads)
+    a, b = ref_render(ref_spp // 2, seed=1001), ref_render(ref_spp // 2, seed=1002)
+    reference, reference_mse = (a + b) / 2, float(((a - b) ** 2).mean()) / 4
+
+    patina = _convergence(lambda n: _render(prep, scene, 0, threads, n), levels, reference, reference_mse, repeat)
+    variants = ["scalar_rgb"] + (["llvm_ad_rgb"] if llvm else [])
+    records = []
+    for variant in variants:
+        other = _convergence(_mitsuba_renderer(scene, variant, threads), levels, reference, reference_mse, repeat)
+        tp, tm = patina.seconds_for(TARGET_RMSE), other.seconds_for(TARGET_RMSE)
+        name = "render.vs_mitsuba" + ("_llvm" if variant == "llvm_ad_rgb" else "")
+        records.append(
+            Record(
+                name,
+                f"Patina, conductor-sphere {w}x{h}, {threads} threads: {patina.spp_for(TARGET_RMSE):.0f} spp "
+                f"for RMSE {TARGET_RMSE:g} x mean ({patina.per_spp * 1e3:.2f} ms/spp)",
+                f"Mitsuba 3 {variant}, same scene and threads: {other.spp_for(TARGET_RMSE):.0f} spp "
+                f"({other.per_spp * 1e3:.2f} ms/spp)",
+                tm / tp,
+                tp,
+                "s",
+            )
+        )
+    return records
+
+
+def bench_render(repeat: int, quick: bool, mitsuba: bool = True) -> list[Record]:
+    """The `render` group: SIMD width records, the thread record, then the Mitsuba comparison
+    (skipped without Mitsuba, or with mitsuba=False; `_llvm` only where llvm_ad_rgb works)."""
+    scene, prep, label = _preview(quick)
+    records = _simd_records(scene, prep, label, repeat)
+    records.append(_thread_record(scene, prep, label, repeat))
+    if mitsuba:
+        try:
+            import mitsuba as _  # noqa: F401
+        except ImportError:
+            print("patina bench: Mitsuba 3 is not installed: no render.vs_mitsuba records", file=sys.stderr)
+            return records
+        llvm = llvm_variant_works()
+        if not llvm:
+            print("patina bench: Mitsuba's llvm_ad_rgb does not run here: no render.vs_mitsuba_llvm", file=sys.stderr)
+        records += _vs_mitsuba_records(repeat, quick, llvm)
+    return records

@@ -1,0 +1,71 @@
+"""The `patina` command.
+
+    patina info FILE [--json]
+    patina convert IN OUT.ptab
+    patina eval FILE --wi THETA PHI --wo THETA PHI [--json] [--width 1|4|8]
+    patina validate FILE [--json]          (exit 0 clean, 1 problems found, 2 unreadable)
+    patina fit FILE [--model ggx+lambert] [--lobes K] [--loss l2cos|log] [--out fit.json]
+               [--coat [--coat-eta 1.5 | --fit-coat-eta]] [--per-channel] [--anisotropic]
+    patina fit FILE --compare ggx+lambert beckmann+lambert lafortune+lambert:2 ward-aniso+lambert
+    patina plot FILE [--fit fit.json] --out DIR [--no-3d] [--3d-log] [--3d-no-cos]
+    patina slices FILE --out PNG
+    patina bench [--only GROUP] [--json FILE]
+    patina render SCENE.json [--out out.exr] [--spp N] [--integrator direct|path] [--threads T] [--seed S]
+    patina luminaire info FILE [--json] | patina luminaire plot FILE --out PNG
+    patina preview MATERIAL [--env ENV] [--shape sphere|ball|panel|MESH] [--spp N] [--out out.exr]
+
+Bad input ends with one line naming the file, the place and the problem, and exit status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from patina.cli.bench import add_bench_command
+from patina.cli.common import UsageError
+from patina.cli.fit import add_fit_command
+from patina.cli.luminaire import add_luminaire_commands
+from patina.cli.plot import add_plot_command
+from patina.cli.render import add_render_commands
+from patina.cli.table import add_table_commands
+from patina.errors import FormatError
+from patina.native import _core
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="patina", description="Measured-material appearance workbench.")
+    p.add_argument("--version", action="store_true", help="print the version and exit")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+    add_table_commands(sub)
+    add_fit_command(sub)
+    add_plot_command(sub)
+    add_bench_command(sub)
+    add_render_commands(sub)
+    add_luminaire_commands(sub)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.version:
+        print(f"patina {_core.__version__}")
+        return 0
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 2
+    try:
+        return int(args.func(args) or 0)
+    except UsageError as e:
+        print(f"patina {e}", file=sys.stderr)
+        return 2
+    except FormatError as e:
+        print(f"patina: error: {e}", file=sys.stderr)
+        return 2
+    except (ValueError, OSError) as e:
+        print(f"patina: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("patina: interrupted", file=sys.stderr)
+        return 130

@@ -1,0 +1,7 @@
+"""`python -m patina.cli`: the `patina` command."""
+
+import sys
+
+from patina.cli import main
+
+sys.exit(main())

@@ -1,0 +1,22 @@
+"""`patina bench`: kernel and renderer speed as ratios against baselines in the same run."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from patina.bench import run_bench
+
+
+def cmd_bench(args: argparse.Namespace) -> int:
+
+    return run_bench(only=args.only, json_path=args.json, repeat=args.repeat, quick=args.quick)
+
+
+def add_bench_command(sub: Any) -> None:
+    s = sub.add_parser("bench", help="measure kernel speed (ratios against baselines in the same run)")
+    s.add_argument("--only", default=None, help="a group: math, brdf, fit, trace, render, lights (default: all)")
+    s.add_argument("--json", default=None, metavar="FILE", help="also write the records as JSON")
+    s.add_argument("--repeat", type=int, default=7, help="repetitions; medians are reported")
+    s.add_argument("--quick", action="store_true", help="small inputs, for a smoke test")
+    s.set_defaults(func=cmd_bench)

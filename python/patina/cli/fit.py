@@ -1,0 +1,99 @@
+"""`patina fit`: one model, or several compared and ranked."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from patina.cli.common import UsageError, print_json
+from patina.fitting import compare, fit, write_fit
+from patina.table import load_brdf
+
+
+def _model_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The fit options --compare shares with a single fit."""
+    if (args.coat_eta is not None or args.fit_coat_eta) and not args.coat:
+        raise UsageError("fit: --coat-eta and --fit-coat-eta need --coat")
+    if args.coat_eta is not None and args.fit_coat_eta:
+        raise UsageError("fit: give --coat-eta (a held index) or --fit-coat-eta (a fitted one), not both")
+    options: dict[str, Any] = {"loss": args.loss, "coat": args.coat, "per_channel": args.per_channel}
+    if args.coat_eta is not None:
+        options["coat_eta"] = args.coat_eta
+    if args.fit_coat_eta:
+        options["fit_coat_eta"] = True
+    if args.anisotropic:
+        options["anisotropic"] = True
+    return options
+
+
+def cmd_fit(args: argparse.Namespace) -> int:
+
+    if args.starts < 1:
+        raise UsageError("fit: --starts must be at least 1")
+    brdf = load_brdf(args.file)
+    if args.compare:
+        results = compare(brdf, args.compare, starts=args.starts, seed=args.seed, **_model_options(args))
+        if args.json:
+            print_json([r.as_json() for r in results])
+        else:
+            print(f"{len(results)} models fitted to {args.file} (loss {args.loss}), best first:")
+            print(f"  {'model':<24} {'loss':>10} {'rmse':>10} {'rel.err':>8} {'dE00':>6} {'dE00 95%':>8} {'time s':>7}")
+            for r in results:
+                m = r.metrics
+                print(
+                    f"  {r.model:<24} {m['loss_all_samples']:10.4g} {m['rmse']:10.4g} "
+                    f"{m['relative_error_median']:8.3g} {m['ciede2000_mean']:6.2f} {m['ciede2000_p95']:8.2f} "
+                    f"{r.seconds:7.1f}"
+                )
+                print("      " + ", ".join(f"{k} {v:.4g}" for k, v in r.parameters.items()))
+                if not r.converged:
+                    print(f"      not converged: {r.message}")
+        if args.out:
+            write_fit(results[0], args.out)
+        return 0 if all(r.converged for r in results) else 1
+    result = fit(brdf, model=args.model, lobes=args.lobes, starts=args.starts, seed=args.seed, **_model_options(args))
+    if args.out:
+        write_fit(result, args.out)
+    if args.json:
+        print_json(result.as_json())
+    else:
+        print(
+            f"{result.model} fitted to {args.file} ({result.samples} samples, loss {result.loss}) "
+            f"in {result.seconds:.2f} s: {result.message}"
+        )
+        for name, value in result.parameters.items():
+            print(f"  {name:<10} {value:.6g}" + ("   (at its bound)" if name in result.at_bounds else ""))
+        m = result.metrics
+        print(
+            f"  loss {m['loss_all_samples']:.4g}  rmse {m['rmse']:.4g}  relative error median "
+            f"{m['relative_error_median']:.3g}, 95% {m['relative_error_p95']:.3g}  "
+            f"CIEDE2000 mean {m['ciede2000_mean']:.2f}, 95% {m['ciede2000_p95']:.2f}"
+        )
+        if args.out:
+            print(f"wrote {args.out}")
+    return 0 if result.converged else 1
+
+
+def add_fit_command(sub: Any) -> None:
+    s = sub.add_parser("fit", help="fit an analytic model to a table (nlopt)")
+    s.add_argument("file")
+    s.add_argument(
+        "--model",
+        default="ggx+lambert",
+        help="ggx, beckmann, blinnphong, ward, ashikhmin, ward-aniso, ashikhmin-aniso or lafortune + lambert",
+    )
+    s.add_argument("--lobes", type=int, default=1, help="specular lobes, 1 to 3")
+    s.add_argument("--coat", action="store_true", help="add a clear coat (roughness; index of refraction held)")
+    s.add_argument("--coat-eta", type=float, default=None, metavar="ETA", help="the coat's held index (default 1.5)")
+    s.add_argument("--fit-coat-eta", action="store_true", help="fit the coat's index too (weakly identified)")
+    s.add_argument(
+        "--anisotropic", action="store_true", help="lafortune: Cx and Cy apart (default: on anisotropic tables)"
+    )
+    s.add_argument("--per-channel", action="store_true", help="a lobe shape per colour channel (default: shared)")
+    s.add_argument("--compare", nargs="+", metavar="MODEL", help="fit several models (MODEL or MODEL:LOBES), rank them")
+    s.add_argument("--loss", default="l2cos", choices=("l2cos", "log"))
+    s.add_argument("--starts", type=int, default=4, help="local optimisations from this many starts")
+    s.add_argument("--seed", type=int, default=0)
+    s.add_argument("--out", default=None, metavar="FIT_JSON", help="write the result as JSON")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_fit)

@@ -1,0 +1,63 @@
+"""A render's outputs: the float EXR (beauty, AOVs, metadata), the tone-mapped PNG, and the
+exposure that tone-maps it; each file written to a temporary file and renamed."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from patina.colour_constants import luminance
+from patina.native import _core
+from patina.render.images import write_exr, write_png
+from patina.render.run import RenderResult
+from patina.scene.types import Scene
+from patina.scene.writing import scene_to_json
+
+
+def auto_exposure(rgb: np.ndarray) -> float:
+    """Stops that bring the image's log-average luminance to 0.18 (Reinhard's key value)."""
+    y = luminance(rgb)
+    y = y[np.isfinite(y) & (y > 0)]
+    if y.size == 0:
+        return 0.0
+    return float(np.log2(0.18 / np.exp(np.mean(np.log(y)))))
+
+
+def metadata(scene: Scene, result: RenderResult) -> dict[str, str | float | int]:
+    return {
+        "patina:version": _core.__version__,
+        "patina:scene": json.dumps(scene_to_json(scene), separators=(",", ":")),
+        "patina:scene_file": scene.path,
+        "patina:spp": int(result.spp),
+        "patina:samples_min": int(result.samples.min()) if result.samples.size else 0,
+        "patina:integrator": scene.render.integrator,
+        "patina:seed": int(scene.render.seed),
+        "patina:seconds": float(result.seconds),
+        "patina:rays": int(result.rays),
+        "patina:simd_width": int(result.simd_width),
+        "patina:threads": int(result.threads),
+        "patina:complete": int(result.complete),
+    }
+
+
+def write_outputs(
+    scene: Scene,
+    result: RenderResult,
+    exr_path: str,
+    png_path: str | None,
+    exposure: float = 0.0,
+    curve: str = "filmic",
+) -> None:
+    """The EXR (beauty and AOVs, metadata) and the tone-mapped PNG, each written atomically."""
+    depth = np.where(np.isfinite(result.depth), result.depth, 0.0).astype(np.float32)
+    layers = {
+        "beauty": result.rgb,
+        "albedo": result.albedo,
+        "normal": result.normal,
+        "depth": depth,
+        "illuminance": result.illuminance,
+    }
+    write_exr(exr_path, layers, metadata(scene, result))
+    if png_path:
+        write_png(png_path, result.rgb, exposure_stops=exposure, curve=curve)

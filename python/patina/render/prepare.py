@@ -1,0 +1,297 @@
+"""A parsed scene made into the C++ renderer's input (`_core.RenderScene`).
+
+Every shape's mesh (built in or read with trimesh) placed by its transform and concatenated
+into one kd-tree; area lights as emitting triangles the rays hit; materials through
+`patina.render.materials`; the environment map read with OpenImageIO.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from patina.colour_constants import LUMINOUS_EFFICACY, photometric_to_rgb
+from patina.geometry import shapes
+from patina.native import _core
+from patina.photometry.luminaire import load_luminaire
+from patina.render.images import read_image
+from patina.render.materials import core_material
+from patina.scene.types import (
+    BallShape,
+    ConstantEnvironment,
+    DiskLight,
+    Light,
+    LuminaireLight,
+    MapEnvironment,
+    MeshLight,
+    MeshShape,
+    PanelShape,
+    PlaneShape,
+    PointLight,
+    QuadLight,
+    Scene,
+    Shape,
+    SphereLight,
+    SphereShape,
+    SpotLight,
+    SunLight,
+)
+
+
+@dataclass
+class _Geometry:
+    vertices: list[np.ndarray] = field(default_factory=list)
+    indices: list[np.ndarray] = field(default_factory=list)
+    normals: list[np.ndarray] = field(default_factory=list)
+    tangents: list[np.ndarray] = field(default_factory=list)
+    materials: list[np.ndarray] = field(default_factory=list)
+    count: int = 0
+    triangles: int = 0
+
+    def add(self, v: np.ndarray, f: np.ndarray, n: np.ndarray, t: np.ndarray, material: int) -> list[int]:
+        """Appends a mesh; returns the global ids of its triangles."""
+        ids = list(range(self.triangles, self.triangles + len(f)))
+        self.triangles += len(f)
+        self.vertices.append(v.astype(np.float32))
+        self.indices.append(f.astype(np.int64) + self.count)
+        self.normals.append(n.astype(np.float32))
+        self.tangents.append(t.astype(np.float32))
+        self.materials.append(np.full(len(f), material, np.int32))
+        self.count += len(v)
+        return ids
+
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        if not self.vertices:
+            return (
+                np.zeros((0, 3), np.float32),
+                np.zeros((0, 3), np.int32),
+                np.zeros((0, 3), np.float32),
+                np.zeros((0, 3), np.float32),
+                np.zeros(0, np.int32),
+            )
+        c = lambda parts, dt: np.ascontiguousarray(np.concatenate(parts), dtype=dt)  # noqa: E731
+        return (
+            c(self.vertices, np.float32),
+            c(self.indices, np.int32),
+            c(self.normals, np.float32),
+            c(self.tangents, np.float32),
+            c(self.materials, np.int32),
+        )
+
+
+def shape_mesh(shape: Shape) -> Any:
+    """The shape's mesh in its own frame (a `patina.geometry.shapes.ShapeMesh`)."""
+    if isinstance(shape, SphereShape):
+        return shapes.sphere(shape.radius)
+    if isinstance(shape, PlaneShape):
+        return shapes.plane(shape.size)
+    if isinstance(shape, BallShape):
+        return shapes.preview_ball()
+    if isinstance(shape, PanelShape):
+        return shapes.car_panel(shape.size)
+    if isinstance(shape, MeshShape):
+        return shapes.from_file(shape.file)
+    raise ValueError(f"unknown shape {type(shape).__name__}")
+
+
+def _unit_rows(a: np.ndarray) -> np.ndarray:
+    n = np.linalg.norm(a, axis=1, keepdims=True)
+    return np.divide(a, n, out=np.zeros_like(a), where=n > 0)
+
+
+def _place(mesh: Any, m: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Vertices, triangles, normals and tangents moved by the 4x4 object-to-world matrix m.
+    Normals go by the inverse transpose; a mirroring matrix also flips the winding, so the
+    triangles' geometric normals keep pointing outwards."""
+    lin, offset = m[:3, :3], m[:3, 3]
+    v = np.asarray(mesh.vertices, np.float64) @ lin.T + offset
+    n = _unit_rows(np.asarray(mesh.normals, np.float64) @ np.linalg.inv(lin))
+    t = _unit_rows(np.asarray(mesh.tangents, np.float64) @ lin.T)
+    f = np.asarray(mesh.indices, np.int64)
+    if np.linalg.det(lin) < 0:
+        f = f[:, [0, 2, 1]]
+    return v, f, n, t
+
+
+def _quad_triangles(light: QuadLight) -> tuple[np.ndarray, ...]:
+    c, u, v = (np.asarray(x, np.float64) for x in (light.center, light.u, light.v))
+    verts = np.array([c - u - v, c + u - v, c + u + v, c - u + v])
+    faces = np.array([[0, 1, 2], [0, 2, 3]])  # both wound so that cross(e1, e2) is along u x v
+    normal = np.tile(light.normal, (4, 1))
+    tangent = np.tile(u / np.linalg.norm(u), (4, 1))
+    return verts, faces, normal, tangent
+
+
+def _core_light(light: Light) -> dict[str, Any]:
+    """A scene light as a `RenderScene.add_light` dictionary (triangle ids added later)."""
+    if isinstance(light, PointLight):
+        return {"kind": "point", "position": list(light.position), "power": list(light.intensity), "two_sided": False}
+    if isinstance(light, SpotLight):
+        return {
+            "kind": "spot",
+            "position": list(light.position),
+            "direction": list(light.direction),
+            "power": list(light.intensity),
+            "cos_inner": math.cos(math.radians(light.inner_angle)),
+            "cos_outer": math.cos(math.radians(light.outer_angle)),
+            "two_sided": False,
+        }
+    if isinstance(light, SunLight):
+        half = math.radians(light.angular_diameter / 2)
+        # uniform radiance L over a cone of half-angle d gives irradiance L pi sin^2 d facing it
+        radiance = [e / (math.pi * math.sin(half) ** 2) for e in light.irradiance]
+        return {
+            "kind": "sun",
+            "direction": list(light.direction),
+            "half_angle": half,
+            "power": radiance,
+            "two_sided": False,
+        }
+    if isinstance(light, QuadLight):
+        return {
+            "kind": "quad",
+            "position": list(light.center),
+            "u": list(light.u),
+            "v": list(light.v),
+            "power": list(light.radiance),
+            "two_sided": light.two_sided,
+        }
+    if isinstance(light, LuminaireLight):
+        return _luminaire(light)
+    if isinstance(light, DiskLight | SphereLight | MeshLight):
+        two_sided = bool(getattr(light, "two_sided", False))
+        return {"kind": "triangles", "power": list(light.radiance), "two_sided": two_sided}
+    raise ValueError(f"light type '{light.type}' is not rendered yet")
+
+
+def luminaire_axes(aim: Any, rotation_deg: float, kind: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The luminaire's x, y, z axes in the world. Type C: the nadir (-z) along `aim`; type B:
+    the beam axis (+z) along `aim`. x is the world's +x (or +z, when aim is along x) made
+    perpendicular to the axis, then turned by `rotation` degrees about it; y = z x x."""
+    a = np.asarray(aim, np.float64) / np.linalg.norm(aim)
+    z = -a if kind == "C" else a
+    ref = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 0.0, 1.0])
+    x = ref - (ref @ z) * z
+    x /= np.linalg.norm(x)
+    y = np.cross(z, x)
+    t = math.radians(rotation_deg)
+    x, y = math.cos(t) * x + math.sin(t) * y, -math.sin(t) * x + math.cos(t) * y
+    return x, y, z
+
+
+def _luminaire(light: LuminaireLight) -> dict[str, Any]:
+    lum = load_luminaire(light.file)
+    kind, h, v, candela = lum.grid()
+    x, y, z = luminaire_axes(light.aim, light.rotation, kind)
+    # an IES TILT table: the lamp's output against its tilt from the nadir-down position the
+    # file was measured in, here the angle between `aim` and straight down
+    tilt = lum.photometry.tilt
+    factor = 1.0
+    if tilt is not None and len(tilt.angles_deg):
+        aim = np.asarray(light.aim, np.float64) / np.linalg.norm(light.aim)
+        angle = math.degrees(math.acos(max(-1.0, min(1.0, -aim[1]))))
+        factor = float(np.interp(angle, tilt.angles_deg, tilt.factors))
+    # candela -> W/sr of Patina's radiometric RGB (683 lm/W of luminance), coloured
+    per_cd = list(photometric_to_rgb(light.multiplier * factor, light.color))
+    return {
+        "kind": "goniometric",
+        "position": list(light.position),
+        "axis_x": x.tolist(),
+        "axis_y": y.tolist(),
+        "axis_z": z.tolist(),
+        "type_b": kind == "B",
+        "candela": _core.Grid2(h, v, np.ascontiguousarray(candela, np.float32)),
+        "power": per_cd,
+        "power_estimate": lum.flux() * light.multiplier * factor / LUMINOUS_EFFICACY,
+        "two_sided": False,
+    }
+
+
+DISK_SEGMENTS = 128
+
+
+def _disk_triangles(light: DiskLight) -> tuple[np.ndarray, ...]:
+    """A fan of DISK_SEGMENTS triangles, its radius raised so its area is exactly pi r^2."""
+    n = np.asarray(light.normal, np.float64)
+    t = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
+    t /= np.linalg.norm(t)
+    b = np.cross(n, t)
+    k = DISK_SEGMENTS
+    r = light.radius * math.sqrt(2 * math.pi / (k * math.sin(2 * math.pi / k)))
+    phi = 2 * math.pi * np.arange(k) / k
+    rim = np.asarray(light.center) + r * (np.cos(phi)[:, None] * t + np.sin(phi)[:, None] * b)
+    verts = np.vstack([np.asarray(light.center, np.float64), rim])
+    faces = np.array([[0, 1 + i, 1 + (i + 1) % k] for i in range(k)])  # counter-clockwise about n
+    return verts, faces, np.tile(n, (k + 1, 1)), np.tile(t, (k + 1, 1))
+
+
+def _emitter_mesh(light: Light) -> tuple[np.ndarray, ...] | None:
+    """The triangles of an area light (vertices, faces, normals, tangents), None for the others."""
+    if isinstance(light, QuadLight):
+        return _quad_triangles(light)
+    if isinstance(light, DiskLight):
+        return _disk_triangles(light)
+    if isinstance(light, SphereLight):
+        m = np.eye(4)
+        m[:3, 3] = light.center
+        return _place(shapes.sphere(light.radius), m)
+    if isinstance(light, MeshLight):
+        return _place(shapes.from_file(light.file), light.transform)
+    return None
+
+
+def camera_dict(scene: Scene) -> dict[str, Any]:
+    cam = scene.camera
+    right, up, forward = cam.basis()
+    return {
+        "position": [float(x) for x in cam.position],
+        "forward": forward.tolist(),
+        "right": right.tolist(),
+        "up": up.tolist(),
+        "tan_half_fov": math.tan(math.radians(cam.fov) / 2),
+        "width": int(cam.width),
+        "height": int(cam.height),
+        "aperture_radius": float(cam.aperture_radius),
+        "focus_distance": float(cam.focus_distance),
+    }
+
+
+class PreparedScene:
+    """A scene loaded into the renderer: tree built, tables and environment read."""
+
+    def __init__(self, scene: Scene) -> None:
+        self.scene = scene
+        geometry = _Geometry()
+        names = list(scene.materials)
+        cache: dict[str, Any] = {}
+        core_materials = [core_material(scene.materials[name], cache) for name in names]
+        for shape in scene.shapes:
+            v, f, n, t = _place(shape_mesh(shape), shape.transform)
+            geometry.add(v, f, n, t, names.index(shape.material))
+        lights: list[dict[str, Any]] = []
+        for light in scene.lights:
+            entry = _core_light(light)
+            mesh = _emitter_mesh(light)
+            if mesh is not None:  # area lights are triangles the rays hit, and sampled as such
+                core_materials.append({"kind": "emitter", "light": len(lights), "two_sided": entry["two_sided"]})
+                ids = geometry.add(*mesh, len(core_materials) - 1)
+                if entry["kind"] == "triangles":
+                    entry["triangles"] = ids
+            lights.append(entry)
+        vertices, indices, normals, tangents, tri_material = geometry.arrays()
+        self.triangles = len(indices)
+        self.accel = _core.Accel(vertices, indices)
+        self.core = _core.RenderScene(self.accel, indices, normals, tangents, tri_material, camera_dict(scene))
+        for m in core_materials:
+            self.core.add_material(m)
+        for light in lights:
+            self.core.add_light(light)
+        env = scene.environment
+        if isinstance(env, MapEnvironment):
+            rgb = np.ascontiguousarray(np.maximum(read_image(env.file)[..., :3], 0.0), dtype=np.float32)
+            self.core.set_environment(rgb, [], float(env.intensity), math.radians(env.rotation))
+        elif isinstance(env, ConstantEnvironment):
+            self.core.set_environment(None, [float(x) for x in env.radiance], 1.0, 0.0)

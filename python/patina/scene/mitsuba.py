@@ -1,0 +1,280 @@
+"""A parsed Patina scene as a Mitsuba 3 scene dictionary, for the cross-check renders.
+
+    import mitsuba as mi
+    mi.set_variant("scalar_rgb")
+    image = mi.render(mi.load_dict(to_mitsuba(scene, meshes)))
+
+Mitsuba 3 (PyPI `mitsuba`, the `test` extra) is the independent reference Patina's
+renders are compared against, so this converter must mean exactly what docs/scene.md
+says: the pinhole camera is Mitsuba's `perspective` with `fov_axis: "y"` (the same ray
+through every film position), the lat-long map is Mitsuba's `envmap` (the same
+convention) turned by the rotation as its `to_world`, a quad light is a `rectangle` whose
+`to_world` takes [-1, 1]^2 to center + s u + t v, with a black BSDF. Shapes are Mitsuba
+meshes built from the arrays given for them (vertex normals included); spheres and
+planes without arrays become Mitsuba's analytic `sphere` and `rectangle`. Materials
+Mitsuba has no equivalent for (tabulated, fitted, car paint) raise
+`MitsubaConversionError` naming the material: a cross-check needs the same material on
+both sides.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from patina.scene.types import (
+    Camera,
+    ConductorMaterial,
+    ConstantEnvironment,
+    DielectricMaterial,
+    LambertMaterial,
+    MapEnvironment,
+    Material,
+    PlaneShape,
+    PointLight,
+    QuadLight,
+    Scene,
+    SphereShape,
+    rotation_y,
+)
+
+VARIANT = "scalar_rgb"
+MeshArrays = Any  # (vertices (V, 3), indices (T, 3), normals (V, 3) or None), or an object with those attributes
+
+
+class MitsubaConversionError(ValueError):
+    """Part of the scene has no Mitsuba 3 equivalent here: `where` (a key path) and `problem`."""
+
+    def __init__(self, where: str, problem: str) -> None:
+        self.where = where
+        self.problem = problem
+        super().__init__(f"{where}: {problem}")
+
+
+def _mi(variant: str) -> Any:
+    import mitsuba as mi
+
+    if mi.variant() != variant:
+        mi.set_variant(variant)
+    return mi
+
+
+def _rgb(value: Any) -> dict[str, Any]:
+    return {"type": "rgb", "value": [float(x) for x in value]}
+
+
+def _matrix(mi: Any, m: np.ndarray) -> Any:
+    return mi.ScalarTransform4f(np.asarray(m, np.float64).tolist())
+
+
+# --- sensor and integrator ------------------------------------------------------------------
+
+
+def _sensor(mi: Any, camera: Camera, spp: int, seed: int) -> dict[str, Any]:
+    sensor: dict[str, Any] = {
+        "type": "perspective" if camera.type == "pinhole" else "thinlens",
+        "fov": camera.fov,
+        "fov_axis": "y",
+        "near_clip": 1e-4,
+        "to_world": mi.ScalarTransform4f().look_at(
+            origin=list(camera.position), target=list(camera.look_at), up=list(camera.up)
+        ),
+        "film": {
+            "type": "hdrfilm",
+            "width": camera.width,
+            "height": camera.height,
+            "rfilter": {"type": "box"},  # each sample counts in its own pixel only, as in Patina
+            "pixel_format": "rgb",
+            "component_format": "float32",
+        },
+        "sampler": {"type": "independent", "sample_count": spp, "seed": seed % (1 << 32)},
+    }
+    if camera.type == "thinlens":
+        sensor["aperture_radius"] = camera.aperture_radius
+        sensor["focus_distance"] = camera.focus_distance
+    return sensor
+
+
+def _integrator(scene: Scene) -> dict[str, Any]:
+    if scene.render.integrator == "direct":
+        return {"type": "direct"}
+    return {"type": "path", "max_depth": scene.render.max_depth, "hide_emitters": False}
+
+
+# --- materials ------------------------------------------------------------------------------
+
+
+def bsdf(material: Material, where: str = "material") -> dict[str, Any]:
+    """The Mitsuba BSDF dictionary of a lambert, conductor or dielectric material."""
+    if isinstance(material, LambertMaterial):
+        out: dict[str, Any] = {"type": "diffuse", "reflectance": _rgb(material.albedo)}
+    elif isinstance(material, ConductorMaterial):
+        out = {"type": "conductor", "eta": _rgb(material.eta), "k": _rgb(material.k)}
+        out["specular_reflectance"] = _rgb(material.tint)
+        ax, ay = material.roughness
+        if ax > 0 or ay > 0:
+            out.update(type="roughconductor", distribution="ggx", alpha_u=ax, alpha_v=ay)
+    elif isinstance(material, DielectricMaterial):
+        out = {"type": "dielectric", "int_ior": material.eta, "ext_ior": 1.0}
+        if material.roughness > 0:
+            out.update(type="roughdielectric", distribution="ggx", alpha=material.roughness)
+        return out  # a dielectric interface is two-sided by nature
+    else:
+        raise MitsubaConversionError(
+            where,
+            f"a {material.type} material has no Mitsuba 3 equivalent here (supported: lambert, conductor, dielectric)",
+        )
+    if material.two_sided:
+        return {"type": "twosided", "bsdf": out}
+    return out
+
+
+# --- shapes ---------------------------------------------------------------------------------
+
+
+def _arrays(mesh: MeshArrays) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    if hasattr(mesh, "vertices"):
+        vertices, indices, normals = mesh.vertices, mesh.indices, getattr(mesh, "normals", None)
+    else:
+        vertices, indices, normals = mesh
+    v = np.asarray(vertices, np.float64).reshape(-1, 3)
+    i = np.asarray(indices, np.int64).reshape(-1, 3)
+    n = None if normals is None else np.asarray(normals, np.float64).reshape(-1, 3)
+    if len(v) == 0 or len(i) == 0 or i.min() < 0 or i.max() >= len(v) or (n is not None and n.shape != v.shape):
+        raise ValueError("mesh arrays: need vertices (V, 3), indices (T, 3) in [0, V) and normals (V, 3) or None")
+    return v, i, n
+
+
+def mitsuba_mesh(mi: Any, name: str, mesh: MeshArrays, transform: np.ndarray, bsdf_object: Any) -> Any:
+    """A mi.Mesh of the arrays moved to world space (normals by the inverse transpose; a mirroring
+    transform reverses the winding so faces stay counter-clockwise seen from outside)."""
+    v, i, n = _arrays(mesh)
+    linear = transform[:3, :3]
+    world = v @ linear.T + transform[:3, 3]
+    if np.linalg.det(linear) < 0:
+        i = i[:, ::-1]
+    props = mi.Properties()
+    props["bsdf"] = bsdf_object
+    out = mi.Mesh(name, len(world), len(i), props=props, has_vertex_normals=n is not None)
+    params = mi.traverse(out)
+    params["vertex_positions"] = world.astype(np.float32).ravel()
+    params["faces"] = i.astype(np.uint32).ravel()
+    if n is not None:
+        normals = n @ np.linalg.inv(linear)
+        normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-30)
+        params["vertex_normals"] = normals.astype(np.float32).ravel()
+    params.update()
+    return out
+
+
+def _similarity_scale(m: np.ndarray) -> float | None:
+    """The uniform scale of a rotation-and-uniform-scale 3x3 matrix, None for any other."""
+    gram = m.T @ m
+    s2 = float(np.trace(gram)) / 3
+    if s2 > 0 and np.allclose(gram, s2 * np.eye(3), rtol=0, atol=1e-9 * s2) and np.linalg.det(m) > 0:
+        return math.sqrt(s2)
+    return None
+
+
+PLANE_TO_RECTANGLE = np.array([[0.5, 0, 0, 0], [0, 0, 1, 0], [0, -0.5, 0, 0], [0, 0, 0, 1]])  # times diag(w, d)
+
+
+def _analytic_shape(mi: Any, shape: Any, where: str, bsdf_object: Any) -> dict[str, Any]:
+    m = shape.transform
+    if isinstance(shape, SphereShape):
+        s = _similarity_scale(m[:3, :3])
+        if s is None:
+            raise MitsubaConversionError(where, "a sphere under a non-uniform scale or mirror needs a mesh")
+        return {"type": "sphere", "center": m[:3, 3].tolist(), "radius": shape.radius * s, "bsdf": bsdf_object}
+    if isinstance(shape, PlaneShape):
+        # Mitsuba's rectangle spans [-1, 1]^2 in xy with normal +z; ours spans the size in xz with normal +y
+        w, d = shape.size
+        local = PLANE_TO_RECTANGLE @ np.diag([w, d, 1.0, 1.0])
+        return {"type": "rectangle", "to_world": _matrix(mi, m @ local), "bsdf": bsdf_object}
+    raise MitsubaConversionError(where, f"a {shape.type} shape needs its mesh arrays (meshes[index])")
+
+
+# --- lights and environment -----------------------------------------------------------------
+
+
+def quad_to_world(light: QuadLight, flip: bool = False) -> np.ndarray:
+    """The matrix taking Mitsuba's rectangle ([-1, 1]^2 in xy, normal +z) onto the quad; `flip`
+    swaps u and v so the normal (and the emitting side) is reversed."""
+    u, v = np.asarray(light.u, np.float64), np.asarray(light.v, np.float64)
+    if flip:
+        u, v = v, u
+    m = np.eye(4)
+    m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = u, v, np.cross(u, v) / np.linalg.norm(np.cross(u, v)), light.center
+    return m
+
+
+def _lights(mi: Any, scene: Scene) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    black = {"type": "diffuse", "reflectance": _rgb((0.0, 0.0, 0.0))}
+    for index, light in enumerate(scene.lights):
+        where = f"lights[{index}]"
+        if isinstance(light, PointLight):
+            out[f"light_{index}"] = {
+                "type": "point",
+                "position": list(light.position),
+                "intensity": _rgb(light.intensity),
+            }
+        elif isinstance(light, QuadLight):
+            for side in (False, True) if light.two_sided else (False,):
+                out[f"light_{index}{'_back' if side else ''}"] = {
+                    "type": "rectangle",
+                    "to_world": _matrix(mi, quad_to_world(light, side)),
+                    "bsdf": black,
+                    "emitter": {"type": "area", "radiance": _rgb(light.radiance)},
+                }
+        else:
+            raise MitsubaConversionError(where, f"a {light.type} light has no Mitsuba 3 equivalent here")
+    env = scene.environment
+    if isinstance(env, ConstantEnvironment):
+        out["environment"] = {"type": "constant", "radiance": _rgb(env.radiance)}
+    elif isinstance(env, MapEnvironment):
+        rotation = np.eye(4)
+        rotation[:3, :3] = rotation_y(env.rotation)  # Mitsuba reads texel (u, v) in to_world^-1 of the direction
+        out["environment"] = {
+            "type": "envmap",
+            "filename": env.file,
+            "scale": env.intensity,
+            "to_world": _matrix(mi, rotation),
+        }
+    return out
+
+
+# --- the scene ------------------------------------------------------------------------------
+
+
+def to_mitsuba(scene: Scene, meshes: dict[int, MeshArrays] | None = None, variant: str = VARIANT) -> dict[str, Any]:
+    """The scene as a dictionary for `mi.load_dict` (sets the Mitsuba variant if another is active).
+
+    meshes: shape index -> that shape's arrays in its own coordinates (before its transform):
+    (vertices (V, 3), indices (T, 3), normals (V, 3) or None), or an object with those
+    attributes. Needed for ball, panel and mesh shapes; optional for spheres and planes.
+    """
+    mi = _mi(variant)
+    meshes = meshes or {}
+    out: dict[str, Any] = {
+        "type": "scene",
+        "integrator": _integrator(scene),
+        "sensor": _sensor(mi, scene.camera, scene.render.spp, scene.render.seed),
+    }
+    bsdfs: dict[str, Any] = {}
+    for index, shape in enumerate(scene.shapes):
+        name = shape.material
+        if name not in bsdfs:
+            bsdfs[name] = mi.load_dict(bsdf(scene.materials[name], f"materials.{name}"))
+        where = f"shapes[{index}]"
+        if index in meshes:
+            out[f"shape_{index}"] = mitsuba_mesh(mi, f"shape_{index}", meshes[index], shape.transform, bsdfs[name])
+        else:
+            out[f"shape_{index}"] = _analytic_shape(mi, shape, where, bsdfs[name])
+    out.update(_lights(mi, scene))
+    return out
+
+
+__all__ = ["MitsubaConversionError", "bsdf", "mitsuba_mesh", "quad_to_world", "to_mitsuba"]

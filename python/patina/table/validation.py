@@ -1,0 +1,330 @@
+"""`patina validate`: can this measured table be trusted?
+
+Checks, each with figures and the worst places (angles in degrees):
+- finite: every value finite (the readers already refuse NaN/inf, with the place);
+- negative: values below zero (physically impossible; measurement offsets);
+- axes: angle ranges within the parametrization's domain, how much of it they cover,
+  and the largest gap between knots;
+- coverage: missing measurements (the table's mask) and the largest run of them;
+- reciprocity: Helmholtz, f(wi, wo) = f(wo, wi), on random direction pairs;
+- albedo: directional albedo a(theta_i) = integral of f cos(theta_o) over the
+  hemisphere, per channel; above 1 (beyond a tolerance) the table creates energy;
+- spikes: grid values far above (or below) all their neighbours, typical of glitches.
+
+Every evaluation goes through the SIMD evaluator (Brdf.eval).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from patina.table.brdf import Brdf, angles_to_directions
+
+
+@dataclass
+class Tolerances:
+    """Thresholds that make a finding a problem."""
+
+    reciprocity_p95: float = 0.05  # relative difference at the 95th percentile
+    albedo_excess: float = 0.02  # albedo may exceed 1 by this much (quadrature and noise)
+    spike_factor: float = 5.0  # a value this many times above (or below) all its neighbours
+    negative_fraction: float = 0.0  # any negative value is a problem
+
+
+@dataclass
+class Report:
+    source: str
+    format: str
+    parametrization: str
+    checks: dict[str, dict[str, Any]] = field(default_factory=dict)
+    problems: list[str] = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        return not self.problems
+
+    def as_json(self) -> dict[str, Any]:
+        return {
+            "file": self.source,
+            "format": self.format,
+            "parametrization": self.parametrization,
+            "ok": self.ok,
+            "problems": self.problems,
+            "checks": self.checks,
+        }
+
+
+def _deg(x: Any) -> float:
+    return round(float(np.degrees(x)), 3)
+
+
+def _place(brdf: Brdf, index: tuple[int, ...]) -> dict[str, float]:
+    """Grid index -> {axis name: knot in degrees}."""
+    return {name: _deg(axis[i]) for name, axis, i in zip(brdf.axis_names, brdf.axes, index)}
+
+
+def check_finite(brdf: Brdf, report: Report) -> None:
+    bad = ~np.isfinite(brdf.values)
+    report.checks["finite"] = {"non_finite": int(bad.sum())}
+    if bad.any():
+        report.problems.append(f"{int(bad.sum())} non-finite values")
+
+
+def check_negative(brdf: Brdf, report: Report, tol: Tolerances) -> None:
+    values = brdf.values
+    negative = values < 0
+    count = int(negative.sum())
+    worst = []
+    if count:
+        flat = np.argsort(values, axis=None)[: min(count, 5)]
+        for f in flat:
+            idx = np.unravel_index(f, values.shape)
+            worst.append({**_place(brdf, idx[:-1]), "channel": int(idx[-1]), "value": float(values[idx])})
+    fraction = count / values.size
+    report.checks["negative"] = {"count": count, "fraction": fraction, "minimum": float(values.min()), "worst": worst}
+    if fraction > tol.negative_fraction:
+        report.problems.append(f"{count} negative values (minimum {values.min():.4g})")
+
+
+# Each parametrization's axes: their domain in radians and what they should span.
+_DOMAINS = {
+    "theta": (0.0, math.pi / 2),
+    "phi_d": (0.0, math.pi),
+    "phi_i": (0.0, 2 * math.pi),
+    "phi_o": (0.0, 2 * math.pi),
+}
+
+
+def check_axes(brdf: Brdf, report: Report) -> None:
+    axes = []
+    for name, knots in zip(brdf.axis_names, brdf.axes):
+        k = knots.astype(np.float64)
+        lo, hi = _DOMAINS["theta"] if name.startswith("theta") else _DOMAINS[name]
+        if name == "phi_d" and brdf.parametrization == "halfdiff" and "phi_mirror" in brdf.info()["symmetry"]:
+            hi = math.pi / 2
+        tol = 1e-4
+        outside = bool(k[0] < lo - tol or k[-1] > hi + tol)
+        span = (min(k[-1], hi) - max(k[0], lo)) / (hi - lo)
+        steps = np.diff(k)
+        entry = {
+            "name": name,
+            "knots": int(k.size),
+            "from_deg": _deg(k[0]),
+            "to_deg": _deg(k[-1]),
+            "domain_deg": [_deg(lo), _deg(hi)],
+            "covers": round(float(span), 4),
+            "largest_gap_deg": _deg(steps.max()),
+            "outside_domain": outside,
+        }
+        axes.append(entry)
+        if outside:
+            report.problems.append(
+                f"axis {name} spans {entry['from_deg']}..{entry['to_deg']} deg, outside {entry['domain_deg']}"
+            )
+    report.checks["axes"] = {"axes": axes}
+
+
+def check_coverage(brdf: Brdf, report: Report) -> None:
+    valid = brdf.valid
+    total = int(np.prod([a.size for a in brdf.axes]))
+    if valid is None:
+        report.checks["coverage"] = {"missing": 0, "fraction_missing": 0.0}
+        return
+    missing = valid == 0
+    count = int(missing.sum())
+    # the longest run of missing knots along the last axis, as a measure of the largest hole
+    runs = 0
+    flat = missing.reshape(-1, missing.shape[-1])
+    for row in flat:
+        if row.any():
+            padded = np.concatenate([[0], row.astype(np.int8), [0]])
+            d = np.diff(padded)
+            runs = max(runs, int((np.nonzero(d == -1)[0] - np.nonzero(d == 1)[0]).max()))
+    first = [_place(brdf, tuple(int(i) for i in idx)) for idx in np.argwhere(missing)[:5]]
+    report.checks["coverage"] = {
+        "missing": count,
+        "fraction_missing": count / total,
+        "longest_missing_run": runs,
+        "first_missing": first,
+    }
+    if count:
+        report.problems.append(f"{count} of {total} grid points are missing ({100 * count / total:.2f}%)")
+
+
+def _hemisphere(n: int, rng: np.random.Generator, max_theta: float) -> np.ndarray:
+    z = rng.uniform(math.cos(max_theta), 1.0, n)
+    phi = rng.uniform(0, 2 * math.pi, n)
+    r = np.sqrt(1 - z * z)
+    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1).astype(np.float32)
+
+
+def check_reciprocity(brdf: Brdf, report: Report, tol: Tolerances, samples: int = 40_000) -> None:
+    """Random pairs away from grazing (theta < 80 deg); relative difference per channel."""
+    rng = np.random.default_rng(7)
+    wi = _hemisphere(samples, rng, math.radians(80))
+    wo = _hemisphere(samples, rng, math.radians(80))
+    a = brdf.eval(wi, wo).astype(np.float64)
+    b = brdf.eval(wo, wi).astype(np.float64)
+    floor = max(1e-3 * float(np.median(np.abs(brdf.values))), 1e-12)
+    rel = np.abs(a - b) / np.maximum(0.5 * (np.abs(a) + np.abs(b)), floor)
+    worst_pair = np.argsort(rel.max(axis=1))[::-1][:5]
+    theta = np.degrees(np.arccos(np.clip(wi[:, 2], -1, 1)))
+    phi = np.degrees(np.arctan2(wi[:, 1], wi[:, 0]))
+    theta_o = np.degrees(np.arccos(np.clip(wo[:, 2], -1, 1)))
+    phi_o = np.degrees(np.arctan2(wo[:, 1], wo[:, 0]))
+    worst = [
+        {
+            "wi_deg": [round(float(theta[i]), 2), round(float(phi[i]), 2)],
+            "wo_deg": [round(float(theta_o[i]), 2), round(float(phi_o[i]), 2)],
+            "f_wi_wo": [float(v) for v in a[i]],
+            "f_wo_wi": [float(v) for v in b[i]],
+            "relative_difference": float(rel[i].max()),
+        }
+        for i in worst_pair
+    ]
+    p95 = float(np.percentile(rel, 95))
+    report.checks["reciprocity"] = {
+        "pairs": samples,
+        "median": float(np.median(rel)),
+        "p95": p95,
+        "max": float(rel.max()),
+        "worst": worst,
+    }
+    if p95 > tol.reciprocity_p95:
+        report.problems.append(
+            f"not reciprocal: f(wi, wo) and f(wo, wi) differ by {100 * p95:.1f}% at the 95th percentile"
+        )
+
+
+def directional_albedo(
+    brdf: Brdf, theta_i: np.ndarray, phi_i: float = 0.0, n_mu: int = 96, n_phi: int = 192
+) -> np.ndarray:
+    """a(theta_i) per channel: Gauss-Legendre in cos(theta_o) times uniform phi_o; (len(theta_i), channels)."""
+    x, w = np.polynomial.legendre.leggauss(n_mu)
+    mu = 0.5 * (x + 1.0)  # cos(theta_o) in (0, 1)
+    w_mu = 0.5 * w
+    phi = (np.arange(n_phi) + 0.5) * (2 * math.pi / n_phi)
+    m, p = np.meshgrid(mu, phi, indexing="ij")
+    weight = (w_mu[:, None] * (2 * math.pi / n_phi) * m).ravel()  # includes the cosine
+    wo = angles_to_directions(np.arccos(m.ravel()), p.ravel())
+    out = np.zeros((len(theta_i), brdf.channels))
+    for k, t in enumerate(theta_i):
+        wi = np.broadcast_to(angles_to_directions(t, phi_i), wo.shape)
+        f = brdf.eval(wi, wo).astype(np.float64)
+        out[k] = weight @ f
+    return out
+
+
+def check_albedo(brdf: Brdf, report: Report, tol: Tolerances) -> None:
+    theta_i = np.radians(np.arange(0.0, 86.0, 5.0))
+    phis = [0.0] if brdf.parametrization != "anisotropic" else [0.0, math.pi / 4, math.pi / 2, 3 * math.pi / 4]
+    rows = []
+    worst = 0.0
+    worst_at = None
+    for phi_i in phis:
+        albedo = directional_albedo(brdf, theta_i, phi_i)
+        for t, a in zip(theta_i, albedo):
+            rows.append({"theta_i_deg": _deg(t), "phi_i_deg": _deg(phi_i), "albedo": [round(float(v), 5) for v in a]})
+            if a.max() > worst:
+                worst, worst_at = float(a.max()), (t, phi_i)
+    report.checks["albedo"] = {"per_incidence": rows, "max": worst, "tolerance": tol.albedo_excess}
+    if worst > 1.0 + tol.albedo_excess and worst_at is not None:
+        report.problems.append(
+            f"directional albedo {worst:.3f} > 1 at theta_i = {_deg(worst_at[0])} deg: the table creates energy"
+        )
+
+
+def check_spikes(brdf: Brdf, report: Report, tol: Tolerances) -> None:
+    """Points more than spike_factor times above every neighbour (or below every one)."""
+    v = brdf.values.astype(np.float64)
+    valid = brdf.valid
+    measured = np.ones(v.shape[:-1], bool) if valid is None else valid.astype(bool)
+    dims = v.ndim - 1
+    hi = np.full(v.shape, -np.inf)
+    lo = np.full(v.shape, np.inf)
+    for a in range(dims):
+        for shift in (1, -1):
+            nb = np.roll(v, shift, axis=a)
+            ok = np.roll(measured, shift, axis=a)
+            edge = [slice(None)] * dims
+            edge[a] = slice(0, 1) if shift == 1 else slice(-1, None)
+            ok = ok.copy()
+            ok[tuple(edge)] = False  # no wrap-around neighbours
+            nb = np.where(ok[..., None], nb, np.nan)
+            hi = np.fmax(hi, nb)
+            lo = np.fmin(lo, nb)
+    scale = max(float(np.median(np.abs(v[measured]))) if measured.any() else 0.0, 1e-12)
+    with np.errstate(invalid="ignore"):
+        up = (v > tol.spike_factor * np.maximum(hi, 1e-3 * scale)) & np.isfinite(hi)
+        down = (v * tol.spike_factor < lo) & (lo > 1e-3 * scale) & np.isfinite(lo)
+    spikes = (up | down) & measured[..., None]
+    places = np.argwhere(spikes)
+    worst = []
+    for row in places[:8]:
+        idx = tuple(int(i) for i in row)
+        worst.append(
+            {
+                **_place(brdf, idx[:-1]),
+                "channel": idx[-1],
+                "value": float(v[idx]),
+                "neighbours": [float(lo[idx]), float(hi[idx])],
+            }
+        )
+    report.checks["spikes"] = {"count": len(places), "factor": tol.spike_factor, "first": worst}
+    if len(places):
+        report.problems.append(
+            f"{len(places)} isolated spikes or dips (more than {tol.spike_factor:g}x off every neighbour)"
+        )
+
+
+def validate(brdf: Brdf, tol: Tolerances | None = None) -> Report:
+    tol = tol or Tolerances()
+    report = Report(brdf.source, brdf.source_format, brdf.parametrization)
+    check_finite(brdf, report)
+    check_negative(brdf, report, tol)
+    check_axes(brdf, report)
+    check_coverage(brdf, report)
+    check_reciprocity(brdf, report, tol)
+    check_albedo(brdf, report, tol)
+    check_spikes(brdf, report, tol)
+    return report
+
+
+def format_report(report: Report) -> str:
+    c = report.checks
+    lines = [f"{report.source}  ({report.format}, {report.parametrization})"]
+
+    def row(name: str, ok: bool, text: str) -> None:
+        lines.append(f"  {'ok  ' if ok else 'FAIL'}  {name:<12} {text}")
+
+    row("finite", c["finite"]["non_finite"] == 0, f"{c['finite']['non_finite']} non-finite values")
+    neg = c["negative"]
+    row("negative", neg["count"] == 0, f"{neg['count']} negative values (minimum {neg['minimum']:.4g})")
+    for a in c["axes"]["axes"]:
+        row(
+            "axis",
+            not a["outside_domain"],
+            f"{a['name']:<8} {a['knots']:>4} knots {a['from_deg']}..{a['to_deg']} deg, covers "
+            f"{100 * a['covers']:.0f}% of {a['domain_deg']}, largest gap {a['largest_gap_deg']} deg",
+        )
+    cov = c["coverage"]
+    row("coverage", cov["missing"] == 0, f"{cov['missing']} missing points ({100 * cov['fraction_missing']:.2f}%)")
+    rec = c["reciprocity"]
+    row(
+        "reciprocity",
+        not any(p.startswith("not reciprocal") for p in report.problems),
+        f"relative |f(wi,wo) - f(wo,wi)|: median {rec['median']:.2e}, 95% {rec['p95']:.2e}, max {rec['max']:.2e}",
+    )
+    alb = c["albedo"]
+    row("albedo", alb["max"] <= 1 + alb["tolerance"], f"max directional albedo {alb['max']:.4f}")
+    for r in alb["per_incidence"][:: max(1, len(alb["per_incidence"]) // 6)]:
+        lines.append(f"          theta_i {r['theta_i_deg']:>5} deg: " + " ".join(f"{v:.4f}" for v in r["albedo"][:3]))
+    sp = c["spikes"]
+    row("spikes", sp["count"] == 0, f"{sp['count']} isolated spikes or dips")
+    lines.append("result: " + ("clean" if report.ok else f"{len(report.problems)} problem(s)"))
+    lines += [f"  - {p}" for p in report.problems]
+    return "\n".join(lines)

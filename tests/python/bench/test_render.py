@@ -1,0 +1,57 @@
+"""The `render` benchmark group: its records in quick mode, and the error-versus-samples fit
+behind render.vs_mitsuba recovering a known noise level."""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+
+import numpy as np
+import pytest
+
+from patina.bench import GROUPS, Record
+from patina.bench.render import _convergence, bench_render
+from patina.native import _core
+
+
+def test_quick_group_records():
+    pytest.importorskip("mitsuba")
+    records = bench_render(1, quick=True)
+    assert all(isinstance(r, Record) for r in records)
+    by_name = {r.name: r for r in records}
+    expected = {f"render.preview.w{w}" for w in (4, 8) if _core.width_supported(w)}
+    expected |= {"render.threads", "render.vs_mitsuba"}
+    assert expected <= set(by_name) <= expected | {"render.vs_mitsuba_llvm"}
+    for r in records:
+        assert math.isfinite(r.ratio) and r.ratio > 0, r
+        assert math.isfinite(r.value) and r.value > 0, r
+    threads = by_name["render.threads"]
+    assert threads.value == pytest.approx(threads.ratio / (os.cpu_count() or 1))
+    assert by_name["render.vs_mitsuba"].unit == "s"
+    assert GROUPS["render"].__name__ == "bench_render"
+
+
+def test_convergence_recovers_the_noise_level():
+    """A fake renderer whose pixels carry noise of standard deviation sigma / sqrt(spp): the fit
+    gives c^2 = (sigma / mean)^2, net of the reference's own noise, the spp for a target RMSE, and
+    the time per sample (1 ms here, slept)."""
+    rng = np.random.default_rng(7)
+    truth = rng.uniform(0.5, 1.5, (96, 128, 3))
+    sigma, ref_spp = 0.8, 4096
+
+    def noisy(spp: int) -> np.ndarray:
+        return truth + rng.normal(0, sigma / math.sqrt(spp), truth.shape)
+
+    def render_at(spp: int) -> np.ndarray:
+        time.sleep(1e-3 * spp)
+        return noisy(spp)
+
+    a, b = noisy(ref_spp // 2), noisy(ref_spp // 2)
+    reference, reference_mse = (a + b) / 2, float(((a - b) ** 2).mean()) / 4
+    fit = _convergence(render_at, [16, 64], reference, reference_mse, repeat=3)
+    expected = (sigma / truth.mean()) ** 2
+    assert fit.c2 == pytest.approx(expected, rel=0.03)
+    assert fit.spp_for(0.02) == pytest.approx(expected / 0.02**2, rel=0.03)
+    assert fit.per_spp == pytest.approx(1e-3, rel=0.25)
+    assert fit.seconds_for(0.02) >= fit.per_spp * fit.spp_for(0.02) > 0

@@ -1,0 +1,93 @@
+"""`patina illuminance`: direct illuminance on a sensor grid against I cos / d^2 and a disc's
+form factor, uniformity ratios, outputs, bad grids."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+
+import numpy as np
+import pytest
+
+from patina.cli import main
+from patina.errors import FormatError
+from patina.render import illuminance as il
+from patina.scene.reading import parse_scene
+from repo_paths import ROOT
+
+STREET = os.path.join(ROOT, "materials", "scenes", "street-luminaire.json")
+
+
+def scene(lights: list) -> object:
+    obj = {
+        "version": 1,
+        "camera": {"position": [0, 5, 5], "look_at": [0, 0, 0], "width": 8, "height": 8},
+        "materials": {"m": {"type": "lambert", "albedo": 0.5}},
+        "shapes": [{"type": "plane", "material": "m", "size": [40, 40]}],
+        "lights": lights,
+    }
+    return parse_scene(obj, os.path.join(ROOT, "sensors.json"))
+
+
+def test_point_light_illuminance_is_exact_at_every_sensor_and_width():
+    s = scene([{"type": "point", "position": [1, 2.5, -0.5], "intensity_cd": 1000}])
+    grid = il.parse_grid("-3,-3,3,3,13,13", height=0.0)
+    _, _, pts = grid.points()
+    to = np.array([1, 2.5, -0.5]) - pts
+    d2 = (to**2).sum(1)
+    expected = 1000 * (to[:, 1] / np.sqrt(d2)) / d2
+    for width in (1, 4, 8):
+        report = il.compute(s, grid, samples=4, width=width)
+        assert np.allclose(report.lux.ravel(), expected, rtol=2e-5)
+    st = report.stats
+    assert st["u0"] == pytest.approx(expected.min() / expected.mean(), rel=1e-4)
+    assert st["ud"] == pytest.approx(expected.min() / expected.max(), rel=1e-4)
+
+
+def test_disk_light_illuminance_matches_the_form_factor_at_1_percent():
+    # 1M samples in all: 4096 sensors x 256 light samples
+    s = scene([{"type": "disk", "center": [0, 2, 0], "normal": [0, -1, 0], "radius": 0.5, "luminance": 1000}])
+    grid = il.parse_grid("-2,-2,2,2,64,64", height=0.0)
+    report = il.compute(s, grid, samples=256)
+    _, _, pts = grid.points()
+    rho2 = pts[:, 0] ** 2 + pts[:, 2] ** 2
+    a = 4 + rho2
+    ff = 0.5 * (1 - (a - 0.25) / np.sqrt((a + 0.25) ** 2 - 4 * 0.25 * rho2))  # disc to a parallel element
+    expected = math.pi * 1000 * ff  # lux: pi L F with L in cd/m^2
+    assert abs(report.lux.mean() / expected.mean() - 1) < 0.01
+
+
+def test_cli_prints_a_report_and_writes_csv_json_and_png(tmp_path, capsys):
+    args = [
+        "illuminance",
+        STREET,
+        "--grid=-3.5,-15,3.5,15,8,31",
+        "--samples",
+        "16",
+        "--csv",
+        str(tmp_path / "e.csv"),
+        "--json-out",
+        str(tmp_path / "e.json"),
+        "--png",
+        str(tmp_path / "e.png"),
+    ]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "Emin" in out and "U0 = Emin / Eavg" in out
+    rows = (tmp_path / "e.csv").read_text().splitlines()
+    assert rows[0] == "x,y,z,lux" and len(rows) == 1 + 8 * 31
+    doc = json.loads((tmp_path / "e.json").read_text())
+    assert doc["grid"]["nx"] == 8 and 0 < doc["min_lux"] <= doc["mean_lux"] <= doc["max_lux"]
+    assert np.asarray(doc["lux"]).shape == (31, 8)
+    assert (tmp_path / "e.png").stat().st_size > 1000
+    assert sorted(os.listdir(tmp_path)) == ["e.csv", "e.json", "e.png"]
+
+
+@pytest.mark.parametrize("spec", ["1,2,3", "a,b,c,d,1,1", "0,0,1,1,0,5", "0,0,1,1,5,99999", "nan,0,1,1,2,2"])
+def test_bad_grids_are_refused_with_the_option_named(spec, capsys):
+    with pytest.raises(FormatError, match="--grid"):
+        il.parse_grid(spec)
+    assert main(["illuminance", STREET, f"--grid={spec}"]) == 2
+    err = capsys.readouterr().err
+    assert "--grid" in err and "Traceback" not in err

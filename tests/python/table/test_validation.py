@@ -1,0 +1,116 @@
+"""`patina validate`: a clean table passes; tables broken on purpose are flagged."""
+
+from __future__ import annotations
+
+import json
+import struct
+import subprocess
+import sys
+import zlib
+
+import numpy as np
+import pytest
+
+import patina
+from patina.cli import main
+from patina.synthetic.analytic import plastic, sample_isotropic
+from patina.table.formats import table_from_data
+from patina.table.validation import directional_albedo, validate
+
+THETA = np.radians(np.linspace(0, 89, 24))
+PHI = np.radians(np.linspace(0, 180, 37))
+
+
+def table(values_fn=None, mask=None) -> patina.Brdf:
+    data = sample_isotropic(plastic(), THETA, THETA, PHI, "test")
+    if values_fn is not None:
+        data.values = values_fn(data.values.copy())
+    data.mask = mask
+    return patina.Brdf(table_from_data(data), "synthetic", "test")
+
+
+def problems(brdf: patina.Brdf) -> list[str]:
+    return validate(brdf).problems
+
+
+def test_clean_table_passes():
+    report = validate(table())
+    assert report.ok, report.problems
+    assert report.checks["reciprocity"]["p95"] < 1e-5
+    assert 0.05 < report.checks["albedo"]["max"] < 1.0
+
+
+def test_albedo_of_a_lambert_table_is_its_reflectance():
+    lambert = table(lambda v: np.full_like(v, 0.7 / np.pi))
+    a = directional_albedo(lambert, np.radians([0.0, 30.0, 60.0]))
+    np.testing.assert_allclose(a, 0.7, rtol=1e-3)
+
+
+def test_negative_values_are_flagged():
+    def negate(v):
+        v[3, 4, 5, 1] = -0.2
+        return v
+
+    report = validate(table(negate))
+    assert any("negative" in p for p in report.problems)
+    assert report.checks["negative"]["worst"][0]["channel"] == 1
+
+
+def test_non_reciprocal_table_is_flagged():
+    # multiply by a factor that depends on theta_i but not theta_o
+    def skew(v):
+        return v * (1.0 + 2.0 * np.sin(THETA))[:, None, None, None]
+
+    assert any("not reciprocal" in p for p in problems(table(skew)))
+
+
+def test_energy_creating_table_is_flagged():
+    assert any("albedo" in p for p in problems(table(lambda v: v * 4.0)))
+
+
+def test_holes_are_reported():
+    mask = np.ones((THETA.size, THETA.size, PHI.size), bool)
+    mask[5:8, 6, 10:14] = False
+    report = validate(table(mask=mask))
+    assert report.checks["coverage"]["missing"] == 12
+    assert report.checks["coverage"]["longest_missing_run"] == 4
+    assert any("missing" in p for p in report.problems)
+
+
+def test_spikes_are_flagged():
+    def spike(v):
+        v[10, 12, 20, :] *= 30.0
+        return v
+
+    report = validate(table(spike))
+    assert report.checks["spikes"]["count"] == 3
+    first = report.checks["spikes"]["first"][0]
+    assert first["theta_i"] == pytest.approx(np.degrees(THETA[10]), abs=1e-3)
+
+
+def _ptab_with_nan(path):
+    # a valid .ptab (checksum and all) whose payload holds a NaN: the reader refuses it
+    brdf = table()
+    brdf.save(path)
+    raw = bytearray(path.read_bytes())
+    raw[-8:-4] = struct.pack("<f", float("nan"))
+    raw[-4:] = struct.pack("<I", zlib.crc32(bytes(raw[:-4])))
+    path.write_bytes(bytes(raw))
+
+
+def test_cli_exit_codes_and_json(tmp_path, bundled_ptab, capsys):
+    assert main(["validate", bundled_ptab]) == 0
+    assert "result: clean" in capsys.readouterr().out
+    broken = tmp_path / "broken.ptab"
+    table(lambda v: v * 4.0).save(broken)
+    assert main(["validate", str(broken), "--json"]) == 1
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["ok"] is False and doc["problems"]
+    assert set(doc["checks"]) == {"finite", "negative", "axes", "coverage", "reciprocity", "albedo", "spikes"}
+    nan = tmp_path / "nan.ptab"
+    _ptab_with_nan(nan)
+    r = subprocess.run(
+        [sys.executable, "-m", "patina.cli", "validate", str(nan)], check=False, capture_output=True, text=True
+    )
+    assert r.returncode == 2
+    assert str(nan) in r.stderr and "not finite" in r.stderr and "Traceback" not in r.stderr
