@@ -1,0 +1,55 @@
+"""Progress of long work on stderr (tqdm): done, left, rate and time left.
+
+On a terminal the bar redraws in place; when stderr is not a terminal (a log, CI, a pipe)
+it writes a plain line every few seconds instead, so long runs are never silent. Quiet
+when `enabled` is false.
+"""
+
+from __future__ import annotations
+
+import sys
+from types import TracebackType
+
+from tqdm import tqdm
+
+LOG_INTERVAL_S = 5.0  # seconds between lines when stderr is not a terminal
+
+
+class Progress:
+    """`with Progress(total, "rendering", unit="pass") as p: p.update(done)` (absolute counts)."""
+
+    def __init__(self, total: float, description: str, unit: str = "it", enabled: bool = True) -> None:
+        terminal = sys.stderr.isatty()
+        self._bar = tqdm(
+            total=total,
+            desc=description,
+            unit=unit,
+            file=sys.stderr,
+            disable=not enabled,
+            dynamic_ncols=terminal,
+            mininterval=0.25 if terminal else LOG_INTERVAL_S,
+            maxinterval=LOG_INTERVAL_S,
+            ascii=not terminal,
+            leave=True,
+        )
+
+    def update(self, done: float, postfix: str = "") -> None:
+        """Sets the count done so far (not an increment) and an optional note after the bar."""
+        if postfix:
+            self._bar.set_postfix_str(postfix, refresh=False)
+        self._bar.update(done - self._bar.n)
+
+    def write(self, line: str) -> None:
+        """A message line that does not break the bar."""
+        self._bar.write(line, file=sys.stderr)
+
+    def close(self) -> None:
+        self._bar.close()
+
+    def __enter__(self) -> Progress:
+        return self
+
+    def __exit__(
+        self, kind: type[BaseException] | None, value: BaseException | None, traceback: TracebackType | None
+    ) -> None:
+        self.close()
