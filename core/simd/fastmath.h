@@ -1,7 +1,11 @@
 // Fast inverse trigonometry, square roots and reciprocals on any SIMD width.
 //
 // One implementation for float, vfloat4 and vfloat8 (the scalar path is the same
-// polynomial). Polynomials are Patina's own minimax fits (tools/fit_fastmath.py).
+// polynomial). The polynomial coefficients were fitted when this header was first written
+// (commit f32b030); the script that produced them was never committed, so they cannot be
+// regenerated. They are near-minimax: a double-precision Remez fit of the same forms agrees
+// with them to 2-5 significant digits (atan_unit, asin_small), not to the printed digits. Treat
+// them as given; the bounds below, not their provenance, are what the tests enforce.
 // Maximum errors, enforced by tests/cpp/simd_lane_tests.h against double precision
 // over dense sweeps (2^22 + 2^17 points in [-1, 1], 2^20 over 80 binades, 1.3M atan2
 // pairs); measured maxima in parentheses. All widths give bit-identical results (madd
