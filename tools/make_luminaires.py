@@ -5,20 +5,25 @@
 Each model is normalised so that its continuous distribution emits exactly the declared
 lumens (midpoint quadrature on a 0.02 deg grid, float64); the files then hold the model
 sampled at their angles. Reading a file back and integrating the interpolated table gives
-the declared lumens up to the table's sampling error (tests/python/test_photometry.py).
+the declared lumens up to the table's sampling error (tests/python/photometry/test_readers.py).
+
+Every model is a function of the direction: at a pole of the angle grid (type C gamma 0 and
+180, type B H = +-90) every plane gets the same value: the street light's C-dependent terms
+carry sin(gamma), the floodlight varies vertically with the direction's elevation (0 at
+H = +-90 whatever V), and every table written is checked for it (`pole_warnings`, the
+readers' check, and the rounded values themselves).
 """
 
 from __future__ import annotations
 
 import argparse
 import os
-import sys
 from collections.abc import Callable
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
-
+# the installed package (make setup): patina/__init__ needs its compiled core
+from patina.photometry.model import pole_warnings
 from patina.photometry.writers import format_ies, format_ldt
 
 SCRIPT = "tools/make_luminaires.py"
@@ -34,20 +39,25 @@ def downlight(c: np.ndarray, g: np.ndarray) -> np.ndarray:
 def street(c: np.ndarray, g: np.ndarray) -> np.ndarray:
     """Street light on an arm along +X (the street side, C0); the road runs along C90-C270.
     A soft downward part plus two lobes at gamma 65 deg swung 60 deg from C0 along the road,
-    stronger on the street side than the house side (C180); full cut-off at gamma 90."""
+    stronger on the street side than the house side (C180); full cut-off at gamma 90.
+    The C-dependent terms grow with sin(gamma) from nadir, where every C plane meets."""
     a = np.abs(np.mod(c + 180.0, 360.0) - 180.0)  # |C| folded to 0..180: symmetric about C0-C180
-    lobe = np.exp(-(((g - 65.0) / 11.0) ** 2)) * np.exp(-(((a - 60.0) / 28.0) ** 2))
+    s = np.sin(np.radians(g))
+    lobe = np.exp(-(((g - 65.0) / 11.0) ** 2)) * np.exp(-(((a - 60.0) / 28.0) ** 2)) * s
     base = 0.35 * np.cos(np.radians(np.minimum(g, 90.0)))
-    street_side = 1.0 + 0.5 * np.cos(np.radians(a))
+    street_side = 1.0 + 0.5 * np.cos(np.radians(a)) * s  # 1 + 0.5 d_x: brighter towards +X
     cutoff = np.clip((90.0 - g) / 8.0, 0.0, 1.0)
     return (base + lobe) * street_side * cutoff
 
 
 def flood(h: np.ndarray, v: np.ndarray) -> np.ndarray:
     """Floodlight, type B: an elliptical beam 2 x 22 deg wide by 2 x 12 deg high, aimed 4 deg
-    above the axis, with a faint wide spill."""
-    core = np.exp(-((h / 22.0) ** 2) - (((v - 4.0) / 12.0) ** 2))
-    spill = 0.04 * np.exp(-((h / 55.0) ** 2) - ((v / 40.0) ** 2))
+    above the axis, with a faint wide spill. Vertically it varies with the elevation of the
+    direction, e = asin(cos H sin V) (= V on the beam axis), which is 0 at the poles H = +-90
+    whatever V: one value there."""
+    e = np.degrees(np.arcsin(np.cos(np.radians(h)) * np.sin(np.radians(v))))
+    core = np.exp(-((h / 22.0) ** 2) - (((e - 4.0) / 12.0) ** 2))
+    spill = 0.04 * np.exp(-((h / 55.0) ** 2) - ((e / 40.0) ** 2))
     return core + spill
 
 
@@ -87,6 +97,21 @@ def provenance(name: str, what: str, model: str, files: list[str], measured: str
 """
 
 
+def check_poles(name: str, kind: str, h: np.ndarray, v: np.ndarray, cd: np.ndarray) -> None:
+    """The written table gives each pole one value (as the readers check)."""
+    problems = pole_warnings(name, kind, h, v, cd, np.zeros(cd.shape, int))
+    if problems or _pole_spread(kind, h, v, cd) > 0.0:
+        raise SystemExit(f"{name}: the model gives a pole several values: {problems or 'rounding'}")
+
+
+def _pole_spread(kind: str, h: np.ndarray, v: np.ndarray, cd: np.ndarray) -> float:
+    """Largest spread of the values written (rounded as in the file) at one pole."""
+    cd = np.round(cd, 2)
+    at = [cd[:, j] for j in range(len(v)) if kind == "C" and v[j] in (0.0, 180.0)]
+    at += [cd[i] for i in range(len(h)) if kind == "B" and h[i] in (-90.0, 90.0)]
+    return max((float(x.max() - x.min()) for x in at), default=0.0)
+
+
 def write(path: str, text: str) -> None:
     tmp = path + ".tmp"
     with open(tmp, "w", encoding="ascii", newline="") as f:
@@ -105,6 +130,7 @@ def main() -> None:
     g = np.arange(0.0, 90.0 + 1e-9, 2.5)
     scale = lumens / continuous_flux(downlight, "C")
     cd = sample(downlight, np.array([0.0]), g, scale)
+    check_poles("downlight", "C", np.array([0.0]), g, cd)
     keywords = {
         "TEST": "PATINA-SYN-001",
         "TESTLAB": "none (synthetic)",
@@ -149,6 +175,7 @@ def main() -> None:
     c_half = np.arange(0.0, 180.0 + 1e-9, 5.0)
     scale = lumens / continuous_flux(street, "C")
     cd = sample(street, c_half, g, scale)
+    check_poles("streetlight", "C", c_half, g, cd)
     keywords = {
         "TEST": "PATINA-SYN-002",
         "MANUFAC": "Patina (synthetic)",
@@ -198,9 +225,11 @@ def main() -> None:
             "symmetry, intensities in cd/klm for one 12000 lm lamp set, LORL 100 %). The arm and the "
             "street side lie along C0 (luminaire +X), the road runs along C90-C270. Gamma 0-90 in "
             "2.5 deg steps, C planes every 5 deg; 12000 lm.",
-            "I = k (0.35 cos(gamma) + L) (1 + 0.5 cos C) f(gamma), L = exp(-((gamma - 65)/11)^2) "
-            "exp(-((|C| - 60)/28)^2) (angles in degrees), f falling linearly from 1 at 82 deg to 0 at "
-            f"90 deg (full cut-off); k = {scale:.2f} cd so the continuous distribution emits 12000 lm.",
+            "I = k (0.35 cos(gamma) + L) (1 + 0.5 sin(gamma) cos C) f(gamma), L = exp(-((gamma - 65)/11)^2) "
+            "exp(-((|C| - 60)/28)^2) sin(gamma) (angles in degrees), f falling linearly from 1 at 82 deg to 0 at "
+            f"90 deg (full cut-off); k = {scale:.2f} cd so the continuous distribution emits 12000 lm. "
+            "The C-dependent terms carry sin(gamma), so straight down (gamma 0, where every C plane meets) "
+            "the intensity is one value, 0.35 k.",
             ["streetlight.ies", "streetlight.ldt"],
             "Luminous opening 600 x 300 mm; 95 W.",
         ),
@@ -212,6 +241,7 @@ def main() -> None:
     v = np.arange(-90.0, 90.0 + 1e-9, 2.5)
     scale = lumens / continuous_flux(flood, "B")
     cd = sample(flood, h, v, scale)
+    check_poles("floodlight", "B", h, v, cd)
     keywords = {
         "TEST": "PATINA-SYN-003",
         "MANUFAC": "Patina (synthetic)",
@@ -241,8 +271,10 @@ def main() -> None:
             "A floodlight measured in type B photometry: horizontal angles 0-90 (laterally symmetric), "
             "vertical angles -90..90, both in 2.5 deg steps; 20000 lm. The beam axis is H = V = 0 "
             "(luminaire +Z, docs/luminaires.md).",
-            "I = k (exp(-(H/22)^2 - ((V - 4)/12)^2) + 0.04 exp(-(H/55)^2 - (V/40)^2)) (degrees); "
-            f"k = {scale:.2f} cd so the continuous distribution emits 20000 lm.",
+            "I = k (exp(-(H/22)^2 - ((e - 4)/12)^2) + 0.04 exp(-(H/55)^2 - (e/40)^2)) (degrees), "
+            "e = asin(cos H sin V) the elevation of the direction (e = V on the beam axis, 0 at the poles "
+            f"H = +-90 whatever V, so the poles get one value); k = {scale:.2f} cd so the continuous "
+            "distribution emits 20000 lm.",
             ["floodlight.ies"],
             "Opening 400 x 300 mm; 160 W.",
         ),

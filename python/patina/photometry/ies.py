@@ -1,9 +1,10 @@
 """IES LM-63 photometric files (1986, 1991, 1995, 2002 and 2019 headers) read into `Photometry`.
 
 Layout: an optional version line (`IESNA:LM-63-1995`, `IESNA:LM-63-2002`, `IES:LM-63-2019`,
-`IESNA91`; none in 1986 files), keyword lines `[KEY] value` with `[MORE]` continuing the
-previous keyword, a `TILT=` line (NONE, INCLUDE with the tilt block following, or a file name
-read relative to this file), then numbers in any wrapping: lamps, lumens per lamp (-1:
+`IESNA91`, and the legacy spellings `IESNA95`, `IESNA:LM-63-95`, `IES LM-63-2002`; none in
+1986 files), keyword lines `[KEY] value` (the value without its surrounding blanks) with
+`[MORE]` continuing the previous keyword, a `TILT=` line (NONE, INCLUDE with the tilt block
+following, or a file name read relative to this file), then numbers in any wrapping: lamps, lumens per lamp (-1:
 absolute photometry), candela multiplier, vertical and horizontal angle counts, photometric
 type (1 C, 2 B, 3 A), units (1 feet, 2 metres), opening width, length, height; ballast factor,
 ballast-lamp photometric factor (1995 and older; "future use" in 2002, file generation type in
@@ -31,6 +32,7 @@ from .model import (
     finish_type_c,
     mirror_negative,
     pad_zero,
+    pole_warnings,
     type_c_symmetry,
 )
 from .text import TokenStream, read_lines, tokens
@@ -39,14 +41,19 @@ _KEYWORD = re.compile(r"^\s*\[([^\]]*)\]\s?(.*)$")
 FEET = 0.3048
 
 
+# `IESNA:LM-63-1995`, `IES:LM-63-2019`, `IESNA LM-63-2002`, `IESNA:LM-63-95`; `IESNA91`, `IESNA95`, `IESNA:2002`
+_VERSION = re.compile(r"^IES(?:NA)?\s*[:\-]?\s*(?:LM\s*-?\s*63\s*-?\s*)?(\d{4}|\d{2})(?!\d)")
+
+
 def _version(first: str) -> str | None:
-    line = first.strip().upper()
-    m = re.match(r"^IES(?:NA)?\s*:\s*LM-63-(\d{4})", line)
-    if m:
-        return f"LM-63-{m.group(1)}"
-    if line.startswith("IESNA91"):
-        return "LM-63-1991"
-    return None
+    """The edition a version line names, as "LM-63-yyyy"; None where the first line is not one (1986 files)."""
+    m = _VERSION.match(first.strip().upper())
+    if not m:
+        return None
+    year = int(m.group(1))
+    if len(m.group(1)) == 2:
+        year += 1900 if year >= 50 else 2000
+    return f"LM-63-{year}" if 1986 <= year <= 2099 else None
 
 
 def _read_tilt(path: str, stream: TokenStream) -> Tilt:
@@ -103,7 +110,14 @@ def read_ies(path: str) -> Photometry:
     lines = read_lines(path)
     version = _version(lines[0]) if lines else None
     first = 2 if version else 1
+    warnings: list[str] = []
+    if version is None and lines and re.match(r"^(IESNA|IES\s*:)", lines[0].strip().upper()):
+        warnings.append(
+            f"{path} (line 1): {lines[0].strip()[:40]!r} looks like a version line but names no LM-63 edition; "
+            "read as an LM-63-1986 file (the line kept as text)"
+        )
     version = version or "LM-63-1986"
+    year = int(version[6:])
     keywords: dict[str, str] = {}
     text: list[str] = []
     last_key: str | None = None
@@ -115,7 +129,7 @@ def read_ies(path: str) -> Photometry:
             break
         m = _KEYWORD.match(line)
         if m:
-            key, value = m.group(1).strip().upper(), m.group(2).rstrip()
+            key, value = m.group(1).strip().upper(), m.group(2).strip()
             if key == "MORE" and last_key is not None:
                 keywords[last_key] += "\n" + value
             else:
@@ -183,7 +197,7 @@ def read_ies(path: str) -> Photometry:
         raise FormatError(path, f"line {line}", f"ballast factor {ballast:g} must be positive")
     line = stream.line
     second = stream.number("ballast-lamp photometric factor")
-    old = version in ("LM-63-1986", "LM-63-1991", "LM-63-1995")
+    old = year < 2002  # 1986, 1991, 1995: the ballast-lamp photometric factor applies
     if old and second <= 0:
         raise FormatError(path, f"line {line}", f"ballast-lamp photometric factor {second:g} must be positive")
     watts = stream.number("input watts")
@@ -203,11 +217,13 @@ def read_ies(path: str) -> Photometry:
     with np.errstate(over="ignore", invalid="ignore"):  # inf x 0: check_finite reports it
         rows = np.array(cd, np.float64).reshape(n_h, n_v) * factor
     check_finite(path, rows, multiplier_line)
+    cd_line_of = np.array(cd_lines).reshape(n_h, n_v)
     if ptype == 1:
         kind = "C"
         check_ascending(path, v, v_lines, "vertical angles", 0.0, 180.0)
         check_ascending(path, h, h_lines, "horizontal angles", 0.0, 360.0)
         symmetry = type_c_symmetry(path, h, h_lines)
+        warnings += pole_warnings(path, "C", np.array(h), np.array(v), rows, cd_line_of)
         full_h, full_v, candela = finish_type_c(np.array(h), np.array(v), rows, symmetry)
     else:
         kind = "B"
@@ -218,6 +234,7 @@ def read_ies(path: str) -> Photometry:
                 raise FormatError(
                     path, f"line {ln[-1]}", f"type B {name} angles {a[0]:g}..{a[-1]:g}: -90..90, or 0..90 if symmetric"
                 )
+        warnings += pole_warnings(path, "B", np.array(h), np.array(v), rows, cd_line_of)
         full_h, full_v, candela = expand_type_b(np.array(h), np.array(v), rows)
         symmetry = {
             (True, True): "quadrant",
@@ -239,7 +256,7 @@ def read_ies(path: str) -> Photometry:
         file_h_deg=np.array(h),
         file_v_deg=np.array(v),
         lumens=lumens,
-        rated_flux=None if lumens is None else lumens * factor,
+        luminaire_lumens=None,  # LM-63 states none: the table's flux against `lumens` is the light output ratio
         lamps=lamps,
         multiplier=factor,
         tilt=tilt,
@@ -254,9 +271,10 @@ def read_ies(path: str) -> Photometry:
             "ballast_factor": ballast,
             "units": "feet" if units == 1 else "metres",
             **({"ballast_lamp_factor": second} if old else {}),
-            **({"file_generation_type": second} if version == "LM-63-2019" else {}),
+            **({"file_generation_type": second} if year >= 2019 else {}),
             **({"text": "\n".join(text)} if text else {}),
         },
+        warnings=warnings,
     )
 
 

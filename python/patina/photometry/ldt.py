@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import FormatError
-from .model import Opening, Photometry, check_ascending, check_finite, finish_type_c
+from .model import Opening, Photometry, check_ascending, check_finite, finish_type_c, pole_warnings
 from .text import TokenStream, parse_int, parse_number, read_lines, tokens
 
 SYMMETRY = {0: "none", 1: "rotational", 2: "bilateral", 3: "bilateral-90-270", 4: "quadrant"}
@@ -134,6 +134,7 @@ def read_ldt(path: str) -> Photometry:
             raise FormatError(path, f"line {ln}", f"luminous intensity {value:g} cd/klm is negative")
 
     rows = np.array(values, np.float64).reshape(planes, ng)
+    value_lines = np.array(v_lines).reshape(planes, ng)
     c_arr = np.array(c)
     for index, angle in {2: [(mc // 2, 180.0)], 3: [(mc // 4, 90.0), (3 * mc // 4, 270.0)], 4: [(mc // 4, 90.0)]}.get(
         isym, []
@@ -158,6 +159,7 @@ def read_ldt(path: str) -> Photometry:
         s = np.where(index >= 3 * mc // 4, c_arr[index] - 360.0, c_arr[index])
         h = 180.0 - s[::-1]
         rows = rows[::-1]
+        value_lines = value_lines[::-1]
 
     first = sets[0]
     absolute = first["lamps"] < 0
@@ -165,6 +167,7 @@ def read_ldt(path: str) -> Photometry:
     with np.errstate(over="ignore", invalid="ignore"):  # inf x 0: check_finite reports it
         rows = rows * factor
     check_finite(path, rows, 24)
+    warnings = pole_warnings(path, "C", h, np.array(g), rows, value_lines)
     full_h, full_v, candela = finish_type_c(h, np.array(g), rows, SYMMETRY[isym])
     keywords = {
         "MANUFAC": f.text(1),
@@ -186,7 +189,7 @@ def read_ldt(path: str) -> Photometry:
         file_h_deg=c_arr,
         file_v_deg=np.array(g),
         lumens=None if absolute else first["flux"],
-        rated_flux=first["flux"] * conversion * (1.0 if absolute else lorl / 100.0),
+        luminaire_lumens=first["flux"] * (1.0 if absolute else lorl / 100.0),  # as stated: no conversion factor
         lamps=abs(first["lamps"]),
         multiplier=factor,
         tilt=None,
@@ -209,6 +212,7 @@ def read_ldt(path: str) -> Photometry:
             "direct_ratios": direct_ratios,
             "luminaire_size_m": [d / 1000.0 for d in dims[:3]],
         },
+        warnings=warnings,
     )
 
 

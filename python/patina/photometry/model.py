@@ -47,10 +47,14 @@ class Photometry:
     angle V); `h_deg` ascending over the whole range (type C 0..360 inclusive, type B -90..90),
     `v_deg` ascending (type C 0..180, type B -180..180), angles past the file's own range
     hold zero candela. `candela[i, j]` at (h_deg[i], v_deg[j]), absolute, float32.
-    `lumens`: the lamp lumens the file declares (all lamps; None for absolute photometry).
-    `rated_flux`: the luminaire flux the header implies with the multipliers applied (the table
-    of a consistent file integrates to it; None where the file states none).
+    `lumens`: the lamp lumens the file declares (all lamps; None for absolute photometry); the
+    table's flux against them is the light output ratio.
+    `luminaire_lumens`: the luminaire flux the file itself states, no multiplier applied:
+    EULUMDAT lamp flux x LORL (or, for absolute photometry, its flux field); None for IES
+    (LM-63 states no luminaire flux).
     `multiplier`: the product of the factors applied to the file's numbers.
+    `warnings`: problems that do not stop the file being read, one line each naming the file,
+    the place and the problem (e.g. one direction, a pole, given different values).
     """
 
     path: str
@@ -64,7 +68,7 @@ class Photometry:
     file_h_deg: np.ndarray  # the angles as the file lists them
     file_v_deg: np.ndarray
     lumens: float | None
-    rated_flux: float | None
+    luminaire_lumens: float | None
     lamps: int
     multiplier: float
     tilt: Tilt | None
@@ -75,6 +79,13 @@ class Photometry:
     luminaire: str = ""
     keywords: dict[str, str] = field(default_factory=dict)
     extra: dict[str, Any] = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def rated_flux(self) -> float | None:
+        """Deprecated (info()'s old `lumens_rated`): the luminaire lumens the file states, else
+        the lamp lumens; never scaled by a candela multiplier. Use `lumens` / `luminaire_lumens`."""
+        return self.luminaire_lumens if self.luminaire_lumens is not None else self.lumens
 
 
 def check_ascending(path: str, values: list[float], lines: list[int], what: str, lo: float, hi: float) -> None:
@@ -196,6 +207,65 @@ def type_c_symmetry(path: str, h: list[float], lines: list[int]) -> str:
         f"line {lines[-1]}",
         f"horizontal angles {first:g}..{last:g}: a type C file runs 0 (one plane), 0-90, 0-180, 90-270 or 0-360",
     )
+
+
+POLE_REL_TOL = 0.01  # values at one pole may differ by 1 % of the largest (measurement noise) ...
+POLE_ABS_TOL = 1e-3  # ... or by 0.1 % of the table's maximum (a dark pole), before a warning
+
+
+def _disagree(values: np.ndarray, table_max: float) -> bool:
+    spread = float(values.max() - values.min())
+    return spread > POLE_REL_TOL * float(values.max()) and spread > POLE_ABS_TOL * table_max
+
+
+def pole_warnings(path: str, kind: str, h: np.ndarray, v: np.ndarray, rows: np.ndarray, lines: np.ndarray) -> list[str]:
+    """Warnings where the file gives one direction several values: a pole of the angle grid
+    (type C: gamma 0 and 180 across the C planes; type B: H -90 and 90 across the V planes)
+    and, for a type C file listing both, the planes C0 and C360 (one half-plane).
+
+    `h`, `v`: the file's angles (degrees); `rows[i, j]`: absolute candela at (h[i], v[j]) as the
+    file gives them, before any symmetry expansion; `lines[i, j]`: the line each value is on.
+    Such a table steps at the pole (the polar plot shows it; the illuminance straight under a
+    type C luminaire reads as a hole or a spike) and is interpolated as it is."""
+    h, v, rows = np.asarray(h, float), np.asarray(v, float), np.asarray(rows, float)
+    table_max = float(rows.max()) if rows.size else 0.0
+    out: list[str] = []
+    if kind == "C":
+        for j in sorted({0, len(v) - 1}):
+            if v[j] not in (0.0, 180.0):
+                continue
+            col = rows[:, j]
+            if len(col) > 1 and _disagree(col, table_max):
+                a, b = int(np.argmax(col)), int(np.argmin(col))
+                words = "straight down" if v[j] == 0.0 else "straight up"
+                out.append(
+                    f"{path} (line {lines[a, j]}, line {lines[b, j]}): gamma {v[j]:g} deg ({words}) is one "
+                    f"direction but its candela differ across the {len(col)} C planes: {col[a]:.6g} cd at C{h[a]:g}, "
+                    f"{col[b]:.6g} cd at C{h[b]:g}; the table steps there"
+                )
+        if len(h) > 1 and h[0] == 0.0 and h[-1] == 360.0:
+            diff = np.abs(rows[0] - rows[-1])
+            j = int(np.argmax(diff))
+            if _disagree(np.array([rows[0, j], rows[-1, j]]), table_max):
+                out.append(
+                    f"{path} (line {lines[0, j]}, line {lines[-1, j]}): the C0 and C360 planes are one half-plane "
+                    f"but differ: {rows[0, j]:.6g} cd and {rows[-1, j]:.6g} cd at gamma {v[j]:g} deg; "
+                    f"both are kept, so the table steps at C0"
+                )
+    else:
+        for i in sorted({0, len(h) - 1}):
+            if h[i] not in (-90.0, 90.0):
+                continue
+            row = rows[i]
+            if len(row) > 1 and _disagree(row, table_max):
+                a, b = int(np.argmax(row)), int(np.argmin(row))
+                out.append(
+                    f"{path} (line {lines[i, a]}, line {lines[i, b]}): H {h[i]:g} deg (the pole, the luminaire's "
+                    f"{'-' if h[i] > 0 else '+'}X axis) is one direction but its candela differ across the "
+                    f"{len(row)} V planes: {row[a]:.6g} cd at V {v[a]:g}, {row[b]:.6g} cd at V {v[b]:g}; "
+                    f"the table steps there"
+                )
+    return out
 
 
 def check_finite(path: str, candela: np.ndarray, line: int) -> None:

@@ -49,9 +49,26 @@ def random_directions(n: int, seed: int = 0) -> np.ndarray:
 def test_bundled_flux_equals_declared_lumens(name):
     lum = patina.load_luminaire(os.path.join(LUM, name))
     p = lum.photometry
-    assert p.lumens is not None and p.rated_flux is not None
-    assert abs(lum.flux() / p.rated_flux - 1) < FLUX_TOLERANCE
+    assert p.lumens is not None  # the bundled luminaires pass all their lamps' light: light output ratio 1
+    assert abs(lum.flux() / p.lumens - 1) < FLUX_TOLERANCE
+    if p.luminaire_lumens is not None:  # EULUMDAT: lamp flux x LORL, as stated
+        assert abs(lum.flux() / p.luminaire_lumens - 1) < FLUX_TOLERANCE
     assert os.path.isfile(os.path.join(LUM, os.path.splitext(name)[0] + ".md"))
+
+
+@pytest.mark.parametrize("name", BUNDLED)
+def test_bundled_poles_have_one_value(name):
+    """Straight down (type C gamma 0) every C plane gives the same candela, and the type B poles
+    H = +-90 the same across V planes: the generator's models are functions of the direction."""
+    p = read_photometry(os.path.join(LUM, name))
+    assert p.warnings == []
+    if p.type == "C":
+        for j in np.flatnonzero(np.isin(p.v_deg, [0.0, 180.0])):
+            assert np.ptp(p.candela[:, j]) == 0, (name, p.v_deg[j])
+    else:
+        for i in np.flatnonzero(np.isin(p.h_deg, [-90.0, 90.0])):
+            lit = np.abs(p.v_deg) <= 90  # the file's own V range (dark behind, past |V| = 90)
+            assert np.ptp(p.candela[i, lit]) == 0, (name, p.h_deg[i])
 
 
 def test_flux_is_exact_for_known_distributions(tmp_path):
@@ -293,7 +310,8 @@ def test_versions_keywords_and_multipliers(tmp_path):
         assert p.lumens == 1000 and p.lamps == 2 and p.input_watts == 30
         assert p.multiplier == pytest.approx(1.5 * 0.8 * applied)
         assert p.candela[0, 0] == pytest.approx(100 * 1.5 * 0.8 * applied)
-        assert p.rated_flux == pytest.approx(1000 * 1.5 * 0.8 * applied)
+        assert p.luminaire_lumens is None  # LM-63 states no luminaire flux
+        assert p.rated_flux == 1000  # the lamp lumens, never times a candela multiplier
         assert p.manufacturer == "Acme \xe9clairage" and p.catalogue == "X-1"
         assert p.keywords["LUMINAIRE"] == "line one\nline two"  # [MORE] continues the keyword
 
@@ -313,10 +331,10 @@ def test_absolute_photometry(tmp_path):
     p = read_photometry(
         write(tmp_path, "abs.ies", format_ies([0], g, [[300, 200, 0]], lumens_per_lamp=-1, multiplier=2))
     )
-    assert p.lumens is None and p.rated_flux is None
+    assert p.lumens is None and p.luminaire_lumens is None and p.rated_flux is None
     assert p.candela[0, 0] == 600
     info = patina.load_luminaire(p.path).info()
-    assert info["absolute_photometry"] and info["flux_ratio"] is None and info["lumens_integrated"] > 0
+    assert info["absolute_photometry"] and info["lumens_integrated"] > 0
 
 
 def test_tilt_include_and_tilt_file(tmp_path):
@@ -433,6 +451,190 @@ def test_bad_ldt_files_name_the_line(tmp_path, line_no, text, where, words):
 def test_ldt_good_base_reads(tmp_path):
     p = read_photometry(write(tmp_path, "ok.ldt", GOOD_LDT))
     assert p.symmetry == "bilateral" and p.candela[0, 0] == pytest.approx(100.0)  # 100 cd/klm x 1 klm
+
+
+# ---------------------------------------------------------------- one direction, one value: warnings at the poles
+
+
+def _streetlight_like(c: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """The old bundled street light's mistake: its street-side factor 1 + 0.5 cos C applied
+    straight down too (3616 cd at C0, 1205 cd at C180 at gamma 0)."""
+    return 2410.95 * (0.35 * np.cos(np.radians(g)) + 0.1) * (1 + 0.5 * np.cos(np.radians(c)))
+
+
+def test_pole_values_that_differ_across_planes_warn(tmp_path):
+    c, g = np.arange(0, 180 + 1e-9, 15.0), np.arange(0, 90 + 1e-9, 10.0)
+    cc, gg = np.meshgrid(c, g, indexing="ij")
+    path = write(tmp_path, "street.ies", format_ies(c, g, _streetlight_like(cc, gg), fmt="{:.2f}"))
+    p = read_photometry(path)
+    assert len(p.warnings) == 1
+    w = p.warnings[0]
+    # one line: the file, the place (the lines of the two extreme values), the problem
+    assert "\n" not in w and w.startswith(f"{path} (line ")
+    assert "gamma 0 deg" in w and "straight down" in w and "C0" in w and "C180" in w and "13 C planes" in w
+    table = _streetlight_like(cc, gg)
+    lines = open(path).read().splitlines()
+    c0_sweep = 1 + next(i for i, ln in enumerate(lines) if ln.startswith(f"{table[0, 0]:.2f} "))
+    assert f"(line {c0_sweep}, " in w  # the brightest value, straight down in C0
+    # the same table as EULUMDAT (cd/klm) warns the same way, in absolute candela
+    ldt = format_ldt(np.arange(0, 360, 15.0), g, table / 2.0, isym=2, lamp_flux=2000.0, fmt="{:.6g}")
+    q = read_photometry(write(tmp_path, "street.ldt", ldt))
+    assert len(q.warnings) == 1 and "gamma 0 deg" in q.warnings[0] and f"{table[0, 0]:.6g} cd at C0" in q.warnings[0]
+
+
+def test_pole_warnings_zenith_type_b_and_the_360_plane(tmp_path):
+    # gamma 180 (straight up) differs across planes; gamma 0 agrees
+    c, g = np.array([0.0, 90.0, 180.0]), np.array([0.0, 90.0, 180.0])
+    up = read_photometry(
+        write(tmp_path, "up.ies", format_ies(c, g, [[500, 300, 100], [500, 300, 40], [500, 300, 100]]))
+    )
+    assert len(up.warnings) == 1 and "gamma 180 deg (straight up)" in up.warnings[0]
+    # type B: H = 90 is the luminaire's -X axis whatever V
+    h, v = np.array([0.0, 45.0, 90.0]), np.array([-90.0, 0.0, 90.0])
+    b = read_photometry(
+        write(tmp_path, "b.ies", format_ies(h, v, [[50, 900, 50], [40, 500, 40], [5, 60, 5]], photometric_type=2))
+    )
+    assert len(b.warnings) == 1 and "H 90 deg" in b.warnings[0] and "-X" in b.warnings[0]
+    # a file listing C360 keeps that measured plane even where it differs from C0, and says so
+    c = np.array([0.0, 90.0, 180.0, 270.0, 360.0])
+    rows = np.array([[800, 400, 0], [800, 300, 0], [800, 200, 0], [800, 300, 0], [800, 450, 0]], float)
+    kept = read_photometry(write(tmp_path, "seam.ies", format_ies(c, [0.0, 45.0, 90.0], rows)))
+    assert kept.symmetry == "none" and kept.h_deg[-1] == 360
+    assert np.array_equal(kept.candela[-1, :3], rows[-1]) and np.array_equal(kept.candela[0, :3], rows[0])
+    assert len(kept.warnings) == 1 and "C0 and C360" in kept.warnings[0]
+
+
+def test_consistent_or_noisy_poles_and_dark_poles_do_not_warn(tmp_path):
+    c, g = np.array([0.0, 90.0, 180.0]), np.array([0.0, 45.0, 90.0, 180.0])
+    agree = [[1000, 600, 10, 0.0], [1000, 500, 10, 0.0], [1000, 400, 10, 0.0]]
+    noisy = [[1000, 600, 10, 0.0], [1004, 500, 10, 0.2], [996, 400, 10, 0.0]]  # 0.8 % at nadir, a dark zenith
+    for name, table in (("agree", agree), ("noisy", noisy)):
+        assert read_photometry(write(tmp_path, f"{name}.ies", format_ies(c, g, table))).warnings == []
+    # one plane (rotational symmetry) has nothing to disagree with
+    assert read_photometry(write(tmp_path, "one.ies", format_ies([0], g, [[5, 4, 3, 2]]))).warnings == []
+
+
+def test_the_generator_writes_pole_consistent_files(tmp_path):
+    """tools/make_luminaires.py regenerates the bundled files exactly, and its models give each
+    pole one value (the generator refuses to write a table that does not)."""
+    import subprocess
+    import sys
+
+    r = subprocess.run(
+        [sys.executable, os.path.join(ROOT, "tools", "make_luminaires.py"), "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert r.returncode == 0, r.stderr
+    for name in BUNDLED:
+        with open(os.path.join(tmp_path, name), "rb") as a, open(os.path.join(LUM, name), "rb") as b:
+            assert a.read() == b.read(), f"{name}: the bundled file is not what the generator writes"
+
+
+# ---------------------------------------------------------------- IES headers: legacy versions, keyword values
+
+
+@pytest.mark.parametrize(
+    ("first_line", "version"),
+    [
+        ("IESNA:LM-63-1995", "LM-63-1995"),
+        ("IESNA95", "LM-63-1995"),
+        ("IESNA 95", "LM-63-1995"),
+        ("IESNA:LM-63-95", "LM-63-1995"),
+        ("IESNA91", "LM-63-1991"),
+        ("IESNA:LM-63-1991", "LM-63-1991"),
+        ("IESNA LM-63-2002", "LM-63-2002"),
+        ("iesna:lm-63-2002", "LM-63-2002"),
+        ("IES:LM-63-2019", "LM-63-2019"),
+    ],
+)
+def test_legacy_version_lines(tmp_path, first_line, version):
+    text = format_ies([0], [0.0, 90.0], [[100.0, 10.0]], version="LM-63-1995", ballast=0.8, second_factor=0.5)
+    text = first_line + text[text.index("\r\n") :]
+    p = read_photometry(write(tmp_path, "v.ies", text))
+    assert p.version == version and p.warnings == [] and "text" not in p.extra
+    old = version in ("LM-63-1991", "LM-63-1995")  # the ballast-lamp factor applies before LM-63-2002
+    assert p.candela[0, 0] == pytest.approx(100 * 0.8 * (0.5 if old else 1.0))
+
+
+def test_an_unknown_version_line_is_read_as_1986_and_says_so(tmp_path):
+    text = format_ies([0], [0.0, 90.0], [[100.0, 10.0]], version="LM-63-1986", second_factor=0.5)
+    p = read_photometry(write(tmp_path, "u.ies", "IESNA:LM-63-XYZ\r\n" + text))
+    assert p.version == "LM-63-1986" and p.extra["text"] == "IESNA:LM-63-XYZ"
+    assert len(p.warnings) == 1 and "(line 1)" in p.warnings[0] and "LM-63-1986" in p.warnings[0]
+    assert p.candela[0, 0] == pytest.approx(50.0)
+
+
+def test_keyword_values_lose_their_surrounding_blanks(tmp_path):
+    text = (
+        "IESNA95\r\n[TEST]    T-7  \r\n[MANUFAC]\tAcme Lighting\r\n[LUMINAIRE]   line one\r\n[MORE]    line two \r\n"
+        "[LUMCAT]\r\nTILT=NONE\r\n1 1000 1 2 1 1 2 0 0 0\r\n1 1 10\r\n0 90\r\n0\r\n100 10\r\n"
+    )
+    p = read_photometry(write(tmp_path, "k.ies", text))
+    assert p.version == "LM-63-1995"
+    assert p.keywords == {"TEST": "T-7", "MANUFAC": "Acme Lighting", "LUMINAIRE": "line one\nline two", "LUMCAT": ""}
+    assert p.manufacturer == "Acme Lighting" and p.luminaire == "line one\nline two"
+
+
+# ---------------------------------------------------------------- flux against the lamp lumens
+
+
+def test_flux_is_reported_against_the_lamp_lumens_not_times_the_multiplier(tmp_path):
+    """A relative file in cd/klm whose multiplier (3 = 3000 lm / 1000) makes the candela absolute:
+    the table's flux is compared with the 3000 lamp lumens (light output ratio), never with
+    3000 x 3."""
+    g = np.linspace(0, 90, 181)
+    per_klm = 1000 / np.pi * 0.8 * np.cos(np.radians(g))  # 800 lm of every 1000 lamp lumens leave
+    path = write(tmp_path, "klm.ies", format_ies([0], g, [per_klm], lumens_per_lamp=3000, multiplier=3, fmt="{:.9g}"))
+    lum = patina.load_luminaire(path)
+    p = lum.photometry
+    assert p.lumens == 3000 and p.multiplier == 3 and p.luminaire_lumens is None
+    assert lum.flux() / p.lumens == pytest.approx(0.8, rel=1e-4)  # the light output ratio
+    assert p.rated_flux == 3000  # info()'s "lumens_rated" until it reports the light output ratio
+    # EULUMDAT states the luminaire flux itself (lamp flux x LORL); the conversion factor scales
+    # the intensities only
+    lines = format_ldt([0.0], g, [per_klm], isym=1, lamp_flux=3000, lorl=80).split("\r\n")
+    lines[23] = "2"  # line 24: conversion factor
+    q = read_photometry(write(tmp_path, "klm.ldt", "\r\n".join(lines)))
+    assert q.lumens == 3000 and q.luminaire_lumens == pytest.approx(2400) and q.multiplier == pytest.approx(6)
+    assert patina.load_luminaire(q.path).flux() == pytest.approx(2 * 2400, rel=1e-4)
+
+
+# ---------------------------------------------------------------- the docs say what the code does
+
+
+def test_docs_luminaires_and_astm_agree_with_the_code(tmp_path):
+    lum_doc = open(os.path.join(ROOT, "docs", "luminaires.md"), encoding="utf-8").read()
+    astm_doc = open(os.path.join(ROOT, "docs", "astm.md"), encoding="utf-8").read()
+    # the 360 plane: repeated from C0 only where the file does not list it (kept otherwise:
+    # test_pole_warnings_zenith_type_b_and_the_360_plane)
+    assert "(the 360 column repeats 0)" not in lum_doc and "measured C360 plane is kept" in lum_doc
+    c, g = full_table()
+    cc, gg = np.meshgrid(c, g, indexing="ij")
+    short = read_photometry(write(tmp_path, "s.ies", format_ies(c[:-1], g, model_c(cc, gg)[:-1], fmt="{:.9g}")))
+    assert short.h_deg[-1] == 360 and np.array_equal(short.candela[-1], short.candela[0])
+    # the fields the docs name exist, and lumens_rated is not among them
+    p = read_photometry(os.path.join(LUM, "streetlight.ldt"))
+    for name in ("lumens", "luminaire_lumens", "warnings"):
+        assert f"`{name}`" in lum_doc or f"`Photometry.{name}`" in lum_doc, name
+        assert hasattr(p, name)
+    assert "light_output_ratio" in lum_doc and "lumens_rated" not in lum_doc.split("## `info()`")[1].split("##")[0]
+    # ASTM: scattered rows are resampled by load_brdf (and refused only by read_astm(resample=False))
+    from patina.table.formats.astm import read_astm
+
+    rng = np.random.default_rng(3)
+    rows = ["VARS theta_i,phi_i,theta_s,phi_s,BRDF"]
+    for ti, ts, ps in zip(rng.uniform(0, 1.4, 80), rng.uniform(0, 1.4, 80), rng.uniform(0, np.pi, 80)):
+        rows.append(f"{ti:.6f},0,{ts:.6f},{ps:.6f},{0.2 + 0.1 * np.cos(ti) * np.cos(ts):.6f}")
+    path = write(tmp_path, "scattered.astm", "#ASTM E1392-96\n" + "\n".join(rows) + "\n")
+    with pytest.raises(patina.FormatError, match="not on a tensor grid"):
+        read_astm(path)
+    brdf = patina.load_brdf(path)
+    assert "resampled from 80 scattered points" in brdf.info()["provenance"]
+    assert "resampled" in astm_doc and "scattered data is rejected" not in astm_doc.lower()
+    flat = " ".join(astm_doc.lower().split())
+    assert "only a direct call `read_astm(path)` with the default `resample=false`" in flat
 
 
 # ---------------------------------------------------------------- fuzz: FormatError and nothing else
