@@ -1,156 +1,231 @@
-"""`patina plot`: figures and an index.html for a table, its validation and an optional fit.
+"""`patina plot`: figures and an index.html for a table, its validation and any number of fits.
 
-In-plane slices (measured against fitted, log scale, per channel) and polar plots of the
-incidence plane for several incidence angles, made with matplotlib, and a 3-D lobe view
-(lobe3d.py, pyvista off-screen) that is skipped, with the reason on the page, where it
-cannot be rendered; every file is written to a temporary name and renamed into place.
+In-plane slices (the one slice plotter, slices.py, with the fits overlaid), polar plots of the
+incidence plane (polar.py), and a 3-D lobe view (lobes.py, pyvista off-screen) that is skipped,
+with the reason on the page, where it cannot be rendered. The page is a Jinja2 template installed
+with the package (templates/report.html.j2, its stylesheet report.css inlined so that index.html
+and its PNGs are all a colleague needs); every file is written to a temporary name and renamed.
 """
 
 from __future__ import annotations
 
-import html
 import json
+import math
 import os
+import re
 from collections.abc import Callable, Sequence
 from typing import Any
 
-import numpy as np
+import jinja2
 
 from patina.atomic import write_text
-from patina.fitting import FittedModel
-from patina.plot.figures import save_figure
+from patina.plot.fits import Fit
 from patina.plot.lobes import LobeOptions, render_lobes
-from patina.table.brdf import Brdf, angles_to_directions
-from patina.table.validation import Report, validate
+from patina.plot.polar import plot_incidence_polar
+from patina.plot.slices import plot_inplane_slices
+from patina.table.brdf import Brdf
+from patina.table.validation import Report, format_report, validate
 
-COLOURS = ("tab:red", "tab:green", "tab:blue")
 DEFAULT_LOBES = LobeOptions()
+TEMPLATES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "templates")
+
+# A fit's metrics (fitting/search.py) as a reader names them, with how their values read.
+METRICS: dict[str, tuple[str, str]] = {
+    "ciede2000_mean": ("CIEDE2000 mean (ΔE00)", "de"),
+    "ciede2000_p95": ("CIEDE2000, 95th percentile (ΔE00)", "de"),
+    "relative_error_median": ("relative error, median", "percent"),
+    "relative_error_p95": ("relative error, 95th percentile", "percent"),
+    "rmse": ("RMS error of f (1/sr)", "g"),
+    "loss_all_samples": ("loss on all samples", "g"),
+}
+_PARAMETERS = {
+    "rho": "diffuse albedo ρ",  # noqa: RUF001 (a label for readers)
+    "f0": "specular reflectance F0",
+    "w": "lobe weight",
+    "alpha": "roughness α",  # noqa: RUF001 (a label for readers)
+    "alpha_x": "roughness αx",  # noqa: RUF001 (a label for readers)
+    "alpha_y": "roughness αy",  # noqa: RUF001 (a label for readers)
+    "exponent": "exponent n",
+    "nu": "exponent nu",
+    "nv": "exponent nv",
+    "cxy": "Lafortune Cx = Cy",
+    "cx": "Lafortune Cx",
+    "cy": "Lafortune Cy",
+    "cz": "Lafortune Cz",
+    "coat_alpha": "clear coat roughness α",  # noqa: RUF001 (a label for readers)
+    "coat_eta": "clear coat index of refraction",
+}
+_CHANNELS = {"r": "red", "g": "green", "b": "blue"}
 
 
-def _incidence_plane(theta_i_deg: float, n: int = 361) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Directions in the plane of incidence: signed theta_o in degrees (+ = forward), wi, wo."""
-    signed = np.linspace(-89.5, 89.5, n)
-    wo = angles_to_directions(np.radians(np.abs(signed)), np.where(signed >= 0, np.pi, 0.0))
-    wi = np.broadcast_to(angles_to_directions(np.radians(theta_i_deg), 0.0), wo.shape)
-    return signed, np.ascontiguousarray(wi, np.float32), np.ascontiguousarray(wo, np.float32)
+def parameter_label(name: str) -> str:
+    """rho_r -> 'diffuse albedo (rho), red'; alpha_2_g -> 'roughness (alpha), lobe 2, green'; others stay."""
+    m = re.fullmatch(r"(coat_alpha|coat_eta|[a-z0-9]+?(?:_[xy])?)(?:_(\d))?(?:_([rgb]))?", name)
+    if not m or m.group(1) not in _PARAMETERS:
+        return name
+    parts = [_PARAMETERS[m.group(1)]]
+    if m.group(2):
+        parts.append(f"lobe {m.group(2)}")
+    if m.group(3):
+        parts.append(_CHANNELS[m.group(3)])
+    return ", ".join(parts)
 
 
-def plot_slices(brdf: Brdf, fitted: FittedModel | None, path: str, incidence: Sequence[float]) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(1, len(incidence), figsize=(3.3 * len(incidence), 3.3), sharey=True, squeeze=False)
-    for ax, ti in zip(axes[0], incidence):
-        signed, wi, wo = _incidence_plane(ti)
-        measured = brdf.eval(wi, wo)
-        for c in range(min(3, brdf.channels)):
-            ax.semilogy(signed, np.maximum(measured[:, c], 1e-6), color=COLOURS[c], lw=1.3)
-        if fitted is not None:
-            model = fitted.eval(wi, wo)
-            for c in range(3):
-                ax.semilogy(signed, np.maximum(model[:, c], 1e-6), color=COLOURS[c], lw=1.0, ls="--")
-        ax.set_title(f"theta_i = {ti:g} deg", fontsize=9)
-        ax.set_xlabel("theta_o (deg, + = forward)", fontsize=8)
-        ax.grid(alpha=0.3)
-    axes[0][0].set_ylabel("BRDF (1/sr); dashed: fit" if fitted else "BRDF (1/sr)")
-    fig.suptitle(f"In-plane slices: {os.path.basename(brdf.source)}", fontsize=10)
-    fig.tight_layout()
-    save_figure(fig, path)
+def _number(value: Any, style: str = "g") -> str:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return str(value)
+    if not math.isfinite(value):
+        return str(value)
+    if style == "percent":
+        return f"{100 * value:.3g} %"
+    if style == "de":
+        return f"{value:.2f}"
+    return f"{value:.4g}"
 
 
-def plot_polar(brdf: Brdf, fitted: FittedModel | None, path: str, incidence: Sequence[float]) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(
-        1, len(incidence), figsize=(3.3 * len(incidence), 3.0), subplot_kw={"projection": "polar"}, squeeze=False
-    )
-    for ax, ti in zip(axes[0], incidence):
-        signed, wi, wo = _incidence_plane(ti)
-        lum = brdf.eval(wi, wo)[:, : min(3, brdf.channels)].mean(axis=1) * wo[:, 2]  # reflected, cosine-weighted
-        ax.plot(np.radians(signed), lum, color="black", lw=1.2)
-        if fitted is not None:
-            ax.plot(np.radians(signed), fitted.eval(wi, wo).mean(axis=1) * wo[:, 2], color="tab:orange", ls="--")
-        ax.set_thetamin(-90)
-        ax.set_thetamax(90)
-        ax.set_theta_zero_location("N")
-        ax.set_theta_direction(-1)  # forward (specular) side to the right
-        ax.set_yticklabels([])
-        ax.set_title(f"theta_i = {ti:g} deg", fontsize=9)
-    fig.suptitle("f cos(theta_o) in the plane of incidence (mean of channels)", fontsize=10)
-    fig.tight_layout()
-    save_figure(fig, path)
+def _validation_rows(report: Report) -> tuple[list[dict[str, Any]], str]:
+    """format_report's lines (what `patina validate` prints) as table rows: status, check, result, details.
+    Parsed from the printed form so that the page and the command say the same, whatever checks there are."""
+    rows: list[dict[str, Any]] = []
+    result = ""
+    for line in format_report(report).splitlines()[1:]:
+        m = re.match(r"  (ok  |FAIL)  (\S+)\s+(.*)$", line)
+        if m:
+            rows.append({"ok": m.group(1) == "ok  ", "check": m.group(2), "text": m.group(3), "details": []})
+        elif line.startswith("result:"):
+            result = line.removeprefix("result:").strip()
+        elif rows and line.startswith("    ") and not line.lstrip().startswith("- "):
+            rows[-1]["details"].append(line.strip())
+    return rows, result
 
 
-def _html_table(rows: list[tuple[str, str]]) -> str:
-    cells = "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(v)}</td></tr>" for k, v in rows)
-    return f"<table>{cells}</table>"
+def _fit_context(brdf: Brdf, fits: Sequence[Fit]) -> dict[str, Any]:
+    """The fits' parameters and metrics as tables, one column per fit."""
+    names: list[str] = []
+    for fit in fits:
+        names += [n for n in fit.doc["parameters"] if n not in names]
+    parameters = []
+    for n in names:
+        cells = []
+        for fit in fits:
+            v = fit.doc["parameters"].get(n)
+            cells.append({"text": "" if v is None else _number(v), "bound": n in (fit.doc.get("at_bounds") or [])})
+        parameters.append({"name": n, "label": parameter_label(n), "cells": cells})
+    keys = [k for k in METRICS if any(k in (f.doc.get("metrics") or {}) for f in fits)]
+    keys += [
+        k
+        for f in fits
+        for k, v in (f.doc.get("metrics") or {}).items()
+        if k not in METRICS and isinstance(v, (int, float)) and k not in keys
+    ]
+    metrics = []
+    for k in keys:
+        label, style = METRICS.get(k, (k.replace("_", " "), "g"))
+        values = [(f.doc.get("metrics") or {}).get(k) for f in fits]
+        numeric = [v for v in values if isinstance(v, (int, float)) and not isinstance(v, bool)]
+        best = min(numeric) if len(numeric) > 1 else None  # every metric here is an error: lower is better
+        metrics.append(
+            {
+                "label": label,
+                "cells": [{"text": "" if v is None else _number(v, style), "best": v == best} for v in values],
+            }
+        )
+    about = []
+    for f in fits:
+        d = f.doc
+        notes = []
+        if d.get("usable") is False:
+            notes.append("not usable: " + ("; ".join(map(str, d.get("problems") or [])) or "flagged by patina fit"))
+        if d.get("at_bounds"):
+            notes.append("at a bound: " + ", ".join(parameter_label(n) for n in d["at_bounds"]))
+        if d.get("converged") is False:
+            notes.append(f"not converged: {d.get('message', '')}")
+        source = d.get("source") or ""
+        if source and os.path.abspath(source) != os.path.abspath(brdf.source):
+            notes.append(f"fitted to {os.path.basename(source)}, not to this table")
+        about.append(
+            {
+                "name": f.name,
+                "file": os.path.basename(f.path),
+                "loss": d.get("loss", ""),
+                "samples": d.get("samples", ""),
+                "seconds": _number(d["seconds"], "g") if isinstance(d.get("seconds"), (int, float)) else "",
+                "notes": notes,
+            }
+        )
+    return {"parameters": parameters, "metrics": metrics, "about": about}
 
 
 def _lobe_view(
     brdf: Brdf,
-    fitted: FittedModel | None,
+    fits: Sequence[Fit],
     out_dir: str,
     lobes: LobeOptions | None,
     on_skip: Callable[[str], None] | None,
-) -> str:
-    """lobe3d.png and its section of index.html; a stale PNG from an earlier run is removed when none is made."""
+) -> dict[str, str]:
+    """lobe3d.png (of the table and the first fit) and what the page says of it; a stale PNG from an
+    earlier run is removed when none is made."""
     path = os.path.join(out_dir, "lobe3d.png")
     if lobes is None:
         why = "not requested (--no-3d)"
     else:
-        view = render_lobes(brdf, fitted, path, options=lobes)
+        view = render_lobes(brdf, fits[0].model if fits else None, path, options=lobes)
         if view.skipped is None:
-            return f'<h2>3-D lobes</h2><img src="lobe3d.png"><p>{html.escape(view.caption)}</p>'
+            caption = view.caption + (f" The fit shown is {fits[0].name}." if len(fits) > 1 else "")
+            return {"image": "lobe3d.png", "caption": caption}
         why = view.skipped
         if on_skip is not None:
             on_skip(why)
     if os.path.exists(path):
         os.remove(path)
-    return f"<h2>3-D lobes</h2><p>The 3-D lobe view was skipped: {html.escape(why)}.</p>"
+    return {"skipped": why}
 
 
 def write_report(
     brdf: Brdf,
     out_dir: str,
-    fitted: FittedModel | None = None,
-    fit_doc: dict[str, Any] | None = None,
+    fits: Sequence[Fit] = (),
     incidence: Sequence[float] = (0, 30, 60, 75),
     lobes: LobeOptions | None = DEFAULT_LOBES,
     on_skip: Callable[[str], None] | None = None,
 ) -> Report:
     """Writes the report into out_dir. lobes=None leaves out the 3-D view; on_skip hears why it could not be made."""
     os.makedirs(out_dir, exist_ok=True)
-    plot_slices(brdf, fitted, os.path.join(out_dir, "slices.png"), incidence)
-    plot_polar(brdf, fitted, os.path.join(out_dir, "polar.png"), incidence)
-    lobe_html = _lobe_view(brdf, fitted, out_dir, lobes, on_skip)
+    named = [(f.name, f.model) for f in fits]
+    slices_caption = plot_inplane_slices(brdf, os.path.join(out_dir, "slices.png"), incidence, fits=named)
+    polar_caption = plot_incidence_polar(brdf, os.path.join(out_dir, "polar.png"), incidence, fits=named)
+    lobe = _lobe_view(brdf, fits, out_dir, lobes, on_skip)
     report = validate(brdf)
     write_text(os.path.join(out_dir, "validate.json"), json.dumps(report.as_json(), indent=2))
     info = brdf.info()
-    parts = [
-        f"<h1>{html.escape(os.path.basename(brdf.source) or 'table')}</h1>",
-        _html_table(
-            [
-                ("parametrization", info["parametrization"]),
-                ("grid", " x ".join(str(a["knots"]) for a in info["axes"])),
-                ("channels", f"{info['channels']} {info['channel_kind']}"),
-                ("provenance", info["provenance"]),
-            ]
-        ),
-        "<h2>Validation</h2>",
-        f"<p>{'clean' if report.ok else 'problems found:'}</p>",
-        "<ul>" + "".join(f"<li>{html.escape(p)}</li>" for p in report.problems) + "</ul>",
-        '<p><a href="validate.json">validate.json</a></p>',
-    ]
-    if fit_doc is not None:
-        params = [(k, f"{v:.6g}") for k, v in fit_doc.get("parameters", {}).items()]
-        metrics = [(k, f"{v:.4g}") for k, v in fit_doc.get("metrics", {}).items() if isinstance(v, (int, float))]
-        parts += [f"<h2>Fit: {html.escape(str(fit_doc.get('model')))}</h2>", _html_table(params + metrics)]
-    parts += ['<h2>Slices</h2><img src="slices.png">', '<h2>Polar</h2><img src="polar.png">', lobe_html]
-    page = "<!doctype html><meta charset=utf-8><title>Patina report</title>" + "\n".join(parts)
+    checks, result = _validation_rows(report)
+    env = jinja2.Environment(
+        loader=jinja2.FileSystemLoader(TEMPLATES),
+        autoescape=True,
+        undefined=jinja2.StrictUndefined,  # a name the template expects and this code forgot fails here, not blank
+        trim_blocks=True,
+        lstrip_blocks=True,
+    )
+    page = env.get_template("report.html.j2").render(
+        title=os.path.basename(brdf.source) or "table",
+        source=brdf.source,
+        table=[
+            ("format", report.format),
+            ("parametrization", info["parametrization"]),
+            ("grid", " × ".join(f"{a['knots']} {a['name']}" for a in info["axes"])),  # noqa: RUF001 (a label for readers)
+            ("channels", f"{info['channels']} {info['channel_kind']}"),
+            ("units", info["units"]),
+            ("provenance", info["provenance"] or "not recorded"),
+        ],
+        ok=report.ok,
+        result=result,
+        checks=checks,
+        problems=report.problems,
+        fits=_fit_context(brdf, fits) if fits else None,
+        fit_names=[f.name for f in fits],
+        slices_caption=slices_caption,
+        polar_caption=polar_caption,
+        lobe=lobe,
+    )
     write_text(os.path.join(out_dir, "index.html"), page)
     return report
