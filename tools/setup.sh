@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets up everything `make demo` and `make test` need, idempotently:
-#   - from Debian, only what pip cannot give: a C++ compiler, CMake, Ninja, GoogleTest, and
-#     EGL with Mesa's software rasteriser (off-screen OpenGL for the 3-D lobe view);
+#   - from Debian, only what pip cannot give: a C++ compiler, CMake, Ninja, GoogleTest,
+#     EGL with Mesa's software rasteriser (off-screen OpenGL for the 3-D lobe view) and
+#     Chromium (headless, to check the HTML report as a browser shows it);
 #   - a virtual environment in .venv with the pinned Python packages;
 #   - Patina itself (the C++ core and the Python package) built into that venv.
 set -euo pipefail
@@ -18,6 +19,8 @@ compgen -G '/usr/lib/*/libEGL_mesa.so.0' >/dev/null && compgen -G '/usr/lib/*/dr
   || need_apt+=(libegl1 libgl1-mesa-dri)
 # Mitsuba's llvm_ad_rgb variant (the render.vs_mitsuba_llvm benchmark) needs a newer libLLVM than Debian 12's default 15.
 compgen -G '/usr/lib/*/libLLVM-19.so*' >/dev/null || need_apt+=(libllvm19)
+# The report test (tests/python/plot) opens index.html in a real headless browser and screenshots it.
+command -v chromium >/dev/null || need_apt+=(chromium)
 if [ ${#need_apt[@]} -gt 0 ]; then
   echo "setup: installing from Debian: ${need_apt[*]}"
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
