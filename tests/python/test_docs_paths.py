@@ -10,6 +10,7 @@ table of Python parts must also list every folder and module of python/patina.
 
 import os
 import re
+import subprocess
 
 import pytest
 
@@ -105,3 +106,22 @@ def test_the_python_parts_table_lists_every_folder_and_module():
             if f.endswith(".py") and not stem.startswith("__") and stem not in rows[key]:
                 missing.append(f"module {key}/{f}")
     assert missing == []
+
+
+def test_every_cited_tool_exists():
+    """Comments and pages cite generators by path (core/simd/fastmath.h once cited a
+    generator, fit_fastmath.py, that tools/ never had): every tools/ script any tracked file names exists."""
+    listed = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, capture_output=True, check=False)
+    if listed.returncode != 0:
+        pytest.skip("not a git checkout")
+    cited = re.compile(rb"(?<![\w./])tools/[\w.-]+\.(?:py|sh|txt)")
+    missing = set()
+    for name in listed.stdout.decode().split("\0"):
+        path = os.path.join(ROOT, name)
+        if not name or not os.path.isfile(path) or os.path.getsize(path) > 1 << 20:
+            continue
+        with open(path, "rb") as f:
+            for tool in cited.findall(f.read()):
+                if not os.path.exists(os.path.join(ROOT, tool.decode())):
+                    missing.add(f"{name}: {tool.decode()}")
+    assert sorted(missing) == []
