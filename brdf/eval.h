@@ -18,18 +18,14 @@
 #include "brdf/table.h"
 #include "core/constants.h"
 #include "core/simd/fastmath.h"
+#include "core/vec3.h"
 
 PATINA_BEGIN_TARGET
 
-template <int N>
-struct Dir {
-    vfloat<N> x, y, z;
-};
-
 // Loads N directions from an (n, 3) row-major array.
 template <int N>
-PATINA_INLINE Dir<N> load_dirs(const float* p) {
-    Dir<N> d;
+PATINA_INLINE Vec3<vfloat<N>> load_dirs(const float* p) {
+    Vec3<vfloat<N>> d;
     load_xyz(p, d.x, d.y, d.z);
     return d;
 }
@@ -62,7 +58,7 @@ PATINA_INLINE vfloat<N> acos_clamped(vfloat<N> c) {
 // no division and no square root for it. At the pole (h = n) phi_h is taken as 0,
 // as the MERL reference code does.
 template <int N, class Trig>
-PATINA_INLINE void halfdiff_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t symmetry, vfloat<N>* coord) {
+PATINA_INLINE void halfdiff_coords(const Vec3<vfloat<N>>& wi, const Vec3<vfloat<N>>& wo, uint32_t symmetry, vfloat<N>* coord) {
     using F = vfloat<N>;
     F hx = wi.x + wo.x, hy = wi.y + wo.y, hz = wi.z + wo.z;
     const F inv_len = F(1.0f) / sqrt_exact(hx * hx + hy * hy + hz * hz);
@@ -85,7 +81,7 @@ PATINA_INLINE void halfdiff_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t 
 }
 
 template <int N, class Trig>
-PATINA_INLINE void isotropic_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t symmetry, vfloat<N>* coord) {
+PATINA_INLINE void isotropic_coords(const Vec3<vfloat<N>>& wi, const Vec3<vfloat<N>>& wo, uint32_t symmetry, vfloat<N>* coord) {
     using F = vfloat<N>;
     F ti = acos_clamped<N, Trig>(wi.z), to = acos_clamped<N, Trig>(wo.z);
     if (symmetry & kSymReciprocity) {
@@ -102,14 +98,14 @@ PATINA_INLINE void isotropic_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t
 }
 
 template <int N, class Trig>
-PATINA_INLINE vfloat<N> azimuth(const Dir<N>& w) {
+PATINA_INLINE vfloat<N> azimuth(const Vec3<vfloat<N>>& w) {
     using F = vfloat<N>;
     const F phi = Trig::atan2(w.y, w.x);
     return select(phi < F(0.0f), phi + F(kTwoPi), phi);
 }
 
 template <int N, class Trig>
-PATINA_INLINE void anisotropic_coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t symmetry, vfloat<N>* coord) {
+PATINA_INLINE void anisotropic_coords(const Vec3<vfloat<N>>& wi, const Vec3<vfloat<N>>& wo, uint32_t symmetry, vfloat<N>* coord) {
     using F = vfloat<N>;
     F ti = acos_clamped<N, Trig>(wi.z), to = acos_clamped<N, Trig>(wo.z);
     F pi = azimuth<N, Trig>(wi), po = azimuth<N, Trig>(wo);
@@ -128,7 +124,7 @@ PATINA_INLINE void anisotropic_coords(const Dir<N>& wi, const Dir<N>& wo, uint32
 }
 
 template <int N, Parametrization P, class Trig>
-PATINA_INLINE void coords(const Dir<N>& wi, const Dir<N>& wo, uint32_t symmetry, vfloat<N>* coord) {
+PATINA_INLINE void coords(const Vec3<vfloat<N>>& wi, const Vec3<vfloat<N>>& wo, uint32_t symmetry, vfloat<N>* coord) {
     if constexpr (P == Parametrization::HalfDiff) halfdiff_coords<N, Trig>(wi, wo, symmetry, coord);
     else if constexpr (P == Parametrization::Isotropic) isotropic_coords<N, Trig>(wi, wo, symmetry, coord);
     else anisotropic_coords<N, Trig>(wi, wo, symmetry, coord);
@@ -156,7 +152,7 @@ struct Chunk {
 template <int N, Parametrization P, class Trig, int D>
 PATINA_INLINE void block_angles(const TableView& t, const float* wi, const float* wo, Chunk<D>& c, int at) {
     using F = vfloat<N>;
-    const Dir<N> i = load_dirs<N>(wi), o = load_dirs<N>(wo);
+    const Vec3<vfloat<N>> i = load_dirs<N>(wi), o = load_dirs<N>(wo);
     store_n<N>(c.above + at, select((i.z > F(0.0f)) & (o.z > F(0.0f)), F(1.0f), F(0.0f)));
     F coord[D];
     coords<N, P, Trig>(i, o, t.symmetry, coord);

@@ -7,25 +7,20 @@
 #include "brdf/kernels.h"
 #include "brdf/search.h"
 #include "core/simd/fastmath.h"
-#include "core/simd/upper_state.h"
-
-#ifndef PATINA_KERNEL_WIDTH
-#error "define PATINA_KERNEL_WIDTH before including kernels_impl.h"
-#endif
+#include "core/simd/kernel_width.h"
 
 PATINA_BEGIN_TARGET
 namespace {
-
-constexpr int W = PATINA_KERNEL_WIDTH;
+using namespace kernel_width;
 
 template <class Op>
 inline void map_unary(const float* a, float* out, size_t n, Op op) {
     size_t i = 0;
-    for (; i + W <= n; i += W) store_n<W>(out + i, op(load_n<W>(a + i)));
+    for (; i + N <= n; i += N) store_n<N>(out + i, op(load_n<N>(a + i)));
     if (i < n) {
-        float pa[W] = {}, po[W];
+        float pa[N] = {}, po[N];
         for (size_t j = i; j < n; ++j) pa[j - i] = a[j];
-        store_n<W>(po, op(load_n<W>(pa)));
+        store_n<N>(po, op(load_n<N>(pa)));
         for (size_t j = i; j < n; ++j) out[j] = po[j - i];
     }
 }
@@ -33,25 +28,19 @@ inline void map_unary(const float* a, float* out, size_t n, Op op) {
 template <class Op>
 inline void map_binary(const float* a, const float* b, float* out, size_t n, Op op) {
     size_t i = 0;
-    for (; i + W <= n; i += W) store_n<W>(out + i, op(load_n<W>(a + i), load_n<W>(b + i)));
+    for (; i + N <= n; i += N) store_n<N>(out + i, op(load_n<N>(a + i), load_n<N>(b + i)));
     if (i < n) {
-        float pa[W] = {}, pb[W] = {}, po[W];
+        float pa[N] = {}, pb[N] = {}, po[N];
         for (size_t j = i; j < n; ++j) {
             pa[j - i] = a[j];
             pb[j - i] = b[j];
         }
-        store_n<W>(po, op(load_n<W>(pa), load_n<W>(pb)));
+        store_n<N>(po, op(load_n<N>(pa), load_n<N>(pb)));
         for (size_t j = i; j < n; ++j) out[j] = po[j - i];
     }
 }
 
-// Legacy-SSE code (widths 1 and 4) first clears the AVX upper state: see upper_state.h.
-inline void enter_kernel() {
-    if constexpr (W < 8) clear_upper_state();
-}
-
 void math_kernel(MathOp op, const float* a, const float* b, float* out, size_t n) {
-    using F = vfloat<W>;
     enter_kernel();
     switch (op) {
         case MathOp::Acos: map_unary(a, out, n, [](F x) { return fast_acos(x); }); break;
@@ -75,20 +64,20 @@ template <SplitWalk Walk>
 void search_kernel(const float* knots, int count, const float* x, int32_t* cells, size_t n) {
     enter_kernel();
     size_t i = 0;
-    for (; i + W <= n; i += W)
-        store_n<W>(cells + i, coherent_search<W, Walk>(knots, count, load_n<W>(x + i), vbool<W>(true)));
+    for (; i + N <= n; i += N)
+        store_n<N>(cells + i, coherent_search<N, Walk>(knots, count, load_n<N>(x + i), vbool<N>(true)));
     if (i < n) {
-        float px[W] = {};
-        int32_t pc[W];
+        float px[N] = {};
+        int32_t pc[N];
         for (size_t j = i; j < n; ++j) px[j - i] = x[j];
-        store_n<W>(pc, coherent_search<W, Walk>(knots, count, load_n<W>(px), vbool<W>(true)));
+        store_n<N>(pc, coherent_search<N, Walk>(knots, count, load_n<N>(px), vbool<N>(true)));
         for (size_t j = i; j < n; ++j) cells[j] = pc[j - i];
     }
 }
 
 void eval_kernel(const TableView& t, const float* wi, const float* wo, float* out, size_t begin, size_t end) {
     enter_kernel();
-    eval_range<W>(t, wi, wo, out, begin, end);
+    eval_range<N>(t, wi, wo, out, begin, end);
 }
 
 [[maybe_unused]] void eval_libm_kernel(const TableView& t, const float* wi, const float* wo, float* out, size_t begin,

@@ -1,39 +1,13 @@
 // The body of lobe_kernels_w{1,4,8}.cpp: defines lobe_kernels_wN() for PATINA_KERNEL_WIDTH.
 #pragma once
 
-#include <algorithm>
-
-#include "core/simd/rows.h"
-#include "core/simd/upper_state.h"
+#include "core/simd/kernel_width.h"
 #include "fit/lobe_kernels.h"
 #include "fit/microfacet.h"
 
-#ifndef PATINA_KERNEL_WIDTH
-#error "define PATINA_KERNEL_WIDTH before including lobe_kernels_impl.h"
-#endif
-
 PATINA_BEGIN_TARGET
 namespace {
-
-constexpr int W = PATINA_KERNEL_WIDTH;
-using F = vfloat<W>;
-
-// Runs body(i, lanes) over blocks of W rows; rows past n read from zero-padded copies.
-template <class Body>
-void for_blocks(size_t n, Body body) {
-    if constexpr (W < 8) clear_upper_state();
-    for (size_t i = 0; i < n; i += W) body(i, static_cast<int>(std::min<size_t>(W, n - i)));
-}
-
-// Rows and lanes of the (n, 3) and (n,) arrays, the last block through padded copies (core/simd/rows.h).
-Dir3<F> load_rows(const float* p, size_t i, int lanes) {
-    Dir3<F> d;
-    rows::load3<W>(p, i, lanes, d.x, d.y, d.z);
-    return d;
-}
-F load_lanes(const float* p, size_t i, int lanes) { return rows::load1<W>(p, i, lanes); }
-void store_rows(float* p, size_t i, int lanes, F x, F y, F z) { rows::store3<W>(p, i, lanes, x, y, z); }
-void store_lanes(float* p, size_t i, int lanes, F v) { rows::store1<W>(p, i, lanes, v); }
+using namespace kernel_width;
 
 // A lobe as base x (m + (1 - m) w): for the Schlick-Fresnel lobes (GGX, Beckmann,
 // Blinn-Phong, Ashikhmin-Shirley) w is f0, base the lobe at f0 = 1 and m = (1 - cos_d)^5,
@@ -44,7 +18,7 @@ struct LobeParts {
     F base, m;
 };
 
-LobeParts lobe_parts(const MixtureParams& p, int l, const Dir3<F>& a, const Dir3<F>& b, F shape, F shape_y) {
+LobeParts lobe_parts(const MixtureParams& p, int l, const V3& a, const V3& b, F shape, F shape_y) {
     using namespace microfacet;
     const F zero(0.0f), one(1.0f);
     switch (p.kind) {
@@ -62,18 +36,18 @@ LobeParts lobe_parts(const MixtureParams& p, int l, const Dir3<F>& a, const Dir3
             return {select((ci > zero) & (co > zero), base, zero), fresnel_schlick(zero, F(0.5f) * sqrt_exact(len2))};
         }
         case LobeKind::Beckmann: {
-            const Dir3<F> h = half_vector(a, b);
+            const V3 h = half_vector(a, b);
             return {microfacet_value(a, b, beckmann_d(h.z, shape), beckmann_g2(a.z, b.z, shape), one),
                     fresnel_schlick(zero, mean_cos_d(a, b, h))};
         }
         case LobeKind::BlinnPhong: {
-            const Dir3<F> h = half_vector(a, b);
+            const V3 h = half_vector(a, b);
             const F alpha = sqrt_exact(F(2.0f) / (shape + F(2.0f)));
             return {microfacet_value(a, b, blinn_phong_d(h.z, shape), beckmann_g2(a.z, b.z, alpha), one),
                     fresnel_schlick(zero, mean_cos_d(a, b, h))};
         }
         case LobeKind::AshikhminShirley: {
-            const Dir3<F> h = half_vector(a, b);
+            const V3 h = half_vector(a, b);
             const F kh = mean_cos_d(a, b, h);
             return {ashikhmin_shirley_eval(a, b, shape, shape_y, one), fresnel_schlick(zero, kh)};
         }
@@ -88,7 +62,7 @@ LobeParts lobe_parts(const MixtureParams& p, int l, const Dir3<F>& a, const Dir3
 }
 
 // The mixture's RGB value: Lambert, the lobes, and the coat over them.
-void mixture_rgb(const MixtureParams& p, const Dir3<F>& a, const Dir3<F>& b, F f[3]) {
+void mixture_rgb(const MixtureParams& p, const V3& a, const V3& b, F f[3]) {
     for (int ch = 0; ch < 3; ++ch) f[ch] = microfacet::lambert_eval(a, b, F(p.rho[ch]));
     for (int l = 0; l < p.lobes; ++l) {
         const float* s = p.shape[l];
@@ -110,8 +84,9 @@ void mixture_rgb(const MixtureParams& p, const Dir3<F>& a, const Dir3<F>& b, F f
 }
 
 void eval_mixture(const MixtureParams& p, const float* wi, const float* wo, float* out, size_t n) {
+    enter_kernel();
     for_blocks(n, [&](size_t i, int lanes) {
-        const Dir3<F> a = load_rows(wi, i, lanes), b = load_rows(wo, i, lanes);
+        const V3 a = load_rows(wi, i, lanes), b = load_rows(wo, i, lanes);
         F f[3];
         mixture_rgb(p, a, b, f);
         store_rows(out, i, lanes, f[0], f[1], f[2]);
@@ -120,10 +95,11 @@ void eval_mixture(const MixtureParams& p, const float* wi, const float* wo, floa
 
 void sample_lobe(LobeKind kind, float shape, const float* wi, const float* u1, const float* u2, float* wo, float* pdf,
                  size_t n) {
+    enter_kernel();
     for_blocks(n, [&](size_t i, int lanes) {
-        const Dir3<F> a = load_rows(wi, i, lanes);
+        const V3 a = load_rows(wi, i, lanes);
         const F s1 = load_lanes(u1, i, lanes), s2 = load_lanes(u2, i, lanes), k(shape);
-        Dir3<F> s{F(0.0f), F(0.0f), F(1.0f)};
+        V3 s{F(0.0f), F(0.0f), F(1.0f)};
         F p(0.0f);
         switch (kind) {
             case LobeKind::GGX:
@@ -158,17 +134,19 @@ void sample_lobe(LobeKind kind, float shape, const float* wi, const float* u1, c
 
 void sample_ward(float ax, float ay, const float* wi, const float* u1, const float* u2, float* wo, float* pdf,
                  size_t n) {
+    enter_kernel();
     for_blocks(n, [&](size_t i, int lanes) {
-        const Dir3<F> a = load_rows(wi, i, lanes);
-        const Dir3<F> s = microfacet::ward_sample(a, load_lanes(u1, i, lanes), load_lanes(u2, i, lanes), F(ax), F(ay));
+        const V3 a = load_rows(wi, i, lanes);
+        const V3 s = microfacet::ward_sample(a, load_lanes(u1, i, lanes), load_lanes(u2, i, lanes), F(ax), F(ay));
         store_rows(wo, i, lanes, s.x, s.y, s.z);
         store_lanes(pdf, i, lanes, microfacet::ward_pdf(a, s, F(ax), F(ay)));
     });
 }
 
 void sample_lambert(const float* u1, const float* u2, float* wo, float* pdf, size_t n) {
+    enter_kernel();
     for_blocks(n, [&](size_t i, int lanes) {
-        const Dir3<F> s = microfacet::lambert_sample(load_lanes(u1, i, lanes), load_lanes(u2, i, lanes));
+        const V3 s = microfacet::lambert_sample(load_lanes(u1, i, lanes), load_lanes(u2, i, lanes));
         store_rows(wo, i, lanes, s.x, s.y, s.z);
         store_lanes(pdf, i, lanes, s.z * F(kInvPi));
     });
@@ -184,14 +162,14 @@ double loss_blocks(const MixtureParams& p, const float* wi, const float* wo, con
     F acc(0.0f);
     int blocks = 0;
     auto flush = [&] {
-        float lane_sums[W];
-        store_n<W>(lane_sums, acc);
-        for (int j = 0; j < W; ++j) total += lane_sums[j];
+        float lane_sums[N];
+        store_n<N>(lane_sums, acc);
+        for (int j = 0; j < N; ++j) total += lane_sums[j];
         acc = F(0.0f);
         blocks = 0;
     };
     for_blocks(n, [&](size_t i, int lanes) {
-        const Dir3<F> a = load_rows(wi, i, lanes), b = load_rows(wo, i, lanes), m = load_rows(measured, i, lanes);
+        const V3 a = load_rows(wi, i, lanes), b = load_rows(wo, i, lanes), m = load_rows(measured, i, lanes);
         const F w = load_lanes(weight, i, lanes);  // padded lanes weigh 0
         const F mc[3] = {m.x, m.y, m.z};
         F model[3];
@@ -210,6 +188,7 @@ double loss_blocks(const MixtureParams& p, const float* wi, const float* wo, con
 
 double loss_mixture(const MixtureParams& p, const float* wi, const float* wo, const float* measured,
                         const float* weight, size_t n, bool log_space) {
+    enter_kernel();
     return log_space ? loss_blocks<true>(p, wi, wo, measured, weight, n)
                      : loss_blocks<false>(p, wi, wo, measured, weight, n);
 }

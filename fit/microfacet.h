@@ -6,13 +6,9 @@
 
 #include "core/constants.h"
 #include "core/simd/fastmath.h"
+#include "core/vec3.h"
 
 PATINA_BEGIN_TARGET
-
-template <class F>
-struct Dir3 {
-    F x, y, z;
-};
 
 namespace microfacet {
 // Schlick's approximation: f0 + (1 - f0) (1 - cos)^5.
@@ -74,7 +70,7 @@ PATINA_INLINE F ggx_g2(F cos_i, F cos_o, F alpha) {
 }
 
 template <class F>
-PATINA_INLINE Dir3<F> half_vector(const Dir3<F>& a, const Dir3<F>& b) {
+PATINA_INLINE Vec3<F> half_vector(const Vec3<F>& a, const Vec3<F>& b) {
     const F x = a.x + b.x, y = a.y + b.y, z = a.z + b.z;
     const F inv = F(1.0f) / sqrt_exact(x * x + y * y + z * z);
     return {x * inv, y * inv, z * inv};
@@ -82,7 +78,7 @@ PATINA_INLINE Dir3<F> half_vector(const Dir3<F>& a, const Dir3<F>& b) {
 
 // wi mirrored about the unit vector h.
 template <class F>
-PATINA_INLINE Dir3<F> reflect(const Dir3<F>& wi, const Dir3<F>& h) {
+PATINA_INLINE Vec3<F> reflect(const Vec3<F>& wi, const Vec3<F>& h) {
     const F d2 = F(2.0f) * (wi.x * h.x + wi.y * h.y + wi.z * h.z);
     return {d2 * h.x - wi.x, d2 * h.y - wi.y, d2 * h.z - wi.z};
 }
@@ -90,38 +86,38 @@ PATINA_INLINE Dir3<F> reflect(const Dir3<F>& wi, const Dir3<F>& h) {
 // cos(theta_d) as the mean of wi.h and wo.h: equal in theory, and the mean keeps every
 // lobe reciprocal bit for bit.
 template <class F>
-PATINA_INLINE F mean_cos_d(const Dir3<F>& wi, const Dir3<F>& wo, const Dir3<F>& h) {
+PATINA_INLINE F mean_cos_d(const Vec3<F>& wi, const Vec3<F>& wo, const Vec3<F>& h) {
     const F ih = wi.x * h.x + wi.y * h.y + wi.z * h.z, oh = wo.x * h.x + wo.y * h.y + wo.z * h.z;
     return F(0.5f) * (ih + oh);
 }
 
 // The microfacet reflectance D G F / (4 cos_i cos_o), zero below the horizon.
 template <class F>
-PATINA_INLINE F microfacet_value(const Dir3<F>& wi, const Dir3<F>& wo, F d, F g, F fresnel) {
+PATINA_INLINE F microfacet_value(const Vec3<F>& wi, const Vec3<F>& wo, F d, F g, F fresnel) {
     return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)), d * g * fresnel / (F(4.0f) * wi.z * wo.z), F(0.0f));
 }
 
 // The GGX specular lobe with Schlick Fresnel, for one channel's f0:
 // D G2 F / (4 cos_i cos_o). Zero below the horizon.
 template <class F>
-PATINA_INLINE F ggx_eval(const Dir3<F>& wi, const Dir3<F>& wo, F alpha, F f0) {
-    const Dir3<F> h = half_vector(wi, wo);
+PATINA_INLINE F ggx_eval(const Vec3<F>& wi, const Vec3<F>& wo, F alpha, F f0) {
+    const Vec3<F> h = half_vector(wi, wo);
     return microfacet_value(wi, wo, ggx_d(h.z, alpha), ggx_g2(wi.z, wo.z, alpha),
                             fresnel_schlick(f0, mean_cos_d(wi, wo, h)));
 }
 
 // Reflects wi about the unit half vector with cos(theta_h) = cos_h and a uniform azimuth from u2.
 template <class F>
-PATINA_INLINE Dir3<F> reflect_about_sampled_h(const Dir3<F>& wi, F cos_h, F u2) {
+PATINA_INLINE Vec3<F> reflect_about_sampled_h(const Vec3<F>& wi, F cos_h, F u2) {
     const F sin_h = sqrt_exact(max(F(1.0f) - cos_h * cos_h, F(0.0f)));
     F sin_p, cos_p;
     fast_sincos(F(2.0f * kPi) * u2, sin_p, cos_p);
-    return reflect(wi, Dir3<F>{sin_h * cos_p, sin_h * sin_p, cos_h});
+    return reflect(wi, Vec3<F>{sin_h * cos_p, sin_h * sin_p, cos_h});
 }
 
 // wo's density when h was drawn from D(h) cos(theta_h): D cos_h / (4 |wo.h|).
 template <class F>
-PATINA_INLINE F reflected_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F d_of_h, const Dir3<F>& h) {
+PATINA_INLINE F reflected_pdf(const Vec3<F>& wi, const Vec3<F>& wo, F d_of_h, const Vec3<F>& h) {
     const F oh = abs(wo.x * h.x + wo.y * h.y + wo.z * h.z);
     return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)) & (oh > F(0.0f)) & (h.z > F(0.0f)),
                   d_of_h * h.z / (F(4.0f) * oh), F(0.0f));
@@ -129,7 +125,7 @@ PATINA_INLINE F reflected_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F d_of_h, co
 
 // Samples h from D(h) cos(theta_h) and reflects wi about it; see ggx_pdf.
 template <class F>
-PATINA_INLINE Dir3<F> ggx_sample(const Dir3<F>& wi, F u1, F u2, F alpha) {
+PATINA_INLINE Vec3<F> ggx_sample(const Vec3<F>& wi, F u1, F u2, F alpha) {
     // tan^2(theta_h) = alpha^2 u1 / (1 - u1) inverts the cdf of D(h) cos(theta_h)
     const F tan2 = alpha * alpha * u1 / max(F(1.0f) - u1, F(1e-12f));
     return reflect_about_sampled_h(wi, F(1.0f) / sqrt_exact(F(1.0f) + tan2), u2);
@@ -137,8 +133,8 @@ PATINA_INLINE Dir3<F> ggx_sample(const Dir3<F>& wi, F u1, F u2, F alpha) {
 
 // Density of ggx_sample's wo: D(h) cos(theta_h) / (4 |wo . h|); 0 below the horizon.
 template <class F>
-PATINA_INLINE F ggx_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F alpha) {
-    const Dir3<F> h = half_vector(wi, wo);
+PATINA_INLINE F ggx_pdf(const Vec3<F>& wi, const Vec3<F>& wo, F alpha) {
+    const Vec3<F> h = half_vector(wi, wo);
     return reflected_pdf(wi, wo, ggx_d(h.z, alpha), h);
 }
 
@@ -167,8 +163,8 @@ PATINA_INLINE F beckmann_g2(F cos_i, F cos_o, F alpha) {
 
 // Cook-Torrance with the Beckmann distribution, height-correlated Smith G2, Schlick Fresnel.
 template <class F>
-PATINA_INLINE F beckmann_eval(const Dir3<F>& wi, const Dir3<F>& wo, F alpha, F f0) {
-    const Dir3<F> h = half_vector(wi, wo);
+PATINA_INLINE F beckmann_eval(const Vec3<F>& wi, const Vec3<F>& wo, F alpha, F f0) {
+    const Vec3<F> h = half_vector(wi, wo);
     return microfacet_value(wi, wo, beckmann_d(h.z, alpha), beckmann_g2(wi.z, wo.z, alpha),
                             fresnel_schlick(f0, mean_cos_d(wi, wo, h)));
 }
@@ -182,8 +178,8 @@ PATINA_INLINE F blinn_phong_d(F c, F exponent) {
 }
 
 template <class F>
-PATINA_INLINE F blinn_phong_eval(const Dir3<F>& wi, const Dir3<F>& wo, F exponent, F f0) {
-    const Dir3<F> h = half_vector(wi, wo);
+PATINA_INLINE F blinn_phong_eval(const Vec3<F>& wi, const Vec3<F>& wo, F exponent, F f0) {
+    const Vec3<F> h = half_vector(wi, wo);
     const F alpha = sqrt_exact(F(2.0f) / (exponent + F(2.0f)));
     return microfacet_value(wi, wo, blinn_phong_d(h.z, exponent), beckmann_g2(wi.z, wo.z, alpha),
                             fresnel_schlick(f0, mean_cos_d(wi, wo, h)));
@@ -191,35 +187,35 @@ PATINA_INLINE F blinn_phong_eval(const Dir3<F>& wi, const Dir3<F>& wo, F exponen
 
 // A clear coat's own reflection: GGX with exact dielectric Fresnel of index eta.
 template <class F>
-PATINA_INLINE F coat_eval(const Dir3<F>& wi, const Dir3<F>& wo, F alpha, F eta) {
-    const Dir3<F> h = half_vector(wi, wo);
+PATINA_INLINE F coat_eval(const Vec3<F>& wi, const Vec3<F>& wo, F alpha, F eta) {
+    const Vec3<F> h = half_vector(wi, wo);
     return microfacet_value(wi, wo, ggx_d(h.z, alpha), ggx_g2(wi.z, wo.z, alpha),
                             fresnel_dielectric(mean_cos_d(wi, wo, h), eta));
 }
 
 // Beckmann: tan^2(theta_h) = -alpha^2 log(1 - u1) inverts the cdf of D(h) cos(theta_h).
 template <class F>
-PATINA_INLINE Dir3<F> beckmann_sample(const Dir3<F>& wi, F u1, F u2, F alpha) {
+PATINA_INLINE Vec3<F> beckmann_sample(const Vec3<F>& wi, F u1, F u2, F alpha) {
     const F tan2 = -alpha * alpha * fast_log(max(F(1.0f) - u1, F(1e-30f)));
     return reflect_about_sampled_h(wi, F(1.0f) / sqrt_exact(F(1.0f) + tan2), u2);
 }
 
 template <class F>
-PATINA_INLINE F beckmann_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F alpha) {
-    const Dir3<F> h = half_vector(wi, wo);
+PATINA_INLINE F beckmann_pdf(const Vec3<F>& wi, const Vec3<F>& wo, F alpha) {
+    const Vec3<F> h = half_vector(wi, wo);
     return reflected_pdf(wi, wo, beckmann_d(h.z, alpha), h);
 }
 
 // Blinn-Phong: cos(theta_h) = u1^(1 / (n + 2)) inverts the cdf of D(h) cos(theta_h).
 template <class F>
-PATINA_INLINE Dir3<F> blinn_phong_sample(const Dir3<F>& wi, F u1, F u2, F exponent) {
+PATINA_INLINE Vec3<F> blinn_phong_sample(const Vec3<F>& wi, F u1, F u2, F exponent) {
     const F cos_h = fast_exp(fast_log(max(u1, F(1e-30f))) / (exponent + F(2.0f)));
     return reflect_about_sampled_h(wi, cos_h, u2);
 }
 
 template <class F>
-PATINA_INLINE F blinn_phong_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F exponent) {
-    const Dir3<F> h = half_vector(wi, wo);
+PATINA_INLINE F blinn_phong_pdf(const Vec3<F>& wi, const Vec3<F>& wo, F exponent) {
+    const Vec3<F> h = half_vector(wi, wo);
     return reflected_pdf(wi, wo, blinn_phong_d(h.z, exponent), h);
 }
 
@@ -228,7 +224,7 @@ PATINA_INLINE F blinn_phong_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F exponent
 // f = rho_s / (pi ax ay) (h.h) / h_z^4 exp(-((h_x / ax)^2 + (h_y / ay)^2) / h_z^2).
 // Isotropic Ward is ax = ay.
 template <class F>
-PATINA_INLINE F ward_eval(const Dir3<F>& wi, const Dir3<F>& wo, F ax, F ay, F rho_s) {
+PATINA_INLINE F ward_eval(const Vec3<F>& wi, const Vec3<F>& wo, F ax, F ay, F rho_s) {
     const F hx = wi.x + wo.x, hy = wi.y + wo.y, hz = wi.z + wo.z;
     const F hz2 = hz * hz;
     const F e = ((hx * hx) / (ax * ax) + (hy * hy) / (ay * ay)) / hz2;
@@ -239,7 +235,7 @@ PATINA_INLINE F ward_eval(const Dir3<F>& wi, const Dir3<F>& wo, F ax, F ay, F rh
 // Ward's importance sampling of h (Walter 2005): phi_h from tan(phi_h) = ay / ax tan(2 pi u2),
 // tan^2(theta_h) = -log(u1) / (cos^2 phi_h / ax^2 + sin^2 phi_h / ay^2); wo is wi reflected.
 template <class F>
-PATINA_INLINE Dir3<F> ward_sample(const Dir3<F>& wi, F u1, F u2, F ax, F ay) {
+PATINA_INLINE Vec3<F> ward_sample(const Vec3<F>& wi, F u1, F u2, F ax, F ay) {
     F s, c;
     fast_sincos(F(2.0f * kPi) * u2, s, c);
     const F px = ax * c, py = ay * s;
@@ -249,13 +245,13 @@ PATINA_INLINE Dir3<F> ward_sample(const Dir3<F>& wi, F u1, F u2, F ax, F ay) {
     const F tan2 = -fast_log(max(F(1.0f) - u1, F(1e-30f))) / k;  // 1 - u1 in (0, 1]: no log(0)
     const F cos_h = F(1.0f) / sqrt_exact(F(1.0f) + tan2);
     const F sin_h = sqrt_exact(max(F(1.0f) - cos_h * cos_h, F(0.0f)));
-    return reflect(wi, Dir3<F>{sin_h * cos_p, sin_h * sin_p, cos_h});
+    return reflect(wi, Vec3<F>{sin_h * cos_p, sin_h * sin_p, cos_h});
 }
 
 // Density of ward_sample's wo: p(h) / (4 |wo.h|), p(h) = exp(-tan^2 k) / (pi ax ay cos^3).
 template <class F>
-PATINA_INLINE F ward_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F ax, F ay) {
-    const Dir3<F> h = half_vector(wi, wo);
+PATINA_INLINE F ward_pdf(const Vec3<F>& wi, const Vec3<F>& wo, F ax, F ay) {
+    const Vec3<F> h = half_vector(wi, wo);
     const F c = h.z, c2 = c * c;
     const F e = (h.x * h.x / (ax * ax) + h.y * h.y / (ay * ay)) / c2;
     const F ph = fast_exp(-e) / (F(kPi) * ax * ay * c2 * c);
@@ -268,7 +264,7 @@ PATINA_INLINE F ward_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F ax, F ay) {
 // Its half-vector density sqrt((nu + 1)(nv + 1)) / (2 pi) (n.h)^(nu cos^2 phi_h + nv sin^2 phi_h),
 // which both the lobe and its sampler's pdf are built on.
 template <class F>
-PATINA_INLINE F ashikhmin_shirley_d(const Dir3<F>& h, F nu, F nv) {
+PATINA_INLINE F ashikhmin_shirley_d(const Vec3<F>& h, F nu, F nv) {
     const F s2 = max(h.x * h.x + h.y * h.y, F(1e-30f));  // sin^2(theta_h)
     const F power = (nu * h.x * h.x + nv * h.y * h.y) / s2;
     return sqrt_exact((nu + F(1.0f)) * (nv + F(1.0f))) * F(0.5f * kInvPi) *
@@ -276,8 +272,8 @@ PATINA_INLINE F ashikhmin_shirley_d(const Dir3<F>& h, F nu, F nv) {
 }
 
 template <class F>
-PATINA_INLINE F ashikhmin_shirley_eval(const Dir3<F>& wi, const Dir3<F>& wo, F nu, F nv, F f0) {
-    const Dir3<F> h = half_vector(wi, wo);
+PATINA_INLINE F ashikhmin_shirley_eval(const Vec3<F>& wi, const Vec3<F>& wo, F nu, F nv, F f0) {
+    const Vec3<F> h = half_vector(wi, wo);
     const F kh = mean_cos_d(wi, wo, h);
     const F value = ashikhmin_shirley_d(h, nu, nv) * F(0.25f) / (kh * max(wi.z, wo.z)) * fresnel_schlick(f0, kh);
     return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)) & (kh > F(0.0f)), value, F(0.0f));
@@ -286,7 +282,7 @@ PATINA_INLINE F ashikhmin_shirley_eval(const Dir3<F>& wi, const Dir3<F>& wo, F n
 // Its sampling: phi_h = atan(sqrt((nu + 1) / (nv + 1)) tan(pi u2 / 2)) in each quadrant,
 // cos(theta_h) = (1 - u1)^(1 / (nu cos^2 phi + nv sin^2 phi + 1)).
 template <class F>
-PATINA_INLINE Dir3<F> ashikhmin_shirley_sample(const Dir3<F>& wi, F u1, F u2, F nu, F nv) {
+PATINA_INLINE Vec3<F> ashikhmin_shirley_sample(const Vec3<F>& wi, F u1, F u2, F nu, F nv) {
     // the quadrant from u2, then phi in the first quadrant from the remapped uniform
     const F q = floor(u2 * F(4.0f));
     const F v = u2 * F(4.0f) - q;
@@ -303,12 +299,12 @@ PATINA_INLINE Dir3<F> ashikhmin_shirley_sample(const Dir3<F>& wi, F u1, F u2, F 
     const F e = nu * cos_p * cos_p + nv * sin_p * sin_p + F(1.0f);
     const F cos_h = fast_exp(fast_log(max(F(1.0f) - u1, F(1e-30f))) / e);
     const F sin_h = sqrt_exact(max(F(1.0f) - cos_h * cos_h, F(0.0f)));
-    return reflect(wi, Dir3<F>{sin_h * cos_p, sin_h * sin_p, cos_h});
+    return reflect(wi, Vec3<F>{sin_h * cos_p, sin_h * sin_p, cos_h});
 }
 
 template <class F>
-PATINA_INLINE F ashikhmin_shirley_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F nu, F nv) {
-    const Dir3<F> h = half_vector(wi, wo);
+PATINA_INLINE F ashikhmin_shirley_pdf(const Vec3<F>& wi, const Vec3<F>& wo, F nu, F nv) {
+    const Vec3<F> h = half_vector(wi, wo);
     return reflected_pdf(wi, wo, ashikhmin_shirley_d(h, nu, nv) / max(h.z, F(1e-30f)), h);
 }
 
@@ -316,7 +312,7 @@ PATINA_INLINE F ashikhmin_shirley_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F nu
 // sum is negative. (Cx = Cy = -Cz is a Phong lobe about the mirror direction, Cx = Cy > 0
 // retro-reflection, Cx = Cy = 0 an off-specular lobe toward the normal.)
 template <class F>
-PATINA_INLINE F lafortune_eval(const Dir3<F>& wi, const Dir3<F>& wo, F cx, F cy, F cz, F n, F rho) {
+PATINA_INLINE F lafortune_eval(const Vec3<F>& wi, const Vec3<F>& wo, F cx, F cy, F cz, F n, F rho) {
     const F d = cx * (wi.x * wo.x) + cy * (wi.y * wo.y) + cz * (wi.z * wo.z);  // symmetric in wi, wo
     const F value = rho * fast_exp(n * fast_log(max(d, F(1e-30f))));
     return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)) & (d > F(0.0f)), value, F(0.0f));
@@ -324,7 +320,7 @@ PATINA_INLINE F lafortune_eval(const Dir3<F>& wi, const Dir3<F>& wo, F cx, F cy,
 
 // An orthonormal frame (t, b) around the unit vector a (Duff et al. 2017), branch-free.
 template <class F>
-PATINA_INLINE void frame_around(const Dir3<F>& a, Dir3<F>& t, Dir3<F>& b) {
+PATINA_INLINE void frame_around(const Vec3<F>& a, Vec3<F>& t, Vec3<F>& b) {
     const F sign = copysign(F(1.0f), a.z);
     const F k = F(-1.0f) / (sign + a.z);
     const F c = a.x * a.y * k;
@@ -335,11 +331,11 @@ PATINA_INLINE void frame_around(const Dir3<F>& a, Dir3<F>& t, Dir3<F>& b) {
 // Samples the lobe: it is |s|^n cos^n about s = (Cx xi, Cy yi, Cz zi), so cos = u1^(1/(n+1))
 // about s's direction; see lafortune_pdf.
 template <class F>
-PATINA_INLINE Dir3<F> lafortune_sample(const Dir3<F>& wi, F u1, F u2, F cx, F cy, F cz, F n) {
-    Dir3<F> a{cx * wi.x, cy * wi.y, cz * wi.z};
+PATINA_INLINE Vec3<F> lafortune_sample(const Vec3<F>& wi, F u1, F u2, F cx, F cy, F cz, F n) {
+    Vec3<F> a{cx * wi.x, cy * wi.y, cz * wi.z};
     const F inv = F(1.0f) / sqrt_exact(max(a.x * a.x + a.y * a.y + a.z * a.z, F(1e-30f)));
     a = {a.x * inv, a.y * inv, a.z * inv};
-    Dir3<F> t, b;
+    Vec3<F> t, b;
     frame_around(a, t, b);
     const F cos_a = fast_exp(fast_log(max(u1, F(1e-30f))) / (n + F(1.0f)));
     const F sin_a = sqrt_exact(max(F(1.0f) - cos_a * cos_a, F(0.0f)));
@@ -352,8 +348,8 @@ PATINA_INLINE Dir3<F> lafortune_sample(const Dir3<F>& wi, F u1, F u2, F cx, F cy
 // (n + 1) / (2 pi) cos^n(angle to s), over the sphere of directions; 0 below the horizon
 // (the sampler's mass there is lost).
 template <class F>
-PATINA_INLINE F lafortune_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F cx, F cy, F cz, F n) {
-    const Dir3<F> a{cx * wi.x, cy * wi.y, cz * wi.z};
+PATINA_INLINE F lafortune_pdf(const Vec3<F>& wi, const Vec3<F>& wo, F cx, F cy, F cz, F n) {
+    const Vec3<F> a{cx * wi.x, cy * wi.y, cz * wi.z};
     const F len = sqrt_exact(max(a.x * a.x + a.y * a.y + a.z * a.z, F(1e-30f)));
     const F c = (a.x * wo.x + a.y * wo.y + a.z * wo.z) / len;
     const F value = (n + F(1.0f)) * F(0.5f * kInvPi) * fast_exp(n * fast_log(max(c, F(1e-30f))));
@@ -362,12 +358,12 @@ PATINA_INLINE F lafortune_pdf(const Dir3<F>& wi, const Dir3<F>& wo, F cx, F cy, 
 
 // Lambert: rho / pi, cosine-weighted sampling, pdf cos(theta_o) / pi.
 template <class F>
-PATINA_INLINE F lambert_eval(const Dir3<F>& wi, const Dir3<F>& wo, F rho) {
+PATINA_INLINE F lambert_eval(const Vec3<F>& wi, const Vec3<F>& wo, F rho) {
     return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)), rho * F(kInvPi), F(0.0f));
 }
 
 template <class F>
-PATINA_INLINE Dir3<F> lambert_sample(F u1, F u2) {
+PATINA_INLINE Vec3<F> lambert_sample(F u1, F u2) {
     const F r = sqrt_exact(u1);
     F sin_p, cos_p;
     fast_sincos(F(2.0f * kPi) * u2, sin_p, cos_p);
@@ -375,7 +371,7 @@ PATINA_INLINE Dir3<F> lambert_sample(F u1, F u2) {
 }
 
 template <class F>
-PATINA_INLINE F lambert_pdf(const Dir3<F>& wi, const Dir3<F>& wo) {
+PATINA_INLINE F lambert_pdf(const Vec3<F>& wi, const Vec3<F>& wo) {
     return select((wi.z > F(0.0f)) & (wo.z > F(0.0f)), wo.z * F(kInvPi), F(0.0f));
 }
 }  // namespace microfacet

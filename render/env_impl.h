@@ -1,39 +1,32 @@
-// The environment light W directions at a time (included by integrator_w{1,4,8}.cpp): radiance
+// The environment light N directions at a time (included by integrator_w{1,4,8}.cpp): radiance
 // (bilinear over the lat-long map), the density of light sampling, and light sampling itself
 // -- a coherent binary search over the rows' cdf, then a masked binary search (one gather per
 // level) over each lane's own row. The same code at width 1 is the scalar path.
 #pragma once
 
 #include "brdf/search.h"
+#include "core/constants.h"
 #include "core/simd/fastmath.h"
-#include "fit/microfacet.h"
+#include "core/simd/kernel_width.h"
 #include "render/scene.h"
-
-#ifndef PATINA_KERNEL_WIDTH
-#error "define PATINA_KERNEL_WIDTH before including env_impl.h"
-#endif
 
 PATINA_BEGIN_TARGET
 namespace render_detail {
 namespace env_w {
-
-constexpr int W = PATINA_KERNEL_WIDTH;
-using F = vfloat<W>;
-using I = vint<W>;
-using D3 = Dir3<F>;
+using namespace kernel_width;
 
 // World direction -> the map's frame (turned back by the rotation about +y), and back.
-PATINA_INLINE D3 to_map(const Environment& e, const D3& d) {
+PATINA_INLINE V3 to_map(const Environment& e, const V3& d) {
     const F c(e.cos_rotation), s(e.sin_rotation);
-    return D3{c * d.x - s * d.z, d.y, s * d.x + c * d.z};
+    return V3{c * d.x - s * d.z, d.y, s * d.x + c * d.z};
 }
-PATINA_INLINE D3 from_map(const Environment& e, const D3& m) {
+PATINA_INLINE V3 from_map(const Environment& e, const V3& m) {
     const F c(e.cos_rotation), s(e.sin_rotation);
-    return D3{c * m.x + s * m.z, m.y, c * m.z - s * m.x};
+    return V3{c * m.x + s * m.z, m.y, c * m.z - s * m.x};
 }
 
 // (u, v) in [0, 1) x [0, 1] of a unit map-frame direction: phi = atan2(x, -z), theta = acos(y).
-PATINA_INLINE void map_uv(const D3& m, F& u, F& v) {
+PATINA_INLINE void map_uv(const V3& m, F& u, F& v) {
     u = fast_atan2(m.x, -m.z) * F(0.5f / kPi);
     u = select(u < F(0.0f), u + F(1.0f), u);
     u = select(u >= F(1.0f), F(0.0f), u);
@@ -68,7 +61,7 @@ PATINA_INLINE void radiance_uv(const Environment& e, F u, F v, F& r, F& g, F& b)
 }
 
 // Radiance from unit world directions d (RGB).
-PATINA_INLINE void radiance(const Environment& e, const D3& d, F& r, F& g, F& b) {
+PATINA_INLINE void radiance(const Environment& e, const V3& d, F& r, F& g, F& b) {
     if (!e.present) {
         r = g = b = F(0.0f);
         return;
@@ -90,10 +83,10 @@ PATINA_INLINE I pixel_of(const Environment& e, F u, F v) {
 }
 
 // Solid-angle density with which `sample` picks world direction d.
-PATINA_INLINE F pdf(const Environment& e, const D3& d) {
+PATINA_INLINE F pdf(const Environment& e, const V3& d) {
     if (!e.present) return F(0.0f);
     if (!e.is_map) return F(1.0f / (4 * kPi));
-    const D3 m = to_map(e, d);
+    const V3 m = to_map(e, d);
     F u, v;
     map_uv(m, u, v);
     const F sin_theta = sqrt_exact(max(F(1.0f) - m.y * m.y, F(0.0f)));
@@ -103,18 +96,18 @@ PATINA_INLINE F pdf(const Environment& e, const D3& d) {
 
 // Directions from the environment's distribution for uniforms (u1, u2), with their radiance
 // (from the sampled map coordinates: no inverse trigonometry); returns the pdf.
-PATINA_INLINE F sample(const Environment& e, F u1, F u2, D3& d, F& r, F& g, F& b) {
+PATINA_INLINE F sample(const Environment& e, F u1, F u2, V3& d, F& r, F& g, F& b) {
     if (!e.is_map) {
         const F z = nmadd(F(2.0f), u1, F(1.0f)), rad = sqrt_exact(max(F(1.0f) - z * z, F(0.0f)));
         F s, c;
         fast_sincos(F(2.0f * kPi) * u2, s, c);
-        d = D3{rad * c, z, rad * s};
+        d = V3{rad * c, z, rad * s};
         radiance(e, d, r, g, b);
         return F(1.0f / (4 * kPi));
     }
     const int w = e.width, h = e.height;
     // the row: a coherent search over the marginal cdf (lanes often agree on bright rows)
-    const I row = coherent_search<W>(e.row_cdf.data(), h + 1, u1, F(0.0f) == F(0.0f));
+    const I row = coherent_search<N>(e.row_cdf.data(), h + 1, u1, F(0.0f) == F(0.0f));
     const F r0 = gather(e.row_cdf.data(), row), r1 = gather(e.row_cdf.data(), row + I(1));
     const F fv = select(r1 > r0, clamp((u1 - r0) / (r1 - r0), F(0.0f), F(0.99999f)), F(0.5f));
     // the column: each lane down its own row's cdf, one gather per level
@@ -132,7 +125,7 @@ PATINA_INLINE F sample(const Environment& e, F u1, F u2, D3& d, F& r, F& g, F& b
     F sin_t, cos_t, sin_p, cos_p;
     fast_sincos(F(kPi) * v, sin_t, cos_t);
     fast_sincos(F(2.0f * kPi) * u, sin_p, cos_p);
-    d = from_map(e, D3{sin_p * sin_t, cos_t, -cos_p * sin_t});
+    d = from_map(e, V3{sin_p * sin_t, cos_t, -cos_p * sin_t});
     radiance_uv(e, u, v, r, g, b);
     const F p = gather(e.pixel_pdf.data(), row * I(w) + lo);
     return select(sin_t > F(0.0f), p / (F(2.0f * kPi * kPi) * sin_t), F(0.0f));

@@ -12,32 +12,32 @@ PATINA_BEGIN_TARGET
 namespace ggx_aniso {
 
 template <class F>
-PATINA_INLINE F d(const Dir3<F>& h, F ax, F ay) {
+PATINA_INLINE F d(const Vec3<F>& h, F ax, F ay) {
     const F x = h.x / ax, y = h.y / ay;
     const F t = x * x + y * y + h.z * h.z;
     return select(h.z > F(0.0f), F(1.0f) / (F(kPi) * ax * ay * t * t), F(0.0f));
 }
 
 template <class F>
-PATINA_INLINE F lambda(const Dir3<F>& w, F ax, F ay) {
+PATINA_INLINE F lambda(const Vec3<F>& w, F ax, F ay) {
     const F x = w.x * ax, y = w.y * ay;
     const F tan2 = (x * x + y * y) / (w.z * w.z);
     return F(0.5f) * (sqrt_exact(F(1.0f) + tan2) - F(1.0f));
 }
 
 template <class F>
-PATINA_INLINE F g2(const Dir3<F>& l, const Dir3<F>& v, F ax, F ay) {
+PATINA_INLINE F g2(const Vec3<F>& l, const Vec3<F>& v, F ax, F ay) {
     return F(1.0f) / (F(1.0f) + (lambda(l, ax, ay) + lambda(v, ax, ay)));
 }
 
 template <class F>
-PATINA_INLINE F g1(const Dir3<F>& w, F ax, F ay) {
+PATINA_INLINE F g1(const Vec3<F>& w, F ax, F ay) {
     return F(1.0f) / (F(1.0f) + lambda(w, ax, ay));
 }
 
 // A microfacet normal visible from v (v.z > 0), with density visible_pdf(v, h).
 template <class F>
-PATINA_INLINE Dir3<F> sample_visible(const Dir3<F>& v, F u1, F u2, F ax, F ay) {
+PATINA_INLINE Vec3<F> sample_visible(const Vec3<F>& v, F u1, F u2, F ax, F ay) {
     // v stretched to unit roughness, a frame around it
     F vx = ax * v.x, vy = ay * v.y, vz = v.z;
     const F inv_v = F(1.0f) / sqrt_exact(vx * vx + vy * vy + vz * vz);
@@ -62,20 +62,20 @@ PATINA_INLINE Dir3<F> sample_visible(const Dir3<F>& v, F u1, F u2, F ax, F ay) {
     // back to the surface's roughness
     const F hx = ax * nx, hy = ay * ny, hz = max(nz, F(0.0f));
     const F inv_h = F(1.0f) / sqrt_exact(max(hx * hx + hy * hy + hz * hz, F(1e-30f)));
-    return Dir3<F>{hx * inv_h, hy * inv_h, hz * inv_h};
+    return Vec3<F>{hx * inv_h, hy * inv_h, hz * inv_h};
 }
 
 // Density of sample_visible's h: G1(v) max(0, v.h) D(h) / v.z.
 template <class F>
-PATINA_INLINE F visible_pdf(const Dir3<F>& v, const Dir3<F>& h, F ax, F ay) {
+PATINA_INLINE F visible_pdf(const Vec3<F>& v, const Vec3<F>& h, F ax, F ay) {
     const F vh = v.x * h.x + v.y * h.y + v.z * h.z;
     return select((v.z > F(0.0f)) & (vh > F(0.0f)), g1(v, ax, ay) * vh * d(h, ax, ay) / v.z, F(0.0f));
 }
 
 // pdf of l = reflect(v about h), h from sample_visible: visible_pdf / (4 v.h) = G1(v) D(h) / (4 v.z).
 template <class F>
-PATINA_INLINE F pdf(const Dir3<F>& v, const Dir3<F>& l, F ax, F ay) {
-    const Dir3<F> h = microfacet::half_vector(v, l);
+PATINA_INLINE F pdf(const Vec3<F>& v, const Vec3<F>& l, F ax, F ay) {
+    const Vec3<F> h = microfacet::half_vector(v, l);
     const F vh = v.x * h.x + v.y * h.y + v.z * h.z;
     return select((l.z > F(0.0f)) & (vh > F(0.0f)), visible_pdf(v, h, ax, ay) / (F(4.0f) * vh), F(0.0f));
 }

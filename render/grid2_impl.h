@@ -1,4 +1,4 @@
-// A 2-D table on an irregular tensor grid, W points at a time (included by
+// A 2-D table on an irregular tensor grid, N points at a time (included by
 // integrator_w{1,4,8}.cpp): the goniometric light's candela table over (C-plane, gamma) angles.
 // Evaluated like the BRDF tables: per axis the coherent binary search of brdf/search.h
 // (one search for both; not a copy), then bilinear interpolation of the cell's corners.
@@ -6,20 +6,13 @@
 #pragma once
 
 #include "brdf/search.h"
-#include "core/simd/rows.h"
+#include "core/simd/kernel_width.h"
 #include "render/grid2.h"
-
-#ifndef PATINA_KERNEL_WIDTH
-#error "define PATINA_KERNEL_WIDTH before including grid2_impl.h"
-#endif
 
 PATINA_BEGIN_TARGET
 namespace render_detail {
 namespace grid2_w {
-
-constexpr int W = PATINA_KERNEL_WIDTH;
-using F = vfloat<W>;
-using I = vint<W>;
+using namespace kernel_width;
 
 // The cell and the fraction within it along one axis, clamped to the axis.
 PATINA_INLINE void locate(const float* knots, int n, F x, I& cell, F& t) {
@@ -29,7 +22,7 @@ PATINA_INLINE void locate(const float* knots, int n, F x, I& cell, F& t) {
         return;
     }
     const F xc = clamp(x, F(knots[0]), F(knots[n - 1]));
-    cell = coherent_search<W>(knots, n, xc, F(0.0f) == F(0.0f));
+    cell = coherent_search<N>(knots, n, xc, F(0.0f) == F(0.0f));
     const F k0 = gather(knots, cell), k1 = gather(knots, cell + I(1));
     t = clamp((xc - k0) / (k1 - k0), F(0.0f), F(1.0f));
 }
@@ -51,10 +44,9 @@ PATINA_INLINE F eval(const Grid2View& g, F x, F y) {
 }
 
 inline void eval_array(const Grid2View& g, const float* x, const float* y, float* out, size_t n) {
-    for (size_t i = 0; i < n; i += W) {
-        const int lanes = static_cast<int>(std::min<size_t>(W, n - i));
-        rows::store1<W>(out, i, lanes, eval(g, rows::load1<W>(x, i, lanes), rows::load1<W>(y, i, lanes)));
-    }
+    for_blocks(n, [&](size_t i, int lanes) {
+        store_lanes(out, i, lanes, eval(g, load_lanes(x, i, lanes), load_lanes(y, i, lanes)));
+    });
 }
 
 }  // namespace grid2_w

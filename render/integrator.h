@@ -3,8 +3,8 @@
 // A pixel sampler (render_job.cpp's uniform sampler now, the adaptive antialiasing
 // later) decides where in which pixel to shoot; the integrator returns each sample's
 // radiance and first-hit AOVs; the sampler filters them into pixels. The batch is traced
-// as a wavefront: all paths of a bounce are traced in packets of W rays, their shading
-// points grouped by material and shaded W at a time (one light sample each, the shadow
+// as a wavefront: all paths of a bounce are traced in packets of N rays, their shading
+// points grouped by material and shaded N at a time (one light sample each, the shadow
 // rays traced as packets, SIMD BRDF evaluation, MIS between light and BRDF sampling).
 #pragma once
 
@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/vec3.h"
 #include "render/grid2.h"
 #include "render/scene.h"
 
@@ -39,9 +40,9 @@ struct IntegratorSettings {
 struct ShadingPoint {
     int32_t path;
     int32_t material;
-    float p[3], ng[3];                // position, geometric normal (towards the viewer)
-    float t[3], b[3], n[3];           // shading frame: tangent, bitangent, normal
-    float eta;                        // dielectrics: index beyond the surface / index on the viewer's side
+    Vec3f p, ng;     // position, geometric normal (towards the viewer)
+    Vec3f t, b, n;   // shading frame: tangent, bitangent, normal
+    float eta;       // dielectrics: index beyond the surface / index on the viewer's side
 };
 
 // Work arrays a thread reuses from batch to batch.

@@ -1,4 +1,4 @@
-// Materials over arrays of shading points, W lanes at a time (included by integrator_w{1,4,8}.cpp).
+// Materials over arrays of shading points, N lanes at a time (included by integrator_w{1,4,8}.cpp).
 // Directions are local (z = shading normal, x = tangent): v towards the viewer (the known
 // direction), l towards the light (or the sampled one). Values are RGB BRDFs in 1/sr,
 // zero when either direction is at or below the horizon -- except for the dielectric,
@@ -6,61 +6,40 @@
 // (index beyond the surface / index on the viewer's side; the others ignore it).
 #pragma once
 
-#include <vector>
+#include <algorithm>
 
 #include "brdf/kernels.h"
-#include "core/simd/rows.h"
+#include "core/constants.h"
+#include "core/simd/kernel_width.h"
+#include "core/width_dispatch.h"
 #include "fit/lobe_kernels.h"
 #include "fit/microfacet.h"
 #include "render/dielectric.h"
 #include "render/ggx_aniso.h"
 #include "render/scene.h"
 
-#ifndef PATINA_KERNEL_WIDTH
-#error "define PATINA_KERNEL_WIDTH before including material_impl.h"
-#endif
-
 PATINA_BEGIN_TARGET
 namespace render_detail {
+using namespace kernel_width;
 
-constexpr int W = PATINA_KERNEL_WIDTH;
-using F = vfloat<W>;
-using D3 = Dir3<F>;
-
-template <class Body>
-void for_blocks(size_t n, Body body) {
-    for (size_t i = 0; i < n; i += W) body(i, static_cast<int>(std::min<size_t>(W, n - i)));
-}
-
-inline D3 load_dir(const float* p, size_t i, int lanes) {
-    D3 d;
-    rows::load3<W>(p, i, lanes, d.x, d.y, d.z);
-    return d;
-}
-
-inline const Kernels& table_kernels() {
-    if constexpr (W == 1) return kernels_w1();
-    else if constexpr (W == 4) return kernels_w4();
-    else return kernels_w8();
-}
+// The table and analytic-lobe kernels compiled for this width.
+inline const Kernels& table_kernels() { return kernels_at_width<N>(kernels_w1, kernels_w4, kernels_w8); }
 inline const LobeKernels& lobe_kernels() {
-    if constexpr (W == 1) return lobe_kernels_w1();
-    else if constexpr (W == 4) return lobe_kernels_w4();
-    else return lobe_kernels_w8();
+    return kernels_at_width<N>(lobe_kernels_w1, lobe_kernels_w4, lobe_kernels_w8);
 }
 
 // The clear coat's GGX reflection with exact dielectric Fresnel (fit/microfacet.h's coat
 // lobe), with D and G from ggx_aniso.h: computed from the directions' components, they
 // keep their precision for the nearly smooth coats of car paint, where D from cos(theta_h)
 // near 1 would lose it (and no longer cancel against the sampling density).
-PATINA_INLINE F coat_value(const D3& l, const D3& v, F alpha, F eta) {
-    const D3 h = microfacet::half_vector(l, v);
+PATINA_INLINE F coat_value(const V3& l, const V3& v, F alpha, F eta) {
+    const V3 h = microfacet::half_vector(l, v);
     return microfacet::microfacet_value(l, v, ggx_aniso::d(h, alpha, alpha) * ggx_aniso::g2(l, v, alpha, alpha), F(1.0f),
                                         microfacet::fresnel_dielectric(microfacet::mean_cos_d(l, v, h), eta));
 }
 
 // l reflected about a GGX normal visible from v (density ggx_aniso::pdf).
-PATINA_INLINE D3 ggx_reflect_sample(const D3& v, F u1, F u2, F alpha) {
+PATINA_INLINE V3 ggx_reflect_sample(const V3& v, F u1, F u2, F alpha) {
     return microfacet::reflect(v, ggx_aniso::sample_visible(v, u1, u2, alpha, alpha));
 }
 
@@ -78,9 +57,9 @@ inline void base_eval(const Material& m, const float* l, const float* v, const f
         case MaterialKind::Dielectric:
             for_blocks(n, [&](size_t i, int lanes) {
                 F value, pdf;
-                dielectric::eval_pdf(load_dir(l, i, lanes), load_dir(v, i, lanes), F(m.alpha_x),
-                                     rows::load1<W>(eta, i, lanes), value, pdf);
-                rows::store3<W>(f, i, lanes, value, value, value);
+                dielectric::eval_pdf(load_rows(l, i, lanes), load_rows(v, i, lanes), F(m.alpha_x),
+                                     load_lanes(eta, i, lanes), value, pdf);
+                store_rows(f, i, lanes, value, value, value);
             });
             return;
         case MaterialKind::Table:
@@ -91,18 +70,18 @@ inline void base_eval(const Material& m, const float* l, const float* v, const f
             break;
         case MaterialKind::Lambert:
             for_blocks(n, [&](size_t i, int lanes) {
-                const D3 a = load_dir(l, i, lanes), b = load_dir(v, i, lanes);
+                const V3 a = load_rows(l, i, lanes), b = load_rows(v, i, lanes);
                 const F r = microfacet::lambert_eval(a, b, F(m.albedo[0]));
                 const F g = microfacet::lambert_eval(a, b, F(m.albedo[1]));
                 const F bl = microfacet::lambert_eval(a, b, F(m.albedo[2]));
-                rows::store3<W>(f, i, lanes, r, g, bl);
+                store_rows(f, i, lanes, r, g, bl);
             });
             return;
         case MaterialKind::Conductor:
             for_blocks(n, [&](size_t i, int lanes) {
-                const D3 a = load_dir(l, i, lanes), b = load_dir(v, i, lanes);
+                const V3 a = load_rows(l, i, lanes), b = load_rows(v, i, lanes);
                 const F ax(m.alpha_x), ay(m.alpha_y);
-                const D3 h = microfacet::half_vector(a, b);
+                const V3 h = microfacet::half_vector(a, b);
                 const F dg = ggx_aniso::d(h, ax, ay) * ggx_aniso::g2(a, b, ax, ay);
                 const F cos_d = microfacet::mean_cos_d(a, b, h);
                 F c[3];
@@ -110,7 +89,7 @@ inline void base_eval(const Material& m, const float* l, const float* v, const f
                     c[ch] = F(m.tint[ch]) * microfacet::microfacet_value(
                                                 a, b, dg, F(1.0f),
                                                 microfacet::fresnel_conductor(cos_d, F(m.eta[ch]), F(m.k[ch])));
-                rows::store3<W>(f, i, lanes, c[0], c[1], c[2]);
+                store_rows(f, i, lanes, c[0], c[1], c[2]);
             });
             return;
         case MaterialKind::Emitter:
@@ -128,22 +107,19 @@ inline void material_eval(const Material& m, const float* l, const float* v, con
     base_eval(m, l, v, eta, f, n);
     if (!m.coat) return;
     for_blocks(n, [&](size_t i, int lanes) {
-        const D3 a = load_dir(l, i, lanes), b = load_dir(v, i, lanes);
+        const V3 a = load_rows(l, i, lanes), b = load_rows(v, i, lanes);
         const F coat_eta(m.coat_eta);
         const F through = (F(1.0f) - microfacet::fresnel_dielectric(max(a.z, F(0.0f)), coat_eta)) *
                           (F(1.0f) - microfacet::fresnel_dielectric(max(b.z, F(0.0f)), coat_eta));
         const F spec = coat_value(a, b, F(m.coat_alpha), coat_eta);
-        F x, y, z;
-        rows::load3<W>(f, i, lanes, x, y, z);
-        x = madd(x * F(m.coat_tint[0]), through, spec);
-        y = madd(y * F(m.coat_tint[1]), through, spec);
-        z = madd(z * F(m.coat_tint[2]), through, spec);
-        rows::store3<W>(f, i, lanes, x, y, z);
+        const V3 base = load_rows(f, i, lanes);
+        store_rows(f, i, lanes, madd(base.x * F(m.coat_tint[0]), through, spec),
+                   madd(base.y * F(m.coat_tint[1]), through, spec), madd(base.z * F(m.coat_tint[2]), through, spec));
     });
 }
 
 // The base layer's sampling density of l given v.
-PATINA_INLINE F base_pdf(const Material& m, const D3& l, const D3& v, F eta) {
+PATINA_INLINE F base_pdf(const Material& m, const V3& l, const V3& v, F eta) {
     switch (m.kind) {
         case MaterialKind::Dielectric: {
             F value, pdf;
@@ -166,7 +142,7 @@ PATINA_INLINE F base_pdf(const Material& m, const D3& l, const D3& v, F eta) {
     return F(0.0f);
 }
 
-PATINA_INLINE F full_pdf(const Material& m, const D3& l, const D3& v, F eta) {
+PATINA_INLINE F full_pdf(const Material& m, const V3& l, const V3& v, F eta) {
     const F base = base_pdf(m, l, v, eta);
     if (!m.coat) return base;
     const F c = coat_pick(m, v.z);
@@ -175,8 +151,8 @@ PATINA_INLINE F full_pdf(const Material& m, const D3& l, const D3& v, F eta) {
 
 inline void material_pdf(const Material& m, const float* l, const float* v, const float* eta, float* pdf, size_t n) {
     for_blocks(n, [&](size_t i, int lanes) {
-        rows::store1<W>(pdf, i, lanes,
-                        full_pdf(m, load_dir(l, i, lanes), load_dir(v, i, lanes), rows::load1<W>(eta, i, lanes)));
+        store_lanes(pdf, i, lanes,
+                        full_pdf(m, load_rows(l, i, lanes), load_rows(v, i, lanes), load_lanes(eta, i, lanes)));
     });
 }
 
@@ -184,15 +160,15 @@ inline void material_pdf(const Material& m, const float* l, const float* v, cons
 inline void material_sample(const Material& m, const float* v, const float* eta, const float* pick, const float* u1,
                             const float* u2, float* l, float* pdf, size_t n) {
     for_blocks(n, [&](size_t i, int lanes) {
-        const D3 b = load_dir(v, i, lanes);
-        const F pick_u = rows::load1<W>(pick, i, lanes);
-        const F s1 = rows::load1<W>(u1, i, lanes), s2 = rows::load1<W>(u2, i, lanes);
+        const V3 b = load_rows(v, i, lanes);
+        const F pick_u = load_lanes(pick, i, lanes);
+        const F s1 = load_lanes(u1, i, lanes), s2 = load_lanes(u2, i, lanes);
         // one uniform makes both choices: the coat when pick < c, else the base, with the
         // pick rescaled to [0, 1) for the base's own choice of lobe
         const F c = m.coat ? coat_pick(m, b.z) : F(0.0f);
         const F base_pick = m.coat ? (pick_u - c) / (F(1.0f) - c) : pick_u;
-        const F e = rows::load1<W>(eta, i, lanes);
-        D3 a{F(0.0f), F(0.0f), F(1.0f)};
+        const F e = load_lanes(eta, i, lanes);
+        V3 a{F(0.0f), F(0.0f), F(1.0f)};
         switch (m.kind) {
             case MaterialKind::Dielectric:
                 a = dielectric::sample(b, base_pick, s1, s2, F(m.alpha_x), e);
@@ -206,9 +182,9 @@ inline void material_sample(const Material& m, const float* v, const float* eta,
             case MaterialKind::Table:
             case MaterialKind::Mixture: {
                 const auto diffuse = base_pick < F(m.proxy_diffuse);
-                const D3 dl = microfacet::lambert_sample(s1, s2);
-                const D3 gl = ggx_reflect_sample(b, s1, s2, F(m.proxy_alpha));
-                a = D3{select(diffuse, dl.x, gl.x), select(diffuse, dl.y, gl.y), select(diffuse, dl.z, gl.z)};
+                const V3 dl = microfacet::lambert_sample(s1, s2);
+                const V3 gl = ggx_reflect_sample(b, s1, s2, F(m.proxy_alpha));
+                a = V3{select(diffuse, dl.x, gl.x), select(diffuse, dl.y, gl.y), select(diffuse, dl.z, gl.z)};
                 break;
             }
             case MaterialKind::Emitter:
@@ -216,11 +192,11 @@ inline void material_sample(const Material& m, const float* v, const float* eta,
         }
         if (m.coat) {
             const auto coat = pick_u < c;
-            const D3 cl = ggx_reflect_sample(b, s1, s2, F(m.coat_alpha));
-            a = D3{select(coat, cl.x, a.x), select(coat, cl.y, a.y), select(coat, cl.z, a.z)};
+            const V3 cl = ggx_reflect_sample(b, s1, s2, F(m.coat_alpha));
+            a = V3{select(coat, cl.x, a.x), select(coat, cl.y, a.y), select(coat, cl.z, a.z)};
         }
-        rows::store3<W>(l, i, lanes, a.x, a.y, a.z);
-        rows::store1<W>(pdf, i, lanes, full_pdf(m, a, b, e));
+        store_rows(l, i, lanes, a.x, a.y, a.z);
+        store_lanes(pdf, i, lanes, full_pdf(m, a, b, e));
     });
 }
 

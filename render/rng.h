@@ -41,7 +41,7 @@ inline float bounce_uniform(uint32_t key, int bounce, RandomDim d) {
     return uniform(key, static_cast<uint32_t>(bounce) * kDimsPerBounce + d);
 }
 
-// The same numbers for W keys at once (lanes hold the uint32 bits of the keys).
+// The same numbers for N keys at once (lanes hold the uint32 bits of the keys).
 template <class I>
 PATINA_INLINE I hash_lanes(I x) {
     x = x ^ srl(x, 16);

@@ -30,15 +30,11 @@ static std::vector<double> sampling_weights(const Environment& env) {
     return out;
 }
 
-void orthonormal_frame(const float* n, float* t, float* b) {
-    const float sign = std::copysign(1.0f, n[2]);
-    const float a = -1.0f / (sign + n[2]), c = n[0] * n[1] * a;
-    t[0] = 1.0f + sign * n[0] * n[0] * a;
-    t[1] = sign * c;
-    t[2] = -sign * n[0];
-    b[0] = c;
-    b[1] = sign + n[1] * n[1] * a;
-    b[2] = -n[1];
+void orthonormal_frame(const Vec3f& n, Vec3f& t, Vec3f& b) {
+    const float sign = std::copysign(1.0f, n.z);
+    const float a = -1.0f / (sign + n.z), c = n.x * n.y * a;
+    t = {1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x};
+    b = {c, sign + n.y * n.y * a, -n.y};
 }
 
 void prepare_environment(Environment& env) {

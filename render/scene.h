@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "brdf/table.h"
+#include "core/vec3.h"
 #include "fit/lobe_kernels.h"
 #include "render/accel/kdtree.h"
 #include "render/camera.h"
@@ -92,7 +93,7 @@ struct Environment {
 
 // An orthonormal tangent t and bitangent b around unit n (Duff et al. 2017, "Building an
 // orthonormal basis, revisited"): continuous everywhere but at n.z = -1's sign switch.
-void orthonormal_frame(const float* n, float* t, float* b);
+void orthonormal_frame(const Vec3f& n, Vec3f& t, Vec3f& b);
 
 // Builds the sampling distribution of a map environment (no-op for a constant one).
 void prepare_environment(Environment& env);

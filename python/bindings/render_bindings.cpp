@@ -196,7 +196,12 @@ int add_light(SceneHandle& h, const nb::dict& d) {
                 l.cos_sun = static_cast<float>(std::cos(half));
                 l.sun_one_minus_cos = static_cast<float>(2 * std::sin(half / 2) * std::sin(half / 2));
             }
-            patina::orthonormal_frame(l.direction, l.frame_t, l.frame_b);
+            {
+                patina::Vec3f t, b;
+                patina::orthonormal_frame({l.direction[0], l.direction[1], l.direction[2]}, t, b);
+                l.frame_t[0] = t.x, l.frame_t[1] = t.y, l.frame_t[2] = t.z;
+                l.frame_b[0] = b.x, l.frame_b[1] = b.y, l.frame_b[2] = b.z;
+            }
             break;
         case patina::LightKind::Triangles: {
             const std::vector<int32_t> tris = nb::cast<std::vector<int32_t>>(d["triangles"]);
@@ -401,7 +406,7 @@ void bind_render(nb::module_& m) {
     nb::class_<Grid2Handle>(m, "Grid2", "A 2-D table on an irregular tensor grid, bilinear, clamped to its axes.")
         .def(nb::new_(&make_grid2), nb::arg("x"), nb::arg("y"), nb::arg("values"))
         .def("eval", &grid2_eval, nb::arg("x"), nb::arg("y"), nb::arg("width") = 0,
-             "values at (x[i], y[i]) by the coherent search and bilinear interpolation, W points at a time");
+             "values at (x[i], y[i]) by the coherent search and bilinear interpolation, N points at a time");
     nb::class_<SceneHandle>(m, "RenderScene", "Geometry, materials, lights, environment and camera for RenderJob.")
         .def(nb::new_(&make_scene), nb::arg("accel"), nb::arg("indices"), nb::arg("normals"),
              nb::arg("tangents").none(), nb::arg("tri_material"), nb::arg("camera"))

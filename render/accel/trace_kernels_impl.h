@@ -1,20 +1,16 @@
 // The body of trace_kernels_w{1,4,8}.cpp: defines trace_kernels_wN() for PATINA_KERNEL_WIDTH.
 #pragma once
 
-#include <limits>
+#include <algorithm>
 
-#include "core/simd/upper_state.h"
+#include "core/constants.h"
+#include "core/simd/kernel_width.h"
 #include "render/accel/trace_kernels.h"
 #include "render/accel/traverse.h"
 
-#ifndef PATINA_KERNEL_WIDTH
-#error "define PATINA_KERNEL_WIDTH before including trace_kernels_impl.h"
-#endif
-
 PATINA_BEGIN_TARGET
 namespace {
-
-constexpr int W = PATINA_KERNEL_WIDTH;
+using namespace kernel_width;  // N rays per packet: the traversal's K is N here
 
 TreeView view_of(const KdTree& tree) {
     return TreeView{tree.nodes.empty() ? nullptr : tree.nodes.data(), tree.leaf_prims.data(), tree.triangles.data(),
@@ -22,14 +18,13 @@ TreeView view_of(const KdTree& tree) {
 }
 
 // Loads rays [i, i + lanes) as one packet; missing lanes get an empty interval.
-RayPacket<W> load_packet(const RayBatch& rays, size_t i, int lanes) {
-    using F = vfloat<W>;
-    RayPacket<W> r;
-    float org[3 * W], dir[3 * W], tmax[W];
+RayPacket<N> load_packet(const RayBatch& rays, size_t i, int lanes) {
+    RayPacket<N> r;
+    float org[3 * N], dir[3 * N], tmax[N];
     const float* o = rays.origins + 3 * i;
     const float* d = rays.directions + 3 * i;
-    if (lanes < W) {
-        for (int j = 0; j < W; ++j) {
+    if (lanes < N) {
+        for (int j = 0; j < N; ++j) {
             const bool real = j < lanes;
             for (int a = 0; a < 3; ++a) {
                 org[3 * j + a] = real ? o[3 * j + a] : 0.0f;
@@ -43,28 +38,28 @@ RayPacket<W> load_packet(const RayBatch& rays, size_t i, int lanes) {
     load_xyz(o, r.org[0], r.org[1], r.org[2]);
     load_xyz(d, r.dir[0], r.dir[1], r.dir[2]);
     r.tmin = F(rays.tmin);
-    if (lanes < W) r.tmax = load_n<W>(tmax);
-    else r.tmax = rays.tmax ? load_n<W>(rays.tmax + i) : F(rays.tmax_all);
-    prepare_packet<W>(r);
+    if (lanes < N) r.tmax = load_n<N>(tmax);
+    else r.tmax = rays.tmax ? load_n<N>(rays.tmax + i) : F(rays.tmax_all);
+    prepare_packet<N>(r);
     return r;
 }
 
 void intersect_kernel(const KdTree& tree, const RayBatch& rays, const HitBatch& hits, size_t begin, size_t end) {
-    if constexpr (W < 8) clear_upper_state();
+    enter_kernel();
     const TreeView view = view_of(tree);
-    for (size_t i = begin; i < end; i += W) {
-        const int lanes = static_cast<int>(std::min<size_t>(W, end - i));
-        const RayPacket<W> r = load_packet(rays, i, lanes);
-        HitPacket<W> h;
-        intersect_packet<W>(view, r, h);
-        alignas(32) float t[W], u[W], v[W];
-        alignas(32) int32_t prim[W];
-        store_n<W>(t, h.t);
-        store_n<W>(u, h.u);
-        store_n<W>(v, h.v);
-        store_n<W>(prim, h.prim);
+    for (size_t i = begin; i < end; i += N) {
+        const int lanes = static_cast<int>(std::min<size_t>(N, end - i));
+        const RayPacket<N> r = load_packet(rays, i, lanes);
+        HitPacket<N> h;
+        intersect_packet<N>(view, r, h);
+        alignas(32) float t[N], u[N], v[N];
+        alignas(32) int32_t prim[N];
+        store_n<N>(t, h.t);
+        store_n<N>(u, h.u);
+        store_n<N>(v, h.v);
+        store_n<N>(prim, h.prim);
         for (int j = 0; j < lanes; ++j) {
-            hits.t[i + j] = prim[j] >= 0 ? t[j] : std::numeric_limits<float>::infinity();
+            hits.t[i + j] = prim[j] >= 0 ? t[j] : kInfinity;
             hits.prim[i + j] = prim[j];
             hits.u[i + j] = u[j];
             hits.v[i + j] = v[j];
@@ -73,12 +68,12 @@ void intersect_kernel(const KdTree& tree, const RayBatch& rays, const HitBatch& 
 }
 
 void occluded_kernel(const KdTree& tree, const RayBatch& rays, uint8_t* blocked, size_t begin, size_t end) {
-    if constexpr (W < 8) clear_upper_state();
+    enter_kernel();
     const TreeView view = view_of(tree);
-    for (size_t i = begin; i < end; i += W) {
-        const int lanes = static_cast<int>(std::min<size_t>(W, end - i));
-        const RayPacket<W> r = load_packet(rays, i, lanes);
-        const int mask = movemask(occluded_packet<W>(view, r));
+    for (size_t i = begin; i < end; i += N) {
+        const int lanes = static_cast<int>(std::min<size_t>(N, end - i));
+        const RayPacket<N> r = load_packet(rays, i, lanes);
+        const int mask = movemask(occluded_packet<N>(view, r));
         for (int j = 0; j < lanes; ++j) blocked[i + j] = static_cast<uint8_t>((mask >> j) & 1);
     }
 }

@@ -1,6 +1,4 @@
 // Ray-tracing kernels for packets of 1 (single rays).
-#include <algorithm>
-
 #define PATINA_KERNEL_WIDTH 1
 #include "render/accel/trace_kernels_impl.h"
 

@@ -1,6 +1,4 @@
 // Ray-tracing kernels for packets of 4 (compiled with -msse4.1).
-#include <algorithm>
-
 #define PATINA_KERNEL_WIDTH 4
 #include "render/accel/trace_kernels_impl.h"
 

@@ -1,6 +1,4 @@
 // Ray-tracing kernels for packets of 8 (compiled with -mavx2 -mfma).
-#include <algorithm>
-
 #define PATINA_KERNEL_WIDTH 8
 #include "render/accel/trace_kernels_impl.h"
 

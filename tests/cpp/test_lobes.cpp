@@ -186,8 +186,8 @@ TEST(Lobes, MixtureMicrofacetLobesMatchTheirModels) {
             const MixtureParams p = mixture(0, 0, 0, s, 0.04f, 0.5f, 1.0f, kind);
             const auto f = eval(p, wi, wo);
             for (size_t i = 0; i < wi.size() / 3; ++i) {
-                const patina::Dir3<float> a{wi[3 * i], wi[3 * i + 1], wi[3 * i + 2]};
-                const patina::Dir3<float> b{wo[3 * i], wo[3 * i + 1], wo[3 * i + 2]};
+                const patina::Vec3f a{wi[3 * i], wi[3 * i + 1], wi[3 * i + 2]};
+                const patina::Vec3f b{wo[3 * i], wo[3 * i + 1], wo[3 * i + 2]};
                 for (int c = 0; c < 3; ++c) {
                     const float f0 = c == 0 ? 0.04f : c == 1 ? 0.5f : 1.0f;
                     if (kind == LobeKind::GGX) {
@@ -221,8 +221,8 @@ TEST(Lobes, MixtureLobesAreTheModelsOfMicrofacetH) {
     laf.lafortune_c[0][2] = 0.9f;
     const auto fw = eval(ward, wi, wo), fa = eval(as, wi, wo), fl = eval(laf, wi, wo);
     for (size_t i = 0; i < wi.size() / 3; ++i) {
-        const patina::Dir3<float> a{wi[3 * i], wi[3 * i + 1], wi[3 * i + 2]};
-        const patina::Dir3<float> b{wo[3 * i], wo[3 * i + 1], wo[3 * i + 2]};
+        const patina::Vec3f a{wi[3 * i], wi[3 * i + 1], wi[3 * i + 2]};
+        const patina::Vec3f b{wo[3 * i], wo[3 * i + 1], wo[3 * i + 2]};
         ASSERT_FLOAT_EQ(fw[3 * i], ward_eval(a, b, 0.1f, 0.35f, 0.3f));
         ASSERT_FLOAT_EQ(fa[3 * i], ashikhmin_shirley_eval(a, b, 300.0f, 15.0f, 0.05f));
         ASSERT_FLOAT_EQ(fl[3 * i], lafortune_eval(a, b, -1.2f, -0.7f, 0.9f, 25.0f, 0.4f * 27.0f * (0.5f * kInvPi)));
@@ -317,7 +317,7 @@ TEST(Lobes, WardIsReciprocalKeepsEnergyAndSamplesItsPdf) {
                 return wo;
             };
             auto pdf = [&](float x, float y, float z) {
-                const patina::Dir3<float> a{w1[0], w1[1], w1[2]}, b{x, y, z};
+                const patina::Vec3f a{w1[0], w1[1], w1[2]}, b{x, y, z};
                 return double(ward_pdf(a, b, ax, ay));
             };
             EXPECT_GT(sampling_p_value(sample, pdf), 1e-3) << "ward " << ax << " " << ay << " theta " << theta;
@@ -328,7 +328,7 @@ TEST(Lobes, WardIsReciprocalKeepsEnergyAndSamplesItsPdf) {
             double albedo = 0;
             for (size_t i = 0; i < n; ++i) {
                 if (!(p[i] > 0) || !(wo[3 * i + 2] > 0)) continue;
-                const patina::Dir3<float> a{w1[0], w1[1], w1[2]}, b{wo[3 * i], wo[3 * i + 1], wo[3 * i + 2]};
+                const patina::Vec3f a{w1[0], w1[1], w1[2]}, b{wo[3 * i], wo[3 * i + 1], wo[3 * i + 2]};
                 albedo += patina::microfacet::ward_eval(a, b, ax, ay, 1.0f) * b.z / p[i];
                 // reciprocal, bit for bit: h = wi + wo is symmetric
                 ASSERT_EQ(patina::microfacet::ward_eval(a, b, ax, ay, 1.0f),
@@ -373,7 +373,7 @@ TEST(Lobes, EveryKindSamplesItsPdf) {
                     return wo;
                 };
                 auto pdf = [&](float x, float y, float z) {
-                    const patina::Dir3<float> a{w1[0], w1[1], w1[2]}, b{x, y, z};
+                    const patina::Vec3f a{w1[0], w1[1], w1[2]}, b{x, y, z};
                     switch (kind) {
                         case LobeKind::GGX: return double(ggx_pdf(a, b, shape));
                         case LobeKind::Beckmann: return double(beckmann_pdf(a, b, shape));
@@ -399,7 +399,7 @@ TEST(Lobes, AnisotropicAshikhminShirleySamplesItsPdf) {
         auto sample = [&](size_t m) {
             std::vector<float> wo(3 * m);
             for (size_t i = 0; i < m; ++i) {
-                const patina::Dir3<float> a{w1[0], w1[1], w1[2]};
+                const patina::Vec3f a{w1[0], w1[1], w1[2]};
                 const auto s = patina::microfacet::ashikhmin_shirley_sample(a, u1[i], u2[i], nu, nv);
                 wo[3 * i] = s.x;
                 wo[3 * i + 1] = s.y;
@@ -408,8 +408,8 @@ TEST(Lobes, AnisotropicAshikhminShirleySamplesItsPdf) {
             return wo;
         };
         auto pdf = [&](float x, float y, float z) {
-            return double(patina::microfacet::ashikhmin_shirley_pdf(patina::Dir3<float>{w1[0], w1[1], w1[2]},
-                                                                    patina::Dir3<float>{x, y, z}, nu, nv));
+            return double(patina::microfacet::ashikhmin_shirley_pdf(patina::Vec3f{w1[0], w1[1], w1[2]},
+                                                                    patina::Vec3f{x, y, z}, nu, nv));
         };
         EXPECT_GT(sampling_p_value(sample, pdf), 1e-3) << "nu " << nu << " nv " << nv;
     }
@@ -426,14 +426,14 @@ TEST(Lobes, LafortuneIsReciprocalAndSamplesItsPdf) {
     const auto wi_all = hemisphere(5000, 20), wo_all = hemisphere(5000, 21);
     for (const Lobe& l : {Lobe{-1.0f, -1.0f, 1.0f, 30.0f}, Lobe{-0.8f, -1.2f, 0.9f, 8.0f}, Lobe{0.9f, 0.9f, 0.6f, 15.0f}}) {
         for (size_t i = 0; i < wi_all.size() / 3; ++i) {
-            const patina::Dir3<float> a{wi_all[3 * i], wi_all[3 * i + 1], wi_all[3 * i + 2]};
-            const patina::Dir3<float> b{wo_all[3 * i], wo_all[3 * i + 1], wo_all[3 * i + 2]};
+            const patina::Vec3f a{wi_all[3 * i], wi_all[3 * i + 1], wi_all[3 * i + 2]};
+            const patina::Vec3f b{wo_all[3 * i], wo_all[3 * i + 1], wo_all[3 * i + 2]};
             ASSERT_EQ(lafortune_eval(a, b, l.cx, l.cy, l.cz, l.e, 1.0f), lafortune_eval(b, a, l.cx, l.cy, l.cz, l.e, 1.0f));
         }
         const float w1[3] = {0.45f, 0.2f, 0.8703448f};
         auto sample = [&](size_t m) {
             std::vector<float> wo(3 * m);
-            const patina::Dir3<float> a{w1[0], w1[1], w1[2]};
+            const patina::Vec3f a{w1[0], w1[1], w1[2]};
             for (size_t i = 0; i < m; ++i) {
                 const auto s = lafortune_sample(a, u1[i], u2[i], l.cx, l.cy, l.cz, l.e);
                 wo[3 * i] = s.x;
@@ -443,7 +443,7 @@ TEST(Lobes, LafortuneIsReciprocalAndSamplesItsPdf) {
             return wo;
         };
         auto pdf = [&](float x, float y, float z) {
-            return double(lafortune_pdf(patina::Dir3<float>{w1[0], w1[1], w1[2]}, patina::Dir3<float>{x, y, z}, l.cx,
+            return double(lafortune_pdf(patina::Vec3f{w1[0], w1[1], w1[2]}, patina::Vec3f{x, y, z}, l.cx,
                                         l.cy, l.cz, l.e));
         };
         EXPECT_GT(sampling_p_value(sample, pdf), 1e-3) << "lobe " << l.cx << " " << l.cy << " " << l.cz << " " << l.e;
@@ -492,12 +492,12 @@ TEST(Lobes, LafortunePhongLobeKeepsEnergy) {
     const int nmu = 256, nphi = 256;
     for (float e : {5.0f, 50.0f, 500.0f}) {
         for (double theta : {0.0, 0.7, 1.3}) {
-            const patina::Dir3<float> a{float(std::sin(theta)), 0.0f, float(std::cos(theta))};
+            const patina::Vec3f a{float(std::sin(theta)), 0.0f, float(std::cos(theta))};
             double albedo = 0;
             for (int i = 0; i < nmu; ++i)
                 for (int j = 0; j < nphi; ++j) {
                     const double mu = (i + 0.5) / nmu, phi = 2 * kPiDouble * (j + 0.5) / nphi, r = std::sqrt(1 - mu * mu);
-                    const patina::Dir3<float> b{float(r * std::cos(phi)), float(r * std::sin(phi)), float(mu)};
+                    const patina::Vec3f b{float(r * std::cos(phi)), float(r * std::sin(phi)), float(mu)};
                     const float rho = (e + 2.0f) / float(2 * kPiDouble);
                     albedo += patina::microfacet::lafortune_eval(a, b, -1.0f, -1.0f, 1.0f, e, rho) * mu * (1.0 / nmu) *
                               (2 * kPiDouble / nphi);
