@@ -2,7 +2,7 @@
 #   make demo   set everything up, then render the bundled car paint on the preview object under the studio map
 #   make test   set everything up, then lint (ruff) and run the C++ tests (ctest; once more under
 #               AddressSanitizer + UBSan, make check-sanitize) and the Python tests (pytest)
-# and a few more for developers: make bench, make setup, make check-sanitize, make clean.
+# and a few more for developers: make bench, make samples, make setup, make check-sanitize, make clean.
 
 PY        := .venv/bin/python
 PATINA    := .venv/bin/patina
@@ -15,7 +15,7 @@ DEMO_OUT  := demo-out
 DEMO_TABLE := materials/carpaint-base.ptab
 DEMO_SCENE := materials/scenes/preview-ball.json
 
-.PHONY: demo test lint test-cpp check-sanitize test-python bench setup clean
+.PHONY: demo test lint test-cpp check-sanitize test-python bench samples setup clean
 
 setup: $(STAMP)
 
@@ -54,6 +54,10 @@ test-python: setup
 
 bench: setup
 	$(PATINA) bench --json bench-out.json
+
+# The README's sample MERL file (33 MB, so made here, not kept in git); materials/samples/red-plastic.md.
+samples: setup
+	$(PY) tools/make_samples.py --merl-only
 
 clean:
 	rm -rf build .venv $(DEMO_OUT) bench-out.json
