@@ -34,10 +34,11 @@ static int width_from_env() {
     if (!env || !*env) return 0;
     const std::string s(env);
     int w = 0;
-    if (s == "scalar") w = 1;
-    else if (s == "sse4") w = 4;
-    else if (s == "avx2") w = 8;
-    else throw std::invalid_argument("PATINA_SIMD=" + s + ": expected scalar, sse4 or avx2");
+    // The same numbers as --simd and width= (1, 4, 8), or the instruction-set names.
+    if (s == "1" || s == "scalar") w = 1;
+    else if (s == "4" || s == "sse4") w = 4;
+    else if (s == "8" || s == "avx2") w = 8;
+    else throw std::invalid_argument("PATINA_SIMD=" + s + ": expected 1, 4 or 8 (or scalar, sse4, avx2)");
     if (!width_supported(w)) throw std::invalid_argument("PATINA_SIMD=" + s + ": this CPU cannot run that path");
     return w;
 }

@@ -1,6 +1,6 @@
 // Which SIMD widths this CPU can run, and which one to use.
 //
-// PATINA_SIMD=scalar|sse4|avx2 in the environment forces a path (an error if the
+// PATINA_SIMD=1|4|8 (or scalar|sse4|avx2) in the environment forces a path (an error if the
 // CPU cannot run it); otherwise the widest supported path is used.
 #pragma once
 

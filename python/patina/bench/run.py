@@ -13,6 +13,7 @@ import json
 import os
 import platform
 import sys
+import time
 from collections.abc import Callable
 from dataclasses import asdict
 
@@ -24,6 +25,7 @@ from patina.bench.records import Record
 from patina.bench.render import bench_render
 from patina.bench.trace import bench_trace
 from patina.native import _core
+from patina.progress import Progress
 
 GROUPS: dict[str, Callable[[int, bool], list[Record]]] = {
     "math": bench_math,
@@ -41,7 +43,12 @@ def print_table(records: list[Record]) -> None:
         print(f"{r.name:<40} {r.ratio:7.2f} {r.value:10.2f}  {r.unit:<12} {r.candidate} vs {r.baseline}")
 
 
-def run_bench(only: str | None = None, json_path: str | None = None, repeat: int = 7, quick: bool = False) -> int:
+def run_bench(
+    only: str | None = None, json_path: str | None = None, repeat: int = 7, quick: bool = False, progress: bool = True
+) -> int:
+    """Runs the groups (all, or `only`), prints the table, writes `json_path`. progress: a bar on
+    stderr (a line every few seconds when it is not a terminal) and a line per finished group,
+    since the whole run takes minutes."""
     if only is not None and only not in GROUPS:
         print(f"patina bench: unknown group '{only}' (known: {', '.join(GROUPS)})", file=sys.stderr)
         return 2
@@ -49,12 +56,18 @@ def run_bench(only: str | None = None, json_path: str | None = None, repeat: int
         print("patina bench: --repeat must be at least 1", file=sys.stderr)
         return 2
     groups = [only] if only else list(GROUPS)
+    # brdf includes the math kernels it relies on, as the issue's record list asks
+    steps = [("math", bench_math), ("brdf", bench_brdf)] if only == "brdf" else [(g, GROUPS[g]) for g in groups]
     records: list[Record] = []
-    for g in groups:
-        # brdf includes the math kernels it relies on, as the issue's record list asks
-        if g == "brdf" and only == "brdf":
-            records += bench_math(repeat, quick)
-        records += GROUPS[g](repeat, quick)
+    with Progress(len(steps), "bench", unit="group", enabled=progress) as bar:
+        for done, (name, group) in enumerate(steps):
+            bar.update(done, postfix=f"running {name}")
+            t0 = time.perf_counter()
+            found = group(repeat, quick)
+            records += found
+            if progress:  # tqdm writes even when the bar is disabled
+                bar.write(f"bench: {name}: {len(found)} records in {time.perf_counter() - t0:.1f} s")
+        bar.update(len(steps), postfix="done")
     print_table(records)
     if json_path:
         doc = {

@@ -2,28 +2,32 @@
 
     patina info FILE [--json]
     patina convert IN OUT.ptab
-    patina eval FILE --wi THETA PHI --wo THETA PHI [--json] [--width 1|4|8]
+    patina eval FILE --wi THETA PHI --wo THETA PHI [--json] [--simd 1|4|8]
     patina validate FILE [--json]          (exit 0 clean, 1 problems found, 2 unreadable)
     patina fit FILE [--model ggx+lambert] [--lobes K] [--loss l2cos|log] [--out fit.json]
                [--coat [--coat-eta 1.5 | --fit-coat-eta]] [--per-channel] [--anisotropic]
     patina fit FILE --compare ggx+lambert beckmann+lambert lafortune+lambert:2 ward-aniso+lambert
     patina plot FILE [--fit fit.json] --out DIR [--no-3d] [--3d-log] [--3d-no-cos]
     patina slices FILE --out PNG
-    patina bench [--only GROUP] [--json FILE]
+    patina bench [--only GROUP] [--json FILE] [--quick] [--quiet]
     patina render SCENE.json [--out out.exr] [--spp N] [--integrator direct|path] [--threads T] [--seed S]
     patina luminaire info FILE [--json] | patina luminaire plot FILE --out PNG
     patina preview MATERIAL [--env ENV] [--shape sphere|ball|panel|MESH] [--spp N] [--out out.exr]
 
 Bad input ends with one line naming the file, the place and the problem, and exit status 2.
+`--quiet` (where a command has it) leaves only errors: standard output goes nowhere and
+progress is off. Output into a closed pipe (`patina info FILE | head -1`) ends quietly.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import os
 import sys
 
 from patina.cli.bench import add_bench_command
-from patina.cli.common import UsageError
+from patina.cli.common import HelpFormat, UsageError
 from patina.cli.fit import add_fit_command
 from patina.cli.luminaire import add_luminaire_commands
 from patina.cli.plot import add_plot_command
@@ -43,10 +47,43 @@ def build_parser() -> argparse.ArgumentParser:
     add_bench_command(sub)
     add_render_commands(sub)
     add_luminaire_commands(sub)
+    _help_shows_defaults(p)
     return p
 
 
+def _help_shows_defaults(parser: argparse.ArgumentParser) -> None:
+    """Every subcommand (and theirs, as `luminaire info`) prints its defaults in --help."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for child in action.choices.values():
+                child.formatter_class = HelpFormat
+                _help_shows_defaults(child)
+
+
+def _closed_pipe() -> int:
+    """The reader of our stdout went away (`| head -1`): not an error. Point stdout at
+    /dev/null so the interpreter's last flush does not raise again, and exit as a process
+    killed by SIGPIPE would (128 + 13), as other command-line tools do."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    with contextlib.suppress(OSError, ValueError):
+        os.dup2(devnull, sys.stdout.fileno())
+    os.close(devnull)
+    return 141
+
+
 def main(argv: list[str] | None = None) -> int:
+    try:
+        try:
+            return _run(argv)
+        finally:
+            # a closed pipe shows at this flush, inside the handler, not at interpreter exit
+            # (also after --help, whose SystemExit a BrokenPipeError here replaces)
+            sys.stdout.flush()
+    except BrokenPipeError:
+        return _closed_pipe()
+
+
+def _run(argv: list[str] | None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.version:
@@ -56,7 +93,13 @@ def main(argv: list[str] | None = None) -> int:
         parser.print_help()
         return 2
     try:
+        if getattr(args, "quiet", False):
+            # --quiet: nothing but errors (stderr); the commands turn their progress off themselves
+            with open(os.devnull, "w") as devnull, contextlib.redirect_stdout(devnull):
+                return int(args.func(args) or 0)
         return int(args.func(args) or 0)
+    except BrokenPipeError:
+        raise  # an OSError, but not a failure: main() handles it
     except UsageError as e:
         print(f"patina {e}", file=sys.stderr)
         return 2

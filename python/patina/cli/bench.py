@@ -10,7 +10,7 @@ from patina.bench import run_bench
 
 def cmd_bench(args: argparse.Namespace) -> int:
 
-    return run_bench(only=args.only, json_path=args.json, repeat=args.repeat, quick=args.quick)
+    return run_bench(only=args.only, json_path=args.json, repeat=args.repeat, quick=args.quick, progress=not args.quiet)
 
 
 def add_bench_command(sub: Any) -> None:
@@ -19,4 +19,5 @@ def add_bench_command(sub: Any) -> None:
     s.add_argument("--json", default=None, metavar="FILE", help="also write the records as JSON")
     s.add_argument("--repeat", type=int, default=7, help="repetitions; medians are reported")
     s.add_argument("--quick", action="store_true", help="small inputs, for a smoke test")
+    s.add_argument("--quiet", action="store_true", help="no progress and no table: errors only (use with --json)")
     s.set_defaults(func=cmd_bench)

@@ -1,10 +1,24 @@
-"""What every command shares: usage errors, JSON output, channel labels."""
+"""What every command shares: usage errors, JSON output, channel labels, the help format and
+the `--simd` option."""
 
 from __future__ import annotations
 
+import argparse
 import json
 import sys
 from typing import Any
+
+from patina.widths import WIDTHS
+
+
+class HelpFormat(argparse.ArgumentDefaultsHelpFormatter):
+    """Every option's help shows its default ("(default: ...)") beside its text, except where
+    there is none to show (None, a flag's False) or the text already says it."""
+
+    def _get_help_string(self, action: argparse.Action) -> str | None:
+        if action.default is None or action.default is False or "default" in (action.help or ""):
+            return action.help
+        return super()._get_help_string(action)
 
 
 class UsageError(Exception):
@@ -25,3 +39,14 @@ def channel_labels(brdf: Any) -> list[str]:
     if kind == "spectral":
         return [f"{w:g}nm" for w in brdf.wavelengths]
     return ["value"]
+
+
+def add_simd_option(s: argparse.ArgumentParser) -> None:
+    """`--simd {1,4,8}`: the one name for the SIMD width on every command (`--width` is an image's width)."""
+    s.add_argument(
+        "--simd",
+        type=int,
+        choices=WIDTHS,
+        default=None,
+        help="force a SIMD width: 1 (scalar), 4 (SSE4.1) or 8 (AVX2); default: PATINA_SIMD, else the widest",
+    )

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from patina.cli.common import UsageError, channel_labels, print_json
+from patina.cli.common import UsageError, add_simd_option, channel_labels, print_json
 from patina.plot.slices import plot_inplane_slices
 from patina.table import Tolerances, format_report, load_brdf, validate
 
@@ -66,7 +66,7 @@ def cmd_eval(args: argparse.Namespace) -> int:
     ti, pi = _angle_pair("--wi", args.wi)
     to, po = _angle_pair("--wo", args.wo)
     brdf = load_brdf(args.file)
-    values = brdf.eval_angles(*np.radians([ti, pi, to, po]), width=args.width)
+    values = brdf.eval_angles(*np.radians([ti, pi, to, po]), width=args.simd)
     labels = channel_labels(brdf)
     if args.json:
         print_json(
@@ -113,16 +113,30 @@ def add_table_commands(sub: Any) -> None:
     s.set_defaults(func=cmd_info)
 
     s = sub.add_parser("convert", help="convert any supported table to .ptab")
-    s.add_argument("input")
-    s.add_argument("output")
+    s.add_argument("input", help="a .ptab, MERL .binary, ASTM E1392 or CSV table")
+    s.add_argument("output", help="the .ptab to write")
     s.set_defaults(func=cmd_convert)
 
     s = sub.add_parser("eval", help="evaluate a table at one direction pair (degrees)")
     s.add_argument("file")
-    s.add_argument("--wi", nargs=2, type=float, required=True, metavar=("THETA", "PHI"))
-    s.add_argument("--wo", nargs=2, type=float, required=True, metavar=("THETA", "PHI"))
-    s.add_argument("--json", action="store_true")
-    s.add_argument("--width", type=int, choices=(1, 4, 8), default=None, help="force a SIMD path")
+    s.add_argument(
+        "--wi",
+        nargs=2,
+        type=float,
+        required=True,
+        metavar=("THETA", "PHI"),
+        help="incident direction, degrees: theta from the normal (0..90), phi the azimuth",
+    )
+    s.add_argument(
+        "--wo",
+        nargs=2,
+        type=float,
+        required=True,
+        metavar=("THETA", "PHI"),
+        help="outgoing direction, degrees: theta from the normal (0..90), phi the azimuth",
+    )
+    s.add_argument("--json", action="store_true", help="machine-readable output")
+    add_simd_option(s)
     s.set_defaults(func=cmd_eval)
 
     s = sub.add_parser("validate", help="check a table: values, axes, coverage, reciprocity, albedo, spikes")
@@ -134,6 +148,13 @@ def add_table_commands(sub: Any) -> None:
 
     s = sub.add_parser("slices", help="plot in-plane slices of a table to a PNG")
     s.add_argument("file")
-    s.add_argument("--out", required=True)
-    s.add_argument("--incidence", type=float, nargs="+", default=[0, 20, 40, 60, 75], metavar="DEG")
+    s.add_argument("--out", required=True, metavar="PNG", help="the PNG to write")
+    s.add_argument(
+        "--incidence",
+        type=float,
+        nargs="+",
+        default=[0, 20, 40, 60, 75],
+        metavar="DEG",
+        help="incidence angles (theta_i, degrees) of the slices, one curve each",
+    )
     s.set_defaults(func=cmd_slices)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import subprocess
@@ -11,7 +12,8 @@ import numpy as np
 import pytest
 
 import patina
-from patina.cli import main
+from patina.cli import build_parser, main
+from patina.cli.common import HelpFormat
 
 PATINA = [sys.executable, "-m", "patina.cli"]
 
@@ -33,8 +35,88 @@ def test_eval_json_holds_channel_values(bundled_ptab, capsys):
     assert doc["channels"] == ["R", "G", "B"]
     for width in ("1", "4", "8"):
         if patina._core.width_supported(int(width)):
-            assert main(["eval", bundled_ptab, "--wi", "30", "0", "--wo", "30", "180", "--json", "--width", width]) == 0
+            assert main(["eval", bundled_ptab, "--wi", "30", "0", "--wo", "30", "180", "--json", "--simd", width]) == 0
             assert json.loads(capsys.readouterr().out)["values"] == doc["values"]
+
+
+def test_simd_width_has_one_name(bundled_ptab, capsys):
+    """`--simd` is the SIMD width on every command; `eval --width` (an image's width elsewhere) is gone."""
+    with pytest.raises(SystemExit) as e:
+        main(["eval", bundled_ptab, "--wi", "30", "0", "--wo", "30", "180", "--width", "4"])
+    assert e.value.code == 2 and "--width" in capsys.readouterr().err
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    for name, command in sub.choices.items():
+        options = {o: a for a in command._actions for o in a.option_strings}
+        if "--simd" in options:
+            assert tuple(options["--simd"].choices) == (1, 4, 8), name
+        if name in ("eval", "bench", "fit", "validate", "info"):
+            assert "--width" not in options, name
+
+
+@pytest.mark.parametrize("value, width", [("1", 1), ("scalar", 1), ("4", 4), ("sse4", 4), ("8", 8), ("avx2", 8)])
+def test_patina_simd_takes_the_numbers_simd_takes(value, width):
+    if not patina._core.width_supported(width):
+        pytest.skip(f"this CPU has no {width}-wide path")
+    code = "from patina.native import _core; print(_core.default_width())"
+    env = {**os.environ, "PATINA_SIMD": value}
+    r = subprocess.run([sys.executable, "-c", code], check=False, capture_output=True, text=True, env=env)
+    assert r.returncode == 0 and r.stdout.strip() == str(width), r.stderr
+
+
+def test_a_bad_patina_simd_is_one_line_naming_the_values(bundled_ptab):
+    env = {**os.environ, "PATINA_SIMD": "16"}
+    r = subprocess.run([*PATINA, "eval", bundled_ptab, "--wi", "0", "0", "--wo", "0", "0"], **_captured(env))
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert "PATINA_SIMD=16" in r.stderr and "1, 4 or 8" in r.stderr
+
+
+def _captured(env: dict[str, str] | None = None) -> dict:
+    return {"check": False, "capture_output": True, "text": True, "env": env or dict(os.environ)}
+
+
+def _help(*command: str) -> str:
+    r = subprocess.run([*PATINA, *command, "--help"], **_captured({**os.environ, "COLUMNS": "200"}))
+    assert r.returncode == 0, r.stderr
+    return r.stdout
+
+
+def test_every_option_has_help_and_shows_its_default():
+    """Each option of each command says what it is, and one with a default shows it."""
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    for name, command in sub.choices.items():
+        assert command.formatter_class is HelpFormat, name
+        for action in command._actions:
+            if action.option_strings and not isinstance(action, argparse._SubParsersAction):
+                assert action.help, f"patina {name} {action.option_strings[0]} has no help text"
+    text = _help("eval")
+    assert "incident direction" in text and "outgoing direction" in text
+    text = _help("slices")
+    assert "(default: [0, 20, 40, 60, 75])" in text and "incidence angles" in text
+    assert "(default: 7)" in _help("bench")
+    assert "(default: 5.0)" in _help("validate")
+
+
+def test_output_into_a_closed_pipe_is_not_an_error(bundled_ptab):
+    """`patina info FILE | head -1`: the reader leaves early; no "Broken pipe", no traceback."""
+    for command in (["info", bundled_ptab], ["info", bundled_ptab, "--json"], ["--help"]):
+        shell = " ".join(f"'{a}'" for a in [*PATINA, *command]) + " | head -1"
+        r = subprocess.run(["bash", "-o", "pipefail", "-c", shell], **_captured())
+        assert r.stdout.count("\n") == 1, r.stdout
+        assert r.stderr == "", r.stderr
+        assert r.returncode in (0, 141), r.returncode  # 141: as a process killed by SIGPIPE
+
+
+def test_quiet_leaves_only_errors(bundled_ptab, tmp_path):
+    out = tmp_path / "b.json"
+    r = subprocess.run(
+        [*PATINA, "bench", "--only", "math", "--quick", "--repeat", "1", "--json", str(out), "--quiet"], **_captured()
+    )
+    assert r.returncode == 0 and r.stdout == "" and r.stderr == "", (r.stdout, r.stderr)
+    assert json.loads(out.read_text())["records"]
+    r = subprocess.run([*PATINA, "bench", "--only", "nothing", "--quiet"], **_captured())
+    assert r.returncode == 2 and "unknown group" in r.stderr
 
 
 def test_convert_astm_to_ptab(bundled_astm, tmp_path, capsys):
@@ -84,3 +166,12 @@ def test_bench_quick_writes_records(tmp_path, capsys):
     for r in doc["records"]:
         assert set(r) == {"name", "candidate", "baseline", "ratio", "value", "unit"}
         assert r["ratio"] > 0 and r["value"] > 0
+
+
+def test_bench_shows_progress_per_group(tmp_path):
+    """A line per finished group (the whole run takes minutes), progress on stderr, the table on stdout."""
+    r = subprocess.run([*PATINA, "bench", "--only", "brdf", "--quick", "--repeat", "1"], **_captured())
+    assert r.returncode == 0, r.stderr
+    assert "bench: math:" in r.stderr and "bench: brdf:" in r.stderr and "records in" in r.stderr
+    assert "2/2" in r.stderr  # the bar's done/total
+    assert "bench:" not in r.stdout and r.stdout.startswith("name")
