@@ -72,12 +72,19 @@ def read_fits(path: str) -> list[Fit]:
 def read_all_fits(paths: Sequence[str]) -> list[Fit]:
     """The fits of several files, in order; a model that occurs twice is named with its file (and place)."""
     fits = [fit for path in paths for fit in read_fits(path)]
-    counts: dict[str, int] = {}
+
+    def repeated() -> set[str]:
+        names = [fit.name for fit in fits]
+        return {n for n in names if names.count(n) > 1}
+
+    twice = repeated()
     for fit in fits:
-        counts[fit.name] = counts.get(fit.name, 0) + 1
+        if fit.name in twice:
+            fit.name = f"{fit.name} ({os.path.basename(fit.path)})"
     seen: dict[str, int] = {}
+    again = repeated()  # the same model twice in one file (or in files of one name): number them
     for fit in fits:
-        if counts[fit.name] > 1:
+        if fit.name in again:
             seen[fit.name] = seen.get(fit.name, 0) + 1
-            fit.name = f"{fit.name} ({os.path.basename(fit.path)} #{seen[fit.name]})"
+            fit.name = f"{fit.name} #{seen[fit.name]}"
     return fits

@@ -36,6 +36,7 @@ METRICS: dict[str, tuple[str, str]] = {
     "relative_error_median": ("relative error, median", "percent"),
     "relative_error_p95": ("relative error, 95th percentile", "percent"),
     "rmse": ("RMS error of f (1/sr)", "g"),
+    "loss": ("loss on the samples fitted", "g"),
     "loss_all_samples": ("loss on all samples", "g"),
 }
 _PARAMETERS = {
@@ -112,12 +113,10 @@ def _fit_context(brdf: Brdf, fits: Sequence[Fit]) -> dict[str, Any]:
             cells.append({"text": "" if v is None else _number(v), "bound": n in (fit.doc.get("at_bounds") or [])})
         parameters.append({"name": n, "label": parameter_label(n), "cells": cells})
     keys = [k for k in METRICS if any(k in (f.doc.get("metrics") or {}) for f in fits)]
-    keys += [
-        k
-        for f in fits
-        for k, v in (f.doc.get("metrics") or {}).items()
-        if k not in METRICS and isinstance(v, (int, float)) and k not in keys
-    ]
+    for f in fits:  # metrics this page has no label for yet: shown under their key, once each
+        for k, v in (f.doc.get("metrics") or {}).items():
+            if k not in keys and isinstance(v, (int, float)):
+                keys.append(k)
     metrics = []
     for k in keys:
         label, style = METRICS.get(k, (k.replace("_", " "), "g"))
@@ -143,17 +142,18 @@ def _fit_context(brdf: Brdf, fits: Sequence[Fit]) -> dict[str, Any]:
         source = d.get("source") or ""
         if source and os.path.abspath(source) != os.path.abspath(brdf.source):
             notes.append(f"fitted to {os.path.basename(source)}, not to this table")
-        about.append(
-            {
-                "name": f.name,
-                "file": os.path.basename(f.path),
-                "loss": d.get("loss", ""),
-                "samples": d.get("samples", ""),
-                "seconds": _number(d["seconds"], "g") if isinstance(d.get("seconds"), (int, float)) else "",
-                "notes": notes,
-            }
-        )
-    return {"parameters": parameters, "metrics": metrics, "about": about}
+        about.append({"name": f.name, "notes": notes})
+    seconds = [f.doc.get("seconds") for f in fits]
+    facts = [
+        ("file", "code", [{"text": os.path.basename(f.path)} for f in fits]),
+        ("loss minimised", "", [{"text": str(f.doc.get("loss") or "")} for f in fits]),
+        ("samples", "num", [{"text": str(f.doc.get("samples", ""))} for f in fits]),
+        ("time (s)", "num", [{"text": _number(s, "g") if isinstance(s, (int, float)) else ""} for s in seconds]),
+    ]
+    # Rows no fit has a value for (a fit.json written by hand) are left out rather than shown empty.
+    facts = [row for row in facts if any(c["text"] for c in row[2])]
+    facts.append(("warnings", "", [{"text": "; ".join(a["notes"]) or "none", "bad": bool(a["notes"])} for a in about]))
+    return {"parameters": parameters, "metrics": metrics, "about": about, "facts": facts}
 
 
 def _lobe_view(
