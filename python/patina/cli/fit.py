@@ -6,7 +6,7 @@ import argparse
 from typing import Any
 
 from patina.cli.common import UsageError, print_json
-from patina.fitting import compare, fit, write_fit
+from patina.fitting import FitResult, compare, fit, write_fit, write_ranking
 from patina.table import load_brdf
 
 
@@ -26,31 +26,45 @@ def _model_options(args: argparse.Namespace) -> dict[str, Any]:
     return options
 
 
+def _print_ranking(path: str, loss: str, results: list[FitResult]) -> None:
+    print(f"{len(results)} models fitted to {path} (loss {loss}), best first:")
+    print(f"  {'model':<24} {'loss':>10} {'rmse':>10} {'rel.err':>8} {'dE00':>6} {'dE00 95%':>8} {'time s':>7}")
+    for r in results:
+        m = r.metrics
+        print(
+            f"  {r.model:<24} {m['loss']:10.4g} {m['rmse']:10.4g} "
+            f"{m['relative_error_median']:8.3g} {m['ciede2000_mean']:6.2f} {m['ciede2000_p95']:8.2f} "
+            f"{r.seconds:7.1f}" + ("" if r.usable else "  UNUSABLE")
+        )
+        print("      " + ", ".join(f"{k} {v:.4g}" + ("*" if k in r.at_bounds else "") for k, v in r.parameters.items()))
+        if r.at_bounds:
+            print(f"      * at its bound: {', '.join(r.at_bounds)}")
+        if not r.usable:
+            print(f"      unusable: {'; '.join(r.problems)}")
+        if not r.converged:
+            print(f"      not converged: {r.message}")
+    if not any(r.usable for r in results):
+        print("no usable fit: every model is flagged above")
+
+
 def cmd_fit(args: argparse.Namespace) -> int:
 
     if args.starts < 1:
         raise UsageError("fit: --starts must be at least 1")
     brdf = load_brdf(args.file)
     if args.compare:
-        results = compare(brdf, args.compare, starts=args.starts, seed=args.seed, **_model_options(args))
+        results = compare(
+            brdf, args.compare, progress=not args.json, starts=args.starts, seed=args.seed, **_model_options(args)
+        )
         if args.json:
             print_json([r.as_json() for r in results])
         else:
-            print(f"{len(results)} models fitted to {args.file} (loss {args.loss}), best first:")
-            print(f"  {'model':<24} {'loss':>10} {'rmse':>10} {'rel.err':>8} {'dE00':>6} {'dE00 95%':>8} {'time s':>7}")
-            for r in results:
-                m = r.metrics
-                print(
-                    f"  {r.model:<24} {m['loss_all_samples']:10.4g} {m['rmse']:10.4g} "
-                    f"{m['relative_error_median']:8.3g} {m['ciede2000_mean']:6.2f} {m['ciede2000_p95']:8.2f} "
-                    f"{r.seconds:7.1f}"
-                )
-                print("      " + ", ".join(f"{k} {v:.4g}" for k, v in r.parameters.items()))
-                if not r.converged:
-                    print(f"      not converged: {r.message}")
+            _print_ranking(args.file, args.loss, results)
         if args.out:
-            write_fit(results[0], args.out)
-        return 0 if all(r.converged for r in results) else 1
+            write_ranking(results, args.out)
+            if not args.json:
+                print(f"wrote {args.out} (the best fit, and every model under 'ranking')")
+        return 0 if all(r.converged for r in results) and results[0].usable else 1
     result = fit(brdf, model=args.model, lobes=args.lobes, starts=args.starts, seed=args.seed, **_model_options(args))
     if args.out:
         write_fit(result, args.out)
@@ -65,13 +79,15 @@ def cmd_fit(args: argparse.Namespace) -> int:
             print(f"  {name:<10} {value:.6g}" + ("   (at its bound)" if name in result.at_bounds else ""))
         m = result.metrics
         print(
-            f"  loss {m['loss_all_samples']:.4g}  rmse {m['rmse']:.4g}  relative error median "
+            f"  loss {m['loss']:.4g}  rmse {m['rmse']:.4g}  relative error median "
             f"{m['relative_error_median']:.3g}, 95% {m['relative_error_p95']:.3g}  "
             f"CIEDE2000 mean {m['ciede2000_mean']:.2f}, 95% {m['ciede2000_p95']:.2f}"
         )
+        if not result.usable:
+            print(f"  unusable: {'; '.join(result.problems)}")
         if args.out:
             print(f"wrote {args.out}")
-    return 0 if result.converged else 1
+    return 0 if result.converged and result.usable else 1
 
 
 def add_fit_command(sub: Any) -> None:
@@ -80,7 +96,8 @@ def add_fit_command(sub: Any) -> None:
     s.add_argument(
         "--model",
         default="ggx+lambert",
-        help="ggx, beckmann, blinnphong, ward, ashikhmin, ward-aniso, ashikhmin-aniso or lafortune + lambert",
+        help="a specular lobe over a Lambert diffuse: ggx, beckmann, blinnphong, ward, ashikhmin, ward-aniso, "
+        "ashikhmin-aniso or lafortune, each written with or without '+lambert' (ggx means ggx+lambert)",
     )
     s.add_argument("--lobes", type=int, default=1, help="specular lobes, 1 to 3")
     s.add_argument("--coat", action="store_true", help="add a clear coat (roughness; index of refraction held)")
@@ -90,10 +107,32 @@ def add_fit_command(sub: Any) -> None:
         "--anisotropic", action="store_true", help="lafortune: Cx and Cy apart (default: on anisotropic tables)"
     )
     s.add_argument("--per-channel", action="store_true", help="a lobe shape per colour channel (default: shared)")
-    s.add_argument("--compare", nargs="+", metavar="MODEL", help="fit several models (MODEL or MODEL:LOBES), rank them")
-    s.add_argument("--loss", default="l2cos", choices=("l2cos", "log"))
-    s.add_argument("--starts", type=int, default=4, help="local optimisations from this many starts")
-    s.add_argument("--seed", type=int, default=0)
-    s.add_argument("--out", default=None, metavar="FIT_JSON", help="write the result as JSON")
-    s.add_argument("--json", action="store_true")
+    s.add_argument(
+        "--compare",
+        nargs="+",
+        metavar="MODEL",
+        help="fit several models (MODEL or MODEL:LOBES) and rank them, usable fits first; "
+        "flags parameters at their bounds and unusable fits",
+    )
+    s.add_argument(
+        "--loss",
+        default="l2cos",
+        choices=("l2cos", "log"),
+        help="l2cos: squared differences of cosine-weighted values (Ngan et al. 2005); "
+        "log: of log(1 + cosine-weighted value), which weighs dim regions more (Low et al. 2012)",
+    )
+    s.add_argument(
+        "--starts",
+        type=int,
+        default=4,
+        help="local optimisations (BOBYQA): from the global stage's best, the rest random",
+    )
+    s.add_argument("--seed", type=int, default=0, help="seed of the random subsamples and starts (same seed, same fit)")
+    s.add_argument(
+        "--out",
+        default=None,
+        metavar="FIT_JSON",
+        help="write the result as JSON (with --compare: the best fit, and every model under 'ranking')",
+    )
+    s.add_argument("--json", action="store_true", help="machine-readable output")
     s.set_defaults(func=cmd_fit)

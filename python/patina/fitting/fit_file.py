@@ -73,3 +73,13 @@ def read_fit(path: str) -> FittedModel:
 def write_fit(result: FitResult, path: str) -> None:
     """fit.json, written to a temporary file and renamed."""
     write_text(path, json.dumps(result.as_json(), indent=2))
+
+
+def write_ranking(results: list[FitResult], path: str) -> None:
+    """`fit --compare --out`: the best fit's fields at the top level (so read_fit, and every
+    command taking a fit.json, reads the best model) and under "ranking" every model's
+    result, best first (parameters, metrics, at_bounds, usable and problems)."""
+    if not results:
+        raise ValueError("no fits to write")
+    doc = {**results[0].as_json(), "ranking": [r.as_json() for r in results]}
+    write_text(path, json.dumps(doc, indent=2))

@@ -96,6 +96,7 @@ MODELS = {
     for lobe in ("ggx", "beckmann", "blinnphong", "ward", "ashikhmin", "ward-aniso", "ashikhmin-aniso", "lafortune")
 }
 ALIASES = {
+    **{lobe: model for model, lobe in MODELS.items()},  # `ggx` is ggx+lambert: every model has the Lambert base
     "lambert+ggx": "ggx+lambert",
     "cook-torrance+lambert": "beckmann+lambert",
     "phong+lambert": "blinnphong+lambert",

@@ -2,7 +2,21 @@
 
 The search is bounded, a global stage (nlopt's CRS2 with local mutation) on a random
 subsample of the table, then several local starts (BOBYQA) on a larger one; the loss
-runs on the SIMD kernels over all cores. Metrics are computed on every sample.
+runs on the SIMD kernels over all cores. The local stage's samples are drawn in
+proportion to the solid-angle measure each grid point stands for (patina.fitting.samples),
+so the loss it minimises is an integral over direction pairs rather than a sum over an
+irregular grid's knots. The global stage keeps a plain subset of the knots: only a start
+for the local stage, and measure-weighted draws led it into a wrong basin on a
+retro-reflective Lafortune table (its exponent ending near 10^4).
+
+Metrics: `loss` (the measure-weighted loss the search minimises, the ranking's key),
+`loss_all_samples` (the plain mean over every grid point), rmse and relative errors over
+every grid point, CIEDE2000 mean and 95th percentile over measure-weighted samples.
+
+A fit is flagged `usable = False` (with `problems` saying why) when its loss is not
+finite or a diffuse albedo ends at its upper bound (a full-white diffuse term: the
+search traded the albedo for something the lobe could not fit); `compare` adds fits
+whose mean CIEDE2000 is far above the best one's, and ranks usable fits first.
 """
 
 from __future__ import annotations
@@ -18,9 +32,14 @@ import numpy as np
 
 from patina.fitting.metrics import colour_differences
 from patina.fitting.models import ALIASES, COAT_ETA, LOSSES, MODELS, ParameterSpace
-from patina.fitting.samples import subset, table_samples
+from patina.fitting.samples import sample_measure, subset, table_samples
 from patina.native import _core
+from patina.progress import Progress
 from patina.table.brdf import Brdf
+
+# compare: a fit whose mean CIEDE2000 exceeds the best fit's by both of these is unusable
+DE_FAR_RATIO = 2.0
+DE_FAR_ABOVE = 5.0
 
 
 @dataclass
@@ -37,6 +56,8 @@ class FitResult:
     source: str = ""
     table_checksum: str = ""
     at_bounds: list[str] = field(default_factory=list)
+    usable: bool = True
+    problems: list[str] = field(default_factory=list)  # why the fit is not usable
 
     def as_json(self) -> dict[str, Any]:
         return asdict(self)
@@ -140,8 +161,9 @@ def fit(
     every = table_samples(brdf)
     if len(every[0]) < 20:
         raise ValueError(f"only {len(every[0])} usable samples in the table: too few to fit")
+    measure = sample_measure(brdf)
     coarse = _core.FitSamples(*subset(every, global_samples, rng))
-    fine_arrays = subset(every, local_samples, rng)
+    fine_arrays = subset(every, local_samples, rng, measure)
     fine = _core.FitSamples(*fine_arrays)
 
     def loss_at(samples: Any, x: np.ndarray) -> float:
@@ -203,9 +225,10 @@ def fit(
     diff = predicted - measured
     rel = np.abs(diff) / np.maximum(np.abs(measured), 1e-3 * float(np.median(np.abs(measured))) + 1e-12)
     full = _core.FitSamples(*every)
-    pick = np.sort(rng.choice(len(wi), min(len(wi), 100_000), replace=False))
+    pick = np.sort(rng.choice(len(wi), min(len(wi), 100_000), replace=True, p=measure / measure.sum()))
     delta_e = colour_differences(measured[pick], predicted[pick], wi[pick, 2])
     metrics = {
+        "loss": loss_at(fine, best_x),
         "loss_all_samples": loss_at(full, best_x),
         "rmse": float(np.sqrt(np.mean(diff**2))),
         "relative_error_median": float(np.median(rel)),
@@ -213,6 +236,10 @@ def fit(
         "ciede2000_mean": float(np.mean(delta_e)),
         "ciede2000_p95": float(np.percentile(delta_e, 95)),
     }
+    problems = [] if math.isfinite(best_value) else ["the loss is not finite"]
+    full_white = [n for n, v, hi in zip(space.free_names, best_x, upper) if n.startswith("rho_") and v >= hi - 1e-6]
+    if full_white:
+        problems.append(f"diffuse albedo at its upper bound ({', '.join(full_white)} = 1)")
     return FitResult(
         model=(model if lobes == 1 else f"{model} x{lobes}") + ("+coat" if coat else ""),
         parameters={n: float(v) for n, v in zip(space.names, best)},
@@ -226,15 +253,47 @@ def fit(
         source=brdf.source,
         table_checksum=_checksum(brdf.source),
         at_bounds=at_bounds,
+        usable=not problems,
+        problems=problems,
     )
 
 
-def compare(brdf: Brdf, models: list[str], **options: Any) -> list[FitResult]:
-    """Fits each model (names as for fit, `NAME:K` for K lobes) and ranks them by loss."""
-    results = []
+def compare(brdf: Brdf, models: list[str], progress: bool = False, **options: Any) -> list[FitResult]:
+    """Fits each model (names as for fit, `NAME:K` for K lobes) and ranks them: usable fits
+    first, each group by its loss. `progress` shows one step per model on stderr."""
+    names = []
     for name in models:
         model, _, k = name.partition(":")
-        if k and not k.isdigit():
+        if k and not (k.isdigit() and 1 <= int(k) <= 3):
             raise ValueError(f"'{name}': the lobe count after ':' must be 1, 2 or 3")
-        results.append(fit(brdf, model=model, lobes=int(k or 1), **options))
-    return sorted(results, key=lambda r: r.metrics["loss_all_samples"])
+        if ALIASES.get(model, model) not in MODELS:
+            raise ValueError(f"unknown model '{model}' (known: {', '.join(MODELS)})")
+        names.append((model, int(k or 1)))  # all checked before the first (long) fit
+    results = []
+    with Progress(len(names), "fitting", unit="model", enabled=progress) as bar:
+        for done, (model, lobes) in enumerate(names):
+            bar.update(done, postfix=model if lobes == 1 else f"{model}:{lobes}")
+            results.append(fit(brdf, model=model, lobes=lobes, **options))
+        bar.update(len(names))
+    return rank(results)
+
+
+def rank(results: list[FitResult]) -> list[FitResult]:
+    """Flags the colour outliers (flag_outliers), then usable fits first, each group by loss."""
+    flag_outliers(results)
+    return sorted(results, key=lambda r: (not r.usable, r.metrics["loss"]))
+
+
+def flag_outliers(results: list[FitResult]) -> None:
+    """Marks unusable the fits whose mean CIEDE2000 is far above the best usable one's
+    (DE_FAR_RATIO times and DE_FAR_ABOVE more): beside a fit that reproduces the colour,
+    one that does not is no candidate whatever its loss."""
+    usable = [r.metrics["ciede2000_mean"] for r in results if r.usable and math.isfinite(r.metrics["ciede2000_mean"])]
+    if not usable:
+        return
+    best = min(usable)
+    for r in results:
+        de = r.metrics["ciede2000_mean"]
+        if not math.isfinite(de) or (de > DE_FAR_RATIO * best and de > best + DE_FAR_ABOVE):
+            r.usable = False
+            r.problems.append(f"mean CIEDE2000 {de:.1f}, far above the best fit's {best:.1f}")
