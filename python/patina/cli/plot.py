@@ -9,7 +9,8 @@ from typing import Any
 
 from patina.plot.fits import read_all_fits
 from patina.plot.lobes import LobeOptions
-from patina.plot.report import write_report
+from patina.plot.report import REPORT_STEPS, write_report
+from patina.progress import Progress
 from patina.table import load_brdf
 
 
@@ -20,7 +21,8 @@ def cmd_plot(args: argparse.Namespace) -> int:
     brdf = load_brdf(args.file)
     skipped: list[str] = []
     lobes = None if args.no_3d else LobeOptions(cosine=not args.lobe_no_cos, log=args.lobe_log)
-    write_report(brdf, args.out, fits, lobes=lobes, on_skip=skipped.append)
+    with Progress(REPORT_STEPS, "report", unit="step") as progress:
+        write_report(brdf, args.out, fits, lobes=lobes, on_skip=skipped.append, on_step=progress.update)
     for why in skipped:
         print(f"patina plot: 3-D lobe view skipped: {why}", file=sys.stderr)
     made = "slices.png, polar.png, " + ("lobe3d.png, " if lobes is not None and not skipped else "")

@@ -27,6 +27,7 @@ from patina.table.brdf import Brdf
 from patina.table.validation import Report, format_report, validate
 
 DEFAULT_LOBES = LobeOptions()
+REPORT_STEPS = 4  # slices, polar plots, 3-D lobes, validation and the page
 TEMPLATES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "templates")
 
 # A fit's metrics (fitting/search.py) as a reader names them, with how their values read.
@@ -188,13 +189,20 @@ def write_report(
     incidence: Sequence[float] = (0, 30, 60, 75),
     lobes: LobeOptions | None = DEFAULT_LOBES,
     on_skip: Callable[[str], None] | None = None,
+    on_step: Callable[[int, str], None] | None = None,
 ) -> Report:
-    """Writes the report into out_dir. lobes=None leaves out the 3-D view; on_skip hears why it could not be made."""
+    """Writes the report into out_dir. lobes=None leaves out the 3-D view; on_skip hears why it could not be
+    made; on_step(done, what is next) hears progress through the REPORT_STEPS steps."""
+    step = on_step or (lambda done, what: None)
     os.makedirs(out_dir, exist_ok=True)
     named = [(f.name, f.model) for f in fits]
+    step(0, "slices")
     slices_caption = plot_inplane_slices(brdf, os.path.join(out_dir, "slices.png"), incidence, fits=named)
+    step(1, "polar plots")
     polar_caption = plot_incidence_polar(brdf, os.path.join(out_dir, "polar.png"), incidence, fits=named)
+    step(2, "3-D lobes")
     lobe = _lobe_view(brdf, fits, out_dir, lobes, on_skip)
+    step(3, "validation")
     report = validate(brdf)
     write_text(os.path.join(out_dir, "validate.json"), json.dumps(report.as_json(), indent=2))
     info = brdf.info()
@@ -228,4 +236,5 @@ def write_report(
         lobe=lobe,
     )
     write_text(os.path.join(out_dir, "index.html"), page)
+    step(REPORT_STEPS, "done")
     return report
