@@ -23,6 +23,7 @@ def plot_luminaire(lum: Luminaire, out_path: str) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
 
     s = np.linspace(-180.0, 180.0, 1441)
     curves: list[tuple[str, np.ndarray, Any]] = []
@@ -41,8 +42,12 @@ def plot_luminaire(lum: Luminaire, out_path: str) -> None:
     ax.set_theta_zero_location("S")
     for label, values, colour in curves:
         ax.plot(np.radians(s), values, color=colour, lw=1.4, label=label)
-    ax.set_thetagrids(range(0, 360, 30), [f"{abs(a if a <= 180 else a - 360)}" for a in range(0, 360, 30)])
-    ax.set_rlabel_position(157.5)
+    ax.set_thetagrids(range(0, 360, 30), [f"{abs(a if a <= 180 else a - 360)}°" for a in range(0, 360, 30)])
+    # Ring values in cd, along a steep ray between the 150° and 180° spokes: clear of the angle labels, in
+    # the upper half where most luminaires send little light.
+    ax.set_rlabel_position(165)
+    ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g} cd" if v > 0 else ""))
+    ax.tick_params(axis="y", labelsize=8)
     ax.legend(loc="lower left", bbox_to_anchor=(-0.12, -0.14), fontsize=8, ncols=2)
     axis = "gamma from nadir" if lum.kind == "C" else "angle from the beam axis"
     ax.set_title(f"{os.path.basename(p.path)}: candela ({axis})", fontsize=10, pad=28)
