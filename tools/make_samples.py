@@ -110,28 +110,33 @@ def coated_paint_table() -> TableData:
     )
 
 
-def torus_obj(major: float = 1.0, minor: float = 0.4, nu: int = 48, nv: int = 24) -> str:
-    """A torus around z with outward vertex normals, quads split in two, counter-clockwise outside."""
-    lines = ["# torus for Patina's README (tools/make_samples.py): major radius 1, minor 0.4, axis z"]
-    for i in range(nu):
-        u = 2 * math.pi * i / nu
-        for j in range(nv):
-            v = 2 * math.pi * j / nv
-            r = major + minor * math.cos(v)
-            lines.append(f"v {r * math.cos(u):.6f} {r * math.sin(u):.6f} {minor * math.sin(v):.6f}")
-    for i in range(nu):
-        u = 2 * math.pi * i / nu
-        for j in range(nv):
-            v = 2 * math.pi * j / nv
-            lines.append(f"vn {math.cos(v) * math.cos(u):.6f} {math.cos(v) * math.sin(u):.6f} {math.sin(v):.6f}")
+def torus_obj(major: float = 1.0, minor: float = 0.4, tilt_deg: float = 30.0, nu: int = 48, nv: int = 24) -> str:
+    """A torus resting on the floor y = 0 of Patina's y-up scenes (as the preview's floor), its
+    axis y tipped by tilt_deg towards +z (the preview camera) so the hole shows; outward vertex
+    normals, quads split in two, counter-clockwise seen from outside."""
+    u, v = np.meshgrid(2 * np.pi * np.arange(nu) / nu, 2 * np.pi * np.arange(nv) / nv, indexing="ij")
+    normal = np.stack([np.cos(v) * np.cos(u), np.sin(v), np.cos(v) * np.sin(u)], axis=-1).reshape(-1, 3)
+    ring = np.stack([np.cos(u), np.zeros_like(u), np.sin(u)], axis=-1).reshape(-1, 3)
+    t = math.radians(tilt_deg)
+    rot = np.array([[1, 0, 0], [0, math.cos(t), -math.sin(t)], [0, math.sin(t), math.cos(t)]])
+    pos = (major * ring + minor * normal) @ rot.T
+    normal = normal @ rot.T
+    pos[:, 1] -= pos[:, 1].min()
+    lines = [
+        f"# torus for Patina's README (tools/make_samples.py): radii {major} and {minor}, axis y tipped "
+        f"{tilt_deg:g} deg towards +z, resting on y = 0"
+    ]
+    lines += [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in pos]
+    lines += [f"vn {x:.6f} {y:.6f} {z:.6f}" for x, y, z in normal]
     for i in range(nu):
         for j in range(nv):
             a = i * nv + j + 1
             b = ((i + 1) % nu) * nv + j + 1
             c = ((i + 1) % nu) * nv + (j + 1) % nv + 1
             d = i * nv + (j + 1) % nv + 1
-            lines.append(f"f {a}//{a} {b}//{b} {c}//{c}")
-            lines.append(f"f {a}//{a} {c}//{c} {d}//{d}")
+            # (u, v) -> position is left-handed with y up, so a-d-c and a-c-b face outwards
+            lines.append(f"f {a}//{a} {d}//{d} {c}//{c}")
+            lines.append(f"f {a}//{a} {c}//{c} {b}//{b}")
     return "\n".join(lines) + "\n"
 
 
