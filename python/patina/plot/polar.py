@@ -11,7 +11,7 @@ import numpy as np
 
 from patina.fitting import FittedModel
 from patina.plot.figures import save_figure
-from patina.plot.slices import FIT_STYLES
+from patina.plot.slices import FIT_STYLES, fit_channels
 from patina.table.brdf import Brdf, angles_to_directions
 
 DECADES = 3  # the radius spans this many decades below the largest value drawn
@@ -40,7 +40,12 @@ def plot_incidence_polar(
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
 
-    channels = min(3, brdf.channels)
+    # The colour channels' mean; a spectral table's mean over its wavelengths, with no fit beside it (a fit
+    # is made on the table's colour, whose mean is not the spectrum's).
+    channels = brdf.channels if brdf.channel_kind == "spectral" else min(3, brdf.channels)
+    dropped = bool(fits) and fit_channels(brdf) is None
+    if dropped:
+        fits = ()
     curves = []
     for ti in incidence:
         signed, wi, wo = _incidence_plane(ti)
@@ -93,9 +98,11 @@ def plot_incidence_polar(
     fig.suptitle(f"f cos θo in the plane of incidence (1/sr, log radius): {os.path.basename(brdf.source)}", fontsize=10)
     fig.tight_layout(rect=(0, 0.35 / fig.get_figheight(), 1, 1))
     save_figure(fig, path)
+    averaged = "wavelengths" if brdf.channel_kind == "spectral" else "colour channels"
     return (
-        "Reflected f cos θo (1/sr, mean of the colour channels) in the plane of incidence, one panel per "
+        f"Reflected f cos θo (1/sr, mean of the {averaged}) in the plane of incidence, one panel per "
         "incidence angle θi: the angle is θo (0° the normal, positive forward), the radius is logarithmic, "
         f"{DECADES} decades from the centre ({10**bottom:.2g} 1/sr and below) to the rim ({10**top:.2g} 1/sr), "
         "rings labelled along the backward horizon; the dashed ray is the mirror direction."
+        + (" The fits are not drawn: they are made on the table's colour, not on its spectrum." if dropped else "")
     )

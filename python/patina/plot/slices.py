@@ -20,7 +20,7 @@ FIT_STYLES = ("--", ":", "-.", (0, (5, 1, 1, 1, 1, 1)), (0, (1, 3)), (0, (8, 2))
 FLOOR = 1e-6  # log axes cannot show zero; values below are drawn at the floor
 
 
-def _fit_channels(brdf: Brdf) -> list[int] | None:
+def fit_channels(brdf: Brdf) -> list[int] | None:
     """Which of a fit's (r, g, b) outputs go with the table's plotted channels, or None where they do not
     correspond (a spectral table: a fit is made on its colour, not on single wavelengths)."""
     if brdf.channel_kind in CHANNEL_COLOURS and brdf.channels == 3:
@@ -63,8 +63,8 @@ def plot_inplane_slices(
         picks = list(range(brdf.channels))
         labels = list(CHANNEL_NAMES.get(brdf.channel_kind, ("f",) * brdf.channels))[: brdf.channels]
         cols = colours or ["0.2"] * brdf.channels
-    fit_channels = _fit_channels(brdf)
-    shown_fits = list(fits) if fit_channels is not None else []
+    fitted = fit_channels(brdf)
+    shown_fits = list(fits) if fitted is not None else []
     for ax, ti in zip(axes[0], incidence_deg):
         values = brdf.eval_angles(np.radians(ti), 0.0, theta_o, phi_o)
         for i, col in zip(picks, cols):
@@ -73,7 +73,7 @@ def plot_inplane_slices(
             wi = np.ascontiguousarray(np.broadcast_to(angles_to_directions(np.radians(ti), 0.0), wo.shape), np.float32)
             for k, (_, model) in enumerate(shown_fits):
                 predicted = model.eval(wi, wo)
-                for c, col in zip(fit_channels or [], cols):
+                for c, col in zip(fitted or [], cols):
                     ax.semilogy(
                         signed,
                         np.maximum(predicted[:, c], FLOOR),

@@ -18,6 +18,8 @@ from patina.cli import main
 from patina.fitting import FitResult, read_fit
 from patina.fitting.fit_file import write_ranking
 from patina.plot.fits import read_all_fits
+from patina.table.formats import table_from_data
+from patina.table.formats.tabledata import TableData
 
 # The bundled red plastic's own model (its provenance): a fit that matches it.
 GGX = {"rho_r": 0.55, "rho_g": 0.08, "rho_b": 0.05, "alpha": 0.2, "f0_r": 0.04, "f0_g": 0.04, "f0_b": 0.04}
@@ -213,3 +215,17 @@ def test_bad_rankings_name_the_entry_and_nothing_is_drawn(tmp_path, bundled_ptab
     err = capsys.readouterr().err
     assert str(bad) in err and place in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
     assert not out.exists()  # refused before any figure
+
+
+def test_a_spectral_table_gets_its_report_without_fits_drawn_over_single_wavelengths(tmp_path, fit_files):
+    axes = [np.linspace(0, 1.5, 8), np.linspace(0, 1.5, 9), np.linspace(0, np.pi, 7)]
+    wavelengths = np.arange(400.0, 701.0, 50.0)
+    values = np.broadcast_to(np.linspace(0.1, 0.3, wavelengths.size), (8, 9, 7, wavelengths.size)).astype(np.float32)
+    data = TableData("isotropic", axes, values, "spectral", wavelengths=wavelengths, provenance="test")
+    brdf = patina.Brdf(table_from_data(data), str(tmp_path / "flat.ptab"), "ptab")
+    out = tmp_path / "r"
+    report.write_report(brdf, str(out), read_all_fits([fit_files["one"]]), lobes=None)
+    page = (out / "index.html").read_text(encoding="utf-8")
+    assert "fits are not overlaid because a spectral table" in page
+    assert "mean of the wavelengths" in page and "The fits are not drawn" in page
+    assert "<h2>Fit</h2>" in page  # its parameters and metrics are still listed
