@@ -281,7 +281,13 @@ struct JobHandle {
     std::unique_ptr<patina::RenderJob> job;
 };
 
-std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth, uint32_t seed, int threads,
+// The documented seeds are 0 to 2^63 - 1; the samplers key their streams by 32 bits. Seeds
+// below 2^32 are used as they are (images stay the same), higher bits are mixed into them.
+uint32_t stream_seed(uint64_t seed) {
+    return static_cast<uint32_t>(seed) ^ (static_cast<uint32_t>(seed >> 32) * 0x9e3779b1u);
+}
+
+std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth, uint64_t seed, int threads,
                                     int width, int tile_size, int passes) {
     SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
     check_materials(h);
@@ -289,7 +295,7 @@ std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth
     patina::RenderSettings st;
     st.spp = spp;
     st.max_depth = max_depth;
-    st.seed = seed;
+    st.seed = stream_seed(seed);
     st.threads = threads;
     st.width = width;
     st.tile_size = tile_size;
@@ -379,7 +385,7 @@ nb::object grid2_eval(const Grid2Handle& g, FloatVector x, FloatVector y, int wi
 }
 
 // Direct illuminance (lux) on sensors: points and unit normals (n, 3); split over threads.
-nb::object sensor_illuminance(nb::object scene_obj, Rows3 points, Rows3 normals, int samples, uint32_t seed,
+nb::object sensor_illuminance(nb::object scene_obj, Rows3 points, Rows3 normals, int samples, uint64_t seed,
                               int width, int threads) {
     SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
     const size_t n = points.shape(0);
@@ -394,7 +400,8 @@ nb::object sensor_illuminance(nb::object scene_obj, Rows3 points, Rows3 normals,
         nb::gil_scoped_release release;
         patina::parallel_for(n, 256, threads, [&](size_t b, size_t e) {
             patina::PathScratch scratch;
-            k.sensor_illuminance(h.scene, points.data(), normals.data(), b, e, samples, seed, out, scratch);
+            k.sensor_illuminance(h.scene, points.data(), normals.data(), b, e, samples, stream_seed(seed), out,
+                                  scratch);
         });
     }
     return nb::cast(result);

@@ -3,7 +3,10 @@ over it. A failed write removes the temporary file and leaves the target as it w
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import os
+import re
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -18,20 +21,98 @@ def _umask() -> int:
 NEW_FILE_MODE = 0o666 & ~_umask()  # read once, at import: changing the umask is process-wide
 
 
+def _error(code: int | None, message: str) -> OSError:
+    """An OSError whose text is `message` alone (OSError(errno, text) would print "[Errno n]")."""
+    e = OSError(message)
+    e.errno = code
+    return e
+
+
+def _named_error(shown: str, tmp: str, e: OSError) -> OSError:
+    """`e` as the user should read it: about the path they gave, not our hidden temporary file."""
+    if e.strerror and e.filename is not None:
+        return _error(e.errno, f"{shown}: cannot write: {e.strerror}")
+    return _error(e.errno, str(e).replace(tmp, shown) if tmp else str(e))
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # EPERM: another user's process, alive
+        return True
+    return True
+
+
+def remove_stale_temporaries(path: Path) -> None:
+    """Removes the temporaries of `path` whose writer died mid-write (SIGKILL, a crash: no
+    handler ran to remove them). Their names carry the writer's pid; a live writer's stay."""
+    own = re.compile(rf"\.{re.escape(path.stem)}\.p(\d+)\.\w+\.tmp{re.escape(path.suffix)}")
+    try:
+        names = os.listdir(path.parent or ".")
+    except OSError:
+        return  # creating the temporary reports the problem
+    for name in names:
+        m = own.fullmatch(name)
+        if m and not _alive(int(m.group(1))):
+            with contextlib.suppress(OSError):
+                os.unlink(os.path.join(path.parent or ".", name))
+
+
+def _temporary(path: Path) -> str:
+    remove_stale_temporaries(path)
+    prefix = f".{path.stem}.p{os.getpid()}."  # the pid: remove_stale_temporaries tells a dead writer's
+    fd, tmp = tempfile.mkstemp(prefix=prefix, suffix=f".tmp{path.suffix}", dir=path.parent or ".")
+    os.close(fd)
+    return tmp
+
+
 def atomic_output(path: str | os.PathLike, write: Callable[[str], None]) -> None:
     """Run `write(temporary_path)` on a temporary file beside `path` (same extension), then
-    rename it over `path`."""
+    rename it over `path`. An OSError names `path` as given, never the temporary file."""
+    shown = os.fspath(path)
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=path.parent or ".")
-    os.close(fd)
+    tmp = ""
     try:
+        tmp = _temporary(path)
         write(tmp)
         os.chmod(tmp, NEW_FILE_MODE)  # mkstemp makes it private; give it an ordinary file's mode
         os.replace(tmp, path)
+    except OSError as e:
+        if tmp and os.path.exists(tmp):
+            os.unlink(tmp)
+        raise _named_error(shown, tmp, e) from None
     except BaseException:
-        if os.path.exists(tmp):
+        if tmp and os.path.exists(tmp):
             os.unlink(tmp)
         raise
+
+
+def check_writable(path: str | os.PathLike) -> None:
+    """Raises OSError naming `path` unless an output can be written there: checked before a
+    long job starts, so an unwritable output is reported in a second, not after the work.
+
+    The path must not be a directory; if its folder exists a temporary file is created and
+    removed there (the real test: permissions, read-only mounts, a full inode table); a
+    folder yet to be made needs its nearest existing ancestor to be a writable directory."""
+    shown = os.fspath(path)
+    p = Path(os.path.abspath(shown))
+    if p.is_dir():
+        raise _error(errno.EISDIR, f"{shown}: cannot write: is a directory")
+    if p.parent.is_dir():
+        try:
+            os.unlink(_temporary(p))
+        except OSError as e:
+            raise _named_error(shown, "", e) from None
+        return
+    ancestor = p.parent
+    while not ancestor.exists() and ancestor != ancestor.parent:
+        ancestor = ancestor.parent
+    if not ancestor.is_dir():
+        raise _error(errno.ENOTDIR, f"{shown}: cannot write: {ancestor} is not a directory")
+    if not os.access(ancestor, os.W_OK | os.X_OK):
+        raise _error(errno.EACCES, f"{shown}: cannot write: {ancestor} is not writable")
 
 
 def write_text(path: str | os.PathLike, text: str) -> None:

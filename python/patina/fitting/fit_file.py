@@ -50,22 +50,53 @@ class FittedModel:
         return _core.mixture_eval(self.space.kernel_name, self.values, as32(wi), as32(wo), 0, self.space.per_channel)
 
 
+MAX_FIT_BYTES = 1 << 20  # a fit.json is a few hundred bytes; more is not one
+_FLOAT32_MAX = float(np.finfo(np.float32).max)  # the kernels evaluate parameters as float32
+
+
+def _parameter(path: str, name: str, value: object) -> float:
+    """One parameter as the float32 kernels can use it, or a FormatError naming it."""
+    where = f"parameters.{name}"
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise FormatError(path, where, f"must be a number, got {type(value).__name__}")
+    try:
+        x = float(value)
+    except OverflowError:  # an integer of hundreds of digits
+        raise FormatError(path, where, "is too large to be a number") from None
+    if not math.isfinite(x):
+        raise FormatError(path, where, f"must be finite, got {x}")
+    if abs(x) > _FLOAT32_MAX:
+        raise FormatError(path, where, f"{x:g} is beyond the 32-bit float range the models are evaluated in")
+    return x
+
+
 def read_fit(path: str) -> FittedModel:
     """fit.json -> FittedModel; FormatError naming the file and the field for anything wrong."""
     try:
-        with open(path, encoding="utf-8") as f:
-            doc = json.load(f)
+        with open(path, "rb") as f:
+            data = f.read(MAX_FIT_BYTES + 1)
     except OSError as e:
         raise FormatError(path, "", f"cannot open: {e.strerror}") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as e:
-        raise FormatError(path, (getattr(e, "lineno", None) and f"line {e.lineno}") or "", f"not JSON: {e}") from None
+    if len(data) > MAX_FIT_BYTES:
+        raise FormatError(path, "", f"larger than {MAX_FIT_BYTES >> 20} MiB: not a fit.json")
+    try:
+        doc = json.loads(data.decode("utf-8-sig"))
+    except UnicodeDecodeError as e:
+        raise FormatError(path, f"byte {e.start}", "not UTF-8 text") from None
+    except json.JSONDecodeError as e:
+        raise FormatError(path, f"line {e.lineno}, column {e.colno}", f"not JSON: {e.msg}") from None
+    except RecursionError:  # thousands of nested brackets
+        raise FormatError(path, "", "JSON nested too deeply") from None
+    except ValueError as e:  # an integer literal beyond Python's digit limit
+        raise FormatError(path, "", f"JSON value not readable: {e}") from None
     if not isinstance(doc, dict):
         raise FormatError(path, "", "expected a JSON object as written by patina fit")
     for key, kind in (("model", str), ("parameters", dict)):
         if not isinstance(doc.get(key), kind):
             raise FormatError(path, key, f"missing or not a {kind.__name__}")
+    parameters = {str(k): _parameter(path, str(k), v) for k, v in doc["parameters"].items()}
     try:
-        return FittedModel(doc["model"], doc["parameters"])
+        return FittedModel(doc["model"], parameters)
     except (TypeError, ValueError) as e:
         raise FormatError(path, "parameters", str(e)) from None
 

@@ -150,6 +150,10 @@ def _chains(pieces: Sequence[Piece], crease_cos: float = math.cos(math.radians(1
     return [(np.concatenate([p for p, _ in c]), np.concatenate([n for _, n in c])) for c in chains]
 
 
+POLE_RADIUS = 1e-12  # profile points this close to the axis become one pole vertex
+MIN_RADIUS = 1e-9  # a smaller sphere's rings fall within POLE_RADIUS of the axis
+
+
 def _revolve(pieces: Sequence[Piece], segments: int) -> ShapeMesh:
     """Revolves a profile (r >= 0, y) about the y axis; points with r = 0 become single pole vertices.
 
@@ -167,7 +171,7 @@ def _revolve(pieces: Sequence[Piece], segments: int) -> ShapeMesh:
     for points, normals in _chains(pieces):
         rows: list[np.ndarray] = []  # vertex ids of each profile point: 1 (pole) or `segments`
         for (r, y), (nr, ny) in zip(points, normals):
-            if r <= 1e-12:
+            if r <= POLE_RADIUS:
                 verts.append(np.array([[0.0, y, 0.0]]))
                 norms.append(np.array([[0.0, math.copysign(1.0, ny), 0.0]]))
                 tans.append(np.array([[1.0, 0.0, 0.0]]))
@@ -190,6 +194,8 @@ def _revolve(pieces: Sequence[Piece], segments: int) -> ShapeMesh:
                 a1, b1 = np.roll(a, -1), np.roll(b, -1)
                 faces.append(np.stack([a, b, b1], axis=1))
                 faces.append(np.stack([a, b1, a1], axis=1))
+    if not faces:  # every profile point within POLE_RADIUS of the axis
+        raise ValueError(f"the revolved profile lies within {POLE_RADIUS:g} of its axis: it has no triangles")
     return _finish(np.concatenate(verts), np.concatenate(faces), np.concatenate(norms), np.concatenate(tans), None)
 
 
@@ -215,8 +221,8 @@ def sphere(radius: float = 1.0, detail: int = 64) -> ShapeMesh:
     run along the parallels. Watertight; uvs None (a closed surface has no seam-free uvs).
     Bounding box [-radius, radius]^3 for even detail (odd detail has no equator ring).
     """
-    if radius <= 0 or detail < 2:
-        raise ValueError(f"sphere: need radius > 0 and detail >= 2, got {radius}, {detail}")
+    if not radius >= MIN_RADIUS or detail < 2:
+        raise ValueError(f"sphere: need radius >= {MIN_RADIUS:g} and detail >= 2, got {radius:g}, {detail}")
     return _revolve([_arc((0.0, 0.0), radius, -math.pi / 2, math.pi / 2, math.pi / detail)], 2 * detail)
 
 

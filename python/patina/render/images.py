@@ -44,6 +44,7 @@ CHANNEL_SUFFIXES: dict[str, tuple[str, ...]] = {
 # layers kept float32 when writing half: lux and distances exceed half's range or precision
 FLOAT_LAYERS = frozenset({"depth", "position", "illuminance"})
 HALF_MAX = 65504.0
+MAX_EXPOSURE_STOPS = 64.0  # 2^64: far past any real image, and 2^exposure stays finite
 _SUFFIXES_BY_COUNT = {1: ("Y",), 2: ("X", "Y"), 3: ("R", "G", "B"), 4: ("R", "G", "B", "A")}
 # canonical order of channels inside a layer (EXR stores them alphabetically)
 _CHANNEL_ORDER = ("R", "G", "B", "A", "X", "Y", "Z", "U", "V", "W")
@@ -223,7 +224,7 @@ def _write_oiio(tmp: str, spec: oiio.ImageSpec, pixels: np.ndarray) -> None:
     out = oiio.ImageOutput.create(tmp)
     if out is None:
         raise OSError(f"{tmp}: {_oiio_problem('OpenImageIO has no writer for this file')}")
-    try:
+    try:  # the messages name tmp; atomic_output puts the user's path in its place
         if not out.open(tmp, spec) or not out.write_image(pixels):
             raise OSError(f"{tmp}: {_oiio_problem('write failed', out)}")
     finally:
@@ -246,6 +247,21 @@ def _layer_channels(name: str, array: np.ndarray) -> tuple[list[str], np.ndarray
     return [f"{name}.{s}" for s in suffixes], array
 
 
+INT32_RANGE = (-(2**31), 2**31 - 1)
+FLOAT32_MAX = float(np.finfo(np.float32).max)
+
+
+def _exr_attribute(value: str | float | int) -> str | float | int:
+    """A metadata value as an EXR attribute can hold it: EXR ints and floats are 32-bit, so an
+    int beyond int32 or a float beyond float32 (or not finite) is written as its decimal text
+    rather than failing (or turning into inf) after a render is done."""
+    if isinstance(value, int) and not INT32_RANGE[0] <= value <= INT32_RANGE[1]:
+        return str(value)
+    if isinstance(value, float) and not (math.isfinite(value) and abs(value) <= FLOAT32_MAX):
+        return repr(value)
+    return value
+
+
 def write_exr(
     path: str | os.PathLike,
     layers: Mapping[str, np.ndarray],
@@ -259,14 +275,15 @@ def write_exr(
 
     `layers` maps a layer name to an (H, W) or (H, W, C) array, all the same H and W;
     "beauty" becomes R, G, B, others "name.<suffix>" (module docstring). `metadata` values
-    (str, int, float) become header attributes, e.g. "patina:spp". Raises ValueError for
+    (str, int, float) become header attributes, e.g. "patina:spp"; ints beyond 32 bits and
+    floats beyond float32 are written as decimal strings (`_exr_attribute`). Raises ValueError for
     mismatched shapes, unnamed channels, NaN/Inf values and half layers beyond half range.
     """
     if not layers:
         raise ValueError("no layers to write")
     names: list[str] = []
     formats: list[oiio.TypeDesc] = []
-    planes: list[np.ndarray] = []
+    shaped_layers: list[tuple[str, np.ndarray]] = []
     shape = None
     for name, given in layers.items():
         channels, shaped = _layer_channels(name, np.asarray(given))
@@ -274,16 +291,22 @@ def write_exr(
             shape = shaped.shape[:2]
         elif shaped.shape[:2] != shape:
             raise ValueError(f"layer {name!r} is {shaped.shape[:2]}, the first layer {shape}")
-        array = shaped.astype(np.float32)
-        if not np.isfinite(array).all():
-            raise ValueError(f"layer {name!r} has NaN or Inf values")
         layer_half = half and name not in FLOAT_LAYERS
-        if layer_half and np.abs(array).max(initial=0.0) > HALF_MAX:
-            raise ValueError(f"layer {name!r} has values beyond half range ({HALF_MAX})")
         names.extend(channels)
         formats.extend([oiio.HALF if layer_half else oiio.FLOAT] * len(channels))
-        planes.append(array)
-    pixels = np.ascontiguousarray(np.concatenate(planes, axis=2))
+        shaped_layers.append((name, shaped))
+    assert shape is not None
+    # one float32 buffer filled layer by layer: a large render's copy of its images, once
+    pixels = np.empty((*shape, len(names)), np.float32)
+    first = 0
+    for name, shaped in shaped_layers:
+        array = pixels[..., first : first + shaped.shape[2]]
+        first += shaped.shape[2]
+        array[...] = shaped
+        if not np.isfinite(array).all():
+            raise ValueError(f"{os.fspath(path)}: layer {name!r} has NaN or Inf values")
+        if half and name not in FLOAT_LAYERS and np.abs(array).max(initial=0.0) > HALF_MAX:
+            raise ValueError(f"{os.fspath(path)}: layer {name!r} has values beyond half range ({HALF_MAX})")
     height, width = pixels.shape[:2]
     if height == 0 or width == 0:
         raise ValueError("the image is empty")
@@ -295,9 +318,7 @@ def write_exr(
     for key, value in (metadata or {}).items():
         if isinstance(value, bool) or not isinstance(value, (str, int, float)):
             raise ValueError(f"metadata {key!r}: {type(value).__name__} is not str, int or float")
-        if isinstance(value, int) and not -(2**31) <= value < 2**31:
-            raise ValueError(f"metadata {key!r}: {value} does not fit a 32-bit EXR int attribute")
-        spec.attribute(key, value)
+        spec.attribute(key, _exr_attribute(value))
     atomic_output(path, lambda tmp: _write_oiio(tmp, spec, pixels))
 
 
@@ -331,17 +352,26 @@ def tonemap(rgb: np.ndarray, exposure_stops: float = 0.0, curve: str = "clamp") 
         raise ValueError(f"expected an (H, W, 3) or (H, W) image, got shape {rgb.shape}")
     if curve not in ("clamp", "filmic"):
         raise ValueError(f"curve must be 'clamp' or 'filmic', not {curve!r}")
-    if not math.isfinite(exposure_stops):
-        raise ValueError(f"exposure must be finite, not {exposure_stops}")
+    if not (math.isfinite(exposure_stops) and abs(exposure_stops) <= MAX_EXPOSURE_STOPS):
+        raise ValueError(f"exposure must be within +-{MAX_EXPOSURE_STOPS:g} stops, not {exposure_stops:g}")
     x = np.nan_to_num(rgb * 2.0**exposure_stops, nan=0.0, posinf=1e30, neginf=0.0)
     x = np.maximum(x, 0.0)
     display = np.clip(x, 0.0, 1.0) if curve == "clamp" else aces_fitted(x)
     return np.round(255.0 * srgb_encode(display)).astype(np.uint8)
 
 
+TONEMAP_ROWS = 256  # rows tone-mapped at a time: tonemap's float64 temporaries stay small
+
+
 def write_png(path: str | os.PathLike, rgb: np.ndarray, exposure_stops: float = 0.0, curve: str = "filmic") -> None:
     """Tone-map (`tonemap`) and write an 8-bit sRGB PNG atomically."""
-    pixels = np.ascontiguousarray(tonemap(rgb, exposure_stops, curve))
+    rgb = np.asarray(rgb)
+    if rgb.ndim >= 2 and rgb.shape[0] > TONEMAP_ROWS:
+        pixels = np.empty((*rgb.shape[:2], 3), np.uint8)
+        for r in range(0, rgb.shape[0], TONEMAP_ROWS):
+            pixels[r : r + TONEMAP_ROWS] = tonemap(rgb[r : r + TONEMAP_ROWS], exposure_stops, curve)
+    else:
+        pixels = np.ascontiguousarray(tonemap(rgb, exposure_stops, curve))
     height, width = pixels.shape[:2]
     if height == 0 or width == 0:
         raise ValueError("the image is empty")

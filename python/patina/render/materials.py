@@ -17,7 +17,9 @@ from typing import Any
 import numpy as np
 
 from patina.colour_constants import luminance
+from patina.errors import FormatError
 from patina.fitting import read_fit
+from patina.scene.reading import MAX_BRDF, OVERFLOWS
 from patina.scene.types import (
     CarpaintMaterial,
     ConductorMaterial,
@@ -127,6 +129,8 @@ def _measured(m: TableMaterial | FitMaterial, tables: dict[str, Any]) -> dict[st
             brdf = as_linear_srgb(load_brdf(m.file))
             evaluate: Eval = brdf.eval
             entry: dict[str, Any] = {"kind": "table", "table": brdf.table}
+            with np.errstate(all="ignore"):
+                peak = float(np.nanmax(np.abs(brdf.values), initial=0.0))
         else:
             fitted = read_fit(m.file)
             evaluate = fitted.eval
@@ -134,10 +138,24 @@ def _measured(m: TableMaterial | FitMaterial, tables: dict[str, Any]) -> dict[st
                 "kind": "mixture",
                 "mixture": (fitted.space.kernel_name, [float(v) for v in fitted.values], fitted.space.per_channel),
             }
-        diffuse, alpha = sampling_proxy(evaluate)
-        entry.update(albedo=[float(a) for a in directional_albedo(evaluate)], proxy_diffuse=diffuse, proxy_alpha=alpha)
+            peak = 0.0
+        with np.errstate(all="ignore"):  # a bad file is reported below, not by numpy warnings
+            diffuse, alpha = sampling_proxy(evaluate)
+            albedo = [float(a) for a in directional_albedo(evaluate)]
+        if not all(math.isfinite(a) for a in albedo):
+            raise FormatError(m.file, "values", f"its BRDF evaluates to values that are not finite: {OVERFLOWS}")
+        entry.update(albedo=albedo, proxy_diffuse=diffuse, proxy_alpha=alpha, peak=max(peak, *albedo))
         tables[m.file] = entry
     d = dict(tables[m.file])
     tint = _scaled(m.tint, m.scale)
+    # the renderer multiplies the values by tint (and by radiance) in 32-bit floats
+    peak = d.pop("peak")
+    if peak * max(tint) > MAX_BRDF:
+        raise FormatError(
+            m.file,
+            "values",
+            f"values up to {peak:g} times the material's scale and tint ({max(tint):g}) exceed {MAX_BRDF:g}: "
+            f"{OVERFLOWS}",
+        )
     d.update(tint=tint, albedo=[a * t for a, t in zip(d["albedo"], tint)], two_sided=m.two_sided)
     return d

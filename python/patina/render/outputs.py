@@ -25,6 +25,9 @@ def auto_exposure(rgb: np.ndarray) -> float:
 
 
 def metadata(scene: Scene, result: RenderResult) -> dict[str, str | float | int]:
+    """The EXR header attributes of a render. EXR ints are 32-bit: counts that can exceed
+    that (rays: billions in a long render; the seed: up to 2^63 - 1) are decimal strings,
+    always, so a reader sees one type whatever the value."""
     return {
         "patina:version": _core.__version__,
         "patina:scene": json.dumps(scene_to_json(scene), separators=(",", ":")),
@@ -32,9 +35,9 @@ def metadata(scene: Scene, result: RenderResult) -> dict[str, str | float | int]
         "patina:spp": int(result.spp),
         "patina:samples_min": int(result.samples.min()) if result.samples.size else 0,
         "patina:integrator": scene.render.integrator,
-        "patina:seed": int(scene.render.seed),
+        "patina:seed": str(int(scene.render.seed)),
         "patina:seconds": float(result.seconds),
-        "patina:rays": int(result.rays),
+        "patina:rays": str(int(result.rays)),
         "patina:simd_width": int(result.simd_width),
         "patina:threads": int(result.threads),
         "patina:complete": int(result.complete),

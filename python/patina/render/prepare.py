@@ -8,17 +8,20 @@ into one kd-tree; area lights as emitting triangles the rays hit; materials thro
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from patina.colour_constants import LUMINOUS_EFFICACY, photometric_to_rgb
+from patina.errors import FormatError
 from patina.geometry import shapes
 from patina.native import _core
 from patina.photometry.luminaire import load_luminaire
 from patina.render.images import read_image
 from patina.render.materials import core_material
+from patina.scene.reading import MAX_EMISSION, MAX_LENGTH, OVERFLOWS
 from patina.scene.types import (
     BallShape,
     ConstantEnvironment,
@@ -98,8 +101,24 @@ def shape_mesh(shape: Shape) -> Any:
 
 
 def _unit_rows(a: np.ndarray) -> np.ndarray:
-    n = np.linalg.norm(a, axis=1, keepdims=True)
-    return np.divide(a, n, out=np.zeros_like(a), where=n > 0)
+    with np.errstate(all="ignore"):
+        n = np.linalg.norm(a, axis=1, keepdims=True)
+        return np.divide(a, n, out=np.zeros_like(a), where=(n > 0) & np.isfinite(n))
+
+
+def _check_mesh(scene: Scene, where: str, v: np.ndarray, f: np.ndarray, emits: bool) -> None:
+    """A placed mesh as the renderer will hold it (float32 world coordinates) must be finite,
+    within MAX_LENGTH, and have triangles of non-zero area; an emitter's area is what its
+    light is sampled by, so a degenerate one would divide by zero."""
+    v32 = v.astype(np.float32)
+    if len(v) and not (np.isfinite(v32).all() and np.abs(v32).max() <= MAX_LENGTH):
+        raise FormatError(scene.path, where, f"placed by its transform it reaches beyond {MAX_LENGTH:g} m: {OVERFLOWS}")
+    with np.errstate(all="ignore"):
+        p = v32.astype(np.float64)[f] if len(f) else np.zeros((0, 3, 3))
+        area = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+    if not (area > 0).any():
+        what = "emits from no area" if emits else "has no triangles of non-zero area"
+        raise FormatError(scene.path, where, f"{what} (at the renderer's 32-bit precision)")
 
 
 def _place(mesh: Any, m: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -107,9 +126,10 @@ def _place(mesh: Any, m: np.ndarray) -> tuple[np.ndarray, ...]:
     Normals go by the inverse transpose; a mirroring matrix also flips the winding, so the
     triangles' geometric normals keep pointing outwards."""
     lin, offset = m[:3, :3], m[:3, 3]
-    v = np.asarray(mesh.vertices, np.float64) @ lin.T + offset
-    n = _unit_rows(np.asarray(mesh.normals, np.float64) @ np.linalg.inv(lin))
-    t = _unit_rows(np.asarray(mesh.tangents, np.float64) @ lin.T)
+    with np.errstate(all="ignore"):  # out-of-range results are reported by _check_mesh, not as warnings
+        v = np.asarray(mesh.vertices, np.float64) @ lin.T + offset
+        n = _unit_rows(np.asarray(mesh.normals, np.float64) @ np.linalg.inv(lin))
+        t = _unit_rows(np.asarray(mesh.tangents, np.float64) @ lin.T)
     f = np.asarray(mesh.indices, np.int64)
     if np.linalg.det(lin) < 0:
         f = f[:, [0, 2, 1]]
@@ -196,6 +216,13 @@ def _luminaire(light: LuminaireLight) -> dict[str, Any]:
         factor = float(np.interp(angle, tilt.angles_deg, tilt.factors))
     # candela -> W/sr of Patina's radiometric RGB (683 lm/W of luminance), coloured
     per_cd = list(photometric_to_rgb(light.multiplier * factor, light.color))
+    peak = float(np.max(candela, initial=0.0)) * max(per_cd)
+    if not peak <= MAX_EMISSION:
+        raise FormatError(
+            light.file,
+            "candela",
+            f"{peak:g} W/sr at its peak (times the multiplier) exceeds {MAX_EMISSION:g}: {OVERFLOWS}",
+        )
     return {
         "kind": "goniometric",
         "position": list(light.position),
@@ -208,6 +235,13 @@ def _luminaire(light: LuminaireLight) -> dict[str, Any]:
         "power_estimate": lum.flux() * light.multiplier * factor / LUMINOUS_EFFICACY,
         "two_sided": False,
     }
+
+
+def _peak(power: Any) -> float:
+    """The largest channel of a light's emission (W/sr, W/m^2/sr, or W/sr per cd times the
+    largest candela for a luminaire); NaN counts as too large."""
+    values = [float(x) for x in power]
+    return math.inf if any(math.isnan(x) for x in values) else max(values)
 
 
 DISK_SEGMENTS = 128
@@ -259,6 +293,56 @@ def camera_dict(scene: Scene) -> dict[str, Any]:
     }
 
 
+# Memory a render holds per pixel at its peak: the film's sums (13 doubles: rgb, albedo,
+# normal, illuminance, depth and two weights) while it resolves into the images handed to
+# Python (12 float32: rgb, albedo, normal, depth, illuminance, samples). The outputs then
+# need 44 bytes a pixel more (the EXR's one float32 buffer), the film being freed by then.
+FILM_BYTES_PER_PIXEL = 13 * 8
+IMAGE_BYTES_PER_PIXEL = 12 * 4
+RENDER_BYTES_PER_PIXEL = FILM_BYTES_PER_PIXEL + IMAGE_BYTES_PER_PIXEL
+MEMORY_SHARE = 0.8  # of the available memory a render may plan on; the rest is the scene's and the system's
+
+
+def available_memory() -> int | None:
+    """Bytes of memory available to a new allocation (Linux: MemAvailable), None if unknown."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def render_memory(width: int, height: int) -> int:
+    """Bytes a width x height render needs at its peak (film, images, outputs)."""
+    return width * height * RENDER_BYTES_PER_PIXEL
+
+
+def check_render_memory(scene: Scene) -> None:
+    """Before any work: the image fits in memory, or a FormatError saying how large it may be
+    (instead of a MemoryError once the film or the outputs are allocated)."""
+    w, h = scene.camera.width, scene.camera.height
+    available = available_memory()
+    if available is None:
+        return
+    budget = int(available * MEMORY_SHARE)
+    need = render_memory(w, h)
+    if need > budget:
+        side = math.isqrt(max(budget // RENDER_BYTES_PER_PIXEL, 1))
+        raise FormatError(
+            scene.path,
+            "camera.width x camera.height (or --width, --height)",
+            f"a {w}x{h} render needs about {need / 2**30:.1f} GiB ({RENDER_BYTES_PER_PIXEL} bytes a pixel for the "
+            f"film and its images); {budget / 2**30:.1f} GiB may be used here ({MEMORY_SHARE:.0%} of the memory "
+            f"available): render at most about {side}x{side} pixels",
+        )
+
+
 class PreparedScene:
     """A scene loaded into the renderer: tree built, tables and environment read."""
 
@@ -268,14 +352,27 @@ class PreparedScene:
         names = list(scene.materials)
         cache: dict[str, Any] = {}
         core_materials = [core_material(scene.materials[name], cache) for name in names]
-        for shape in scene.shapes:
-            v, f, n, t = _place(shape_mesh(shape), shape.transform)
+        for i, shape in enumerate(scene.shapes):
+            try:
+                placed = _place(shape_mesh(shape), shape.transform)
+            except ValueError as e:  # a shape too small to tessellate
+                raise FormatError(scene.path, f"shapes[{i}]", str(e)) from None
+            v, f, n, t = placed
+            _check_mesh(scene, f"shapes[{i}]", v, f, emits=False)
             geometry.add(v, f, n, t, names.index(shape.material))
         lights: list[dict[str, Any]] = []
-        for light in scene.lights:
+        for i, light in enumerate(scene.lights):
             entry = _core_light(light)
-            mesh = _emitter_mesh(light)
+            if _peak(entry["power"]) > MAX_EMISSION:
+                raise FormatError(
+                    scene.path, f"lights[{i}]", f"its emission reaches {_peak(entry['power']):g} W: {OVERFLOWS}"
+                )
+            try:
+                mesh = _emitter_mesh(light)
+            except ValueError as e:
+                raise FormatError(scene.path, f"lights[{i}]", str(e)) from None
             if mesh is not None:  # area lights are triangles the rays hit, and sampled as such
+                _check_mesh(scene, f"lights[{i}]", mesh[0], mesh[1], emits=True)
                 core_materials.append({"kind": "emitter", "light": len(lights), "two_sided": entry["two_sided"]})
                 ids = geometry.add(*mesh, len(core_materials) - 1)
                 if entry["kind"] == "triangles":
@@ -292,6 +389,14 @@ class PreparedScene:
         env = scene.environment
         if isinstance(env, MapEnvironment):
             rgb = np.ascontiguousarray(np.maximum(read_image(env.file)[..., :3], 0.0), dtype=np.float32)
+            with np.errstate(all="ignore"):
+                peak = float(np.max(rgb, initial=0.0)) * float(env.intensity)
+            if not peak <= MAX_EMISSION:  # also NaN texels
+                raise FormatError(
+                    env.file,
+                    "pixels",
+                    f"radiance up to {peak:g} (times environment.intensity) exceeds {MAX_EMISSION:g}: {OVERFLOWS}",
+                )
             self.core.set_environment(rgb, [], float(env.intensity), math.radians(env.rotation))
         elif isinstance(env, ConstantEnvironment):
             self.core.set_environment(None, [float(x) for x in env.radiance], 1.0, 0.0)

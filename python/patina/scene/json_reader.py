@@ -19,6 +19,8 @@ from typing import Any, NoReturn, TypeVar
 from patina.errors import FormatError
 
 T = TypeVar("T")
+FLOAT32_MAX = 3.4028234663852886e38
+FLOAT32_TINY = 1.1754943508222875e-38  # the smallest normal float32
 REQUIRED: Any = object()  # the default that means "this key must be there"
 
 
@@ -118,6 +120,12 @@ def number(
     if not math.isfinite(x):
         ctx.fail(where, f"must be finite, got {x}")
     _in_range(ctx, where, x, lo, hi, lo_open, hi_open)
+    # the renderer computes in 32-bit floats: beyond their range a legal JSON number would
+    # become inf, and a positive one below their smallest normal would become 0 or lose precision
+    if abs(x) > FLOAT32_MAX:
+        ctx.fail(where, f"{x:g} is beyond the renderer's 32-bit float range (+-{FLOAT32_MAX:.3g})")
+    if lo == 0.0 and lo_open and x < FLOAT32_TINY:
+        ctx.fail(where, f"{x:g} is too small for the renderer's 32-bit floats (it must be >= {FLOAT32_TINY:.3g})")
     return x
 
 

@@ -72,6 +72,16 @@ MAX_IMAGE_SIDE = 16384
 MAX_SPP = 1 << 20
 MAX_DEPTH = 1024
 MAX_SEED = (1 << 63) - 1
+# Ranges that keep a render inside the renderer's 32-bit floats (docs/scene.md, "Limits"):
+# radiance times BRDF times the sums of up to MAX_SPP samples must stay far below 3.4e38.
+MAX_EMISSION = 1e15  # W/sr, W/m^2/sr or W/m^2 per channel (the sun's radiance is ~2e7)
+MAX_REFLECTANCE_SCALE = 1e6  # a material's scale times tint
+MAX_BRDF = 1e8  # a table's or fit's largest value times scale and tint (a mirror-like peak ~1e4)
+MAX_OPTICAL_CONSTANT = 1000.0  # eta, k (real materials: below ~100)
+MIN_LENGTH, MAX_LENGTH = 1e-6, 1e9  # metres: sizes, radii, |coordinates|
+MIN_SUN_DIAMETER = 1e-3  # degrees; its radiance grows as 1 / diameter^2
+OVERFLOWS = "larger values overflow the renderer's 32-bit floats"
+OUT_OF_RANGE = "smaller ones vanish and larger ones overflow in the renderer's 32-bit floats"
 TABLE_SUFFIXES = (".ptab", ".binary", ".astm", ".csv", ".txt", ".brdf", ".dat")
 MESH_SUFFIXES = tuple(f".{s}" for s in MESH_FORMATS)
 ENV_SUFFIXES = (".exr", ".hdr")
@@ -83,13 +93,41 @@ _TOP_KEYS = ("version", "camera", "render", "materials", "shapes", "lights", "en
 
 
 def vec3(ctx: Ctx, where: str, value: Any) -> tuple[float, float, float]:
-    x, y, z = _vector(ctx, where, value, 3)
+    x, y, z = _vector(ctx, where, value, 3, lo=-MAX_LENGTH, hi=MAX_LENGTH)
     return (x, y, z)
 
 
+def length(ctx: Ctx, where: str, value: Any) -> float:
+    """A size in metres, in [MIN_LENGTH, MAX_LENGTH]: smaller ones vanish in the renderer's
+    32-bit floats (a sphere of radius 1e-300 has no triangles), larger ones overflow them."""
+    return number(ctx, where, value, lo=MIN_LENGTH, hi=MAX_LENGTH)
+
+
 def _positive_pair(ctx: Ctx, where: str, value: Any) -> tuple[float, float]:
-    a, b = _vector(ctx, where, value, 2, lo=0.0, lo_open=True)
+    a, b = _vector(ctx, where, value, 2, lo=MIN_LENGTH, hi=MAX_LENGTH)
     return (a, b)
+
+
+def _limited(ctx: Ctx, where: str, values: tuple[float, ...], limit: float, unit: str) -> None:
+    if max(values) > limit:
+        ctx.fail(where, f"{max(values):g} {unit} is more than {limit:g}: {OVERFLOWS}")
+
+
+def emission_rgb(ctx: Ctx, where: str, value: Any) -> tuple[float, float, float]:
+    """A radiometric RGB emission (>= 0) within MAX_EMISSION."""
+    c = rgb(ctx, where, value, lo=0.0)
+    _limited(ctx, where, c, MAX_EMISSION, "per channel")
+    return c
+
+
+def _optical(ctx: Ctx, where: str, value: Any, **limits: Any) -> tuple[float, float, float]:
+    return rgb(ctx, where, value, hi=MAX_OPTICAL_CONSTANT, **limits)
+
+
+def _tint(ctx: Ctx, where: str, value: Any) -> tuple[float, float, float]:
+    c = rgb(ctx, where, value, lo=0.0)
+    _limited(ctx, where, c, MAX_REFLECTANCE_SCALE, "per channel")
+    return c
 
 
 def _roughness_pair(ctx: Ctx, where: str, value: Any) -> tuple[float, float]:
@@ -135,8 +173,8 @@ def _camera(o: Obj) -> Camera:
         fov=o.read("fov", number, 30.0, lo=0.0, hi=180.0, lo_open=True, hi_open=True),
         width=o.read("width", integer, 640, lo=1, hi=MAX_IMAGE_SIDE),
         height=o.read("height", integer, 480, lo=1, hi=MAX_IMAGE_SIDE),
-        aperture_radius=o.read("aperture_radius", number, 0.0, lo=0.0),
-        focus_distance=o.read("focus_distance", number, distance, lo=0.0, lo_open=True),
+        aperture_radius=o.read("aperture_radius", number, 0.0, lo=0.0, hi=MAX_LENGTH),
+        focus_distance=o.read("focus_distance", length, distance),
     )
 
 
@@ -175,10 +213,13 @@ def _material(o: Obj, kinds: tuple[str, ...] = MATERIAL_KINDS, outer_two_sided: 
     two_sided = outer_two_sided if outer_two_sided is not None else o.read("two_sided", boolean, False)
     if kind in ("table", "fit"):
         cls = TableMaterial if kind == "table" else FitMaterial
+        scale = o.read("scale", number, 1.0, lo=0.0)
+        tint = o.read("tint", _tint, (1.0, 1.0, 1.0))
+        _limited(o.ctx, o.at("scale"), tuple(scale * t for t in tint), MAX_REFLECTANCE_SCALE, "(scale x tint)")
         return cls(
             file=o.read("file", _file, suffixes=TABLE_SUFFIXES if kind == "table" else (".json",)),
-            scale=o.read("scale", number, 1.0, lo=0.0),
-            tint=o.read("tint", rgb, (1.0, 1.0, 1.0), lo=0.0),
+            scale=scale,
+            tint=tint,
             two_sided=two_sided,
         )
     if kind == "lambert":
@@ -188,7 +229,7 @@ def _material(o: Obj, kinds: tuple[str, ...] = MATERIAL_KINDS, outer_two_sided: 
     if kind == "dielectric":
         return DielectricMaterial(
             roughness=o.read("roughness", number, 0.0, lo=0.0, hi=1.0),
-            eta=o.read("eta", number, 1.5, lo=1.0),
+            eta=o.read("eta", number, 1.5, lo=1.0, hi=MAX_OPTICAL_CONSTANT),
         )
     base = _material(o.obj("base"), BASE_KINDS, two_sided)
     coat = o.obj("coat", {})
@@ -196,7 +237,7 @@ def _material(o: Obj, kinds: tuple[str, ...] = MATERIAL_KINDS, outer_two_sided: 
     return CarpaintMaterial(
         base=base,  # type: ignore[arg-type]
         coat=Coat(
-            eta=coat.read("eta", number, 1.5, lo=1.0),
+            eta=coat.read("eta", number, 1.5, lo=1.0, hi=MAX_OPTICAL_CONSTANT),
             roughness=coat.read("roughness", number, 0.0, lo=0.0, hi=1.0),
             thickness_tint=coat.read("thickness_tint", rgb, (1.0, 1.0, 1.0), lo=0.0, hi=1.0),
         ),
@@ -214,13 +255,13 @@ def _conductor(o: Obj, two_sided: bool) -> ConductorMaterial:
     elif not (o.has("eta") or o.has("k")):
         o.ctx.fail(o.at("metal"), f"missing: give 'metal' ({', '.join(METALS)}) or both 'eta' and 'k'")
     else:
-        eta = o.read("eta", rgb, lo=0.0, lo_open=True)
-        k = o.read("k", rgb, lo=0.0)
+        eta = o.read("eta", _optical, lo=0.0, lo_open=True)
+        k = o.read("k", _optical, lo=0.0)
     return ConductorMaterial(
         roughness=o.read("roughness", _roughness_pair, (0.1, 0.1)),
         eta=eta,
         k=k,
-        tint=o.read("tint", rgb, (1.0, 1.0, 1.0), lo=0.0),
+        tint=o.read("tint", _tint, (1.0, 1.0, 1.0)),
         metal=metal,
         two_sided=two_sided,
     )
@@ -286,6 +327,8 @@ def _scale(ctx: Ctx, where: str, value: Any) -> tuple[float, float, float]:
         sx = sy = sz = number(ctx, where, value)
     if 0.0 in (sx, sy, sz):
         ctx.fail(where, "scale factors must be non-zero")
+    if not all(MIN_LENGTH <= abs(f) <= MAX_LENGTH for f in (sx, sy, sz)):
+        ctx.fail(where, f"scale factors must be {MIN_LENGTH:g} to {MAX_LENGTH:g} in size (or negative): {OUT_OF_RANGE}")
     return (sx, sy, sz)
 
 
@@ -324,7 +367,7 @@ def _shape(o: Obj, materials: dict[str, Material]) -> Shape:
         o.ctx.fail(o.at("material"), f"undefined material '{material[:40]}' (materials: {known})")
     transform = _transform(o.obj("transform")) if o.has("transform") else _identity()
     if kind == "sphere":
-        return SphereShape(material, transform, o.read("radius", number, 1.0, lo=0.0, lo_open=True))
+        return SphereShape(material, transform, o.read("radius", length, 1.0))
     if kind == "plane":
         return PlaneShape(material, transform, o.read("size", _positive_pair, (2.0, 2.0)))
     if kind == "ball":
@@ -360,9 +403,11 @@ def _emission(o: Obj, radiometric: str, photometric: str, what: str) -> tuple[fl
     if given[0] == radiometric:
         if o.has("color"):
             o.ctx.fail(o.at("color"), f"a colour goes with '{photometric}'; '{radiometric}' is already RGB")
-        return o.read(radiometric, rgb, lo=0.0)
+        return o.read(radiometric, emission_rgb)
     # a value in candela, cd/m^2 or lux becomes radiometric RGB at 683 lm/W of luminance
-    return photometric_to_rgb(o.read(photometric, number, lo=0.0), _color(o))
+    c = photometric_to_rgb(o.read(photometric, number, lo=0.0), _color(o))
+    _limited(o.ctx, o.at(photometric), c, MAX_EMISSION, "W per channel (with its colour)")
+    return c
 
 
 def _unit_vec3(ctx: Ctx, where: str, value: Any) -> tuple[float, float, float]:
@@ -399,7 +444,7 @@ def _disk_light(o: Obj) -> DiskLight:
     return DiskLight(
         center=o.read("center", vec3),
         normal=o.read("normal", _unit_vec3),
-        radius=o.read("radius", number, lo=0.0, lo_open=True),
+        radius=o.read("radius", length),
         radiance=_emission(o, "radiance", "luminance", "a disk light"),
         two_sided=o.read("two_sided", boolean, False),
     )
@@ -409,7 +454,7 @@ def _sphere_light(o: Obj) -> SphereLight:
     o.allow(("type", "center", "radius", "radiance", "luminance", "color"), "a sphere light")
     return SphereLight(
         center=o.read("center", vec3),
-        radius=o.read("radius", number, lo=0.0, lo_open=True),
+        radius=o.read("radius", length),
         radiance=_emission(o, "radiance", "luminance", "a sphere light"),
     )
 
@@ -437,7 +482,7 @@ def _luminaire_light(o: Obj) -> LuminaireLight:
         position=o.read("position", vec3),
         aim=o.read("aim", _unit_vec3, (0.0, -1.0, 0.0)),
         rotation=o.read("rotation", number, 0.0),
-        multiplier=o.read("multiplier", number, 1.0, lo=0.0),
+        multiplier=o.read("multiplier", number, 1.0, lo=0.0, hi=MAX_EMISSION),
         color=color,
     )
 
@@ -446,7 +491,7 @@ def _sun_light(o: Obj) -> SunLight:
     o.allow(("type", "direction", "angular_diameter", "irradiance", "illuminance", "color"), "a sun")
     return SunLight(
         direction=o.read("direction", _unit_vec3),
-        angular_diameter=o.read("angular_diameter", number, 0.53, lo=0.0, hi=20.0, lo_open=True),
+        angular_diameter=o.read("angular_diameter", number, 0.53, lo=MIN_SUN_DIAMETER, hi=20.0),
         irradiance=_emission(o, "irradiance", "illuminance", "a sun"),
     )
 
@@ -456,6 +501,8 @@ def _quad_light(o: Obj) -> QuadLight:
     u, v = o.read("u", vec3), o.read("v", vec3)
     for key, w in (("u", u), ("v", v)):
         _unit_or_fail(o.ctx, o.at(key), np.asarray(w), "a half-edge vector must be non-zero")
+        if float(np.linalg.norm(w)) < MIN_LENGTH:
+            o.ctx.fail(o.at(key), f"a half-edge vector must be at least {MIN_LENGTH:g} m long")
     with np.errstate(all="ignore"):
         n = np.cross(u, v)
         ok = np.isfinite(n).all() and np.linalg.norm(n) > 1e-9 * np.linalg.norm(u) * np.linalg.norm(v)
@@ -491,12 +538,12 @@ def _environment(o: Obj) -> Environment:
     kind = o.read("type", choice, options=("map", "constant"))
     if kind == "constant":
         o.allow(("type", "radiance"), "a constant environment")
-        return ConstantEnvironment(radiance=o.read("radiance", rgb, lo=0.0))
+        return ConstantEnvironment(radiance=o.read("radiance", emission_rgb))
     o.allow(("type", "file", "rotation", "intensity"), "an environment map")
     return MapEnvironment(
         file=o.read("file", _file, suffixes=ENV_SUFFIXES),
         rotation=o.read("rotation", number, 0.0),
-        intensity=o.read("intensity", number, 1.0, lo=0.0),
+        intensity=o.read("intensity", number, 1.0, lo=0.0, hi=MAX_EMISSION),
     )
 
 
@@ -587,3 +634,21 @@ def with_overrides(
     if height is not None:
         camera = dataclasses.replace(camera, height=integer(ctx, "--height", height, lo=1, hi=MAX_IMAGE_SIDE))
     return dataclasses.replace(scene, render=render, camera=camera)
+
+
+MAX_THREADS = 1024  # worker threads; more than any machine's cores is a typo, not a request
+MAX_EXPOSURE = 64.0  # stops either way: 2^64 brightens 1e-19 to 1, well past any real image
+
+
+def check_run_options(
+    threads: int | None = None, exposure: float | str | None = None, samples: int | None = None
+) -> None:
+    """The render commands' options that are not scene settings, checked before any work:
+    FormatErrors naming the option (file "command line"). `exposure` may be "auto"."""
+    ctx = Ctx("command line", os.getcwd())
+    if threads is not None:
+        integer(ctx, "--threads", threads, lo=0, hi=MAX_THREADS)
+    if exposure is not None and exposure != "auto":
+        number(ctx, "--exposure", float(exposure), lo=-MAX_EXPOSURE, hi=MAX_EXPOSURE)
+    if samples is not None:
+        integer(ctx, "--samples", samples, lo=1, hi=MAX_SPP)
