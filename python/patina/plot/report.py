@@ -101,6 +101,18 @@ def _validation_rows(report: Report) -> tuple[list[dict[str, Any]], str]:
     return rows, result
 
 
+def _metrics(doc: dict[str, Any]) -> dict[str, Any]:
+    """A fit's metrics; fit files are read for their model and parameters, so what else they hold is
+    shown only where it has the shape patina fit writes (a hand-edited file is not an error here)."""
+    m = doc.get("metrics")
+    return m if isinstance(m, dict) else {}
+
+
+def _listed(doc: dict[str, Any], key: str) -> list[Any]:
+    v = doc.get(key)
+    return v if isinstance(v, list) else []
+
+
 def _fit_context(brdf: Brdf, fits: Sequence[Fit]) -> dict[str, Any]:
     """The fits' parameters and metrics as tables, one column per fit."""
     names: list[str] = []
@@ -111,17 +123,17 @@ def _fit_context(brdf: Brdf, fits: Sequence[Fit]) -> dict[str, Any]:
         cells = []
         for fit in fits:
             v = fit.doc["parameters"].get(n)
-            cells.append({"text": "" if v is None else _number(v), "bound": n in (fit.doc.get("at_bounds") or [])})
+            cells.append({"text": "" if v is None else _number(v), "bound": n in _listed(fit.doc, "at_bounds")})
         parameters.append({"name": n, "label": parameter_label(n), "cells": cells})
-    keys = [k for k in METRICS if any(k in (f.doc.get("metrics") or {}) for f in fits)]
+    keys = [k for k in METRICS if any(k in _metrics(f.doc) for f in fits)]
     for f in fits:  # metrics this page has no label for yet: shown under their key, once each
-        for k, v in (f.doc.get("metrics") or {}).items():
+        for k, v in _metrics(f.doc).items():
             if k not in keys and isinstance(v, (int, float)):
                 keys.append(k)
     metrics = []
     for k in keys:
         label, style = METRICS.get(k, (k.replace("_", " "), "g"))
-        values = [(f.doc.get("metrics") or {}).get(k) for f in fits]
+        values = [_metrics(f.doc).get(k) for f in fits]
         numeric = [v for v in values if isinstance(v, (int, float)) and not isinstance(v, bool)]
         best = min(numeric) if len(numeric) > 1 else None  # every metric here is an error: lower is better
         metrics.append(
@@ -135,13 +147,14 @@ def _fit_context(brdf: Brdf, fits: Sequence[Fit]) -> dict[str, Any]:
         d = f.doc
         notes = []
         if d.get("usable") is False:
-            notes.append("not usable: " + ("; ".join(map(str, d.get("problems") or [])) or "flagged by patina fit"))
-        if d.get("at_bounds"):
-            notes.append("at a bound: " + ", ".join(parameter_label(n) for n in d["at_bounds"]))
+            notes.append("not usable: " + ("; ".join(map(str, _listed(d, "problems"))) or "flagged by patina fit"))
+        if _listed(d, "at_bounds"):
+            notes.append("at a bound: " + ", ".join(parameter_label(str(n)) for n in _listed(d, "at_bounds")))
         if d.get("converged") is False:
             notes.append(f"not converged: {d.get('message', '')}")
-        source = d.get("source") or ""
-        if source and os.path.abspath(source) != os.path.abspath(brdf.source):
+        source = d.get("source")
+        # By name: the path a fit records is as its command was given, relative to where it ran.
+        if isinstance(source, str) and source and os.path.basename(source) != os.path.basename(brdf.source):
             notes.append(f"fitted to {os.path.basename(source)}, not to this table")
         about.append({"name": f.name, "notes": notes})
     seconds = [f.doc.get("seconds") for f in fits]

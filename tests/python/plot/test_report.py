@@ -229,3 +229,15 @@ def test_a_spectral_table_gets_its_report_without_fits_drawn_over_single_wavelen
     assert "fits are not overlaid because a spectral table" in page
     assert "mean of the wavelengths" in page and "The fits are not drawn" in page
     assert "<h2>Fit</h2>" in page  # its parameters and metrics are still listed
+
+
+def test_what_a_fit_file_holds_besides_its_model_is_shown_only_where_well_formed(tmp_path, bundled_ptab):
+    odd = tmp_path / "odd.json"
+    doc = {"model": "ggx+lambert", "parameters": GGX, "metrics": [1], "at_bounds": "alpha", "source": 3}
+    odd.write_text(json.dumps(doc))
+    other = tmp_path / "other.json"
+    other.write_text(json.dumps({"model": "ggx+lambert", "parameters": GGX, "source": "elsewhere/paint.ptab"}))
+    out = tmp_path / "r"
+    assert main(["plot", bundled_ptab, "--fit", str(odd), str(other), "--out", str(out), "--no-3d"]) == 0
+    page = (out / "index.html").read_text(encoding="utf-8")
+    assert "fitted to paint.ptab, not to this table" in page
