@@ -1,6 +1,8 @@
 #include "brdf/merl.h"
 
+#include <cfloat>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -55,11 +57,18 @@ Table read_merl(const std::string& path) {
                 bool measured = true;
                 for (int c = 0; c < 3; ++c) {
                     const double v = raw[c * n + src];
-                    if (!std::isfinite(v))
+                    // finite doubles beyond float32 once scaled (1e300) would become inf in the table and fail
+                    // its check as a ValueError without the file or the byte
+                    const bool too_large = std::isfinite(v) && v * kScale[c] > double(FLT_MAX);  // negatives are masked
+                    if (!std::isfinite(v) || too_large) {
+                        char shown[32];
+                        std::snprintf(shown, sizeof shown, "%g ", v);
                         throw FormatError(path, "byte " + std::to_string(12 + 8 * (c * n + src)),
-                                          std::string(kChannel[c]) + " value at theta_h bin " + std::to_string(h) +
-                                              ", theta_d bin " + std::to_string(d) + ", phi_d bin " +
-                                              std::to_string(p % kMerlPhiD) + " is not finite");
+                                          std::string(kChannel[c]) + " value " + (too_large ? shown : "") +
+                                              "at theta_h bin " + std::to_string(h) + ", theta_d bin " +
+                                              std::to_string(d) + ", phi_d bin " + std::to_string(p % kMerlPhiD) +
+                                              (too_large ? " is too large for float32" : " is not finite"));
+                    }
                     if (v < 0) measured = false;
                     t.values[dst * 3 + c] = float(v * kScale[c]);
                 }

@@ -18,6 +18,38 @@ constexpr uint32_t kMaxChannels = 4096;
 constexpr uint32_t kMaxString = 1u << 20;
 
 size_t padded4(size_t n) { return (n + 3) & ~size_t(3); }
+
+// Offset of the first byte that breaks UTF-8 (overlong forms, surrogates and code points
+// above U+10FFFF included), or npos. The text fields are UTF-8 by the spec; checked here so
+// that a bad one is reported with its byte, not later as a decoding error in Python.
+size_t invalid_utf8(const std::string& s) {
+    const auto* p = reinterpret_cast<const unsigned char*>(s.data());
+    const size_t n = s.size();
+    for (size_t i = 0; i < n;) {
+        const unsigned c = p[i];
+        size_t len = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+        if (len == 0 || i + len > n) return i;
+        uint32_t cp = len == 1 ? c : c & (0x7F >> len);
+        for (size_t k = 1; k < len; ++k) {
+            if ((p[i + k] & 0xC0) != 0x80) return i;
+            cp = (cp << 6) | (p[i + k] & 0x3F);
+        }
+        static const uint32_t kMin[5] = {0, 0, 0x80, 0x800, 0x10000};
+        if (cp < kMin[len] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return i;
+        i += len;
+    }
+    return std::string::npos;
+}
+
+std::string utf8_field(BinaryReader& in, const std::string& path, const char* field) {
+    std::string s = in.string(kMaxString, field);
+    const size_t bad = invalid_utf8(s);
+    if (bad != std::string::npos)
+        throw FormatError(path, "byte " + std::to_string(in.offset() - s.size() + bad) + ", " + field,
+                          std::string("the ") + field + " is not UTF-8 text (byte " + std::to_string(bad) +
+                              " of the field)");
+    return s;
+}
 }  // namespace
 
 Table read_ptab(const std::string& path) {
@@ -60,8 +92,8 @@ Table read_ptab(const std::string& path) {
         points *= lengths[a];
         if (points * channels >= (uint64_t(1) << 31)) in.fail("axis length", "table has more than 2^31 values");
     }
-    t.units = in.string(kMaxString, "units");
-    t.provenance = in.string(kMaxString, "provenance");
+    t.units = utf8_field(in, path, "units");
+    t.provenance = utf8_field(in, path, "provenance");
 
     // Everything that follows has a size known now: check it against the file before allocating.
     uint64_t knots = 0;

@@ -10,6 +10,7 @@ import numpy as np
 from patina.cli.common import UsageError, add_simd_option, channel_labels, print_json
 from patina.plot.slices import plot_inplane_slices
 from patina.table import Tolerances, format_report, load_brdf, validate
+from patina.table.formats.lenient import read_reporting_bad_values
 
 
 def cmd_info(args: argparse.Namespace) -> int:
@@ -97,8 +98,14 @@ def cmd_slices(args: argparse.Namespace) -> int:
 
 def cmd_validate(args: argparse.Namespace) -> int:
 
-    brdf = load_brdf(args.file)
-    report = validate(brdf, Tolerances(spike_factor=args.spike_factor, albedo_excess=args.albedo_tolerance))
+    if not (np.isfinite(args.spike_factor) and args.spike_factor > 1):
+        raise UsageError(f"validate: --spike-factor {args.spike_factor:g} must be a finite number above 1")
+    if not (np.isfinite(args.albedo_tolerance) and args.albedo_tolerance >= 0):
+        raise UsageError(f"validate: --albedo-tolerance {args.albedo_tolerance:g} must be finite and >= 0")
+    # NaN / infinite values are reported (exit 1), not refused as by the other commands
+    brdf, bad = read_reporting_bad_values(args.file)
+    tolerances = Tolerances(spike_factor=args.spike_factor, albedo_excess=args.albedo_tolerance)
+    report = validate(brdf, tolerances, bad)
     if args.json:
         print_json(report.as_json())
     else:

@@ -1,11 +1,17 @@
 """`patina validate`: can this measured table be trusted?
 
 Checks, each with figures and the worst places (angles in degrees):
-- finite: every value finite (the readers already refuse NaN/inf, with the place);
+- finite: every value finite; `validate(bad=...)` takes the values a reader found unusable
+  (NaN, infinite, beyond float32: patina.table.formats.lenient), lists them with their
+  place in the file, and the other checks run on the table with those points masked;
 - negative: values below zero (physically impossible; measurement offsets);
 - axes: angle ranges within the parametrization's domain, how much of it they cover,
   and the largest gap between knots;
-- coverage: missing measurements (the table's mask) and the largest run of them;
+- coverage: missing measurements (the table's mask) and the largest run of them. Grid
+  points no measurement can reach (a half/difference pair with a direction at or below
+  the horizon: about a quarter of a MERL grid, which MERL stores as negative) are
+  counted apart as unreachable and are not a problem; holes inside the measurable
+  domain are;
 - reciprocity: Helmholtz, f(wi, wo) = f(wo, wi), on random direction pairs;
 - albedo: directional albedo a(theta_i) = integral of f cos(theta_o) over the
   hemisphere, per channel; above 1 (beyond a tolerance) the table creates energy;
@@ -22,7 +28,9 @@ from typing import Any
 
 import numpy as np
 
+from patina.table.angles import halfdiff_to_directions
 from patina.table.brdf import Brdf, angles_to_directions
+from patina.table.formats.tabledata import BadValues
 
 
 @dataclass
@@ -67,11 +75,25 @@ def _place(brdf: Brdf, index: tuple[int, ...]) -> dict[str, float]:
     return {name: _deg(axis[i]) for name, axis, i in zip(brdf.axis_names, brdf.axes, index)}
 
 
-def check_finite(brdf: Brdf, report: Report) -> None:
-    bad = ~np.isfinite(brdf.values)
-    report.checks["finite"] = {"non_finite": int(bad.sum())}
-    if bad.any():
-        report.problems.append(f"{int(bad.sum())} non-finite values")
+def check_finite(brdf: Brdf, report: Report, bad: BadValues | None = None) -> None:
+    """The reader's unusable values (bad) and any non-finite value left in the table."""
+    left = ~np.isfinite(brdf.values)
+    count = int(left.sum()) + (bad.count if bad else 0)
+    places = list(bad.places) if bad else []
+    for idx in np.argwhere(left)[: max(0, BadValues.FIRST - len(places))]:
+        index = tuple(int(i) for i in idx)
+        places.append({**_place(brdf, index[:-1]), "channel": index[-1], "value": f"{float(brdf.values[index]):g}"})
+    report.checks["finite"] = {"non_finite": count, "first": places}
+    if count:
+        shown = "; ".join(_describe_bad(p) for p in places[:3])
+        more = f" (first: {shown})" if shown else ""
+        report.problems.append(f"{count} value{'s are' if count > 1 else ' is'} NaN, infinite or beyond float32{more}")
+
+
+def _describe_bad(place: dict[str, Any]) -> str:
+    where = place.get("where", "")
+    rest = ", ".join(f"{k} {v}" for k, v in place.items() if k not in ("where", "value"))
+    return f"{place['value']} at {where + (', ' if where and rest else '')}{rest}"
 
 
 def check_negative(brdf: Brdf, report: Report, tol: Tolerances) -> None:
@@ -128,14 +150,56 @@ def check_axes(brdf: Brdf, report: Report) -> None:
     report.checks["axes"] = {"axes": axes}
 
 
-def check_coverage(brdf: Brdf, report: Report) -> None:
+# A grid point whose cell reaches within this of the horizon (elevation, radians) counts as
+# at the horizon: MERL marks its cells from its own binning, and a knot is a cell's corner.
+HORIZON_TOLERANCE = 1e-6
+
+
+def unreachable_points(brdf: Brdf) -> np.ndarray | None:
+    """Grid points (grid-shaped bool) no measurement can reach, or None when there are none:
+    for half/difference angles those with wi or wo at or below the horizon, the knot's cell
+    (to the next knot on each axis) included, since a cell that reaches the horizon is
+    MERL's below-horizon bin. Isotropic and anisotropic grids have theta <= 90 deg and
+    reach everywhere."""
+    if brdf.parametrization != "halfdiff":
+        return None
+    axes = [a.astype(np.float64) for a in brdf.axes]
+    far = [np.append(a[1:], a[-1]) for a in axes]
+    lowest = None
+    for corner in np.ndindex(2, 2, 2):  # the cell's 8 corners
+        grids = np.meshgrid(*[far[k] if c else axes[k] for k, c in enumerate(corner)], indexing="ij")
+        wi, wo = halfdiff_to_directions(*grids)
+        z = np.minimum(wi[:, 2], wo[:, 2])
+        lowest = z if lowest is None else np.minimum(lowest, z)
+    assert lowest is not None
+    out = (lowest <= HORIZON_TOLERANCE).reshape([a.size for a in axes])
+    return out if out.any() else None
+
+
+def check_coverage(
+    brdf: Brdf, report: Report, bad: BadValues | None = None, unreachable: np.ndarray | None = None
+) -> None:
+    """unreachable: unreachable_points(brdf)."""
     valid = brdf.valid
     total = int(np.prod([a.size for a in brdf.axes]))
+    beyond = int(unreachable.sum()) if unreachable is not None else 0
     if valid is None:
-        report.checks["coverage"] = {"missing": 0, "fraction_missing": 0.0}
+        report.checks["coverage"] = {
+            "missing": 0,
+            "fraction_missing": 0.0,
+            "unreachable": beyond,
+            "unreachable_missing": 0,
+        }
         return
     missing = valid == 0
+    if bad is not None and bad.points is not None and bad.points.shape == missing.shape:
+        missing &= ~bad.points  # reported by check_finite
+    unreachable_missing = 0
+    if unreachable is not None:
+        unreachable_missing = int((missing & unreachable).sum())
+        missing &= ~unreachable
     count = int(missing.sum())
+    reachable = total - beyond
     # the longest run of missing knots along the last axis, as a measure of the largest hole
     runs = 0
     flat = missing.reshape(-1, missing.shape[-1])
@@ -147,12 +211,16 @@ def check_coverage(brdf: Brdf, report: Report) -> None:
     first = [_place(brdf, tuple(int(i) for i in idx)) for idx in np.argwhere(missing)[:5]]
     report.checks["coverage"] = {
         "missing": count,
-        "fraction_missing": count / total,
+        "fraction_missing": count / max(reachable, 1),
         "longest_missing_run": runs,
         "first_missing": first,
+        "unreachable": beyond,
+        "unreachable_missing": unreachable_missing,
     }
     if count:
-        report.problems.append(f"{count} of {total} grid points are missing ({100 * count / total:.2f}%)")
+        report.problems.append(
+            f"{count} of {reachable} measurable grid points are missing ({100 * count / max(reachable, 1):.2f}%)"
+        )
 
 
 def _hemisphere(n: int, rng: np.random.Generator, max_theta: float) -> np.ndarray:
@@ -238,11 +306,15 @@ def check_albedo(brdf: Brdf, report: Report, tol: Tolerances) -> None:
         )
 
 
-def check_spikes(brdf: Brdf, report: Report, tol: Tolerances) -> None:
-    """Points more than spike_factor times above every neighbour (or below every one)."""
+def check_spikes(brdf: Brdf, report: Report, tol: Tolerances, unreachable: np.ndarray | None = None) -> None:
+    """Points more than spike_factor times above every neighbour (or below every one);
+    unreachable points are neither judged nor neighbours (a knot on the horizon holds a
+    grazing value divided by a cosine near 0)."""
     v = brdf.values.astype(np.float64)
     valid = brdf.valid
     measured = np.ones(v.shape[:-1], bool) if valid is None else valid.astype(bool)
+    if unreachable is not None:
+        measured &= ~unreachable
     dims = v.ndim - 1
     hi = np.full(v.shape, -np.inf)
     lo = np.full(v.shape, np.inf)
@@ -281,16 +353,18 @@ def check_spikes(brdf: Brdf, report: Report, tol: Tolerances) -> None:
         )
 
 
-def validate(brdf: Brdf, tol: Tolerances | None = None) -> Report:
+def validate(brdf: Brdf, tol: Tolerances | None = None, bad: BadValues | None = None) -> Report:
+    """Every check; `bad`: the values the reader masked (read_reporting_bad_values)."""
     tol = tol or Tolerances()
     report = Report(brdf.source, brdf.source_format, brdf.parametrization)
-    check_finite(brdf, report)
+    check_finite(brdf, report, bad)
     check_negative(brdf, report, tol)
     check_axes(brdf, report)
-    check_coverage(brdf, report)
+    unreachable = unreachable_points(brdf)
+    check_coverage(brdf, report, bad, unreachable)
     check_reciprocity(brdf, report, tol)
     check_albedo(brdf, report, tol)
-    check_spikes(brdf, report, tol)
+    check_spikes(brdf, report, tol, unreachable)
     return report
 
 
@@ -301,7 +375,10 @@ def format_report(report: Report) -> str:
     def row(name: str, ok: bool, text: str) -> None:
         lines.append(f"  {'ok  ' if ok else 'FAIL'}  {name:<12} {text}")
 
-    row("finite", c["finite"]["non_finite"] == 0, f"{c['finite']['non_finite']} non-finite values")
+    fin = c["finite"]
+    row("finite", fin["non_finite"] == 0, f"{fin['non_finite']} NaN, infinite or beyond-float32 values")
+    for p in fin["first"][:5]:
+        lines.append(f"          {_describe_bad(p)}")
     neg = c["negative"]
     row("negative", neg["count"] == 0, f"{neg['count']} negative values (minimum {neg['minimum']:.4g})")
     for a in c["axes"]["axes"]:
@@ -312,7 +389,16 @@ def format_report(report: Report) -> str:
             f"{100 * a['covers']:.0f}% of {a['domain_deg']}, largest gap {a['largest_gap_deg']} deg",
         )
     cov = c["coverage"]
-    row("coverage", cov["missing"] == 0, f"{cov['missing']} missing points ({100 * cov['fraction_missing']:.2f}%)")
+    row(
+        "coverage",
+        cov["missing"] == 0,
+        f"{cov['missing']} missing points ({100 * cov['fraction_missing']:.2f}% of the measurable grid)",
+    )
+    if cov["unreachable"]:
+        lines.append(
+            f"          {cov['unreachable']} grid points lie at or below the horizon (unreachable, "
+            f"{cov['unreachable_missing']} of them marked missing): not missing data"
+        )
     rec = c["reciprocity"]
     row(
         "reciprocity",

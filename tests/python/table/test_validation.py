@@ -109,8 +109,14 @@ def test_cli_exit_codes_and_json(tmp_path, bundled_ptab, capsys):
     assert set(doc["checks"]) == {"finite", "negative", "axes", "coverage", "reciprocity", "albedo", "spikes"}
     nan = tmp_path / "nan.ptab"
     _ptab_with_nan(nan)
+    # validate reports the NaN (exit 1) where the other commands refuse the file (exit 2)
     r = subprocess.run(
         [sys.executable, "-m", "patina.cli", "validate", str(nan)], check=False, capture_output=True, text=True
+    )
+    assert r.returncode == 1 and "Traceback" not in r.stderr
+    assert "1 value is NaN" in r.stdout and "nan at byte" in r.stdout
+    r = subprocess.run(
+        [sys.executable, "-m", "patina.cli", "info", str(nan)], check=False, capture_output=True, text=True
     )
     assert r.returncode == 2
     assert str(nan) in r.stderr and "not finite" in r.stderr and "Traceback" not in r.stderr

@@ -44,7 +44,7 @@ import numpy as np
 
 from patina.errors import FormatError
 from patina.table.formats.resample import resample
-from patina.table.formats.tabledata import TableData
+from patina.table.formats.tabledata import BadValues, TableData
 
 __all__ = ["read_astm"]
 
@@ -65,6 +65,8 @@ _DOUBLE_COMMA_RE = re.compile(r",[ \t\f\v]*,")
 _KEY_RE = re.compile(r"([A-Za-z_][A-Za-z0-9_.\-]*)(?:(?:[ \t\f\v]*[,=:]|[ \t\f\v])(.*))?")
 _WAVELENGTH_RE = re.compile(r"(?:brdf_?|wl_?|w|lambda_?)?([0-9]+(?:\.[0-9]+)?)[ \t]*(?:_?nm)?", re.IGNORECASE)
 _NUM_POINTS_RE = re.compile(r"[0-9]{1,15}")
+_NONFINITE_RE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)
+_FLOAT32_MAX = float(np.finfo(np.float32).max)
 
 # Canonical angle column -> accepted names (lower case).
 _ANGLE_NAMES: dict[str, tuple[str, ...]] = {
@@ -117,18 +119,21 @@ class _Axis:
 # --------------------------------------------------------------------------- API
 
 
-def read_astm(path: str | os.PathLike[str], resample: bool = False) -> TableData:
+def read_astm(path: str | os.PathLike[str], resample: bool = False, report_bad: bool = False) -> TableData:
     """Read an ASTM E1392 BRDF text file into a TableData (see module docstring).
 
     resample: rows that are not a tensor grid are resampled onto one (formats/resample.py)
-    instead of refused; the resampling error is reported in the provenance."""
+    instead of refused; the resampling error is reported in the provenance.
+    report_bad: value columns holding NaN, infinity or numbers beyond float32 are listed in
+    TableData.bad and their grid points masked (left out of a resampling) instead of refused
+    (patina validate); bad angles are still refused."""
     name = os.fspath(path)
     if isinstance(name, bytes):
         name = os.fsdecode(name)
     with open(name, "rb") as handle:
         raw = handle.read()
     try:
-        return parse_astm_bytes(name, raw, resample)
+        return parse_astm_bytes(name, raw, resample, report_bad)
     except MemoryError:
         raise FormatError(name, "file", "not enough memory to read this file") from None
 
@@ -136,14 +141,18 @@ def read_astm(path: str | os.PathLike[str], resample: bool = False) -> TableData
 # ------------------------------------------------------------------- pipeline
 
 
-def parse_astm_bytes(path: str, raw: bytes, resample: bool = False) -> TableData:
+def parse_astm_bytes(path: str, raw: bytes, resample: bool = False, report_bad: bool = False) -> TableData:
     lines = _split_lines(_decode(raw))
     header = _parse_header(path, lines)
     columns = _classify_columns(path, header)
     rows = _data_rows(lines, header.data_start)
     _check_row_count(path, header, rows)
-    table = _parse_rows(path, header, rows)
+    table = _parse_rows(path, header, rows, report_bad)
     line_numbers = np.fromiter((n for n, _ in rows), dtype=np.int64, count=len(rows))
+    bad = BadValues() if report_bad else None
+    bad_rows = np.zeros(len(rows), dtype=bool)
+    if bad is not None:
+        bad_rows = _collect_bad_values(header.columns, table, columns.channels, line_numbers, rows, bad)
     _check_finite(path, header.columns, table, line_numbers, rows)
     _check_channels_fit_float32(path, header.columns, table, columns.channels, line_numbers)
     _check_angle_ranges(path, header.columns, table, columns.angles, line_numbers)
@@ -154,10 +163,18 @@ def parse_astm_bytes(path: str, raw: bytes, resample: bool = False) -> TableData
     except FormatError:
         if not resample:
             raise
-        return _resampled(path, header, columns, parametrization, axes, table)
+        data = _resampled(path, header, columns, parametrization, axes, table, ~bad_rows)
+        data.bad = bad
+        return data
     shape = tuple(len(axis.values) for axis in axes)
     values = np.empty((len(table), len(columns.channels)), dtype=np.float32)
     values[flat] = table[:, columns.channels]
+    mask = None
+    if bad is not None:
+        points = np.zeros(len(table), dtype=bool)
+        points[flat[bad_rows]] = True
+        bad.points = points.reshape(shape)
+        mask = ~bad.points if bad_rows.any() else None
     return TableData(
         parametrization=parametrization,
         axes=[axis.values for axis in axes],
@@ -166,15 +183,23 @@ def parse_astm_bytes(path: str, raw: bytes, resample: bool = False) -> TableData
         wavelengths=columns.wavelengths,
         units="1/sr",
         provenance=_provenance(path, header),
+        mask=mask,
+        bad=bad,
     )
 
 
 def _resampled(
-    path: str, header: _Header, columns: _Columns, parametrization: str, axes: list[_Axis], table: np.ndarray
+    path: str,
+    header: _Header,
+    columns: _Columns,
+    parametrization: str,
+    axes: list[_Axis],
+    table: np.ndarray,
+    keep: np.ndarray,
 ) -> TableData:
-
-    coords = np.stack([axis.values[axis.labels] for axis in axes], axis=1)
-    grid_axes, grid, error = resample(coords, table[:, columns.channels], [a.name for a in axes])
+    """keep: the rows to resample (those without bad values)."""
+    coords = np.stack([axis.values[axis.labels] for axis in axes], axis=1)[keep]
+    grid_axes, grid, error = resample(coords, table[keep][:, columns.channels], [a.name for a in axes])
     return TableData(
         parametrization=parametrization,
         axes=grid_axes,
@@ -384,19 +409,22 @@ def _check_row_count(path: str, header: _Header, rows: list[tuple[int, str]]) ->
     )
 
 
-def _parse_rows(path: str, header: _Header, rows: list[tuple[int, str]]) -> np.ndarray:
+def _parse_rows(path: str, header: _Header, rows: list[tuple[int, str]], nonfinite: bool = False) -> np.ndarray:
     """All rows as float64 (n, columns); every token is checked before conversion.
 
     Fast path: when the data hold only digits, signs, '.', 'e', commas and blanks and
     no empty comma field, Python's float grammar equals the one accepted here, so
     numpy converts directly.  Any failure (bad token, wrong row length) falls back to
-    a row-by-row walk that names the offending line.
+    a row-by-row walk that names the offending line.  nonfinite: NaN and infinity tokens
+    are numbers too (the caller reports them).
     """
     width = len(header.columns)
     block = "\n".join(line for _, line in rows)
     table = None
     if _DATA_CHARS_RE.fullmatch(block) and not _has_empty_field(block):
         table = _convert(block, len(rows), width)
+    if table is None and nonfinite:
+        table = _convert_with_nonfinite(rows, width)
     if table is None:
         _explain_bad_rows(path, header, rows)
     return table
@@ -429,6 +457,44 @@ def _convert(block: str, count: int, width: int) -> np.ndarray | None:
     except (ValueError, OverflowError):  # bad token or ragged rows
         return None
     return table.reshape(count, width) if table.size == count * width else None
+
+
+def _convert_with_nonfinite(rows: list[tuple[int, str]], width: int) -> np.ndarray | None:
+    """Row by row, numbers and NaN / infinity tokens; None at the first other problem."""
+    table = np.empty((len(rows), width), dtype=np.float64)
+    for r, (_, line) in enumerate(rows):
+        tokens = _SEP_RE.split(line)
+        if len(tokens) != width:
+            return None
+        for c, token in enumerate(tokens):
+            if not (_NUMBER_RE.fullmatch(token) or _NONFINITE_RE.fullmatch(token)):
+                return None
+            table[r, c] = float(token)
+    return table
+
+
+def _collect_bad_values(
+    names: list[str],
+    table: np.ndarray,
+    channels: list[int],
+    line_numbers: np.ndarray,
+    rows: list[tuple[int, str]],
+    bad: BadValues,
+) -> np.ndarray:
+    """Lists the value columns' NaN, infinite and beyond-float32 entries in `bad`, zeroes
+    them, and returns which rows had one."""
+    values = table[:, channels]
+    with np.errstate(invalid="ignore"):
+        faulty = ~np.isfinite(values) | (np.abs(values) > _FLOAT32_MAX)
+    for row, k in np.argwhere(faulty)[: BadValues.FIRST]:
+        col = channels[int(k)]
+        token = _SEP_RE.split(rows[int(row)][1])[col]
+        bad.add({"where": f"line {int(line_numbers[row])}", "column": _column_label(names, col), "value": token})
+    bad.count = int(faulty.sum())
+    cols = np.asarray(channels)
+    table[:, cols] = np.where(faulty, 0.0, values)
+    rows_bad: np.ndarray = faulty.any(axis=1)
+    return rows_bad
 
 
 def _explain_bad_rows(path: str, header: _Header, rows: list[tuple[int, str]]) -> NoReturn:

@@ -16,7 +16,8 @@ from patina.table.formats.astm import parse_astm_bytes
 from patina.table.formats.tabledata import TableData
 
 
-def read_csv(path: str | os.PathLike[str], resample: bool = True) -> TableData:
+def read_csv(path: str | os.PathLike[str], resample: bool = True, report_bad: bool = False) -> TableData:
+    """report_bad: as read_astm's (bad values listed and masked instead of refused)."""
     name = os.fspath(path)
     with open(name, "rb") as handle:
         raw = handle.read()
@@ -28,6 +29,6 @@ def read_csv(path: str | os.PathLike[str], resample: bool = True) -> TableData:
         raise FormatError(name, f"line {first + 1}", "expected a header row naming the columns, found numbers")
     lines[first] = b"VARS " + lines[first].lstrip()  # the same line, so line numbers do not move
     try:
-        return parse_astm_bytes(name, b"".join(lines), resample)
+        return parse_astm_bytes(name, b"".join(lines), resample, report_bad)
     except MemoryError:
         raise FormatError(name, "file", "not enough memory to read this file") from None

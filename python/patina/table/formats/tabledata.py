@@ -3,8 +3,28 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+
+
+@dataclass
+class BadValues:
+    """Values a reader found unusable (NaN, infinite, beyond float32) when asked to report
+    them rather than refuse the file (patina validate): how many, the first few with their
+    place in the file, and (for a grid) which grid points they were at. Those points are
+    masked as missing in the table so that every other check can still run."""
+
+    count: int = 0
+    places: list[dict[str, Any]] = field(default_factory=list)  # {"where": "byte N" / "line N", ...}
+    points: np.ndarray | None = None  # bool, the grid's shape; None when the grid was resampled
+
+    FIRST = 10  # places kept
+
+    def add(self, place: dict[str, Any]) -> None:
+        self.count += 1
+        if len(self.places) < self.FIRST:
+            self.places.append(place)
 
 
 @dataclass
@@ -25,3 +45,4 @@ class TableData:
     provenance: str = ""
     mask: np.ndarray | None = None
     symmetry: set[str] = field(default_factory=set)
+    bad: BadValues | None = None  # set only by a reader asked to report bad values
