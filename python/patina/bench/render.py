@@ -36,15 +36,15 @@ def _scene_path(name: str) -> str:
     return materials_path("scenes", f"{name}.json")
 
 
-def _render(prep: PreparedScene, scene: Scene, width: int, threads: int, spp: int | None = None) -> np.ndarray:
-    """One render of the prepared scene, start to resolved image; the linear RGB image."""
+def _render(prep: PreparedScene, scene: Scene, simd: int, threads: int, spp: int | None = None) -> np.ndarray:
+    """One render of the prepared scene, start to resolved image; the linear RGB image. simd: 1, 4, 8 (0: default)."""
     job = _core.RenderJob(
         prep.core,
         spp=spp or scene.render.spp,
         max_depth=core_depth(scene),
         seed=scene.render.seed,
         threads=threads,
-        width=width,
+        width=simd,
     )
     job.start()
     job.wait()
@@ -82,13 +82,13 @@ def _simd_records(scene: Scene, prep: PreparedScene, label: str, repeat: int) ->
 
 def _thread_record(scene: Scene, prep: PreparedScene, label: str, repeat: int) -> Record:
     cores = os.cpu_count() or 1
-    width = _core.default_width()
-    one, all_cores = (lambda n=n: _render(prep, scene, width, n) for n in (1, cores))
+    simd = _core.default_width()
+    one, all_cores = (lambda n=n: _render(prep, scene, simd, n) for n in (1, cores))
     times, _ = median_times_and_values([one, all_cores], repeat)
     speedup = times[0] / times[1]
     return Record(
         "render.threads",
-        f"{label}, width {width}, {cores} threads; value = speedup / threads",
+        f"{label}, SIMD width {simd}, {cores} threads; value = speedup / threads",
         "the same render on 1 thread",
         speedup,
         speedup / cores,

@@ -14,6 +14,7 @@ import pytest
 import patina
 from patina.cli import build_parser, main
 from patina.cli.common import HelpFormat
+from repo_paths import ROOT
 
 PATINA = [sys.executable, "-m", "patina.cli"]
 
@@ -60,23 +61,23 @@ def test_patina_simd_takes_the_numbers_simd_takes(value, width):
         pytest.skip(f"this CPU has no {width}-wide path")
     code = "from patina.native import _core; print(_core.default_width())"
     env = {**os.environ, "PATINA_SIMD": value}
-    r = subprocess.run([sys.executable, "-c", code], check=False, capture_output=True, text=True, env=env)
+    r = _run([sys.executable, "-c", code], env)
     assert r.returncode == 0 and r.stdout.strip() == str(width), r.stderr
 
 
 def test_a_bad_patina_simd_is_one_line_naming_the_values(bundled_ptab):
     env = {**os.environ, "PATINA_SIMD": "16"}
-    r = subprocess.run([*PATINA, "eval", bundled_ptab, "--wi", "0", "0", "--wo", "0", "0"], **_captured(env))
+    r = _run([*PATINA, "eval", bundled_ptab, "--wi", "0", "0", "--wo", "0", "0"], env)
     assert r.returncode == 2 and "Traceback" not in r.stderr
     assert "PATINA_SIMD=16" in r.stderr and "1, 4 or 8" in r.stderr
 
 
-def _captured(env: dict[str, str] | None = None) -> dict:
-    return {"check": False, "capture_output": True, "text": True, "env": env or dict(os.environ)}
+def _run(command: list[str], env: dict[str, str] | None = None) -> subprocess.CompletedProcess:
+    return subprocess.run(command, check=False, capture_output=True, text=True, env=env or dict(os.environ))
 
 
 def _help(*command: str) -> str:
-    r = subprocess.run([*PATINA, *command, "--help"], **_captured({**os.environ, "COLUMNS": "200"}))
+    r = _run([*PATINA, *command, "--help"], {**os.environ, "COLUMNS": "200"})
     assert r.returncode == 0, r.stderr
     return r.stdout
 
@@ -102,7 +103,7 @@ def test_output_into_a_closed_pipe_is_not_an_error(bundled_ptab):
     """`patina info FILE | head -1`: the reader leaves early; no "Broken pipe", no traceback."""
     for command in (["info", bundled_ptab], ["info", bundled_ptab, "--json"], ["--help"]):
         shell = " ".join(f"'{a}'" for a in [*PATINA, *command]) + " | head -1"
-        r = subprocess.run(["bash", "-o", "pipefail", "-c", shell], **_captured())
+        r = _run(["bash", "-o", "pipefail", "-c", shell])
         assert r.stdout.count("\n") == 1, r.stdout
         assert r.stderr == "", r.stderr
         assert r.returncode in (0, 141), r.returncode  # 141: as a process killed by SIGPIPE
@@ -110,13 +111,16 @@ def test_output_into_a_closed_pipe_is_not_an_error(bundled_ptab):
 
 def test_quiet_leaves_only_errors(bundled_ptab, tmp_path):
     out = tmp_path / "b.json"
-    r = subprocess.run(
-        [*PATINA, "bench", "--only", "math", "--quick", "--repeat", "1", "--json", str(out), "--quiet"], **_captured()
-    )
+    r = _run([*PATINA, "bench", "--only", "math", "--quick", "--repeat", "1", "--json", str(out), "--quiet"])
     assert r.returncode == 0 and r.stdout == "" and r.stderr == "", (r.stdout, r.stderr)
     assert json.loads(out.read_text())["records"]
-    r = subprocess.run([*PATINA, "bench", "--only", "nothing", "--quiet"], **_captured())
+    r = _run([*PATINA, "bench", "--only", "nothing", "--quiet"])
     assert r.returncode == 2 and "unknown group" in r.stderr
+    scene = os.path.join(ROOT, "materials", "scenes", "lambert-plane-point.json")
+    tiny = ["--spp", "1", "--width", "16", "--height", "12", "--quiet"]
+    r = _run([*PATINA, "render", scene, *tiny, "--out", str(tmp_path / "q.exr")])
+    assert r.returncode == 0 and r.stdout == "" and r.stderr == "", (r.stdout, r.stderr)
+    assert (tmp_path / "q.exr").exists()
 
 
 def test_convert_astm_to_ptab(bundled_astm, tmp_path, capsys):
@@ -170,7 +174,7 @@ def test_bench_quick_writes_records(tmp_path, capsys):
 
 def test_bench_shows_progress_per_group(tmp_path):
     """A line per finished group (the whole run takes minutes), progress on stderr, the table on stdout."""
-    r = subprocess.run([*PATINA, "bench", "--only", "brdf", "--quick", "--repeat", "1"], **_captured())
+    r = _run([*PATINA, "bench", "--only", "brdf", "--quick", "--repeat", "1"])
     assert r.returncode == 0, r.stderr
     assert "bench: math:" in r.stderr and "bench: brdf:" in r.stderr and "records in" in r.stderr
     assert "2/2" in r.stderr  # the bar's done/total
