@@ -43,7 +43,7 @@ from typing import NoReturn
 import numpy as np
 
 from patina.errors import FormatError
-from patina.table.formats.resample import resample
+from patina.table.formats.resample import DegenerateData, resample
 from patina.table.formats.tabledata import BadValues, TableData
 
 __all__ = ["read_astm"]
@@ -199,7 +199,10 @@ def _resampled(
 ) -> TableData:
     """keep: the rows to resample (those without bad values)."""
     coords = np.stack([axis.values[axis.labels] for axis in axes], axis=1)[keep]
-    grid_axes, grid, error = resample(coords, table[keep][:, columns.channels], [a.name for a in axes])
+    try:
+        grid_axes, grid, error = resample(coords, table[keep][:, columns.channels], [a.name for a in axes])
+    except DegenerateData as e:
+        _fail(path, "grid", f"data not on a tensor grid, and {e}")
     return TableData(
         parametrization=parametrization,
         axes=grid_axes,
