@@ -82,13 +82,14 @@ def plot_inplane_slices(
                         ls=FIT_STYLES[k % len(FIT_STYLES)],
                     )
         ax.axvline(ti, color="0.35", lw=0.8, ls=(0, (2, 2)))
-        # Labelled on the side with room: to the left of a line near the right-hand edge.
+        # Labelled at the foot of the line, where the curves (at their peak near the mirror) leave room, and
+        # to the left of a line near the right-hand edge.
         right = ti < 60
         ax.annotate(
             "mirror",
-            (ti, 1.0),
+            (ti, 0.0),
             xycoords=("data", "axes fraction"),
-            xytext=(3 if right else -3, -10),
+            xytext=(3 if right else -3, 4),
             textcoords="offset points",
             ha="left" if right else "right",
             fontsize=7,
