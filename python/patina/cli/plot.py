@@ -7,6 +7,7 @@ import os
 import sys
 from typing import Any
 
+from patina.cli.common import UsageError
 from patina.plot.fits import read_all_fits
 from patina.plot.lobes import LobeOptions
 from patina.plot.report import REPORT_STEPS, write_report
@@ -19,6 +20,10 @@ def cmd_plot(args: argparse.Namespace) -> int:
     # The fits are read before the table and the figures, so a bad fit file is refused before any work.
     fits = read_all_fits(args.fit or [])
     brdf = load_brdf(args.file)
+    try:  # the output directory too, before the figures: not after a minute of work
+        os.makedirs(args.out, exist_ok=True)
+    except OSError as e:
+        raise UsageError(f"plot: --out {args.out}: cannot make the report directory: {e.strerror}") from None
     skipped: list[str] = []
     lobes = None if args.no_3d else LobeOptions(cosine=not args.lobe_no_cos, log=args.lobe_log)
     with Progress(REPORT_STEPS, "report", unit="step") as progress:

@@ -241,3 +241,11 @@ def test_what_a_fit_file_holds_besides_its_model_is_shown_only_where_well_formed
     assert main(["plot", bundled_ptab, "--fit", str(odd), str(other), "--out", str(out), "--no-3d"]) == 0
     page = (out / "index.html").read_text(encoding="utf-8")
     assert "fitted to paint.ptab, not to this table" in page
+
+
+def test_an_unusable_output_directory_is_refused_before_any_work(tmp_path, bundled_ptab, capsys):
+    taken = tmp_path / "taken"
+    taken.write_text("a file, not a directory")
+    assert main(["plot", bundled_ptab, "--out", str(taken), "--no-3d"]) == 2
+    err = capsys.readouterr().err
+    assert f"--out {taken}: cannot make the report directory" in err and "report:" not in err
