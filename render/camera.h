@@ -6,6 +6,7 @@
 
 #include "core/constants.h"
 #include "core/simd/target.h"
+#include "core/vec3.h"
 
 namespace patina {
 
@@ -28,28 +29,24 @@ PATINA_BEGIN_TARGET
 // The ray through film position (fx, fy) in pixels (x right, y down; (0, 0) the top-left
 // corner of the image), with (lu, lv) in [0, 1)^2 choosing the point on the lens.
 // `dir` is unit length.
-inline void camera_ray(const Camera& c, float fx, float fy, float lu, float lv, float org[3], float dir[3]) {
+inline void camera_ray(const Camera& c, float fx, float fy, float lu, float lv, Vec3f& org, Vec3f& dir) {
     const float aspect = static_cast<float>(c.width) / static_cast<float>(c.height);
     const float sx = (2.0f * fx / static_cast<float>(c.width) - 1.0f) * c.tan_half_fov * aspect;
     const float sy = (1.0f - 2.0f * fy / static_cast<float>(c.height)) * c.tan_half_fov;
-    float d[3], o[3] = {c.position[0], c.position[1], c.position[2]};
-    for (int k = 0; k < 3; ++k) d[k] = c.forward[k] + sx * c.right[k] + sy * c.up[k];
+    const Vec3f right = load_vec3(c.right), up = load_vec3(c.up);
+    Vec3f o = load_vec3(c.position);
+    Vec3f d = load_vec3(c.forward) + sx * right + sy * up;
     if (c.aperture_radius > 0) {
         // the point in focus along this pixel's pinhole ray, seen from a point on the lens disc
-        float focus[3];
-        for (int k = 0; k < 3; ++k) focus[k] = o[k] + c.focus_distance * d[k];
+        const Vec3f focus = o + c.focus_distance * d;
         const float r = c.aperture_radius * std::sqrt(lu), phi = kTwoPi * lv;
         const float ox = r * std::cos(phi), oy = r * std::sin(phi);
-        for (int k = 0; k < 3; ++k) {
-            o[k] += ox * c.right[k] + oy * c.up[k];
-            d[k] = focus[k] - o[k];
-        }
+        o = o + (ox * right + oy * up);
+        d = focus - o;
     }
-    const float inv = 1.0f / std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    for (int k = 0; k < 3; ++k) {
-        org[k] = o[k];
-        dir[k] = d[k] * inv;
-    }
+    const float inv = 1.0f / std::sqrt(dot(d, d));
+    org = o;
+    dir = inv * d;
 }
 
 PATINA_END_TARGET

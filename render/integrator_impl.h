@@ -105,8 +105,11 @@ inline void start_camera_paths(const Wavefront& w, size_t n) {
     sc.active.clear();
     for (size_t i = 0; i < n; ++i) {
         const uint32_t key = w.cs[i].key;
+        Vec3f o, d;
         camera_ray(w.s.camera, w.cs[i].fx, w.cs[i].fy, bounce_uniform(key, 0, kDimLensU),
-                   bounce_uniform(key, 0, kDimLensV), org + 3 * i, dir + 3 * i);
+                   bounce_uniform(key, 0, kDimLensV), o, d);
+        store_vec3(o, org + 3 * i);
+        store_vec3(d, dir + 3 * i);
         std::fill(thr + 3 * i, thr + 3 * i + 3, 1.0f);
         prev_pdf[i] = 0;  // a camera ray: whatever it sees counts in full
         PathResult& r = w.out[i];
