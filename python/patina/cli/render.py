@@ -41,7 +41,7 @@ def _render_and_write(scene: Any, args: argparse.Namespace) -> int:
         f"{scene.render.integrator}, {prepared.triangles} triangles (Ctrl-C keeps the passes done so far)",
         flush=True,
     )
-    result = render(scene, threads=args.threads, width=args.simd, progress=not args.quiet, prepared=prepared)
+    result = render(scene, threads=args.threads, simd=args.simd, progress=not args.quiet, prepared=prepared)
     png = _png_path(args.out, args.png)
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
     exposure = auto_exposure(result.rgb) if args.exposure == "auto" else float(args.exposure)

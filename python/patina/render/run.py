@@ -75,26 +75,27 @@ class _Progress:
 def render(
     scene: Scene,
     threads: int = 0,
-    width: int | None = None,
+    simd: int | None = None,
     progress: bool = False,
     prepared: PreparedScene | None = None,
 ) -> RenderResult:
     """Renders `scene` (its render settings as given: apply CLI overrides with
-    `scene_file.with_overrides` first). width: SIMD width 1, 4 or 8 (None: the widest)."""
+    `scene_file.with_overrides` first). simd: SIMD width 1, 4 or 8 (None: PATINA_SIMD or the
+    widest; named as the CLI's --simd, `width` being an image's width there)."""
     prep = prepared or PreparedScene(scene)
     if (prep.scene.camera.width, prep.scene.camera.height) != (scene.camera.width, scene.camera.height):
         raise ValueError(
             f"the prepared scene renders {prep.scene.camera.width}x{prep.scene.camera.height}, this scene "
             f"{scene.camera.width}x{scene.camera.height}: prepare the scene as it is rendered"
         )
-    simd = core_width(width)
+    core_simd = core_width(simd)
     job = _core.RenderJob(
         prep.core,
         spp=scene.render.spp,
         max_depth=core_depth(scene),
         seed=scene.render.seed,
         threads=threads,
-        width=simd,
+        width=core_simd,
     )
     bar = _Progress(progress)
     interrupted = False
@@ -125,6 +126,6 @@ def render(
         seconds=float(p["seconds"]),
         rays=int(p["rays"]),
         complete=complete,
-        simd_width=simd if simd else _core.default_width(),
+        simd_width=core_simd if core_simd else _core.default_width(),
         threads=resolved_threads,
     )

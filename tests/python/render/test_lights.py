@@ -172,7 +172,7 @@ def test_every_light_kind_renders_the_same_bits_at_every_width():
         spp=4,
     )
     prepared = PreparedScene(scene)
-    images = [render(scene, width=w, prepared=prepared).rgb for w in (1, 4, 8)]
+    images = [render(scene, simd=w, prepared=prepared).rgb for w in (1, 4, 8)]
     assert np.isfinite(images[0]).all() and images[0].mean() > 0
     assert np.array_equal(images[0], images[1]) and np.array_equal(images[0], images[2])
 

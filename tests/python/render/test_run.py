@@ -214,7 +214,7 @@ def small_preview(spp: int = 4) -> dict:
 def test_widths_render_the_same_bits():
     scene = scene_of(small_preview())
     prepared = PreparedScene(scene)
-    images = [render(scene, width=w, prepared=prepared).rgb for w in (1, 4, 8)]
+    images = [render(scene, simd=w, prepared=prepared).rgb for w in (1, 4, 8)]
     assert np.isfinite(images[0]).all() and images[0].max() > 0
     assert np.array_equal(images[0], images[1])
     assert np.array_equal(images[0], images[2])
