@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import inspect
 import json
 import os
 import subprocess
@@ -53,6 +54,9 @@ def test_simd_width_has_one_name(bundled_ptab, capsys):
             assert tuple(options["--simd"].choices) == (1, 4, 8), name
         if name in ("eval", "bench", "fit", "validate", "info"):
             assert "--width" not in options, name
+    # the Python API says it the same way: render_scene(simd=), no width= beside an image's width
+    parameters = inspect.signature(patina.render_scene).parameters
+    assert "simd" in parameters and "width" not in parameters
 
 
 @pytest.mark.parametrize("value, width", [("1", 1), ("scalar", 1), ("4", 4), ("sse4", 4), ("8", 8), ("avx2", 8)])
