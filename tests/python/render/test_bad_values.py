@@ -179,6 +179,17 @@ def test_a_luminaire_multiplier_beyond_float32_is_refused(tmp_path):
     assert e.value.path == ies and e.value.where == "candela"
 
 
+def test_an_environment_map_too_bright_for_its_intensity_is_refused_naming_the_map(tmp_path):
+    sky = tmp_path / "sky.exr"
+    write_exr(sky, {"beauty": np.full((4, 8, 3), 1e10, np.float32)})
+    obj = scene_dict(environment={"type": "map", "file": "sky.exr", "intensity": 1e6})
+    with pytest.raises(FormatError) as e:
+        PreparedScene(load_scene(write_scene(tmp_path, obj)))
+    assert e.value.path == str(sky) and "32-bit" in str(e.value)
+    obj["environment"]["intensity"] = 1.0
+    PreparedScene(load_scene(write_scene(tmp_path, obj)))  # the same map at intensity 1 is fine
+
+
 @pytest.mark.parametrize(
     ("option", "value"), [("--threads", "20000"), ("--exposure", "1e308"), ("--spp", "2147483648"), ("--seed", "-1")]
 )
