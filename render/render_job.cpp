@@ -40,7 +40,7 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
 }
 
 RenderJob::~RenderJob() {
-    cancel();
+    m_cancels.store(2);
     for (auto& t : m_threads)
         if (t.joinable()) t.join();
 }
@@ -53,7 +53,7 @@ void RenderJob::start() {
     for (int i = 0; i < threads; ++i) m_threads.emplace_back([this] { worker(); });
 }
 
-void RenderJob::cancel() { m_cancel.store(true); }
+void RenderJob::cancel() { m_cancels.fetch_add(1); }
 
 void RenderJob::wait() {
     for (auto& t : m_threads)
@@ -68,7 +68,7 @@ RenderProgress RenderJob::progress() const {
     p.items_total = m_item_count;
     p.rays = m_rays.load();
     p.samples_done = m_samples_done.load();
-    p.cancelled = m_cancel.load();
+    p.cancelled = m_cancels.load() > 0;
     p.finished = p.items_done == p.items_total;
     // a finished job's time is when its last item finished, not when someone asked
     const double now = m_started ? std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count() : 0;
@@ -82,15 +82,16 @@ void RenderJob::worker() {
     std::vector<CameraSample> cs;
     std::vector<PathResult> out;
     try {
-        while (!m_cancel.load()) {
+        const size_t tiles = m_tile_passes.size();
+        while (m_cancels.load() < 2) {
             const size_t k = m_next.fetch_add(1);
             if (k >= m_item_count) break;
-            const size_t tiles = m_tile_passes.size();
+            if (k >= tiles && m_cancels.load() > 0) break;  // cancelled: items k < tiles are the first pass
             const Item item{static_cast<int>(k % tiles), static_cast<int>(k / tiles)};
             // a tile's passes are added in order: wait for the previous one (rare: only when
             // there are fewer tiles than threads)
             while (m_tile_passes[item.tile].load(std::memory_order_acquire) != item.pass) {
-                if (m_cancel.load()) return;
+                if (m_cancels.load() > 0) return;  // a later pass (item.pass > 0): not needed
                 std::this_thread::yield();
             }
             const size_t before = scratch.rays_traced;
@@ -107,7 +108,7 @@ void RenderJob::worker() {
     } catch (...) {
         std::lock_guard<std::mutex> lock(m_error_lock);
         if (!m_error) m_error = std::current_exception();
-        m_cancel.store(true);
+        m_cancels.store(2);
     }
 }
 

@@ -2,7 +2,8 @@
 // split into passes, (pass, tile) work items taken pass by pass by one worker per thread.
 // Each tile's passes are added in order, so the image depends on the seed only (not on
 // the thread count or timing); a cancelled render keeps every finished pass, and each
-// pixel is the mean of the samples it got: a valid, noisier image.
+// pixel is the mean of the samples it got: a valid, noisier image. A cancel always lets
+// the first pass finish, so no pixel of a cancelled image is left without a sample.
 #pragma once
 
 #include <atomic>
@@ -47,7 +48,10 @@ public:
     RenderJob& operator=(const RenderJob&) = delete;
 
     void start();   // returns at once; the workers run until done or cancelled
-    void cancel();  // workers finish the items in flight and stop
+    // First call: the workers finish the first pass (every pixel gets a sample), then stop
+    // at the items in flight. A second call: stop at the items in flight now (an abort:
+    // pixels may have no sample, so don't keep the image). A worker's error aborts too.
+    void cancel();
     void wait();    // joins the workers; rethrows a worker's exception
     RenderProgress progress() const;
     const Camera& camera() const { return m_scene.camera; }
@@ -74,7 +78,7 @@ private:
     std::vector<std::atomic<int>> m_tile_passes;  // passes finished per tile
     Film m_film;
     std::atomic<size_t> m_next{0}, m_done{0}, m_rays{0}, m_samples_done{0};
-    std::atomic<bool> m_cancel{false};
+    std::atomic<int> m_cancels{0};  // cancel() calls: 1 = after the first pass, 2 = now
     std::vector<std::thread> m_threads;
     std::mutex m_error_lock;
     std::exception_ptr m_error;

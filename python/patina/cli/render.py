@@ -1,59 +1,215 @@
-"""The `patina render`, `patina preview` and `patina illuminance` commands (registered by cli.py)."""
+"""The `patina render`, `patina preview` and `patina illuminance` commands (registered by cli.py).
+
+Outputs (docs/render.md, "Outputs"): `--out X.exr` writes the float EXR (beauty, AOVs,
+metadata) and a tone-mapped PNG beside it (`--png FILE` elsewhere, `--png none` not at all);
+`--out X.png` / `.jpg` writes only that tone-mapped image (`--exr FILE` adds the EXR). An
+existing output is refused without `--force`; every output path is checked before the work
+starts. Ctrl-C and SIGTERM: see render/run.py and docs/render.md, "Interruption".
+"""
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import math
 import os
+import re
+import signal
 import sys
+import threading
+from collections.abc import Iterator
+from functools import cache
 from typing import Any
 
+import numpy as np
+
+from patina.atomic import check_writable
 from patina.bundled import studio_environment
+from patina.cli.common import HelpFormat, add_simd_option
+from patina.colour_constants import luminance
 from patina.errors import FormatError
 from patina.render import illuminance as il
+from patina.render.images import read_image
 from patina.render.outputs import auto_exposure, write_outputs
-from patina.render.prepare import PreparedScene
-from patina.render.run import render
+from patina.render.prepare import PreparedScene, check_render_memory
+from patina.render.run import RenderAborted, render
 from patina.scene.preview import preview_scene_dict
-from patina.scene.reading import load_scene, parse_scene, with_overrides
+from patina.scene.reading import check_run_options, load_scene, parse_scene, with_overrides
+from patina.scene.types import Scene
+
+IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg")  # tone-mapped 8-bit sRGB
+PREVIEW_SHAPES = ("ball", "sphere", "panel")
+# preview under another map: auto exposure when its level is this many stops from the studio's
+AUTO_EXPOSURE_STOPS = 2.0
 
 
-def _png_path(exr: str, png: str | None) -> str | None:
-    if png == "none":
-        return None
-    return png or os.path.splitext(exr)[0] + ".png"
+# ---------------------------------------------------------------- options
 
 
 def _exposure(value: str) -> str:
     if value != "auto":
         try:
-            float(value)
+            stops = float(value)
         except ValueError:
             raise argparse.ArgumentTypeError(f"expected stops (a number) or auto, got '{value}'") from None
+        if not math.isfinite(stops):
+            raise argparse.ArgumentTypeError(f"expected a finite number of stops, got '{value}'")
     return value
 
 
-def _render_and_write(scene: Any, args: argparse.Namespace) -> int:
+def _command_line(option: str, problem: str) -> FormatError:
+    return FormatError("command line", option, problem)
 
+
+def _outputs(args: argparse.Namespace) -> tuple[str | None, str | None]:
+    """(EXR path or None, tone-mapped image path or None) from --out, --png and --exr."""
+    base, ext = os.path.splitext(args.out)
+    ext = ext.lower()
+    if args.png not in (None, "none") and os.path.splitext(args.png)[1].lower() not in IMAGE_EXTENSIONS:
+        raise _command_line("--png", f"expected a .png or .jpg file (or none), got '{args.png}'")
+    if args.exr is not None and os.path.splitext(args.exr)[1].lower() != ".exr":
+        raise _command_line("--exr", f"expected a .exr file, got '{args.exr}'")
+    if ext == ".exr":
+        if args.exr is not None:
+            raise _command_line("--exr", "--out is already the EXR; --exr goes with a .png or .jpg --out")
+        return args.out, None if args.png == "none" else (args.png or base + ".png")
+    if ext in IMAGE_EXTENSIONS:
+        if args.png is not None:
+            raise _command_line("--png", "--out is already the tone-mapped image; --exr FILE adds the float EXR")
+        return args.exr, args.out
+    raise _command_line("--out", f"expected a .exr, .png or .jpg file, got '{args.out}'")
+
+
+def check_outputs(paths: list[str | None], force: bool) -> None:
+    """Before any work: every output can be written, and none exists unless --force."""
+    given = [p for p in paths if p]
+    for path in given:
+        if not force and os.path.lexists(path):
+            raise FileExistsError(f"{path}: exists; pass --force to overwrite it")
+        check_writable(path)
+    seen = {os.path.abspath(p) for p in given}
+    if len(seen) != len(given):
+        raise _command_line("--out", f"two outputs are the same file: {', '.join(given)}")
+
+
+def _image_size(scene: Scene, width: int | None, height: int | None) -> tuple[int | None, int | None]:
+    """--width or --height alone keeps the scene's aspect (the other side follows, rounded)."""
+    aspect = scene.camera.width / scene.camera.height
+    if width is not None and height is None and width >= 1:
+        height = max(1, round(width / aspect))
+    elif height is not None and width is None and height >= 1:
+        width = max(1, round(height * aspect))
+    return width, height
+
+
+def _with_options(scene: Scene, args: argparse.Namespace) -> Scene:
+    check_run_options(threads=args.threads, exposure=args.exposure)  # ranges, before any work
+    width, height = _image_size(scene, args.width, args.height)
+    return with_overrides(scene, spp=args.spp, integrator=args.integrator, seed=args.seed, width=width, height=height)
+
+
+# ---------------------------------------------------------------- signals
+
+
+@contextlib.contextmanager
+def terminate_as_interrupt() -> Iterator[None]:
+    """SIGTERM (kill, a CI timeout, a service manager) is handled as Ctrl-C while a command runs."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, signal.default_int_handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+@contextlib.contextmanager
+def deferred_interrupts() -> Iterator[list[int]]:
+    """Ctrl-C and SIGTERM wait while the outputs are written, so each file is finished (and
+    the set of them whole) before the command stops; the list holds the signals that came."""
+    came: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield came
+        return
+
+    def note(signum: int, frame: Any) -> None:
+        came.append(signum)
+
+    previous = {s: signal.signal(s, note) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield came
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+
+
+# ---------------------------------------------------------------- exposure
+
+
+def _environment_level(path: str) -> float:
+    """Mean luminance of a lat-long map over the sphere (rows weighted by their solid angle)."""
+    y = luminance(read_image(path))
+    rows = y.shape[0]
+    weight = np.cos((np.arange(rows) + 0.5) / rows * np.pi - np.pi / 2)
+    return float((y.mean(axis=1) * weight).sum() / weight.sum())
+
+
+@cache
+def _studio_level() -> float:
+    return _environment_level(studio_environment())
+
+
+def preview_exposure(env: str | None) -> str:
+    """The preview's default exposure: 0 stops under the studio (what its materials are judged
+    by) and under maps within AUTO_EXPOSURE_STOPS of its level; auto (the rendered image's
+    log-average to 0.18) under a map brighter or darker than that, such as a sunny sky."""
+    if env is None:
+        return "0"
+    level = _environment_level(env)
+    if level <= 0:
+        return "auto"
+    return "auto" if abs(math.log2(level / _studio_level())) > AUTO_EXPOSURE_STOPS else "0"
+
+
+# ---------------------------------------------------------------- commands
+
+
+def _render_and_write(scene: Any, args: argparse.Namespace, exposure_choice: str) -> int:
+    exr, image = _outputs(args)
+    check_outputs([exr, image], args.force)
+    check_render_memory(scene)
     prepared = PreparedScene(scene)
     print(
         f"rendering {scene.camera.width}x{scene.camera.height}, {scene.render.spp} spp, "
-        f"{scene.render.integrator}, {prepared.triangles} triangles (Ctrl-C keeps the passes done so far)",
+        f"{scene.render.integrator}, {prepared.triangles} triangles "
+        "(Ctrl-C stops after the first pass keeping the passes done; twice aborts)",
         flush=True,
     )
-    result = render(scene, threads=args.threads, simd=args.simd, progress=not args.quiet, prepared=prepared)
-    png = _png_path(args.out, args.png)
-    os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-    exposure = auto_exposure(result.rgb) if args.exposure == "auto" else float(args.exposure)
-    write_outputs(scene, result, args.out, png, exposure=exposure, curve=args.tonemap)
+    try:
+        result = render(scene, threads=args.threads, simd=args.simd, progress=not args.quiet, prepared=prepared)
+    except RenderAborted:
+        print("patina: interrupted twice: the render was aborted, nothing written", file=sys.stderr)
+        return 130
+    exposure = auto_exposure(result.rgb) if exposure_choice == "auto" else float(exposure_choice)
+    with deferred_interrupts() as came:
+        for path in (exr, image):
+            if path:
+                os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        write_outputs(scene, result, exr, image, exposure=exposure, curve=args.tonemap)
     rate = result.rays / max(result.seconds, 1e-9) / 1e6
     state = "complete" if result.complete else f"PARTIAL (at least {int(result.samples.min())} of {result.spp} spp)"
     print(
         f"rendered {scene.camera.width}x{scene.camera.height}, {result.spp} spp, {state}: "
         f"{result.seconds:.2f} s, {rate:.2f} Mrays/s, SIMD width {result.simd_width}, {result.threads} threads"
     )
-    print(f"wrote {args.out}" + (f" and {png}" if png else ""))
-    if not result.complete:
+    shown = f" at {exposure:+.2f} stops" if exposure_choice == "auto" else ""
+    print("wrote " + " and ".join(p for p in (exr, image) if p) + shown)
+    if came:
+        print("patina: interrupted while writing: the outputs were finished first", file=sys.stderr)
+        return 130
+    if result.interrupted:
         return 130
     if not (result.rgb == result.rgb).all():
         print("patina: error: the image has NaN pixels", file=sys.stderr)
@@ -62,87 +218,147 @@ def _render_and_write(scene: Any, args: argparse.Namespace) -> int:
 
 
 def cmd_render(args: argparse.Namespace) -> int:
-
-    scene = load_scene(args.scene)
-    scene = with_overrides(
-        scene, spp=args.spp, integrator=args.integrator, seed=args.seed, width=args.width, height=args.height
-    )
-    return _render_and_write(scene, args)
+    with terminate_as_interrupt():
+        _outputs(args)  # option errors before the scene is read
+        scene = _with_options(load_scene(args.scene), args)
+        return _render_and_write(scene, args, args.exposure or "0")
 
 
 def cmd_preview(args: argparse.Namespace) -> int:
-
-    for what, path in (("the material to preview", args.material), ("the --env map", args.env)):
-        if path is not None and not os.path.isfile(path):
-            raise FormatError(path, "", f"no such file ({what})")
-    env = args.env or studio_environment()
-    obj = preview_scene_dict(args.material, env, args.shape, args.coat)
-    scene = parse_scene(obj, os.path.join(os.getcwd(), "(preview)"))
-    scene = with_overrides(
-        scene, spp=args.spp, integrator=args.integrator, seed=args.seed, width=args.width, height=args.height
-    )
-    return _render_and_write(scene, args)
-
-
-def _output_options(s: argparse.ArgumentParser, default_out: str) -> None:
-    s.add_argument("--out", default=default_out, metavar="EXR", help=f"float EXR with AOVs (default {default_out})")
-    s.add_argument("--png", default=None, metavar="PNG", help="tone-mapped PNG (default: beside the EXR; none: skip)")
-    s.add_argument("--exposure", type=_exposure, default="0", help="PNG exposure in stops, or auto")
-    s.add_argument("--tonemap", choices=("filmic", "clamp"), default="filmic", help="PNG tone curve")
-    s.add_argument("--spp", type=int, default=None, help="samples per pixel")
-    s.add_argument("--integrator", choices=("direct", "path"), default=None)
-    s.add_argument("--seed", type=int, default=None)
-    s.add_argument("--width", type=int, default=None, help="image width in pixels")
-    s.add_argument("--height", type=int, default=None, help="image height in pixels")
-    s.add_argument("--threads", type=int, default=0, help="worker threads (default: all cores)")
-    s.add_argument("--simd", type=int, choices=(1, 4, 8), default=None, help="force a SIMD width")
-    s.add_argument("--quiet", action="store_true", help="no progress line")
+    with terminate_as_interrupt():
+        _outputs(args)
+        for what, path in (("the material to preview", args.material), ("the --env map", args.env)):
+            if path is not None and not os.path.isfile(path):
+                raise FormatError(path, "", f"no such file ({what})")
+        if args.shape not in PREVIEW_SHAPES and not os.path.isfile(args.shape):
+            raise _command_line(
+                "--shape",
+                f"'{args.shape}' is not one of {', '.join(PREVIEW_SHAPES)} nor a mesh file (.obj, .ply, .stl)",
+            )
+        exposure = args.exposure or preview_exposure(args.env)
+        env = args.env or studio_environment()
+        obj = preview_scene_dict(args.material, env, args.shape, args.coat)
+        scene = parse_scene(obj, os.path.join(os.getcwd(), "(preview)"))
+        return _render_and_write(_with_options(scene, args), args, exposure)
 
 
 def cmd_illuminance(args: argparse.Namespace) -> int:
+    with terminate_as_interrupt():
+        grid = il.parse_grid(args.grid, args.height, args.facing)
+        check_run_options(threads=args.threads)
+        if not 1 <= args.samples <= il.MAX_SAMPLES:
+            raise _command_line("--samples", f"expected 1 to {il.MAX_SAMPLES}, got {args.samples}")
+        if args.png and not args.png.lower().endswith(".png"):
+            raise _command_line("--png", f"expected a .png file, got '{args.png}'")
+        check_outputs([args.csv, args.json_out, args.png], args.force)
+        scene = load_scene(args.scene)
+        report = il.compute(scene, grid, samples=args.samples, threads=args.threads, width=args.simd)
+        if args.json:
+            json.dump(report.as_json(), sys.stdout)
+            sys.stdout.write("\n")
+        else:
+            print(il.summary(report, args.scene))
+        with deferred_interrupts() as came:
+            for path, write in ((args.csv, il.write_csv), (args.json_out, il.write_json)):
+                if path:
+                    write(report, path)
+            if args.png:
+                il.write_png(report, args.png, os.path.basename(args.scene))
+        return 130 if came else 0
 
-    scene = load_scene(args.scene)
-    grid = il.parse_grid(args.grid, args.height, args.facing)
-    if args.samples < 1:
-        raise ValueError("--samples must be at least 1")
-    report = il.compute(scene, grid, samples=args.samples, threads=args.threads, width=args.simd)
-    if args.json:
-        json.dump(report.as_json(), sys.stdout)
-        sys.stdout.write("\n")
-    else:
-        print(il.summary(report, args.scene))
-    for path, write in ((args.csv, il.write_csv), (args.json_out, il.write_json)):
-        if path:
-            write(report, path)
-    if args.png:
-        il.write_png(report, args.png, os.path.basename(args.scene))
-    return 0
+
+def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help: str) -> None:
+    s.add_argument(
+        "--out",
+        default=default_out,
+        metavar="FILE",
+        help="X.exr: the float EXR with AOVs (and a PNG beside it); X.png or X.jpg: only the tone-mapped image",
+    )
+    s.add_argument(
+        "--png",
+        default=None,
+        metavar="FILE",
+        help="with an EXR --out: the tone-mapped image (.png or .jpg; default: beside the EXR; none: skip)",
+    )
+    s.add_argument("--exr", default=None, metavar="FILE", help="with a .png/.jpg --out: also write the float EXR here")
+    s.add_argument("--force", action="store_true", help="overwrite existing outputs (refused without it)")
+    s.add_argument("--exposure", type=_exposure, default=None, help=exposure_help)
+    s.add_argument("--tonemap", choices=("filmic", "clamp"), default="filmic", help="tone curve of the PNG/JPEG")
+    s.add_argument("--spp", type=int, default=None, help="samples per pixel (default: the scene's)")
+    s.add_argument(
+        "--integrator", choices=("direct", "path"), default=None, help="the integrator (default: the scene's)"
+    )
+    s.add_argument("--seed", type=int, default=None, help="random seed, 0 to 2^63-1 (default: the scene's)")
+    s.add_argument(
+        "--width", type=int, default=None, help="image width in pixels (default: the scene's; alone: keeps the aspect)"
+    )
+    s.add_argument(
+        "--height",
+        type=int,
+        default=None,
+        help="image height in pixels (default: the scene's; alone: keeps the aspect)",
+    )
+    s.add_argument("--threads", type=int, default=0, help="worker threads (default: 0, all cores)")
+    add_simd_option(s)
+    s.add_argument("--quiet", action="store_true", help="no progress display")
+
+
+class _NegativeValues:
+    """argparse takes '-3.5,-15,...' after an option for another option (its own test for
+    negative numbers knows no commas); on a parser whose options all start with a letter, a
+    word starting '-' then a digit or '.' is a value, so `--grid -3.5,...` works as written."""
+
+    pattern = re.compile(r"^-\.?\d")
+
+    @classmethod
+    def allow(cls, parser: argparse.ArgumentParser) -> None:
+        parser._negative_number_matcher = cls.pattern  # type: ignore[attr-defined]
 
 
 def add_render_commands(sub: Any) -> None:
-    s = sub.add_parser("render", help="render a scene file (docs/scene.md) to EXR + PNG")
-    s.add_argument("scene", metavar="SCENE_JSON")
-    _output_options(s, "render.exr")
+    s = sub.add_parser(
+        "render", help="render a scene file (docs/scene.md) to EXR + PNG, or to a PNG/JPEG", formatter_class=HelpFormat
+    )
+    s.add_argument("scene", metavar="SCENE_JSON", help="a scene file (docs/scene.md)")
+    _output_options(s, "render.exr", "exposure of the PNG/JPEG in stops, or auto (default: 0)")
     s.set_defaults(func=cmd_render)
 
-    s = sub.add_parser("preview", help="render a material (table or fit.json) on a preview object")
-    s.add_argument("material", metavar="MATERIAL")
+    s = sub.add_parser(
+        "preview", help="render a material (table or fit.json) on a preview object", formatter_class=HelpFormat
+    )
+    s.add_argument("material", metavar="MATERIAL", help="a BRDF table or a fit.json")
     s.add_argument("--env", default=None, help="lat-long EXR/HDR environment (default: the bundled studio)")
-    s.add_argument("--shape", default="ball", help="sphere, ball, panel or a mesh file")
+    s.add_argument(
+        "--shape", default="ball", help=f"one of {', '.join(PREVIEW_SHAPES)}, or a mesh file (.obj, .ply, .stl)"
+    )
     s.add_argument("--coat", action="store_true", help="put a smooth clear coat (eta 1.5) over the material")
-    _output_options(s, "preview.exr")
+    _output_options(
+        s,
+        "preview.exr",
+        "exposure of the PNG/JPEG in stops, or auto (default: 0 under the studio; auto under an --env map "
+        f"more than {AUTO_EXPOSURE_STOPS:g} stops brighter or darker than the studio)",
+    )
     s.set_defaults(func=cmd_preview)
 
-    s = sub.add_parser("illuminance", help="direct illuminance (lux) on a grid of sensors, with uniformity")
-    s.add_argument("scene", metavar="SCENE_JSON")
-    s.add_argument("--grid", required=True, metavar="X0,Z0,X1,Z1,NX,NZ", help="sensors on a horizontal grid (m)")
+    s = sub.add_parser(
+        "illuminance", help="direct illuminance (lux) on a grid of sensors, with uniformity", formatter_class=HelpFormat
+    )
+    _NegativeValues.allow(s)
+    s.add_argument("scene", metavar="SCENE_JSON", help="a scene file (docs/scene.md)")
+    s.add_argument(
+        "--grid",
+        required=True,
+        metavar="X0,Z0,X1,Z1,NX,NZ",
+        help="sensors on a horizontal grid: corners in metres, counts; --grid -3.5,-15,3.5,15,8,31 or --grid=...",
+    )
     s.add_argument("--height", type=float, default=0.0, help="the grid's height y (m)")
-    s.add_argument("--facing", default="up", help="sensors facing up (default) or down")
+    s.add_argument("--facing", choices=("up", "down"), default="up", help="the sensors' facing")
     s.add_argument("--samples", type=int, default=256, help="light samples per sensor")
-    s.add_argument("--threads", type=int, default=0)
-    s.add_argument("--simd", type=int, choices=(1, 4, 8), default=None)
+    s.add_argument("--threads", type=int, default=0, help="worker threads (0: all cores)")
+    add_simd_option(s)
     s.add_argument("--json", action="store_true", help="print the report as JSON")
     s.add_argument("--json-out", default=None, metavar="FILE", help="also write the JSON report")
     s.add_argument("--csv", default=None, metavar="FILE", help="also write x, y, z, lux rows")
     s.add_argument("--png", default=None, metavar="FILE", help="a false-colour map")
+    s.add_argument("--force", action="store_true", help="overwrite existing outputs (refused without it)")
     s.set_defaults(func=cmd_illuminance)

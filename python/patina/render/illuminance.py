@@ -27,6 +27,8 @@ from patina.render.prepare import PreparedScene
 from patina.scene.types import Scene
 from patina.widths import core_width
 
+MAX_SAMPLES = 1 << 20  # light samples per sensor: far beyond converged; more is a typo
+
 
 @dataclass(frozen=True)
 class Grid:

@@ -47,20 +47,22 @@ def metadata(scene: Scene, result: RenderResult) -> dict[str, str | float | int]
 def write_outputs(
     scene: Scene,
     result: RenderResult,
-    exr_path: str,
+    exr_path: str | None,
     png_path: str | None,
     exposure: float = 0.0,
     curve: str = "filmic",
 ) -> None:
-    """The EXR (beauty and AOVs, metadata) and the tone-mapped PNG, each written atomically."""
-    depth = np.where(np.isfinite(result.depth), result.depth, 0.0).astype(np.float32)
-    layers = {
-        "beauty": result.rgb,
-        "albedo": result.albedo,
-        "normal": result.normal,
-        "depth": depth,
-        "illuminance": result.illuminance,
-    }
-    write_exr(exr_path, layers, metadata(scene, result))
+    """The EXR (beauty and AOVs, metadata) and the tone-mapped image (PNG or JPEG, by its
+    extension), each written atomically; None skips one."""
+    if exr_path:
+        depth = np.where(np.isfinite(result.depth), result.depth, 0.0).astype(np.float32)
+        layers = {
+            "beauty": result.rgb,
+            "albedo": result.albedo,
+            "normal": result.normal,
+            "depth": depth,
+            "illuminance": result.illuminance,
+        }
+        write_exr(exr_path, layers, metadata(scene, result))
     if png_path:
         write_png(png_path, result.rgb, exposure_stops=exposure, curve=curve)

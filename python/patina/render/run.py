@@ -1,27 +1,36 @@
 """Running a render: `patina render` and `patina preview`.
 
-The render runs on worker threads in C++; this side shows progress (samples/s, rays/s,
-time left) and turns Ctrl-C into a cancel: the passes that finished make a valid, noisier
-image, flagged as partial in its metadata.
+The render runs on worker threads in C++; this side shows progress (patina.progress: samples
+per pixel done, rays/s, time left) and turns Ctrl-C into a cancel:
+
+- the first Ctrl-C stops the render once its first pass is complete (every pixel has at
+  least one sample), keeping every finished pass: a valid, noisier image, flagged as
+  partial in its metadata (`RenderResult.complete` false);
+- a second Ctrl-C aborts at once: `RenderAborted` is raised and there is no image (the
+  pixels of an unfinished first pass have no sample, so nothing is worth keeping).
 """
 
 from __future__ import annotations
 
-import math
 import os
-import sys
+import threading
 import time
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from patina.native import _core
+from patina.progress import Progress
 from patina.render.prepare import PreparedScene
 from patina.scene.types import Scene
 from patina.widths import core_width
 
 UNBOUNDED_DEPTH = 64  # a Mitsuba-style max_depth of -1 ("unbounded"); Russian roulette ends paths long before
+POLL_S = 0.1  # how often the progress display and Ctrl-C are looked at
+
+
+class RenderAborted(KeyboardInterrupt):
+    """A render stopped by a second interrupt: there is no image to keep."""
 
 
 @dataclass
@@ -40,6 +49,7 @@ class RenderResult:
     complete: bool
     simd_width: int
     threads: int
+    interrupted: bool = False  # Ctrl-C (or SIGTERM in the CLI) came; the image may still be complete
 
 
 def core_depth(scene: Scene) -> int:
@@ -50,26 +60,60 @@ def core_depth(scene: Scene) -> int:
     return UNBOUNDED_DEPTH if depth < 0 else max(1, depth - 1)
 
 
-class _Progress:
-    """One line on stderr: a bar, samples/s, rays/s, time left. Quiet when not a terminal."""
+class _Waiter(threading.Thread):
+    """Joins the C++ workers (job.wait releases the GIL) so the main thread stays free to
+    show progress and to take a second Ctrl-C while a cancelled job winds down."""
 
-    def __init__(self, enabled: bool) -> None:
-        self.enabled = enabled and sys.stderr.isatty()
-        self.last = 0.0
+    def __init__(self, job: _core.RenderJob) -> None:
+        super().__init__(name="patina-render-wait", daemon=True)
+        self.job = job
+        self.error: BaseException | None = None
+        # set last; polled with sleep, not join(): a KeyboardInterrupt inside Thread.join can
+        # mark a running thread stopped (CPython 3.11, bpo-45274's fix), and resolving a job
+        # whose workers still run reads a half-written film
+        self.done = False
 
-    def update(self, p: dict[str, Any], final: bool = False) -> None:
-        if not self.enabled or (not final and time.monotonic() - self.last < 0.25):
-            return
-        self.last = time.monotonic()
-        done, total, secs = p["items_done"], max(1, p["items_total"]), max(p["seconds"], 1e-9)
-        frac = done / total
-        left = secs * (1 - frac) / frac if frac > 0 else float("nan")
-        bar = "#" * int(30 * frac)
-        eta = f"{left:5.1f} s left" if math.isfinite(left) else "  ... s left"
-        sys.stderr.write(f"\r  [{bar:<30}] {100 * frac:5.1f}%  {p['rays'] / secs / 1e6:6.2f} Mrays/s  {eta}")
-        if final:
-            sys.stderr.write("\n")
-        sys.stderr.flush()
+    def run(self) -> None:
+        try:
+            self.job.wait()
+        except BaseException as e:  # a worker's exception, re-raised in the caller's thread
+            self.error = e
+        self.done = True
+
+
+def _run_job(job: _core.RenderJob, pixels: int, spp: int, progress: bool) -> bool:
+    """Runs `job` to its end, showing progress; True if it was interrupted (once)."""
+    interrupts = 0
+    with Progress(spp, "rendering", unit="spp", enabled=progress) as bar:
+
+        def show() -> None:
+            p = job.progress()
+            rate = p["rays"] / max(p["seconds"], 1e-9) / 1e6
+            bar.update(round(p["samples_done"] / pixels, 1), postfix=f"{rate:.2f} Mrays/s")
+
+        job.start()
+        waiter = _Waiter(job)
+        waiter.start()
+        while not waiter.done:
+            try:
+                time.sleep(POLL_S)
+                show()
+            except KeyboardInterrupt:
+                interrupts += 1
+                job.cancel()  # the first: after the first pass; the second: now
+                if interrupts == 1:
+                    bar.write(
+                        "  interrupted: finishing the first pass and the tiles in flight, keeping every "
+                        "finished pass (Ctrl-C again aborts, keeping nothing)"
+                    )
+                else:
+                    bar.write("  interrupted again: aborting, nothing is kept")
+        if waiter.error is not None:
+            raise waiter.error
+        show()
+    if interrupts >= 2:
+        raise RenderAborted("the render was aborted by a second interrupt; nothing was kept")
+    return interrupts > 0
 
 
 def render(
@@ -81,7 +125,8 @@ def render(
 ) -> RenderResult:
     """Renders `scene` (its render settings as given: apply CLI overrides with
     `scene_file.with_overrides` first). simd: SIMD width 1, 4 or 8 (None: PATINA_SIMD or the
-    widest; named as the CLI's --simd, `width` being an image's width there)."""
+    widest; named as the CLI's --simd, `width` being an image's width there).
+    Ctrl-C: see the module docstring (a second one raises `RenderAborted`)."""
     prep = prepared or PreparedScene(scene)
     if (prep.scene.camera.width, prep.scene.camera.height) != (scene.camera.width, scene.camera.height):
         raise ValueError(
@@ -97,24 +142,15 @@ def render(
         threads=threads,
         width=core_simd,
     )
-    bar = _Progress(progress)
-    interrupted = False
-    job.start()
-    try:
-        while not (p := job.progress())["finished"]:
-            bar.update(p)
-            time.sleep(0.05)
-    except KeyboardInterrupt:
-        interrupted = True
-        job.cancel()
-        if progress:
-            sys.stderr.write("\n  interrupted: finishing the tiles in flight, keeping every finished pass\n")
-    job.wait()
+    pixels = scene.camera.width * scene.camera.height
+    interrupted = _run_job(job, pixels, scene.render.spp, progress)
     p = job.progress()
-    bar.update(p, final=True)
     images = job.resolve()
+    if float(images["samples"].min()) < 1:
+        # cannot happen (a cancel finishes the first pass); never hand out unsampled pixels
+        raise RuntimeError("the render stopped with pixels that have no sample")
     resolved_threads = threads if threads > 0 else (os.cpu_count() or 1)
-    complete = bool(p["finished"]) and not interrupted
+    complete = bool(p["finished"])  # an interrupt after the last item still leaves a whole image
     return RenderResult(
         rgb=images["rgb"],
         albedo=images["albedo"],
@@ -128,4 +164,5 @@ def render(
         complete=complete,
         simd_width=core_simd if core_simd else _core.default_width(),
         threads=resolved_threads,
+        interrupted=interrupted,
     )

@@ -18,12 +18,13 @@ from repo_paths import ROOT
 
 TABLE = os.path.join(ROOT, "materials", "red-plastic-iso.ptab")
 SMALL = ["--spp", "2", "--width", "32", "--height", "24", "--quiet"]
+LOUD = SMALL[:-1]  # --quiet silences stdout too
 
 
 def test_render_writes_an_exr_with_aovs_and_metadata_and_a_png(tmp_path, capsys):
     out = tmp_path / "out" / "ball.exr"
     scene = os.path.join(ROOT, "materials", "scenes", "preview-ball.json")
-    assert main(["render", scene, "--out", str(out), *SMALL]) == 0
+    assert main(["render", scene, "--out", str(out), *LOUD]) == 0
     assert "complete" in capsys.readouterr().out
     layers, meta = read_exr_layers(str(out))
     assert set(layers) >= {"beauty", "albedo", "normal", "depth", "illuminance"}
@@ -40,7 +41,7 @@ def test_preview_renders_a_table_with_and_without_a_coat(tmp_path, shape):
     out = tmp_path / "p.exr"
     assert main(["preview", TABLE, "--shape", shape, "--out", str(out), "--png", "none", *SMALL]) == 0
     assert out.exists() and not (tmp_path / "p.png").exists()
-    assert main(["preview", TABLE, "--shape", shape, "--coat", "--out", str(out), *SMALL]) == 0
+    assert main(["preview", TABLE, "--shape", shape, "--coat", "--out", str(out), "--force", *SMALL]) == 0
 
 
 def test_preview_renders_a_fit_json(tmp_path):
@@ -111,7 +112,7 @@ def test_bad_json_and_bad_options(tmp_path, capsys):
 def test_ctrl_c_writes_a_valid_partial_image_and_exits_130(tmp_path):
     scene = write_scene(tmp_path, {**GOOD, "camera": {**GOOD["camera"], "width": 64, "height": 48}})
     out = tmp_path / "partial.exr"
-    cmd = [sys.executable, "-m", "patina.cli", "render", scene, "--out", str(out), "--spp", "1000000", "--quiet"]
+    cmd = [sys.executable, "-m", "patina.cli", "render", scene, "--out", str(out), "--spp", "1000000"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         assert proc.stdout is not None and proc.stdout.readline().startswith("rendering")
@@ -129,3 +130,125 @@ def test_ctrl_c_writes_a_valid_partial_image_and_exits_130(tmp_path):
     assert 0 < int(meta["patina:samples_min"]) < 1000000
     assert np.isfinite(layers["beauty"]).all() and layers["beauty"].mean() > 0.1
     assert sorted(os.listdir(tmp_path)) == ["partial.exr", "partial.png", "scene.json"]
+
+
+BALL = os.path.join(ROOT, "materials", "scenes", "preview-ball.json")
+
+
+@pytest.mark.parametrize("name", ["x.png", "x.jpg", "x.JPEG"])
+def test_an_image_out_writes_only_the_tone_mapped_image(tmp_path, capsys, name):
+    # it used to render, then fail: "png does not support 11-channel images"
+    assert main(["render", BALL, "--out", str(tmp_path / name), *LOUD]) == 0
+    assert os.listdir(tmp_path) == [name]
+    import OpenImageIO as oiio
+
+    image = oiio.ImageBuf(str(tmp_path / name))
+    assert (image.spec().width, image.spec().height, image.spec().nchannels) == (32, 24, 3)
+    assert f"wrote {tmp_path / name}" in capsys.readouterr().out
+
+
+def test_an_image_out_with_exr_writes_both(tmp_path):
+    assert main(["render", BALL, "--out", str(tmp_path / "x.png"), "--exr", str(tmp_path / "f.exr"), *SMALL]) == 0
+    assert sorted(os.listdir(tmp_path)) == ["f.exr", "x.png"]
+    assert read_exr_layers(str(tmp_path / "f.exr"))[0]["beauty"].shape == (24, 32, 3)
+
+
+@pytest.mark.parametrize(
+    ("options", "named"),
+    [
+        (["--out", "x.tif"], "--out"),
+        (["--out", "x.png", "--png", "y.png"], "--png"),
+        (["--out", "x.exr", "--png", "y.exr"], "--png"),
+        (["--out", "x.exr", "--exr", "y.exr"], "--exr"),
+        (["--out", "x.png", "--exr", "y.png"], "--exr"),
+    ],
+)
+def test_bad_output_options_exit_2_before_rendering(tmp_path, capsys, options, named):
+    os.chdir(tmp_path)
+    assert main(["render", BALL, *options, *SMALL]) == 2
+    captured = capsys.readouterr()
+    assert named in captured.err and len(captured.err.strip().splitlines()) == 1
+    assert "rendering" not in captured.out and os.listdir(tmp_path) == []
+
+
+@pytest.mark.parametrize("existing", ["x.exr", "x.png"])
+def test_an_existing_output_is_refused_without_force_before_rendering(tmp_path, capsys, existing):
+    (tmp_path / existing).write_bytes(b"keep me")
+    out = str(tmp_path / "x.exr")
+    assert main(["render", BALL, "--out", out, *SMALL]) == 2
+    captured = capsys.readouterr()
+    assert captured.err.strip() == f"patina: error: {tmp_path / existing}: exists; pass --force to overwrite it"
+    assert "rendering" not in captured.out
+    assert (tmp_path / existing).read_bytes() == b"keep me" and os.listdir(tmp_path) == [existing]
+    assert main(["render", BALL, "--out", out, "--force", *SMALL]) == 0
+    assert (tmp_path / existing).read_bytes() != b"keep me"
+
+
+def test_preview_also_refuses_to_overwrite(tmp_path, capsys):
+    out = tmp_path / "p.png"
+    assert main(["preview", TABLE, "--out", str(out), *SMALL]) == 0
+    assert main(["preview", TABLE, "--out", str(out), *SMALL]) == 2
+    assert "exists; pass --force" in capsys.readouterr().err
+
+
+def test_an_unwritable_output_is_reported_before_rendering(tmp_path, capsys):
+    (tmp_path / "file").write_text("")
+    assert main(["render", BALL, "--out", str(tmp_path / "file" / "x.exr"), *SMALL]) == 2
+    captured = capsys.readouterr()
+    assert "rendering" not in captured.out and str(tmp_path / "file") in captured.err
+
+
+@pytest.mark.parametrize(("options", "size"), [(["--width", "40"], (40, 30)), (["--height", "60"], (80, 60))])
+def test_a_lone_width_or_height_keeps_the_scenes_aspect(tmp_path, options, size):
+    # preview-ball.json is 4:3; --width alone used to keep the file's height (a crop)
+    out = tmp_path / "x.exr"
+    assert main(["render", BALL, "--out", str(out), "--spp", "1", "--quiet", *options]) == 0
+    assert read_exr_layers(str(out))[0]["beauty"].shape[:2] == (size[1], size[0])
+
+
+def test_preview_lists_its_shapes_for_an_unknown_one(tmp_path, capsys):
+    assert main(["preview", TABLE, "--shape", "cube", "--out", str(tmp_path / "p.exr"), *SMALL]) == 2
+    err = capsys.readouterr().err
+    assert "--shape" in err and "'cube'" in err and "ball, sphere, panel" in err and "mesh file" in err
+    assert len(err.strip().splitlines()) == 1 and os.listdir(tmp_path) == []
+
+
+def test_preview_exposure_is_auto_under_a_map_far_from_the_studio(tmp_path, capsys):
+    from patina.cli.render import preview_exposure
+
+    sky = os.path.join(ROOT, "materials", "env", "sky.exr")
+    assert preview_exposure(None) == "0"
+    assert preview_exposure(os.path.join(ROOT, "materials", "env", "studio.exr")) == "0"
+    assert preview_exposure(sky) == "auto"  # ~5 stops brighter than the studio
+    out = tmp_path / "p.exr"
+    assert main(["preview", TABLE, "--env", sky, "--out", str(out), *LOUD]) == 0
+    assert "stops" in capsys.readouterr().out
+    import OpenImageIO as oiio
+
+    png = oiio.ImageBuf(str(tmp_path / "p.png")).get_pixels(oiio.FLOAT)
+    assert png.mean() < 0.9  # it used to be an all-white frame
+    assert main(["preview", TABLE, "--env", sky, "--out", str(out), "--force", "--exposure", "0", *SMALL]) == 0
+    assert oiio.ImageBuf(str(tmp_path / "p.png")).get_pixels(oiio.FLOAT).mean() > png.mean()
+
+
+def test_render_help_shows_defaults_and_a_text_for_every_option(capsys):
+    from patina.cli import build_parser
+
+    parser = build_parser()
+    for command in ("render", "preview", "illuminance"):
+        sub = parser._subparsers._group_actions[0].choices[command]  # type: ignore[union-attr]
+        for action in sub._actions:
+            assert action.help, f"{command} {action.option_strings} has no help"
+        text = sub.format_help()
+        assert "default" in text
+    text = " ".join(parser._subparsers._group_actions[0].choices["render"].format_help().split())  # type: ignore[union-attr]
+    assert "(default: filmic)" in text and "(default: render.exr)" in text
+
+
+def test_progress_is_shown_when_not_a_terminal_and_not_with_quiet(tmp_path, capsys):
+    opts = ["--spp", "2", "--width", "32"]
+    assert main(["render", BALL, "--out", str(tmp_path / "a.png"), *opts]) == 0
+    err = capsys.readouterr().err
+    assert "rendering" in err and "2/2" in err.replace("2.0/2", "2/2") and "Mrays/s" in err
+    assert main(["render", BALL, "--out", str(tmp_path / "b.png"), *opts, "--quiet"]) == 0
+    assert capsys.readouterr().err == ""

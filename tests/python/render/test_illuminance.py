@@ -91,3 +91,31 @@ def test_bad_grids_are_refused_with_the_option_named(spec, capsys):
     assert main(["illuminance", STREET, f"--grid={spec}"]) == 2
     err = capsys.readouterr().err
     assert "--grid" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("form", [["--grid", "-3.5,-15,3.5,15,4,5"], ["--grid=-3.5,-15,3.5,15,4,5"]])
+def test_a_grid_with_negative_corners_is_accepted_in_both_forms(capsys, form):
+    # argparse took '-3.5,...' for an option ("expected one argument") unless written --grid=
+    assert main(["illuminance", STREET, *form, "--samples", "4", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["grid"]["x0"] == -3.5 and report["grid"]["z0"] == -15 and report["grid"]["nz"] == 5
+
+
+def test_illuminance_refuses_existing_outputs_without_force_before_computing(tmp_path, capsys):
+    csv_path = tmp_path / "lux.csv"
+    csv_path.write_text("keep me")
+    args = ["illuminance", STREET, "--grid", "-1,-1,1,1,2,2", "--samples", "4", "--csv", str(csv_path)]
+    assert main(args) == 2
+    captured = capsys.readouterr()
+    assert captured.err.strip() == f"patina: error: {csv_path}: exists; pass --force to overwrite it"
+    assert captured.out == "" and csv_path.read_text() == "keep me"
+    assert main([*args, "--force"]) == 0
+    assert csv_path.read_text().startswith("x,y,z,lux")
+
+
+@pytest.mark.parametrize(("option", "value"), [("--samples", "0"), ("--samples", "99999999999"), ("--png", "x.jpg")])
+def test_bad_illuminance_options_exit_2_naming_the_option(tmp_path, capsys, option, value):
+    os.chdir(tmp_path)
+    assert main(["illuminance", STREET, "--grid", "-1,-1,1,1,2,2", option, value]) == 2
+    err = capsys.readouterr().err
+    assert option in err and len(err.strip().splitlines()) == 1 and os.listdir(tmp_path) == []
