@@ -33,13 +33,17 @@ def cmd_luminaire_info(args: argparse.Namespace) -> int:
         f"symmetry {info['symmetry']}"
     )
     if info["absolute_photometry"]:
-        print(f"  lumens           absolute photometry; the table integrates to {info['lumens_integrated']:.1f} lm")
+        stated = info["luminaire_lumens_declared"]
+        print(
+            f"  lumens           absolute photometry; the table integrates to {info['lumens_integrated']:.1f} lm"
+            + (f" (the file states {stated:.1f} lm)" if stated is not None else "")
+        )
     else:
-        ratio = info["flux_ratio"]
+        stated = info["light_output_ratio_declared"]
         print(
             f"  lumens           declared {info['lumens_declared']:g} ({info['lamps']} lamps), "
-            f"rated {info['lumens_rated']:.1f}, "
-            f"table {info['lumens_integrated']:.1f}" + (f" ({100 * (ratio - 1):+.2f} %)" if ratio else "")
+            f"table {info['lumens_integrated']:.1f}: light output ratio {100 * info['light_output_ratio']:.2f} %"
+            + (f" (the file states {100 * stated:.2f} %)" if stated is not None else "")
         )
     at = info["max_at_deg"]
     print(f"  max intensity    {info['max_candela']:.1f} cd at h {at['horizontal']:g}, v {at['vertical']:g} deg")
@@ -48,6 +52,8 @@ def cmd_luminaire_info(args: argparse.Namespace) -> int:
         print(f"  {name:<16} beam (50 %) {beam}, field (10 %) {field}")
     if info["tilt"]:
         print(f"  tilt             {len(info['tilt']['angles_deg'])} angles, lamp geometry {info['tilt']['geometry']}")
+    for warning in info["warnings"]:
+        print(f"  warning          {warning}")
     return 0
 
 

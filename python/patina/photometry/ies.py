@@ -22,8 +22,8 @@ import re
 
 import numpy as np
 
-from ..errors import FormatError
-from .model import (
+from patina.errors import FormatError
+from patina.photometry.model import (
     Opening,
     Photometry,
     Tilt,
@@ -35,7 +35,7 @@ from .model import (
     pole_warnings,
     type_c_symmetry,
 )
-from .text import TokenStream, read_lines, tokens
+from patina.photometry.text import TokenStream, read_lines, tokens
 
 _KEYWORD = re.compile(r"^\s*\[([^\]]*)\]\s?(.*)$")
 FEET = 0.3048

@@ -23,9 +23,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import FormatError
-from .model import Opening, Photometry, check_ascending, check_finite, finish_type_c, pole_warnings
-from .text import TokenStream, parse_int, parse_number, read_lines, tokens
+from patina.errors import FormatError
+from patina.photometry.model import Opening, Photometry, check_ascending, check_finite, finish_type_c, pole_warnings
+from patina.photometry.text import TokenStream, parse_int, parse_number, read_lines, tokens
 
 SYMMETRY = {0: "none", 1: "rotational", 2: "bilateral", 3: "bilateral-90-270", 4: "quadrant"}
 MAX_LAMP_SETS = 20

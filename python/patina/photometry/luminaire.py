@@ -170,9 +170,12 @@ class Luminaire:
             "lamps": p.lamps,
             "absolute_photometry": p.lumens is None,
             "lumens_declared": p.lumens,
-            "lumens_rated": p.rated_flux,
+            "luminaire_lumens_declared": p.luminaire_lumens,
             "lumens_integrated": flux,
-            "flux_ratio": None if not p.rated_flux else flux / p.rated_flux,
+            "light_output_ratio": None if not p.lumens else flux / p.lumens,
+            "light_output_ratio_declared": (
+                None if not (p.lumens and p.luminaire_lumens) else p.luminaire_lumens / p.lumens
+            ),
             "multiplier": p.multiplier,
             "max_candela": float(p.candela[i, j]),
             "max_at_deg": {"horizontal": float(p.h_deg[i]), "vertical": float(p.v_deg[j])},
@@ -196,6 +199,7 @@ class Luminaire:
             "catalogue": p.catalogue,
             "luminaire": p.luminaire,
             "keywords": dict(p.keywords),
+            "warnings": list(p.warnings),
         }
 
 

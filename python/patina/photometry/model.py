@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FormatError
+from patina.errors import FormatError
 
 CUT_DEG = 0.01  # width of the drop to zero where a table stops short of the sphere (no light past its last angle)
 
@@ -80,12 +80,6 @@ class Photometry:
     keywords: dict[str, str] = field(default_factory=dict)
     extra: dict[str, Any] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
-
-    @property
-    def rated_flux(self) -> float | None:
-        """Deprecated (info()'s old `lumens_rated`): the luminaire lumens the file states, else
-        the lamp lumens; never scaled by a candela multiplier. Use `lumens` / `luminaire_lumens`."""
-        return self.luminaire_lumens if self.luminaire_lumens is not None else self.lumens
 
 
 def check_ascending(path: str, values: list[float], lines: list[int], what: str, lo: float, hi: float) -> None:

@@ -12,7 +12,7 @@ import os
 import re
 from dataclasses import dataclass
 
-from ..errors import FormatError
+from patina.errors import FormatError
 
 MAX_BYTES = 16 * 1024 * 1024  # photometric files are kilobytes; refuse anything absurd before reading it
 

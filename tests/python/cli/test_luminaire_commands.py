@@ -23,7 +23,7 @@ def test_info_text_and_json(capsys):
     assert main(["luminaire", "info", "--json", os.path.join(LUM, "downlight.ies")]) == 0
     info = json.loads(capsys.readouterr().out)
     assert info["format"] == "IES" and info["version"] == "LM-63-2019" and info["symmetry"] == "rotational"
-    assert info["lumens_declared"] == 1500 and abs(info["flux_ratio"] - 1) < 0.005
+    assert info["lumens_declared"] == 1500 and abs(info["light_output_ratio"] - 1) < 0.005
     # cos^3: half of the peak at acos(0.5^(1/3)) = 37.47 deg from nadir, both planes alike
     assert info["beam_angle_deg"]["C0-C180"] == pytest.approx(2 * 37.47, abs=0.3)
     assert info["beam_angle_deg"]["C90-C270"] == pytest.approx(info["beam_angle_deg"]["C0-C180"])

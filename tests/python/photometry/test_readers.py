@@ -311,7 +311,7 @@ def test_versions_keywords_and_multipliers(tmp_path):
         assert p.multiplier == pytest.approx(1.5 * 0.8 * applied)
         assert p.candela[0, 0] == pytest.approx(100 * 1.5 * 0.8 * applied)
         assert p.luminaire_lumens is None  # LM-63 states no luminaire flux
-        assert p.rated_flux == 1000  # the lamp lumens, never times a candela multiplier
+        assert p.lumens == 1000  # the lamp lumens, never times a candela multiplier
         assert p.manufacturer == "Acme \xe9clairage" and p.catalogue == "X-1"
         assert p.keywords["LUMINAIRE"] == "line one\nline two"  # [MORE] continues the keyword
 
@@ -331,7 +331,7 @@ def test_absolute_photometry(tmp_path):
     p = read_photometry(
         write(tmp_path, "abs.ies", format_ies([0], g, [[300, 200, 0]], lumens_per_lamp=-1, multiplier=2))
     )
-    assert p.lumens is None and p.luminaire_lumens is None and p.rated_flux is None
+    assert p.lumens is None and p.luminaire_lumens is None
     assert p.candela[0, 0] == 600
     info = patina.load_luminaire(p.path).info()
     assert info["absolute_photometry"] and info["lumens_integrated"] > 0
@@ -591,7 +591,7 @@ def test_flux_is_reported_against_the_lamp_lumens_not_times_the_multiplier(tmp_p
     p = lum.photometry
     assert p.lumens == 3000 and p.multiplier == 3 and p.luminaire_lumens is None
     assert lum.flux() / p.lumens == pytest.approx(0.8, rel=1e-4)  # the light output ratio
-    assert p.rated_flux == 3000  # info()'s "lumens_rated" until it reports the light output ratio
+    assert lum.info()["light_output_ratio"] == pytest.approx(0.8, rel=1e-4)
     # EULUMDAT states the luminaire flux itself (lamp flux x LORL); the conversion factor scales
     # the intensities only
     lines = format_ldt([0.0], g, [per_klm], isym=1, lamp_flux=3000, lorl=80).split("\r\n")
