@@ -94,20 +94,24 @@ def _run_job(job: _core.RenderJob, pixels: int, spp: int, progress: bool) -> boo
         job.start()
         waiter = _Waiter(job)
         waiter.start()
+        told = 0
+        # the loop leaves only when the workers have stopped (a Python exit with C++ workers
+        # still running can crash); the handler is two steps, the messages come from the loop
         while not waiter.done:
             try:
+                if told < min(interrupts, 2):
+                    told += 1
+                    bar.write(
+                        "  interrupted: finishing the first pass and the tiles in flight, keeping every "
+                        "finished pass (Ctrl-C again aborts, keeping nothing)"
+                        if told == 1
+                        else "  interrupted again: aborting, nothing is kept"
+                    )
                 time.sleep(POLL_S)
                 show()
             except KeyboardInterrupt:
                 interrupts += 1
                 job.cancel()  # the first: after the first pass; the second: now
-                if interrupts == 1:
-                    bar.write(
-                        "  interrupted: finishing the first pass and the tiles in flight, keeping every "
-                        "finished pass (Ctrl-C again aborts, keeping nothing)"
-                    )
-                else:
-                    bar.write("  interrupted again: aborting, nothing is kept")
         if waiter.error is not None:
             raise waiter.error
         show()
