@@ -58,7 +58,8 @@ PATINA_INLINE vfloat<N> acos_clamped(vfloat<N> c) {
 // no division and no square root for it. At the pole (h = n) phi_h is taken as 0,
 // as the MERL reference code does.
 template <int N, class Trig>
-PATINA_INLINE void halfdiff_coords(const Vec3<vfloat<N>>& wi, const Vec3<vfloat<N>>& wo, uint32_t symmetry, vfloat<N>* coord) {
+PATINA_INLINE void halfdiff_coords(const Vec3<vfloat<N>>& wi, const Vec3<vfloat<N>>& wo, uint32_t symmetry,
+                                   vfloat<N>* coord) {
     using F = vfloat<N>;
     F hx = wi.x + wo.x, hy = wi.y + wo.y, hz = wi.z + wo.z;
     const F inv_len = F(1.0f) / sqrt_exact(hx * hx + hy * hy + hz * hz);
@@ -81,7 +82,8 @@ PATINA_INLINE void halfdiff_coords(const Vec3<vfloat<N>>& wi, const Vec3<vfloat<
 }
 
 template <int N, class Trig>
-PATINA_INLINE void isotropic_coords(const Vec3<vfloat<N>>& wi, const Vec3<vfloat<N>>& wo, uint32_t symmetry, vfloat<N>* coord) {
+PATINA_INLINE void isotropic_coords(const Vec3<vfloat<N>>& wi, const Vec3<vfloat<N>>& wo, uint32_t symmetry,
+                                    vfloat<N>* coord) {
     using F = vfloat<N>;
     F ti = acos_clamped<N, Trig>(wi.z), to = acos_clamped<N, Trig>(wo.z);
     if (symmetry & kSymReciprocity) {
@@ -105,7 +107,8 @@ PATINA_INLINE vfloat<N> azimuth(const Vec3<vfloat<N>>& w) {
 }
 
 template <int N, class Trig>
-PATINA_INLINE void anisotropic_coords(const Vec3<vfloat<N>>& wi, const Vec3<vfloat<N>>& wo, uint32_t symmetry, vfloat<N>* coord) {
+PATINA_INLINE void anisotropic_coords(const Vec3<vfloat<N>>& wi, const Vec3<vfloat<N>>& wo, uint32_t symmetry,
+                                      vfloat<N>* coord) {
     using F = vfloat<N>;
     F ti = acos_clamped<N, Trig>(wi.z), to = acos_clamped<N, Trig>(wo.z);
     F pi = azimuth<N, Trig>(wi), po = azimuth<N, Trig>(wo);

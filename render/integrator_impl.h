@@ -421,8 +421,10 @@ void sensor_illuminance(const RenderScene& s, const float* points, const float* 
     std::vector<double> sum(np, 0.0);
     sc.point_keys.resize(np);
     for (int k = 0; k < samples; ++k) {
-        for (size_t q = 0; q < np; ++q)
-            sc.point_keys[q] = static_cast<int32_t>(path_key(seed, static_cast<uint32_t>(begin + q), static_cast<uint32_t>(k)));
+        for (size_t q = 0; q < np; ++q) {
+            const uint32_t key = path_key(seed, static_cast<uint32_t>(begin + q), static_cast<uint32_t>(k));
+            sc.point_keys[q] = static_cast<int32_t>(key);
+        }
         sample_lights(s, sc, 0, np);
         clear_shadow_rays(sc);
         for (size_t q = 0; q < np; ++q) {

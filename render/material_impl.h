@@ -34,7 +34,8 @@ inline const LobeKernels& lobe_kernels() {
 // near 1 would lose it (and no longer cancel against the sampling density).
 PATINA_INLINE F coat_value(const V3& l, const V3& v, F alpha, F eta) {
     const V3 h = microfacet::half_vector(l, v);
-    return microfacet::microfacet_value(l, v, ggx_aniso::d(h, alpha, alpha) * ggx_aniso::g2(l, v, alpha, alpha), F(1.0f),
+    const F dg = ggx_aniso::d(h, alpha, alpha) * ggx_aniso::g2(l, v, alpha, alpha);
+    return microfacet::microfacet_value(l, v, dg, F(1.0f),
                                         microfacet::fresnel_dielectric(microfacet::mean_cos_d(l, v, h), eta));
 }
 

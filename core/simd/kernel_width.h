@@ -51,7 +51,9 @@ inline V3 load_rows(const float* p, size_t i, int lanes) {
     return d;
 }
 PATINA_INLINE F load_lanes(const float* p, size_t i, int lanes) { return rows::load1<N>(p, i, lanes); }
-PATINA_INLINE void store_rows(float* p, size_t i, int lanes, const V3& v) { rows::store3<N>(p, i, lanes, v.x, v.y, v.z); }
+PATINA_INLINE void store_rows(float* p, size_t i, int lanes, const V3& v) {
+    rows::store3<N>(p, i, lanes, v.x, v.y, v.z);
+}
 PATINA_INLINE void store_rows(float* p, size_t i, int lanes, F x, F y, F z) { rows::store3<N>(p, i, lanes, x, y, z); }
 PATINA_INLINE void store_lanes(float* p, size_t i, int lanes, F v) { rows::store1<N>(p, i, lanes, v); }
 
