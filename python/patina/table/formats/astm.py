@@ -43,7 +43,7 @@ from typing import NoReturn
 import numpy as np
 
 from patina.errors import FormatError
-from patina.table.formats.resample import DegenerateData, resample
+from patina.table.formats.resample import CannotResample, resample
 from patina.table.formats.tabledata import BadValues, TableData
 
 __all__ = ["read_astm"]
@@ -82,6 +82,10 @@ _TRISTIMULUS: tuple[tuple[str, tuple[str, str, str]], ...] = (
     ("xyz", ("x", "y", "z")),
 )
 _PROVENANCE_VALUE_MAX = 100
+# What a file can ask for (docs/astm.md, "Limits"): checked before the rows are converted,
+# so that a small file cannot make the reader (or the resampler) allocate gigabytes.
+MAX_FILE_BYTES = 512 << 20  # text: a few bytes a number, so up to ~100 M numbers
+MAX_CHANNELS = 4096  # value columns: the .ptab limit
 
 
 @dataclass
@@ -131,6 +135,9 @@ def read_astm(path: str | os.PathLike[str], resample: bool = False, report_bad: 
     if isinstance(name, bytes):
         name = os.fsdecode(name)
     with open(name, "rb") as handle:
+        size = os.fstat(handle.fileno()).st_size
+        if size > MAX_FILE_BYTES:
+            _fail(name, "file", f"{size} bytes: larger than the {MAX_FILE_BYTES >> 20} MiB an ASTM file may have")
         raw = handle.read()
     try:
         return parse_astm_bytes(name, raw, resample, report_bad)
@@ -201,7 +208,7 @@ def _resampled(
     coords = np.stack([axis.values[axis.labels] for axis in axes], axis=1)[keep]
     try:
         grid_axes, grid, error = resample(coords, table[keep][:, columns.channels], [a.name for a in axes])
-    except DegenerateData as e:
+    except CannotResample as e:
         _fail(path, "grid", f"data not on a tensor grid, and {e}")
     return TableData(
         parametrization=parametrization,
@@ -338,6 +345,10 @@ def _classify_columns(path: str, header: _Header) -> _Columns:
             _fail(path, where, f"VARS has no {required} column (accepted names: {aliases})")
     if not channel_idx:
         _fail(path, where, "VARS lists no value column after the angles")
+    if len(channel_idx) > MAX_CHANNELS:
+        _fail(
+            path, where, f"VARS lists {len(channel_idx)} value columns; a table holds at most {MAX_CHANNELS} channels"
+        )
     names = [header.columns[i] for i in channel_idx]
     kind, order, wavelengths = _channel_kind(path, where, names)
     return _Columns(angles, [channel_idx[i] for i in order], kind, wavelengths)

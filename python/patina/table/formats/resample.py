@@ -15,20 +15,26 @@ the swap the theta_i and theta_o axes were interpolated from different data and 
 table was far from reciprocal (97-200 % at the 95th percentile on a 1439-point file).
 
 Data that span no volume (one row, points on a line or a plane of the angle space) cannot
-be triangulated: DegenerateData says so, before scipy is asked.
+be triangulated: CannotResample says so, before scipy is asked.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 MAX_KNOTS = {"theta": 24, "phi": 36}
+# The resampled grid's values (knots x channels) at most: a scattered file of 4 rows and
+# 5000 wavelength columns otherwise asked for a 24 x 24 x 36 x 5000 grid in float64, several
+# times over (7.7 GB). Up to 404 channels fit the largest grid; more are refused up front.
+MAX_GRID_VALUES = 1 << 23
 
 
-class DegenerateData(ValueError):
-    """Scattered points that span no volume of the angle space (the reader adds the file)."""
+class CannotResample(ValueError):
+    """Scattered data that cannot be resampled: points that span no volume of the angle
+    space, or more values than MAX_GRID_VALUES (the reader adds the file)."""
 
 
 @dataclass
@@ -60,18 +66,18 @@ def choose_knots(x: np.ndarray, max_knots: int) -> np.ndarray:
 
 
 def _check_spans_a_volume(points: np.ndarray, names: list[str]) -> None:
-    """DegenerateData unless the distinct points span all D dimensions (D + 1 of them at least,
+    """CannotResample unless the distinct points span all D dimensions (D + 1 of them at least,
     not on one line or plane): what a Delaunay triangulation needs."""
     count, dims = points.shape
     if count < dims + 1:
-        raise DegenerateData(
+        raise CannotResample(
             f"{count} distinct scattered point{'s' if count != 1 else ''}: resampling onto a grid needs at least "
             f"{dims + 1} that are not on one plane of ({', '.join(names)})"
         )
     span = points.max(axis=0) - points.min(axis=0)
     flat = [n for n, w in zip(names, span) if w <= 1e-9]
     if flat:
-        raise DegenerateData(
+        raise CannotResample(
             f"every scattered point has the same {', '.join(flat)}: the points span no volume of "
             f"({', '.join(names)}), so they cannot be resampled onto a grid"
         )
@@ -79,7 +85,7 @@ def _check_spans_a_volume(points: np.ndarray, names: list[str]) -> None:
     rank = int(np.linalg.matrix_rank(centred, tol=1e-9 * np.sqrt(count)))
     if rank < dims:
         shape = "line" if rank == 1 else "plane"
-        raise DegenerateData(
+        raise CannotResample(
             f"the {count} scattered points lie on one {shape} of ({', '.join(names)}): "
             "they span no volume, so they cannot be resampled onto a grid"
         )
@@ -90,7 +96,7 @@ def resample(
 ) -> tuple[list[np.ndarray], np.ndarray, ResampleError]:
     """coords (N, D) angles in radians named `names`, values (N, C) -> (axes, grid (*shape, C), error).
 
-    Raises DegenerateData when the points span no volume."""
+    Raises CannotResample when the points span no volume or the grid would be too large."""
     from scipy.interpolate import LinearNDInterpolator, NearestNDInterpolator, RegularGridInterpolator
     from scipy.spatial import QhullError
 
@@ -113,13 +119,19 @@ def resample(
     axes = [
         choose_knots(unique[:, d], MAX_KNOTS["phi" if n.startswith("phi") else "theta"]) for d, n in enumerate(names)
     ]
+    size = math.prod(a.size for a in axes)
+    if size * values.shape[1] > MAX_GRID_VALUES:
+        raise CannotResample(
+            f"resampling {values.shape[1]} channels onto a {' x '.join(str(a.size) for a in axes)} grid would make "
+            f"{size * values.shape[1]} values, more than the {MAX_GRID_VALUES} a resampled table may have"
+        )
     mesh = np.meshgrid(*axes, indexing="ij")
     nodes = np.stack([m.ravel() for m in mesh], axis=1)
     try:
         grid = LinearNDInterpolator(unique, means)(nodes)
     except QhullError as e:  # nearly degenerate beyond what the rank test sees
         first = str(e).strip().splitlines()[0] if str(e).strip() else "triangulation failed"
-        raise DegenerateData(f"the scattered points cannot be triangulated ({first})") from None
+        raise CannotResample(f"the scattered points cannot be triangulated ({first})") from None
     outside = ~np.isfinite(grid).all(axis=1)
     if outside.any():
         grid[outside] = NearestNDInterpolator(unique, means)(nodes[outside])
