@@ -9,10 +9,27 @@ from __future__ import annotations
 
 import sys
 from types import TracebackType
+from typing import TextIO
 
 from tqdm import tqdm
 
 LOG_INTERVAL_S = 5.0  # seconds between lines when stderr is not a terminal
+
+
+class _Lines:
+    """stderr for a log: tqdm redraws with a carriage return, which a log file or a CI viewer
+    does not move back on, so each redraw becomes one line of its own (blank ones dropped)."""
+
+    def __init__(self, stream: TextIO) -> None:
+        self.stream = stream
+
+    def write(self, text: str) -> None:
+        line = text.replace("\r", "").rstrip()
+        if line:
+            self.stream.write(line + "\n")
+
+    def flush(self) -> None:
+        self.stream.flush()
 
 
 class Progress:
@@ -24,7 +41,7 @@ class Progress:
             total=total,
             desc=description,
             unit=unit,
-            file=sys.stderr,
+            file=sys.stderr if terminal else _Lines(sys.stderr),
             disable=not enabled,
             dynamic_ncols=terminal,
             mininterval=0.25 if terminal else LOG_INTERVAL_S,

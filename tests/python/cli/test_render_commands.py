@@ -250,5 +250,7 @@ def test_progress_is_shown_when_not_a_terminal_and_not_with_quiet(tmp_path, caps
     assert main(["render", BALL, "--out", str(tmp_path / "a.png"), *opts]) == 0
     err = capsys.readouterr().err
     assert "rendering" in err and "2/2" in err.replace("2.0/2", "2/2") and "Mrays/s" in err
+    # in a log each update is a line of its own: no carriage returns that a log never moves back on
+    assert "\r" not in err and err.endswith("\n")
     assert main(["render", BALL, "--out", str(tmp_path / "b.png"), *opts, "--quiet"]) == 0
     assert capsys.readouterr().err == ""
