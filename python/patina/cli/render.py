@@ -252,7 +252,7 @@ def cmd_illuminance(args: argparse.Namespace) -> int:
             raise _command_line("--png", f"expected a .png file, got '{args.png}'")
         check_outputs([args.csv, args.json_out, args.png], args.force)
         scene = load_scene(args.scene)
-        report = il.compute(scene, grid, samples=args.samples, threads=args.threads, width=args.simd)
+        report = il.compute(scene, grid, samples=args.samples, threads=args.threads, width=args.simd, progress=True)
         if args.json:
             json.dump(report.as_json(), sys.stdout)
             sys.stdout.write("\n")

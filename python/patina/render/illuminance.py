@@ -23,11 +23,13 @@ from patina.atomic import write_text
 from patina.errors import FormatError
 from patina.native import _core
 from patina.plot.figures import save_figure
+from patina.progress import Progress
 from patina.render.prepare import PreparedScene
 from patina.scene.types import Scene
 from patina.widths import core_width
 
 MAX_SAMPLES = 1 << 20  # light samples per sensor: far beyond converged; more is a typo
+CHUNK_SENSORS = 16384  # sensors per call: a few seconds of work at the default samples at most
 
 
 @dataclass(frozen=True)
@@ -109,14 +111,31 @@ class IlluminanceReport:
 
 
 def compute(
-    scene: Scene, grid: Grid, samples: int = 256, threads: int = 0, width: int | None = None
+    scene: Scene,
+    grid: Grid,
+    samples: int = 256,
+    threads: int = 0,
+    width: int | None = None,
+    progress: bool = False,
 ) -> IlluminanceReport:
-
+    """The grid's illuminance, CHUNK_SENSORS sensors per call: a grid of that size or less
+    is one call; a larger one shows progress (`progress`) and stops between chunks on Ctrl-C.
+    Each chunk's sensors are numbered from 0 in its random streams, so the result depends on
+    the seed and the chunk size only (not on threads or width)."""
     prepared = PreparedScene(scene)
     _, _, pts = grid.points()
     normals = np.tile(np.array([0, 1 if grid.facing_up else -1, 0], np.float32), (len(pts), 1))
-    lux = _core.sensor_illuminance(prepared.core, pts, normals, samples, scene.render.seed, core_width(width), threads)
-    return IlluminanceReport(grid, np.asarray(lux).reshape(grid.nz, grid.nx), samples)
+    lux = np.empty(len(pts), np.float32)
+    simd, seed = core_width(width), scene.render.seed
+    chunks = range(0, len(pts), CHUNK_SENSORS)
+    with Progress(len(pts), "illuminance", unit="sensor", enabled=progress and len(chunks) > 1) as bar:
+        for begin in chunks:
+            end = min(begin + CHUNK_SENSORS, len(pts))
+            lux[begin:end] = _core.sensor_illuminance(
+                prepared.core, pts[begin:end], normals[begin:end], samples, seed, simd, threads
+            )
+            bar.update(end)
+    return IlluminanceReport(grid, lux.reshape(grid.nz, grid.nx), samples)
 
 
 def write_csv(report: IlluminanceReport, path: str) -> None:

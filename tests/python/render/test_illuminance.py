@@ -119,3 +119,15 @@ def test_bad_illuminance_options_exit_2_naming_the_option(tmp_path, capsys, opti
     assert main(["illuminance", STREET, "--grid", "-1,-1,1,1,2,2", option, value]) == 2
     err = capsys.readouterr().err
     assert option in err and len(err.strip().splitlines()) == 1 and os.listdir(tmp_path) == []
+
+
+def test_a_grid_larger_than_a_chunk_is_computed_in_chunks_with_progress(monkeypatch, capsys):
+    s = scene([{"type": "point", "position": [1, 2.5, -0.5], "intensity_cd": 1000}])
+    grid = il.parse_grid("-3,-3,3,3,13,13", height=0.0)
+    whole = il.compute(s, grid, samples=4).lux
+    assert capsys.readouterr().err == ""  # one chunk: no progress display
+    monkeypatch.setattr(il, "CHUNK_SENSORS", 7)  # 169 sensors: 25 chunks, the last of 1
+    chunked = il.compute(s, grid, samples=4, progress=True).lux
+    np.testing.assert_allclose(chunked, whole, rtol=1e-6)  # a point light has no noise
+    err = capsys.readouterr().err
+    assert "illuminance" in err and "169/169" in err
