@@ -26,7 +26,7 @@ $(STAMP): $(SOURCES)
 demo: setup
 	@mkdir -p $(DEMO_OUT)
 	$(PATINA) info $(DEMO_TABLE)
-	$(PATINA) render $(DEMO_SCENE) --out $(DEMO_OUT)/preview.exr
+	$(PATINA) render $(DEMO_SCENE) --out $(DEMO_OUT)/preview.exr --force  # make demo runs again
 	@echo "demo: car-paint preview in $(DEMO_OUT)/preview.png (tone-mapped) and $(DEMO_OUT)/preview.exr (float, AOVs)"
 
 test: lint test-cpp check-sanitize test-python
