@@ -1,6 +1,7 @@
 // patina._core.RenderScene and RenderJob: the preview renderer. The Python side
-// (python/patina/render.py) checks the scene file and builds these; here values are
-// only converted, with std::invalid_argument for what cannot be converted.
+// (python/patina/render/prepare.py) checks the scene file, computes what follows from it
+// (light geometry, sampling proxies) and builds these; here values are only converted and
+// checked, with std::invalid_argument (ValueError) naming the material, light or key.
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/unique_ptr.h>
 #include <nanobind/stl/vector.h>
@@ -46,19 +47,71 @@ struct Grid2Handle {
     }
 };
 
-float get_float(const nb::dict& d, const char* key, float fallback) {
-    return d.contains(key) ? nb::cast<float>(d[key]) : fallback;
-}
-bool get_bool(const nb::dict& d, const char* key, bool fallback) {
-    return d.contains(key) ? nb::cast<bool>(d[key]) : fallback;
-}
-void get_rgb(const nb::dict& d, const char* key, float* out) {
-    if (!d.contains(key)) return;
-    const std::vector<float> v = nb::cast<std::vector<float>>(d[key]);
-    if (v.size() != 3) throw std::invalid_argument(std::string(key) + ": expected 3 values");
-    for (int k = 0; k < 3; ++k) out[k] = v[k];
-}
-void get_vec3(const nb::dict& d, const char* key, float* out) { get_rgb(d, key, out); }
+// A material's, light's or camera's dictionary read key by key: every value the renderer
+// takes must be there (the defaults are the scene reader's, python/patina/scene/reading.py,
+// not ours), and a key nothing read is an error naming it, as Mitsuba 3 rejects unused
+// properties, so a misspelled key cannot silently leave its value at the struct's default.
+class Fields {
+public:
+    Fields(const nb::dict& d, std::string what) : d_(d), what_(std::move(what)) {}
+
+    // "<what>: <message>" as std::invalid_argument (ValueError in Python)
+    [[noreturn]] void fail(const std::string& message) const { throw std::invalid_argument(what_ + ": " + message); }
+
+    nb::object take(const char* key) {
+        if (!d_.contains(key)) fail("missing key '" + std::string(key) + "'");
+        read_.emplace_back(key);
+        return d_[key];
+    }
+    template <class T>
+    T as(const char* key, const char* expected) {
+        nb::object o = take(key);
+        T value;
+        if (!nb::try_cast<T>(o, value)) fail("'" + std::string(key) + "' must be " + expected);
+        return value;
+    }
+    float real(const char* key) {
+        const float x = as<float>(key, "a number");
+        if (!std::isfinite(x)) fail("'" + std::string(key) + "' is not finite (as a 32-bit float)");
+        return x;
+    }
+    bool flag(const char* key) { return as<bool>(key, "a bool"); }
+    int integer(const char* key) { return as<int>(key, "an integer"); }
+    std::string text(const char* key) { return as<std::string>(key, "a string"); }
+    void vec3(const char* key, float* out) {
+        const std::vector<float> v = as<std::vector<float>>(key, "3 numbers");
+        if (v.size() != 3) fail("'" + std::string(key) + "' must be 3 numbers, not " + std::to_string(v.size()));
+        for (int k = 0; k < 3; ++k) {
+            if (!std::isfinite(v[k])) fail("'" + std::string(key) + "' is not finite (as 32-bit floats)");
+            out[k] = v[k];
+        }
+    }
+    // a vector the renderer takes as a direction: unit length (computed beside the scene)
+    void unit3(const char* key, float* out) {
+        vec3(key, out);
+        const double len = std::sqrt(double(out[0]) * out[0] + double(out[1]) * out[1] + double(out[2]) * out[2]);
+        if (!(std::abs(len - 1) <= 1e-5))
+            fail("'" + std::string(key) + "' must be a unit vector (its length is " + std::to_string(len) + ")");
+    }
+
+    // Every key of the dictionary was read, else the first one that was not is named.
+    void finish() const {
+        for (auto item : d_) {
+            std::string key;
+            if (!nb::try_cast<std::string>(item.first, key)) fail("its keys must be strings");
+            if (std::find(read_.begin(), read_.end(), key) == read_.end()) {
+                std::string known;
+                for (const auto& k : read_) known += (known.empty() ? "" : ", ") + k;
+                fail("unknown key '" + key + "' (the renderer reads " + known + ")");
+            }
+        }
+    }
+
+private:
+    const nb::dict& d_;
+    std::string what_;
+    std::vector<std::string> read_;
+};
 
 // Arrays are taken as Python objects and kept: the scene points into their buffers.
 std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, nb::object indices_obj, nb::object normals_obj,
@@ -91,152 +144,207 @@ std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, nb::object indices
         h->keep.push_back(tangents);
     }
     patina::Camera& c = s.camera;
-    get_vec3(camera, "position", c.position);
-    get_vec3(camera, "forward", c.forward);
-    get_vec3(camera, "right", c.right);
-    get_vec3(camera, "up", c.up);
-    c.tan_half_fov = get_float(camera, "tan_half_fov", c.tan_half_fov);
-    c.width = nb::cast<int>(camera["width"]);
-    c.height = nb::cast<int>(camera["height"]);
-    c.aperture_radius = get_float(camera, "aperture_radius", 0.0f);
-    c.focus_distance = get_float(camera, "focus_distance", 1.0f);
+    Fields f(camera, "the camera");
+    f.vec3("position", c.position);
+    f.vec3("forward", c.forward);
+    f.vec3("right", c.right);
+    f.vec3("up", c.up);
+    c.tan_half_fov = f.real("tan_half_fov");
+    c.width = f.integer("width");
+    c.height = f.integer("height");
+    c.aperture_radius = f.real("aperture_radius");
+    c.focus_distance = f.real("focus_distance");
+    f.finish();
     patina::prepare_scale(s);
     return h;
 }
 
+// The keys of a material, by kind, are exactly what the renderer reads for that kind (see
+// render/scene.h's Material): a Lambert's albedo, a conductor's GGX roughness, complex
+// index and tint, a table's or mixture's tint and sampling proxy; the clear coat over any
+// of the four (its three values present exactly when "coat" is true); an emitter only the
+// light whose triangles it covers; a dielectric its roughness alpha_x and eta (eta[0] is read).
 int add_material(SceneHandle& h, const nb::dict& d) {
     patina::Material m;
-    const std::string kind = nb::cast<std::string>(d["kind"]);
+    const std::string where = "material " + std::to_string(h.scene.materials.size());
+    const std::string kind = Fields(d, where).text("kind");
+    Fields f(d, where + " (" + kind + ")");
+    f.text("kind");
     if (kind == "lambert") m.kind = patina::MaterialKind::Lambert;
     else if (kind == "conductor") m.kind = patina::MaterialKind::Conductor;
     else if (kind == "table") m.kind = patina::MaterialKind::Table;
     else if (kind == "mixture") m.kind = patina::MaterialKind::Mixture;
     else if (kind == "emitter") m.kind = patina::MaterialKind::Emitter;
     else if (kind == "dielectric") m.kind = patina::MaterialKind::Dielectric;
-    else throw std::invalid_argument("unknown material kind '" + kind + "'");
-    get_rgb(d, "albedo", m.albedo);
+    else f.fail("unknown material kind '" + kind + "'");
+    using K = patina::MaterialKind;
     // GGX roughness: 0 (smooth) is taken as 1e-3, a very narrow lobe the same code samples
     constexpr float kSmooth = 1e-3f;
-    m.alpha_x = std::max(get_float(d, "alpha_x", m.alpha_x), kSmooth);
-    m.alpha_y = std::max(get_float(d, "alpha_y", m.alpha_y), kSmooth);
-    get_rgb(d, "eta", m.eta);
-    get_rgb(d, "k", m.k);
-    get_rgb(d, "tint", m.tint);
-    m.two_sided = get_bool(d, "two_sided", false);
-    m.coat = get_bool(d, "coat", false);
-    m.coat_eta = get_float(d, "coat_eta", m.coat_eta);
-    m.coat_alpha = std::max(get_float(d, "coat_alpha", m.coat_alpha), kSmooth);
-    get_rgb(d, "coat_tint", m.coat_tint);
-    m.proxy_diffuse = get_float(d, "proxy_diffuse", m.proxy_diffuse);
-    m.proxy_alpha = std::max(get_float(d, "proxy_alpha", m.proxy_alpha), kSmooth);
-    m.light = d.contains("light") ? nb::cast<int>(d["light"]) : -1;
-    if (m.kind == patina::MaterialKind::Table) {
-        nb::object t = d["table"];
-        const TableHandle& table = nb::cast<const TableHandle&>(t);
-        if (table.table.channels != 3) throw std::invalid_argument("a table material needs an RGB table");
-        m.table = &table.prepared.view;
-        h.keep.push_back(t);
+    auto roughness = [&](const char* key) {
+        const float a = f.real(key);
+        if (!(a >= 0)) f.fail("'" + std::string(key) + "' must be >= 0");
+        return std::max(a, kSmooth);
+    };
+    if (m.kind == K::Emitter) {
+        m.light = f.integer("light");
+        f.finish();  // the light index is checked against the lights by check_materials
+        h.scene.materials.push_back(m);
+        return static_cast<int>(h.scene.materials.size()) - 1;
     }
-    if (m.kind == patina::MaterialKind::Mixture) {
-        nb::tuple mix = nb::cast<nb::tuple>(d["mixture"]);
-        m.mixture = mixture_params(nb::cast<std::string>(mix[0]), nb::cast<std::vector<float>>(mix[1]),
-                                   nb::cast<bool>(mix[2]));
+    f.vec3("albedo", m.albedo);
+    switch (m.kind) {
+        case K::Conductor:
+            m.alpha_x = roughness("alpha_x");
+            m.alpha_y = roughness("alpha_y");
+            f.vec3("eta", m.eta);
+            f.vec3("k", m.k);
+            f.vec3("tint", m.tint);
+            break;
+        case K::Table: {
+            nb::object t = f.take("table");
+            const TableHandle* table = nullptr;
+            if (!nb::try_cast<const TableHandle*>(t, table) || table == nullptr)
+                f.fail("'table' must be a patina._core.Table");
+            if (table->table.channels != 3) f.fail("a table material needs an RGB table");
+            m.table = &table->prepared.view;
+            h.keep.push_back(t);
+            break;
+        }
+        case K::Mixture: {
+            nb::tuple mix = f.as<nb::tuple>("mixture", "a tuple (kernel name, values, per_channel)");
+            if (mix.size() != 3) f.fail("'mixture' must be a tuple (kernel name, values, per_channel)");
+            try {
+                m.mixture = mixture_params(nb::cast<std::string>(mix[0]), nb::cast<std::vector<float>>(mix[1]),
+                                           nb::cast<bool>(mix[2]));
+            } catch (const nb::cast_error&) {
+                f.fail("'mixture' must be a tuple (kernel name, values, per_channel)");
+            } catch (const std::invalid_argument& e) {
+                f.fail(std::string("'mixture': ") + e.what());
+            }
+            break;
+        }
+        case K::Dielectric:
+            m.alpha_x = roughness("alpha_x");
+            f.vec3("eta", m.eta);
+            if (!(m.eta[0] > 0)) f.fail("dielectric eta must be > 0");
+            break;
+        default: break;
     }
-    if (m.kind == patina::MaterialKind::Dielectric && !(m.eta[0] > 0))
-        throw std::invalid_argument("dielectric eta must be > 0");
+    if (m.kind == K::Table || m.kind == K::Mixture) {
+        f.vec3("tint", m.tint);
+        m.proxy_diffuse = f.real("proxy_diffuse");
+        if (!(m.proxy_diffuse >= 0 && m.proxy_diffuse <= 1)) f.fail("'proxy_diffuse' must be in [0, 1]");
+        m.proxy_alpha = roughness("proxy_alpha");
+    }
+    if (m.kind != K::Dielectric) {  // a dielectric refracts: it has no back face to cull, nor a coat
+        m.two_sided = f.flag("two_sided");
+        m.coat = f.flag("coat");
+        if (m.coat) {
+            m.coat_eta = f.real("coat_eta");
+            m.coat_alpha = roughness("coat_alpha");
+            f.vec3("coat_tint", m.coat_tint);
+        }
+    }
+    f.finish();
     h.scene.materials.push_back(m);
     return static_cast<int>(h.scene.materials.size()) - 1;
 }
 
-void normalize(float* v, const char* what) {
-    const float len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (!(len > 0) || !std::isfinite(len)) throw std::invalid_argument(std::string(what) + " must be a non-zero vector");
-    for (int k = 0; k < 3; ++k) v[k] /= len;
-}
+using FloatVector = nb::ndarray<const float, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+using FloatMatrix = nb::ndarray<const float, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 
+// The keys of a light, by kind, are what the renderer reads for it (render/scene.h's Light).
+// What follows from the geometry — a quad's normal and area, the sun's cone and frame, an
+// emissive mesh's area cdf, unit directions — is computed beside the scene
+// (python/patina/render/prepare.py) and only checked here.
 int add_light(SceneHandle& h, const nb::dict& d) {
     patina::Light l;
-    const std::string kind = nb::cast<std::string>(d["kind"]);
+    const std::string where = "light " + std::to_string(h.scene.lights.size());
+    const std::string kind = Fields(d, where).text("kind");
+    Fields f(d, where + " (" + kind + ")");
+    f.text("kind");
     if (kind == "point") l.kind = patina::LightKind::Point;
     else if (kind == "quad") l.kind = patina::LightKind::Quad;
     else if (kind == "spot") l.kind = patina::LightKind::Spot;
     else if (kind == "sun") l.kind = patina::LightKind::Sun;
     else if (kind == "triangles") l.kind = patina::LightKind::Triangles;
     else if (kind == "goniometric") l.kind = patina::LightKind::Goniometric;
-    else throw std::invalid_argument("unknown light kind '" + kind + "'");
-    get_vec3(d, "position", l.position);
-    get_vec3(d, "u", l.u);
-    get_vec3(d, "v", l.v);
-    get_rgb(d, "power", l.power);
-    l.two_sided = get_bool(d, "two_sided", false);
-    l.power_estimate = get_float(d, "power_estimate", -1.0f);
+    else f.fail("unknown light kind '" + kind + "'");
+    f.vec3("power", l.power);
+    auto positive = [&](const char* key) {
+        const float x = f.real(key);
+        if (!(x > 0)) f.fail("'" + std::string(key) + "' must be > 0");
+        return x;
+    };
     switch (l.kind) {
-        case patina::LightKind::Quad: {
-            const float n[3] = {l.u[1] * l.v[2] - l.u[2] * l.v[1], l.u[2] * l.v[0] - l.u[0] * l.v[2],
-                                l.u[0] * l.v[1] - l.u[1] * l.v[0]};
-            const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-            if (!(len > 0)) throw std::invalid_argument("a quad light needs non-parallel u and v");
-            for (int k = 0; k < 3; ++k) l.normal[k] = n[k] / len;
-            l.area = 4 * len;
+        case patina::LightKind::Point: f.vec3("position", l.position); break;
+        case patina::LightKind::Quad:
+            f.vec3("position", l.position);
+            f.vec3("u", l.u);
+            f.vec3("v", l.v);
+            f.unit3("normal", l.normal);
+            l.area = positive("area");
+            l.two_sided = f.flag("two_sided");
             break;
-        }
         case patina::LightKind::Spot:
-            get_vec3(d, "direction", l.direction);
-            normalize(l.direction, "a spot light's direction");
-            l.cos_inner = get_float(d, "cos_inner", 1.0f);
-            l.cos_outer = get_float(d, "cos_outer", 0.0f);
-            if (!(l.cos_outer < l.cos_inner)) throw std::invalid_argument("a spot light's cone: cos_outer < cos_inner");
+            f.vec3("position", l.position);
+            f.unit3("direction", l.direction);
+            l.cos_inner = f.real("cos_inner");
+            l.cos_outer = f.real("cos_outer");
+            if (!(l.cos_outer < l.cos_inner)) f.fail("a spot light's cone: cos_outer < cos_inner");
             break;
         case patina::LightKind::Sun:
-            get_vec3(d, "direction", l.direction);
-            normalize(l.direction, "the sun's direction");
-            {
-                const double half = get_float(d, "half_angle", 0.0f);  // radians
-                if (!(half > 0 && half < 1.5)) throw std::invalid_argument("the sun's disc: 0 < half_angle < 1.5 rad");
-                l.cos_sun = static_cast<float>(std::cos(half));
-                l.sun_one_minus_cos = static_cast<float>(2 * std::sin(half / 2) * std::sin(half / 2));
-            }
-            {
-                patina::Vec3f t, b;
-                patina::orthonormal_frame({l.direction[0], l.direction[1], l.direction[2]}, t, b);
-                l.frame_t[0] = t.x, l.frame_t[1] = t.y, l.frame_t[2] = t.z;
-                l.frame_b[0] = b.x, l.frame_b[1] = b.y, l.frame_b[2] = b.z;
-            }
+            f.unit3("direction", l.direction);
+            l.cos_sun = f.real("cos_sun");
+            l.sun_one_minus_cos = f.real("sun_one_minus_cos");
+            // a disc of angular radius below 1.5 rad, its two cosines describing the same cone
+            if (!(l.cos_sun > std::cos(1.5f) && l.cos_sun < 1 && l.sun_one_minus_cos > 0 &&
+                  std::abs(l.cos_sun + l.sun_one_minus_cos - 1) <= 1e-6f))
+                f.fail("the sun's disc: cos_sun in (cos 1.5, 1) and sun_one_minus_cos = 1 - cos_sun");
+            f.unit3("frame_t", l.frame_t);
+            f.unit3("frame_b", l.frame_b);
             break;
         case patina::LightKind::Triangles: {
-            const std::vector<int32_t> tris = nb::cast<std::vector<int32_t>>(d["triangles"]);
+            IntVector tris;
+            FloatVector cdf;
+            if (!nb::try_cast<IntVector>(f.take("triangles"), tris)) f.fail("'triangles' must be a 1-D int32 array");
+            if (!nb::try_cast<FloatVector>(f.take("area_cdf"), cdf)) f.fail("'area_cdf' must be a 1-D float32 array");
+            const size_t n = tris.shape(0);
+            if (n == 0) f.fail("an emissive mesh needs triangles");
+            if (cdf.shape(0) != n + 1) f.fail("'area_cdf' needs one value per triangle and a leading 0");
             const patina::KdTree& tree = *h.scene.tree;
-            double total = 0;
-            l.area_cdf.push_back(0.0f);
-            std::vector<double> acc;
-            for (int32_t t : tris) {
-                if (t < 0 || static_cast<size_t>(t) >= tree.triangle_count())
-                    throw std::invalid_argument("an emissive triangle id is out of range");
-                const float* v = tree.triangles.data() + 9 * static_cast<size_t>(t);
-                const double e1[3] = {v[3] - v[0], v[4] - v[1], v[5] - v[2]}, e2[3] = {v[6] - v[0], v[7] - v[1], v[8] - v[2]};
-                const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-                total += 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-                acc.push_back(total);
-            }
-            if (!(total > 0)) throw std::invalid_argument("an emissive mesh needs a positive area");
-            l.triangles = tris;
-            for (double a : acc) l.area_cdf.push_back(static_cast<float>(a / total));
-            l.area_cdf.back() = 1.0f;
-            l.area = static_cast<float>(total);
+            for (size_t i = 0; i < n; ++i)
+                if (tris.data()[i] < 0 || static_cast<size_t>(tris.data()[i]) >= tree.triangle_count())
+                    f.fail("triangle id " + std::to_string(tris.data()[i]) + " is out of range");
+            const float* c = cdf.data();
+            for (size_t i = 1; i <= n; ++i)
+                if (!(c[i] >= c[i - 1])) f.fail("'area_cdf' must not decrease (at " + std::to_string(i) + ")");
+            if (c[0] != 0.0f || c[n] != 1.0f) f.fail("'area_cdf' must go from 0 to exactly 1");
+            l.triangles.assign(tris.data(), tris.data() + n);
+            l.area_cdf.assign(c, c + n + 1);
+            l.area = positive("area");
+            l.two_sided = f.flag("two_sided");
             break;
         }
         case patina::LightKind::Goniometric: {
-            get_vec3(d, "axis_x", l.axis_x);
-            get_vec3(d, "axis_y", l.axis_y);
-            get_vec3(d, "axis_z", l.axis_z);
-            l.type_b = get_bool(d, "type_b", false);
-            nb::object grid = d["candela"];
-            l.candela = nb::cast<const Grid2Handle&>(grid).view();
+            f.vec3("position", l.position);
+            f.unit3("axis_x", l.axis_x);
+            f.unit3("axis_y", l.axis_y);
+            f.unit3("axis_z", l.axis_z);
+            l.type_b = f.flag("type_b");
+            nb::object grid = f.take("candela");
+            const Grid2Handle* g = nullptr;
+            if (!nb::try_cast<const Grid2Handle*>(grid, g) || g == nullptr)
+                f.fail("'candela' must be a patina._core.Grid2");
+            l.candela = g->view();
             h.keep.push_back(grid);
+            l.power_estimate = f.real("power_estimate");
+            if (!(l.power_estimate >= 0)) f.fail("'power_estimate' must be >= 0");
             break;
         }
         default: break;
     }
+    f.finish();
     h.scene.lights.push_back(l);
     return static_cast<int>(h.scene.lights.size()) - 1;
 }
@@ -343,9 +451,6 @@ nb::dict resolve(const JobHandle& j) {
     d["samples"] = a_samples;
     return d;
 }
-
-using FloatVector = nb::ndarray<const float, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-using FloatMatrix = nb::ndarray<const float, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 
 void check_axis(const FloatVector& a, const char* name) {
     if (a.shape(0) < 1) throw std::invalid_argument(std::string(name) + ": needs at least one knot");

@@ -1,5 +1,8 @@
 """Scene materials as the C++ renderer takes them (`RenderScene.add_material` dictionaries).
 
+Each dictionary holds exactly the keys the renderer reads for its kind, every one of them
+(the bindings reject a missing or an unread key, naming it): render/scene.h's Material.
+
 Tables and fitted models are evaluated by the renderer as they are; what this module adds
 is what the renderer needs *about* them: an albedo for the albedo AOV and the coat's lobe
 choice, and a sampling proxy (a Lambert lobe with probability `proxy_diffuse`, else GGX
@@ -91,7 +94,7 @@ def core_material(m: Material, tables: dict[str, Any]) -> dict[str, Any]:
     """A scene material as a `RenderScene.add_material` dictionary. `tables` caches loaded
     tables and fits by file (the dictionaries hold the core objects the renderer reads)."""
     if isinstance(m, LambertMaterial):
-        return {"kind": "lambert", "albedo": _rgb(m.albedo), "two_sided": m.two_sided}
+        return {"kind": "lambert", "albedo": _rgb(m.albedo), "two_sided": m.two_sided, "coat": False}
     if isinstance(m, ConductorMaterial):
         f0 = _conductor_f0(m.eta, m.k)
         return {  # roughness 0 (a mirror) becomes the renderer's narrowest lobe
@@ -103,6 +106,7 @@ def core_material(m: Material, tables: dict[str, Any]) -> dict[str, Any]:
             "tint": _rgb(m.tint),
             "albedo": [a * t for a, t in zip(f0, m.tint)],
             "two_sided": m.two_sided,
+            "coat": False,
         }
     if isinstance(m, TableMaterial | FitMaterial):
         return _measured(m, tables)
@@ -117,9 +121,9 @@ def core_material(m: Material, tables: dict[str, Any]) -> dict[str, Any]:
         )
         return base
     if isinstance(m, DielectricMaterial):
-        # eta is inside over outside, the outside being where the triangles' winding normal points
-        a = float(m.roughness)
-        return {"kind": "dielectric", "alpha_x": a, "alpha_y": a, "eta": [float(m.eta)] * 3, "albedo": [1.0] * 3}
+        # eta is inside over outside, the outside being where the triangles' winding normal points;
+        # the renderer reads alpha_x and eta[0] (an isotropic, grey glass)
+        return {"kind": "dielectric", "alpha_x": float(m.roughness), "eta": [float(m.eta)] * 3, "albedo": [1.0] * 3}
     raise ValueError(f"unknown material {type(m).__name__}")
 
 
@@ -157,5 +161,5 @@ def _measured(m: TableMaterial | FitMaterial, tables: dict[str, Any]) -> dict[st
             f"values up to {peak:g} times the material's scale and tint ({max(tint):g}) exceed {MAX_BRDF:g}: "
             f"{OVERFLOWS}",
         )
-    d.update(tint=tint, albedo=[a * t for a, t in zip(d["albedo"], tint)], two_sided=m.two_sided)
+    d.update(tint=tint, albedo=[a * t for a, t in zip(d["albedo"], tint)], two_sided=m.two_sided, coat=False)
     return d

@@ -3,6 +3,14 @@
 Every shape's mesh (built in or read with trimesh) placed by its transform and concatenated
 into one kd-tree; area lights as emitting triangles the rays hit; materials through
 `patina.render.materials`; the environment map read with OpenImageIO.
+
+Lights cross to C++ as dictionaries of exactly the keys the renderer reads for their kind
+(render/scene.h's Light; the bindings reject a missing or an unread key, naming it), and
+with what follows from their geometry computed here, where the geometry is: a quad's unit
+normal and area, the sun's cone and frame, an emissive mesh's triangle-area cdf, unit
+directions. These are computed in float32 (float64 where the renderer summed in double) in
+the very order of operations the renderer used to compute them in, so images are the same
+bit for bit; the bindings only convert and check.
 """
 
 from __future__ import annotations
@@ -145,37 +153,117 @@ def _quad_triangles(light: QuadLight) -> tuple[np.ndarray, ...]:
     return verts, faces, normal, tangent
 
 
+_F32 = np.float32
+
+
+def _f32(v: Any) -> list[np.float32]:
+    return [_F32(x) for x in v]
+
+
+def unit_vector32(v: Any) -> list[float]:
+    """v / |v| in float32, each product, sum, root and quotient rounded to float32 in the
+    renderer's order (((x x + y y) + z z), then each component divided by the root)."""
+    x, y, z = _f32(v)
+    length = np.sqrt(x * x + y * y + z * z)
+    if not (length > 0 and np.isfinite(length)):
+        raise ValueError("a direction must be a non-zero vector")
+    return [float(x / length), float(y / length), float(z / length)]
+
+
+def quad_normal_area(u: Any, v: Any) -> tuple[list[float], float]:
+    """A quad light's unit normal, normalize(u x v), and its area 4 |u x v| (u, v the half
+    edges), in float32 in the renderer's order."""
+    u0, u1, u2 = _f32(u)
+    v0, v1, v2 = _f32(v)
+    n = (u1 * v2 - u2 * v1, u2 * v0 - u0 * v2, u0 * v1 - u1 * v0)
+    length = np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+    if not (length > 0 and np.isfinite(length)):
+        raise ValueError("a quad light needs non-parallel u and v")
+    return [float(c / length) for c in n], float(_F32(4) * length)
+
+
+def sun_cone(half_angle: float) -> tuple[float, float]:
+    """(cos d, 1 - cos d) of the sun's angular radius d (radians, taken as a float32 first),
+    1 - cos d as 2 sin^2(d / 2) without cancellation; each rounded to float32 at the end."""
+    half = float(_F32(half_angle))
+    if not 0 < half < 1.5:
+        raise ValueError("the sun's disc: 0 < half_angle < 1.5 rad")
+    s = math.sin(half / 2)
+    return float(_F32(math.cos(half))), float(_F32(2 * s * s))
+
+
+def orthonormal_frame32(n: Any) -> tuple[list[float], list[float]]:
+    """A tangent t and bitangent b around unit n (Duff et al. 2017, "Building an orthonormal
+    basis, revisited"), in float32 exactly as render/scene.cpp's orthonormal_frame."""
+    x, y, z = _f32(n)
+    sign = _F32(math.copysign(1.0, float(z)))
+    a = _F32(-1) / (sign + z)
+    c = x * y * a
+    t = (_F32(1) + sign * x * x * a, sign * c, -sign * x)
+    b = (c, sign + y * y * a, -y)
+    return [float(e) for e in t], [float(e) for e in b]
+
+
+def triangle_area_cdf(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, float]:
+    """An emissive mesh's area cdf (len(faces) + 1 float32 values from 0 to exactly 1) and
+    its total area, for sampling its triangles by area. As the renderer holds them: edges
+    of the float32 vertices in float32, their cross product, lengths and running sum in
+    float64, summed in order."""
+    p = np.asarray(vertices).astype(np.float32)[np.asarray(faces)]
+    e1 = (p[:, 1] - p[:, 0]).astype(np.float64)
+    e2 = (p[:, 2] - p[:, 0]).astype(np.float64)
+    c = np.cross(e1, e2)
+    area = 0.5 * np.sqrt(c[:, 0] * c[:, 0] + c[:, 1] * c[:, 1] + c[:, 2] * c[:, 2])
+    running = np.cumsum(area)  # sequential, as a loop would add
+    total = float(running[-1]) if len(running) else 0.0
+    if not (total > 0 and math.isfinite(total)):
+        raise ValueError("an emissive mesh needs a positive area")
+    cdf = np.empty(len(area) + 1, np.float32)
+    cdf[0] = 0.0
+    cdf[1:] = running / total
+    cdf[-1] = 1.0
+    return cdf, float(_F32(total))
+
+
 def _core_light(light: Light) -> dict[str, Any]:
-    """A scene light as a `RenderScene.add_light` dictionary (triangle ids added later)."""
+    """A scene light as a `RenderScene.add_light` dictionary; an emissive mesh's triangles
+    and area cdf are added once its triangles are placed."""
     if isinstance(light, PointLight):
-        return {"kind": "point", "position": list(light.position), "power": list(light.intensity), "two_sided": False}
+        return {"kind": "point", "position": list(light.position), "power": list(light.intensity)}
     if isinstance(light, SpotLight):
         return {
             "kind": "spot",
             "position": list(light.position),
-            "direction": list(light.direction),
+            "direction": unit_vector32(light.direction),
             "power": list(light.intensity),
             "cos_inner": math.cos(math.radians(light.inner_angle)),
             "cos_outer": math.cos(math.radians(light.outer_angle)),
-            "two_sided": False,
         }
     if isinstance(light, SunLight):
         half = math.radians(light.angular_diameter / 2)
         # uniform radiance L over a cone of half-angle d gives irradiance L pi sin^2 d facing it
         radiance = [e / (math.pi * math.sin(half) ** 2) for e in light.irradiance]
+        direction = unit_vector32(light.direction)
+        cos_sun, one_minus_cos = sun_cone(half)
+        frame_t, frame_b = orthonormal_frame32(direction)
         return {
             "kind": "sun",
-            "direction": list(light.direction),
-            "half_angle": half,
+            "direction": direction,
+            "cos_sun": cos_sun,
+            "sun_one_minus_cos": one_minus_cos,
+            "frame_t": frame_t,
+            "frame_b": frame_b,
             "power": radiance,
-            "two_sided": False,
         }
     if isinstance(light, QuadLight):
+        normal, area = quad_normal_area(light.u, light.v)
         return {
             "kind": "quad",
             "position": list(light.center),
             "u": list(light.u),
             "v": list(light.v),
+            "normal": normal,
+            "area": area,
             "power": list(light.radiance),
             "two_sided": light.two_sided,
         }
@@ -233,7 +321,6 @@ def _luminaire(light: LuminaireLight) -> dict[str, Any]:
         "candela": _core.Grid2(h, v, np.ascontiguousarray(candela, np.float32)),
         "power": per_cd,
         "power_estimate": lum.flux() * light.multiplier * factor / LUMINOUS_EFFICACY,
-        "two_sided": False,
     }
 
 
@@ -362,7 +449,12 @@ class PreparedScene:
             geometry.add(v, f, n, t, names.index(shape.material))
         lights: list[dict[str, Any]] = []
         for i, light in enumerate(scene.lights):
-            entry = _core_light(light)
+            try:
+                entry = _core_light(light)
+            except FormatError:  # a luminaire file's own problem, already naming that file
+                raise
+            except ValueError as e:  # geometry the renderer cannot use (the reader lets none through)
+                raise FormatError(scene.path, f"lights[{i}]", str(e)) from None
             if _peak(entry["power"]) > MAX_EMISSION:
                 raise FormatError(
                     scene.path, f"lights[{i}]", f"its emission reaches {_peak(entry['power']):g} W: {OVERFLOWS}"
@@ -373,13 +465,18 @@ class PreparedScene:
                 raise FormatError(scene.path, f"lights[{i}]", str(e)) from None
             if mesh is not None:  # area lights are triangles the rays hit, and sampled as such
                 _check_mesh(scene, f"lights[{i}]", mesh[0], mesh[1], emits=True)
-                core_materials.append({"kind": "emitter", "light": len(lights), "two_sided": entry["two_sided"]})
+                core_materials.append({"kind": "emitter", "light": len(lights)})
                 ids = geometry.add(*mesh, len(core_materials) - 1)
                 if entry["kind"] == "triangles":
-                    entry["triangles"] = ids
+                    entry["triangles"] = np.asarray(ids, np.int32)
+                    entry["area_cdf"], entry["area"] = triangle_area_cdf(mesh[0], mesh[1])
             lights.append(entry)
         vertices, indices, normals, tangents, tri_material = geometry.arrays()
         self.triangles = len(indices)
+        # what was handed to C++, kept for inspection and tests (the core keeps its own copies)
+        self.core_materials = core_materials
+        self.core_lights = lights
+        self.arrays = (indices, normals, tangents, tri_material)
         self.accel = _core.Accel(vertices, indices)
         self.core = _core.RenderScene(self.accel, indices, normals, tangents, tri_material, camera_dict(scene))
         for m in core_materials:
