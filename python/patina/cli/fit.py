@@ -51,6 +51,10 @@ def cmd_fit(args: argparse.Namespace) -> int:
 
     if args.starts < 1:
         raise UsageError("fit: --starts must be at least 1")
+    if not 1 <= args.lobes <= 3:
+        raise UsageError(f"fit: --lobes {args.lobes}: 1, 2 or 3 specular lobes")
+    if not 0 <= args.seed < 2**63:  # numpy's and nlopt's seeds are unsigned
+        raise UsageError(f"fit: --seed {args.seed} must be in 0 .. 2^63 - 1")
     brdf = load_brdf(args.file)
     if args.compare:
         results = compare(

@@ -122,3 +122,10 @@ def test_compare_shows_progress_on_stderr(tmp_path, capsys):
     main(["fit", str(path), "--compare", "ggx", "ward", "--starts", "1"])
     err = capsys.readouterr().err
     assert "fitting" in err and "2/2" in err
+
+
+@pytest.mark.parametrize("option", [["--seed", "-1"], ["--seed", str(2**63)], ["--lobes", "4"], ["--starts", "0"]])
+def test_fit_options_are_checked_before_the_table_is_read(option, capsys):
+    assert main(["fit", "does-not-exist.ptab", *option]) == 2
+    err = capsys.readouterr().err
+    assert option[0] in err and "Traceback" not in err
