@@ -14,6 +14,7 @@ import os
 import numpy as np
 import pytest
 
+from patina.errors import FormatError
 from patina.render.prepare import (
     PreparedScene,
     camera_dict,
@@ -88,6 +89,21 @@ def test_a_misspelled_light_key_is_an_error_naming_it_and_the_light(prepared):
     del d["position"]
     with pytest.raises(ValueError, match=rf"light {n} \(point\): missing key 'position'"):
         prepared.core.add_light(d)
+
+
+@pytest.mark.parametrize(
+    ("where", "edit"),
+    [
+        ("materials.white.albdo", lambda o: o["materials"]["white"].update(albdo=0.5)),
+        ("lights[0].two_side", lambda o: o["lights"][0].update(two_side=True)),
+    ],
+)
+def test_a_misspelled_key_in_a_scene_file_is_an_error_naming_it(where, edit):
+    obj = scene_obj([dict(EVERY_LIGHT[3])])
+    edit(obj)
+    with pytest.raises(FormatError) as e:
+        parse_scene(obj, os.path.join(ROOT, "s.json"))
+    assert e.value.where == where and "unknown key" in str(e.value)
 
 
 @pytest.mark.parametrize(
