@@ -17,13 +17,14 @@ import time
 from collections.abc import Callable
 from dataclasses import asdict
 
-from patina.atomic import write_text
+from patina.atomic import check_writable, write_text
 from patina.bench.fit import bench_fit
 from patina.bench.kernels import bench_brdf, bench_math
 from patina.bench.lights import bench_lights
 from patina.bench.records import Record
 from patina.bench.render import bench_render
 from patina.bench.trace import bench_trace
+from patina.bundled import materials_path
 from patina.native import _core
 from patina.progress import Progress
 
@@ -43,6 +44,14 @@ def print_table(records: list[Record]) -> None:
         print(f"{r.name:<40} {r.ratio:7.2f} {r.value:10.2f}  {r.unit:<12} {r.candidate} vs {r.baseline}")
 
 
+def _group_line(name: str, count: int, seconds: float, done: int, total: int, start: float) -> str:
+    """One finished group, self-contained for a log: what, how long, done/total, time left (the
+    mean time of the groups so far times those left; a rough guide, groups differ)."""
+    elapsed = time.perf_counter() - start
+    left = f", about {elapsed / done * (total - done):.0f} s left" if done < total else ""
+    return f"bench: {name}: {count} records in {seconds:.1f} s ({done}/{total} groups done{left})"
+
+
 def run_bench(
     only: str | None = None, json_path: str | None = None, repeat: int = 7, quick: bool = False, progress: bool = True
 ) -> int:
@@ -55,10 +64,15 @@ def run_bench(
     if repeat < 1:
         print("patina bench: --repeat must be at least 1", file=sys.stderr)
         return 2
+    if json_path:
+        check_writable(json_path)  # an OSError naming it now (exit 2), not after minutes of timing
     groups = [only] if only else list(GROUPS)
+    if {"render", "lights"} & set(groups):
+        materials_path("scenes")  # their scenes are the checkout's: FileNotFoundError now, not minutes in
     # brdf includes the math kernels it relies on, as the issue's record list asks
     steps = [("math", bench_math), ("brdf", bench_brdf)] if only == "brdf" else [(g, GROUPS[g]) for g in groups]
     records: list[Record] = []
+    start = time.perf_counter()
     with Progress(len(steps), "bench", unit="group", enabled=progress) as bar:
         for done, (name, group) in enumerate(steps):
             bar.update(done, postfix=f"running {name}")
@@ -66,7 +80,7 @@ def run_bench(
             found = group(repeat, quick)
             records += found
             if progress:  # tqdm writes even when the bar is disabled
-                bar.write(f"bench: {name}: {len(found)} records in {time.perf_counter() - t0:.1f} s")
+                bar.write(_group_line(name, len(found), time.perf_counter() - t0, done + 1, len(steps), start))
         bar.update(len(steps), postfix="done")
     print_table(records)
     if json_path:
@@ -82,6 +96,7 @@ def run_bench(
             "quick": quick,
             "records": [asdict(r) for r in records],
         }
+        os.makedirs(os.path.dirname(os.path.abspath(json_path)), exist_ok=True)  # check_writable allowed it
         write_text(json_path, json.dumps(doc, indent=2))
         print(f"wrote {json_path}")
     return 0

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import patina
+from patina import bundled
 from patina.cli import build_parser, main
 from patina.cli.common import HelpFormat
 from repo_paths import ROOT
@@ -183,3 +184,25 @@ def test_bench_shows_progress_per_group(tmp_path):
     assert "bench: math:" in r.stderr and "bench: brdf:" in r.stderr and "records in" in r.stderr
     assert "2/2" in r.stderr  # the bar's done/total
     assert "bench:" not in r.stdout and r.stdout.startswith("name")
+    assert "(1/2 groups done, about" in r.stderr and "(2/2 groups done)" in r.stderr
+
+
+def test_bench_checks_its_output_and_inputs_before_timing(tmp_path):
+    (tmp_path / "a-file").write_text("")
+    out = tmp_path / "a-file" / "b.json"
+    r = _run([*PATINA, "bench", "--only", "math", "--quick", "--repeat", "1", "--json", str(out)])
+    assert r.returncode == 2 and str(out) in r.stderr and "Traceback" not in r.stderr
+    assert "bench: math:" not in r.stderr  # refused before the first group
+    # a folder that does not exist yet is made
+    out = tmp_path / "new" / "b.json"
+    assert _run([*PATINA, "bench", "--only", "math", "--quick", "--repeat", "1", "--json", str(out)]).returncode == 0
+    assert json.loads(out.read_text())["records"]
+
+
+def test_bench_needs_the_checkout_for_scene_groups_and_says_so_first(tmp_path, monkeypatch, capsys):
+    """Outside a checkout (no materials/ anywhere) the render and lights groups are refused up front."""
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(bundled, "_SOURCE_TREE", str(tmp_path))
+    assert main(["bench", "--only", "lights", "--quick", "--repeat", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "materials/scenes not found" in err and "bench: lights:" not in err
