@@ -3,8 +3,9 @@
 // The render job hands each (tile, pass) work item to a PixelSampler: begin(), then
 // next_batch() / take_results() in rounds until next_batch() has nothing more. The uniform
 // sampler below shoots a fixed number of jittered samples per pixel in one or more rounds
-// and box-filters them; the adaptive antialiasing (DESIGN.md, thesis chapter 3) implements
-// the same interface, deciding each round's positions from the previous round's results.
+// and box-filters them; the adaptive antialiasing (render/adaptive_sampler.h, thesis
+// chapter 3) implements the same interface, deciding each round's positions from the
+// previous round's results.
 #pragma once
 
 #include <cstdint>
@@ -27,6 +28,9 @@ public:
     virtual bool next_batch(std::vector<CameraSample>& samples) = 0;
     // The results of the round just traced, in the order of its samples.
     virtual void take_results(const CameraSample* samples, const PathResult* results, size_t n) = 0;
+    // Rays the sampler traced itself to decide where to sample (the adaptive sampler's
+    // signal), since construction; the integrator's rays are counted by its scratch.
+    virtual size_t rays_traced() const { return 0; }
 };
 
 // Samples [pass_begin[p], pass_begin[p + 1]) of every pixel, jittered uniformly within the

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 #include "core/parallel.h"
@@ -22,6 +23,8 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     if (settings.max_depth < 1) throw std::invalid_argument("max_depth must be at least 1");
     if (settings.tile_size < 1) throw std::invalid_argument("tile_size must be at least 1");
     if (settings.max_pass_spp < 1) throw std::invalid_argument("max_pass_spp must be at least 1");
+    if (!(settings.aa_threshold >= 0) || !std::isfinite(settings.aa_threshold))
+        throw std::invalid_argument("aa_threshold must be a finite number >= 0");
     const Camera& c = scene.camera;
     if (c.width < 1 || c.height < 1) throw std::invalid_argument("the image must be at least 1 x 1 pixels");
     m_integrator.max_depth = settings.max_depth;
@@ -29,7 +32,10 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     m_tiles_y = (c.height + settings.tile_size - 1) / settings.tile_size;
     // at least `passes` passes, each of at most max_pass_spp samples
     const int min_passes = std::max(settings.passes, 1);
-    const int per_pass = std::clamp((settings.spp + min_passes - 1) / min_passes, 1, settings.max_pass_spp);
+    // the adaptive sampler: one pattern a pass (its rounds are the levels)
+    const int per_pass = settings.aa == RenderSettings::Aa::Adaptive
+                             ? 1
+                             : std::clamp((settings.spp + min_passes - 1) / min_passes, 1, settings.max_pass_spp);
     const int passes = (settings.spp + per_pass - 1) / per_pass;
     for (int p = 0; p <= passes; ++p)
         m_pass_begin.push_back(static_cast<int>(static_cast<int64_t>(settings.spp) * p / passes));
@@ -37,6 +43,10 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     m_item_count = static_cast<size_t>(passes) * tiles;  // item k: pass k / tiles, tile k % tiles
     m_tile_passes = std::vector<std::atomic<int>>(tiles);
     for (auto& a : m_tile_passes) a.store(0);
+    if (settings.aa == RenderSettings::Aa::Adaptive) {
+        m_aa_stats.level.assign(static_cast<size_t>(c.width) * c.height, 0);
+        m_aa_stats.rays.assign(static_cast<size_t>(c.width) * c.height, 0);
+    }
 }
 
 RenderJob::~RenderJob() {
@@ -78,7 +88,10 @@ RenderProgress RenderJob::progress() const {
 
 void RenderJob::worker() {
     PathScratch scratch;
-    UniformSampler sampler(m_film, m_settings.seed, m_pass_begin, kMaxBatch);
+    UniformSampler uniform(m_film, m_settings.seed, m_pass_begin, kMaxBatch);
+    AdaptiveSampler adaptive(m_film, m_scene, *m_kernels, m_settings.seed, m_settings.aa_threshold, m_aa_stats);
+    PixelSampler& sampler = m_settings.aa == RenderSettings::Aa::Adaptive ? static_cast<PixelSampler&>(adaptive)
+                                                                          : static_cast<PixelSampler&>(uniform);
     std::vector<CameraSample> cs;
     std::vector<PathResult> out;
     try {
@@ -94,9 +107,9 @@ void RenderJob::worker() {
                 if (m_cancels.load() > 0) return;  // a later pass (item.pass > 0): not needed
                 std::this_thread::yield();
             }
-            const size_t before = scratch.rays_traced;
+            const size_t before = scratch.rays_traced + sampler.rays_traced();
             run_item(item, sampler, scratch, cs, out);
-            m_rays.fetch_add(scratch.rays_traced - before);
+            m_rays.fetch_add(scratch.rays_traced + sampler.rays_traced() - before);
             m_tile_passes[item.tile].store(item.pass + 1, std::memory_order_release);
             const int64_t ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
                                    std::chrono::steady_clock::now() - m_start).count();

@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "render/adaptive_sampler.h"
 #include "render/film.h"
 #include "render/integrator.h"
 #include "render/pixel_sampler.h"
@@ -30,6 +31,10 @@ struct RenderSettings {
     int tile_size = 16;
     int passes = 8;     // a pixel's samples are split into at least this many passes (fewer if spp is smaller)...
     int max_pass_spp = 16;  // ...of at most this many samples, so a cancel never waits long for a pass
+    // The pixel sampler: uniform (spp jittered samples a pixel) or the adaptive antialiasing
+    // (render/adaptive_sampler.h; spp patterns a pixel, one a pass, each of 1 to 25 rays).
+    enum class Aa { Uniform, Adaptive } aa = Aa::Uniform;
+    float aa_threshold = kDefaultAaThreshold;  // the adaptive sampler's contrast threshold, >= 0
 };
 
 struct RenderProgress {
@@ -59,6 +64,9 @@ public:
     // The image, each pixel the mean of its samples (H x W x 3 etc.); samples: per pixel.
     // Call after wait() (a cancelled job: the passes that finished).
     void resolve(float* rgb, float* albedo, float* normal, float* depth, float* lux, float* samples) const;
+    // The adaptive sampler's per-pixel level and rays (render/adaptive_sampler.h; empty for
+    // the uniform sampler). Call after wait().
+    const AaStats& aa_stats() const { return m_aa_stats; }
 
 private:
     struct Item {
@@ -77,6 +85,7 @@ private:
     size_t m_item_count = 0;  // passes x tiles, taken pass by pass
     std::vector<std::atomic<int>> m_tile_passes;  // passes finished per tile
     Film m_film;
+    AaStats m_aa_stats;
     std::atomic<size_t> m_next{0}, m_done{0}, m_rays{0}, m_samples_done{0};
     std::atomic<int> m_cancels{0};  // cancel() calls: 1 = after the first pass, 2 = now
     std::vector<std::thread> m_threads;

@@ -396,7 +396,7 @@ uint32_t stream_seed(uint64_t seed) {
 }
 
 std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth, uint64_t seed, int threads,
-                                    int width, int tile_size, int passes) {
+                                    int width, int tile_size, int passes, const std::string& aa, float aa_threshold) {
     SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
     check_materials(h);
     patina::prepare_light_selection(h.scene);
@@ -408,6 +408,11 @@ std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth
     st.width = width;
     st.tile_size = tile_size;
     st.passes = passes;
+    if (aa == "adaptive")
+        st.aa = patina::RenderSettings::Aa::Adaptive;
+    else if (aa != "uniform")
+        throw std::invalid_argument("aa: '" + aa + "' is not one of 'uniform', 'adaptive'");
+    st.aa_threshold = aa_threshold;
     auto j = std::make_unique<JobHandle>();
     j->scene_ref = scene_obj;
     j->job = std::make_unique<patina::RenderJob>(h.scene, st);
@@ -449,6 +454,19 @@ nb::dict resolve(const JobHandle& j) {
     d["depth"] = a_depth;
     d["illuminance"] = a_lux;
     d["samples"] = a_samples;
+    // the adaptive sampler: each pixel's level (1-3) and its own rays (see adaptive_sampler.h)
+    const patina::AaStats& aa = j.job->aa_stats();
+    if (!aa.level.empty()) {
+        float *level, *rays;
+        auto a_level = new_array<float, 2>(s2, &level);
+        auto a_rays = new_array<float, 2>(s2, &rays);
+        for (size_t i = 0; i < hgt * wid; ++i) {
+            level[i] = aa.level[i];
+            rays[i] = aa.rays[i];
+        }
+        d["aa_level"] = a_level;
+        d["aa_rays"] = a_rays;
+    }
     return d;
 }
 
@@ -459,6 +477,41 @@ void check_axis(const FloatVector& a, const char* name) {
         if (i > 0 && !(a.data()[i] > a.data()[i - 1]))
             throw std::invalid_argument(std::string(name) + ": knots must increase strictly (at " + std::to_string(i) + ")");
     }
+}
+
+// The adaptive sampler's fixed data (render/adaptive_pattern.h), for the drawings of
+// tools/draw_antialiasing.py and the tests: positions in the canonical frame, the three
+// fours of compared sample pairs, the zone tables, the weights per refined-zone set.
+nb::dict aa_pattern() {
+    namespace aa = patina::aa;
+    float *pos, *weights;
+    int32_t *pairs, *zones;
+    const size_t sp[2] = {aa::kMaxSamples, 2}, sc[3] = {3, 4, 2}, sz[2] = {3, 16},
+                 sw[2] = {aa::kPatterns, aa::kMaxSamples};
+    auto a_pos = new_array<float, 2>(sp, &pos);
+    auto a_pairs = new_array<int32_t, 3>(sc, &pairs);
+    auto a_zones = new_array<int32_t, 2>(sz, &zones);
+    auto a_weights = new_array<float, 2>(sw, &weights);
+    for (int s = 0; s < aa::kMaxSamples; ++s) {
+        pos[2 * s] = static_cast<float>(aa::sample_point(s).u);
+        pos[2 * s + 1] = static_cast<float>(aa::sample_point(s).v);
+    }
+    for (int f = 0; f < 3; ++f)
+        for (int l = 0; l < 4; ++l) {
+            pairs[8 * f + 2 * l] = aa::kComparisons[f][l].p;
+            pairs[8 * f + 2 * l + 1] = aa::kComparisons[f][l].q;
+        }
+    for (int f = 0; f < 3; ++f)
+        for (int m = 0; m < 16; ++m) zones[16 * f + m] = aa::kZoneTable[f][m];
+    for (int z = 0; z < aa::kPatterns; ++z)
+        for (int s = 0; s < aa::kMaxSamples; ++s) weights[aa::kMaxSamples * z + s] = aa::kWeights[z][s];
+    nb::dict d;
+    d["positions"] = a_pos;
+    d["comparisons"] = a_pairs;
+    d["zone_table"] = a_zones;
+    d["weights"] = a_weights;
+    d["default_threshold"] = patina::kDefaultAaThreshold;
+    return d;
 }
 
 std::unique_ptr<Grid2Handle> make_grid2(FloatVector x, FloatVector y, FloatMatrix values) {
@@ -527,12 +580,14 @@ void bind_render(nb::module_& m) {
         .def("set_environment", &set_environment, nb::arg("rgb").none(), nb::arg("constant"),
              nb::arg("intensity") = 1.0f, nb::arg("rotation") = 0.0f)
         .def_prop_ro("scene_radius", [](const SceneHandle& h) { return h.scene.scene_radius; });
+    m.def("aa_pattern", &aa_pattern, "The adaptive antialiasing's positions, comparisons, zone tables, weights.");
     m.def("sensor_illuminance", &sensor_illuminance, nb::arg("scene"), nb::arg("points"), nb::arg("normals"),
           nb::arg("samples") = 64, nb::arg("seed") = 0, nb::arg("width") = 0, nb::arg("threads") = 0,
           "Direct illuminance in lux on sensors at points facing normals, by shadowed light sampling.");
     nb::class_<JobHandle>(m, "RenderJob", "A render running on worker threads: start, poll progress, cancel, resolve.")
         .def(nb::new_(&make_job), nb::arg("scene"), nb::arg("spp"), nb::arg("max_depth"), nb::arg("seed") = 0,
-             nb::arg("threads") = 0, nb::arg("width") = 0, nb::arg("tile_size") = 16, nb::arg("passes") = 8)
+             nb::arg("threads") = 0, nb::arg("width") = 0, nb::arg("tile_size") = 16, nb::arg("passes") = 8,
+             nb::arg("aa") = "uniform", nb::arg("aa_threshold") = patina::kDefaultAaThreshold)
         .def("start", [](JobHandle& j) { j.job->start(); })
         .def("cancel", [](JobHandle& j) { j.job->cancel(); })
         .def("wait",

@@ -31,7 +31,7 @@ from patina.colour_constants import luminance
 from patina.errors import FormatError
 from patina.render import illuminance as il
 from patina.render.images import read_image
-from patina.render.outputs import auto_exposure, write_outputs
+from patina.render.outputs import auto_exposure, metadata, write_outputs
 from patina.render.prepare import PreparedScene, check_render_memory
 from patina.render.run import RenderAborted, render
 from patina.scene.preview import preview_scene_dict
@@ -106,7 +106,16 @@ def _image_size(scene: Scene, width: int | None, height: int | None) -> tuple[in
 def _with_options(scene: Scene, args: argparse.Namespace) -> Scene:
     check_run_options(threads=args.threads, exposure=args.exposure)  # ranges, before any work
     width, height = _image_size(scene, args.width, args.height)
-    return with_overrides(scene, spp=args.spp, integrator=args.integrator, seed=args.seed, width=width, height=height)
+    return with_overrides(
+        scene,
+        spp=args.spp,
+        integrator=args.integrator,
+        seed=args.seed,
+        width=width,
+        height=height,
+        aa=args.aa,
+        aa_threshold=args.aa_threshold,
+    )
 
 
 # ---------------------------------------------------------------- signals
@@ -204,6 +213,12 @@ def _render_and_write(scene: Any, args: argparse.Namespace, exposure_choice: str
         f"rendered {scene.camera.width}x{scene.camera.height}, {result.spp} spp, {state}: "
         f"{result.seconds:.2f} s, {rate:.2f} Mrays/s, SIMD width {result.simd_width}, {result.threads} threads"
     )
+    if result.aa_level is not None:
+        meta = metadata(scene, result)
+        print(
+            f"adaptive antialiasing: {meta['patina:aa_rays_per_pixel']:.2f} camera rays per pixel, pixels at "
+            + ", ".join(f"level {k} {100 * float(meta[f'patina:aa_level{k}_fraction']):.1f} %" for k in (1, 2, 3))
+        )
     shown = f" at {exposure:+.2f} stops" if exposure_choice == "auto" else ""
     print("wrote " + " and ".join(p for p in (exr, image) if p) + shown)
     if came:
@@ -289,6 +304,16 @@ def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help:
         "--integrator", choices=("direct", "path"), default=None, help="the integrator (default: the scene's)"
     )
     s.add_argument("--seed", type=int, default=None, help="random seed, 0 to 2^63-1 (default: the scene's)")
+    s.add_argument(
+        "--aa", default=None, metavar="uniform|adaptive", help="the pixel sampler (default: the scene's render.aa)"
+    )
+    s.add_argument(
+        "--aa-threshold",
+        type=float,
+        default=None,
+        metavar="T",
+        help="the adaptive sampler's contrast threshold in [0, 1] (default: the scene's, 0.1)",
+    )
     s.add_argument(
         "--width", type=int, default=None, help="image width in pixels (default: the scene's; alone: keeps the aspect)"
     )

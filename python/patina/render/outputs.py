@@ -28,12 +28,13 @@ def metadata(scene: Scene, result: RenderResult) -> dict[str, str | float | int]
     """The EXR header attributes of a render. EXR ints are 32-bit: counts that can exceed
     that (rays: billions in a long render; the seed: up to 2^63 - 1) are decimal strings,
     always, so a reader sees one type whatever the value."""
-    return {
+    meta: dict[str, str | float | int] = {
         "patina:version": _core.__version__,
         "patina:scene": json.dumps(scene_to_json(scene), separators=(",", ":")),
         "patina:scene_file": scene.path,
         "patina:spp": int(result.spp),
-        "patina:samples_min": int(result.samples.min()) if result.samples.size else 0,
+        # rounded: the adaptive sampler's weights sum to 1 a pass only up to float rounding
+        "patina:samples_min": round(float(result.samples.min())) if result.samples.size else 0,
         "patina:integrator": scene.render.integrator,
         "patina:seed": str(int(scene.render.seed)),
         "patina:seconds": float(result.seconds),
@@ -41,7 +42,15 @@ def metadata(scene: Scene, result: RenderResult) -> dict[str, str | float | int]
         "patina:simd_width": int(result.simd_width),
         "patina:threads": int(result.threads),
         "patina:complete": int(result.complete),
+        "patina:aa": result.aa,
     }
+    if result.aa_level is not None:
+        # docs/antialiasing.md: camera rays a pixel a pass (the patterns traced: the weight sums)
+        meta["patina:aa_threshold"] = float(result.aa_threshold)
+        meta["patina:aa_rays_per_pixel"] = float(result.camera_rays / max(float(result.samples.sum()), 1.0))
+        for level in (1, 2, 3):
+            meta[f"patina:aa_level{level}_fraction"] = float(np.mean(result.aa_level == level))
+    return meta
 
 
 def write_outputs(
@@ -63,6 +72,8 @@ def write_outputs(
             "depth": depth,
             "illuminance": result.illuminance,
         }
+        if result.aa_rays is not None:
+            layers["aa_rays"] = result.aa_rays  # the adaptive sampler's rays a pixel a pass
         write_exr(exr_path, layers, metadata(scene, result))
     if png_path:
         write_png(png_path, result.rgb, exposure_stops=exposure, curve=curve)

@@ -22,6 +22,7 @@ import numpy as np
 from patina.native import _core
 from patina.progress import Progress
 from patina.render.prepare import PreparedScene
+from patina.scene.reading import AA_SAMPLERS
 from patina.scene.types import Scene
 from patina.widths import core_width
 
@@ -50,6 +51,11 @@ class RenderResult:
     simd_width: int
     threads: int
     interrupted: bool = False  # Ctrl-C (or SIGTERM in the CLI) came; the image may still be complete
+    aa: str = "uniform"  # the pixel sampler (docs/antialiasing.md)
+    aa_threshold: float = 0.1
+    camera_rays: int = 0  # camera rays traced (the adaptive sampler: its positions, each one integrator sample)
+    aa_level: np.ndarray | None = None  # (H, W) adaptive: 1, 2 or 3, the level each pixel reached
+    aa_rays: np.ndarray | None = None  # (H, W) adaptive: the pixel's own rays a pass (1 = its share of the corners)
 
 
 def core_depth(scene: Scene) -> int:
@@ -81,15 +87,17 @@ class _Waiter(threading.Thread):
         self.done = True
 
 
-def _run_job(job: _core.RenderJob, pixels: int, spp: int, progress: bool) -> bool:
-    """Runs `job` to its end, showing progress; True if it was interrupted (once)."""
+def _run_job(job: _core.RenderJob, pixels: int, spp: int, progress: bool, by_items: bool = False) -> bool:
+    """Runs `job` to its end, showing progress; True if it was interrupted (once). by_items:
+    spp counted from the work items done (the adaptive sampler's samples a pixel vary)."""
     interrupts = 0
     with Progress(spp, "rendering", unit="spp", enabled=progress) as bar:
 
         def show() -> None:
             p = job.progress()
             rate = p["rays"] / max(p["seconds"], 1e-9) / 1e6
-            bar.update(round(p["samples_done"] / pixels, 1), postfix=f"{rate:.2f} Mrays/s")
+            done = spp * p["items_done"] / max(p["items_total"], 1) if by_items else p["samples_done"] / pixels
+            bar.update(round(done, 1), postfix=f"{rate:.2f} Mrays/s")
 
         job.start()
         waiter = _Waiter(job)
@@ -126,11 +134,21 @@ def render(
     simd: int | None = None,
     progress: bool = False,
     prepared: PreparedScene | None = None,
+    aa: str | None = None,
+    aa_threshold: float | None = None,
 ) -> RenderResult:
     """Renders `scene` (its render settings as given: apply CLI overrides with
     `scene_file.with_overrides` first). simd: SIMD width 1, 4 or 8 (None: PATINA_SIMD or the
-    widest; named as the CLI's --simd, `width` being an image's width there).
+    widest; named as the CLI's --simd, `width` being an image's width there). aa: the pixel
+    sampler, "uniform" or "adaptive", and aa_threshold its contrast threshold in [0, 1]
+    (None: the scene's render.aa, render.aa_threshold; docs/antialiasing.md).
     Ctrl-C: see the module docstring (a second one raises `RenderAborted`)."""
+    aa = scene.render.aa if aa is None else aa
+    threshold = scene.render.aa_threshold if aa_threshold is None else aa_threshold
+    if aa not in AA_SAMPLERS:
+        raise ValueError(f"aa: {aa!r} is not one of {', '.join(repr(a) for a in AA_SAMPLERS)}")
+    if isinstance(threshold, bool) or not isinstance(threshold, (int, float)) or not 0.0 <= threshold <= 1.0:
+        raise ValueError(f"aa_threshold: must be a number in [0, 1], got {threshold!r}")
     prep = prepared or PreparedScene(scene)
     if (prep.scene.camera.width, prep.scene.camera.height) != (scene.camera.width, scene.camera.height):
         raise ValueError(
@@ -145,12 +163,15 @@ def render(
         seed=scene.render.seed,
         threads=threads,
         width=core_simd,
+        aa=aa,
+        aa_threshold=float(threshold),
     )
     pixels = scene.camera.width * scene.camera.height
-    interrupted = _run_job(job, pixels, scene.render.spp, progress)
+    interrupted = _run_job(job, pixels, scene.render.spp, progress, by_items=aa == "adaptive")
     p = job.progress()
     images = job.resolve()
-    if float(images["samples"].min()) < 1:
+    # the adaptive sampler's weights sum to 1 a pass up to float rounding
+    if float(images["samples"].min()) < 1 - 1e-4:
         # cannot happen (a cancel finishes the first pass); never hand out unsampled pixels
         raise RuntimeError("the render stopped with pixels that have no sample")
     resolved_threads = threads if threads > 0 else (os.cpu_count() or 1)
@@ -169,4 +190,9 @@ def render(
         simd_width=core_simd if core_simd else _core.default_width(),
         threads=resolved_threads,
         interrupted=interrupted,
+        aa=aa,
+        aa_threshold=float(threshold),
+        camera_rays=int(p["samples_done"]),
+        aa_level=images.get("aa_level"),
+        aa_rays=images.get("aa_rays"),
     )

@@ -178,13 +178,19 @@ def _camera(o: Obj) -> Camera:
     )
 
 
+AA_SAMPLERS = ("uniform", "adaptive")  # render.aa, --aa (docs/antialiasing.md)
+AA_THRESHOLD = 0.1  # the adaptive sampler's contrast threshold; contrasts are in [0, 1]
+
+
 def _render(o: Obj) -> Render:
-    o.allow(("spp", "integrator", "max_depth", "seed"), "render")
+    o.allow(("spp", "integrator", "max_depth", "seed", "aa", "aa_threshold"), "render")
     return Render(
         spp=o.read("spp", integer, 64, lo=1, hi=MAX_SPP),
         integrator=o.read("integrator", choice, "direct", options=("direct", "path")),
         max_depth=o.read("max_depth", integer, 8, lo=1, hi=MAX_DEPTH),
         seed=o.read("seed", integer, 0, lo=0, hi=MAX_SEED),
+        aa=o.read("aa", choice, "uniform", options=AA_SAMPLERS),
+        aa_threshold=o.read("aa_threshold", number, AA_THRESHOLD, lo=0.0, hi=1.0),
     )
 
 
@@ -618,6 +624,8 @@ def with_overrides(
     seed: int | None = None,
     width: int | None = None,
     height: int | None = None,
+    aa: str | None = None,
+    aa_threshold: float | None = None,
 ) -> Scene:
     """The scene with command-line settings replacing the file's; bad values are FormatErrors
     naming the option (file "command line")."""
@@ -629,6 +637,10 @@ def with_overrides(
         render = dataclasses.replace(render, integrator=choice(ctx, "--integrator", integrator, ("direct", "path")))
     if seed is not None:
         render = dataclasses.replace(render, seed=integer(ctx, "--seed", seed, lo=0, hi=MAX_SEED))
+    if aa is not None:
+        render = dataclasses.replace(render, aa=choice(ctx, "--aa", aa, AA_SAMPLERS))
+    if aa_threshold is not None:
+        render = dataclasses.replace(render, aa_threshold=number(ctx, "--aa-threshold", aa_threshold, lo=0.0, hi=1.0))
     if width is not None:
         camera = dataclasses.replace(camera, width=integer(ctx, "--width", width, lo=1, hi=MAX_IMAGE_SIDE))
     if height is not None:

@@ -72,6 +72,8 @@ class Render:
     integrator: str  # "direct" | "path"
     max_depth: int
     seed: int
+    aa: str = "uniform"  # the pixel sampler: "uniform" | "adaptive" (docs/antialiasing.md)
+    aa_threshold: float = 0.1  # the adaptive sampler's contrast threshold, in [0, 1]
 
 
 # --- materials ------------------------------------------------------------------------------

@@ -1,0 +1,254 @@
+#include "render/adaptive_sampler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "render/camera.h"
+#include "render/rng.h"
+
+namespace patina {
+namespace {
+
+constexpr uint32_t kCornerSalt = 0x6a09e667u;  // corners' random streams apart from the pixels'
+
+uint32_t morton(uint32_t x, uint32_t y) {
+    uint32_t m = 0;
+    for (int b = 0; b < 16; ++b) m |= ((x >> b) & 1u) << (2 * b) | ((y >> b) & 1u) << (2 * b + 1);
+    return m;
+}
+
+// |a - b| / (|a| + |b|): scale-free, so a step of 20 % counts the same at 0.01 and at 100
+float relative(float a, float b) {
+    if (!std::isfinite(a) || !std::isfinite(b)) return 1.0f;  // a broken signal is refined, never trusted
+    const float s = std::fabs(a) + std::fabs(b);
+    return s > 0 ? std::fabs(a - b) / s : 0.0f;
+}
+
+}  // namespace
+
+float aa_contrast(const AaSignal& a, const AaSignal& b) {
+    const bool ha = std::isfinite(a.depth), hb = std::isfinite(b.depth);
+    if (ha != hb) return 1.0f;
+    float c = 0;
+    for (int k = 0; k < 3; ++k) c = std::max(c, relative(a.colour[k], b.colour[k]));
+    if (ha) {
+        c = std::max(c, relative(a.depth, b.depth));
+        const float d = a.normal[0] * b.normal[0] + a.normal[1] * b.normal[1] + a.normal[2] * b.normal[2];
+        c = std::max(c, 0.5f * (1.0f - std::clamp(d, -1.0f, 1.0f)));
+    }
+    return std::isfinite(c) ? c : 1.0f;
+}
+
+AdaptiveSampler::AdaptiveSampler(Film& film, const RenderScene& scene, const RenderKernels& kernels, uint32_t seed,
+                                 float threshold, AaStats& stats)
+    : m_film(film), m_scene(scene), m_kernels(kernels), m_seed(seed), m_threshold(threshold), m_stats(stats) {}
+
+void AdaptiveSampler::begin(const TileRect& tile, int pass) {
+    m_tile = tile;
+    m_pass = pass;
+    m_round = 0;
+    const int w = tile.x1 - tile.x0, h = tile.y1 - tile.y0;
+    std::vector<std::pair<uint32_t, int>> order;
+    for (int ty = 0; ty < h; ++ty)
+        for (int tx = 0; tx < w; ++tx) order.push_back({morton(tx, ty), ty * w + tx});
+    std::sort(order.begin(), order.end());
+    m_pixels.clear();
+    for (const auto& [code, t] : order) {
+        PixelState p;
+        p.tx = t % w;
+        p.ty = t / w;
+        p.pixel = (tile.y0 + p.ty) * m_film.width() + tile.x0 + p.tx;
+        m_pixels.push_back(p);
+    }
+    order.clear();
+    for (int cy = 0; cy <= h; ++cy)
+        for (int cx = 0; cx <= w; ++cx) order.push_back({morton(cx, cy), cy * (w + 1) + cx});
+    std::sort(order.begin(), order.end());
+    m_corner_order.clear();
+    for (const auto& [code, c] : order) m_corner_order.push_back(c);
+    m_level2_pixels.clear();
+    m_level3_pixels.clear();
+    m_level3_first.assign(m_pixels.size(), -1);
+}
+
+int AdaptiveSampler::corner_of(const PixelState& p, int canonical) const {
+    int x = canonical % 2, y = canonical / 2;
+    if (p.vertical) {
+        const int u = x, v = y;  // (x, y) = (v, 1 - u): 90 degrees counter-clockwise on screen
+        x = v;
+        y = 1 - u;
+    }
+    return (p.ty + y) * (m_tile.x1 - m_tile.x0 + 1) + p.tx + x;
+}
+
+void AdaptiveSampler::place(const PixelState& p, int s, float& fx, float& fy) const {
+    const aa::Point2 q = aa::sample_point(s);
+    const double x = p.vertical ? q.v : q.u, y = p.vertical ? 1.0 - q.u : q.v;
+    fx = static_cast<float>(m_tile.x0 + p.tx + x);
+    fy = static_cast<float>(m_tile.y0 + p.ty + y);
+}
+
+bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
+    samples.clear();
+    const uint32_t pass = static_cast<uint32_t>(m_pass);
+    if (m_round == 0) {
+        const int w = m_tile.x1 - m_tile.x0;
+        const uint32_t row = static_cast<uint32_t>(m_film.width()) + 1;
+        for (const int c : m_corner_order) {
+            const int cx = m_tile.x0 + c % (w + 1), cy = m_tile.y0 + c / (w + 1);
+            // keyed by the corner's place in the image: the tiles on both sides of a tile
+            // border trace it alike
+            const uint32_t id = static_cast<uint32_t>(cy) * row + static_cast<uint32_t>(cx);
+            samples.push_back({static_cast<float>(cx), static_cast<float>(cy), path_key(m_seed ^ kCornerSalt, id, pass)});
+        }
+        m_round = 1;
+        return !samples.empty();
+    }
+    if (m_round == 1 && !m_level2_pixels.empty()) {
+        for (const int i : m_level2_pixels)
+            for (int s = aa::kCorners; s < aa::kCorners + aa::kLevel2; ++s) {
+                CameraSample cs;
+                place(m_pixels[i], s, cs.fx, cs.fy);
+                cs.key = path_key(m_seed, static_cast<uint32_t>(m_pixels[i].pixel), pass * aa::kMaxSamples + s);
+                samples.push_back(cs);
+            }
+        m_round = 2;
+        return true;
+    }
+    if (m_round == 2 && !m_level3_pixels.empty()) {
+        for (const int i : m_level3_pixels)
+            for (int z = 0; z < aa::kZones; ++z) {
+                if (!((m_pixels[i].zones >> z) & 1)) continue;
+                for (int k = 0; k < aa::kZigzag; ++k) {
+                    const int s = aa::kCorners + aa::kLevel2 + z * aa::kZigzag + k;
+                    CameraSample cs;
+                    place(m_pixels[i], s, cs.fx, cs.fy);
+                    cs.key = path_key(m_seed, static_cast<uint32_t>(m_pixels[i].pixel), pass * aa::kMaxSamples + s);
+                    samples.push_back(cs);
+                }
+            }
+        m_round = 3;
+        return true;
+    }
+    if (m_round < 4) finish();
+    m_round = 4;
+    return false;
+}
+
+void AdaptiveSampler::signals(const CameraSample* samples, const PathResult* results, size_t n,
+                              std::vector<AaSignal>& out) {
+    out.resize(n);
+    for (size_t q = 0; q < n; ++q) {
+        const PathResult& r = results[q];
+        AaSignal& g = out[q];
+        g.depth = r.depth;
+        std::copy(r.normal, r.normal + 3, g.normal);
+        if (!std::isfinite(r.depth)) {
+            // a miss: the environment seen, which no random number touches
+            std::copy(r.rgb, r.rgb + 3, g.colour);
+            continue;
+        }
+        Vec3f org, dir;
+        camera_ray(m_scene.camera, samples[q].fx, samples[q].fy, 0.5f, 0.5f, org, dir);
+        const Vec3f p = org + r.depth * dir;
+        const float pt[3] = {p.x, p.y, p.z};
+        float lux = 0;
+        // one point per call: the light samples are keyed by (seed, index 0), the same
+        // fixed set at every position
+        m_kernels.sensor_illuminance(m_scene, pt, r.normal, 0, 1, kAaSignalLightSamples, m_seed, &lux,
+                                     m_signal_scratch);
+        for (int k = 0; k < 3; ++k) g.colour[k] = r.albedo[k] * lux;
+    }
+}
+
+void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult* results, size_t n) {
+    if (m_round == 1) {
+        m_corners.resize(n);
+        std::vector<AaSignal> sig;
+        signals(samples, results, n, sig);
+        m_corner_signal.resize(n);
+        for (size_t q = 0; q < n; ++q) {
+            m_corners[m_corner_order[q]] = results[q];
+            m_corner_signal[m_corner_order[q]] = sig[q];
+        }
+        const int row = m_tile.x1 - m_tile.x0 + 1;
+        for (size_t i = 0; i < m_pixels.size(); ++i) {
+            PixelState& p = m_pixels[i];
+            const int tl = p.ty * row + p.tx;
+            const AaSignal *a = &m_corner_signal[tl], *b = &m_corner_signal[tl + 1], *c = &m_corner_signal[tl + row],
+                           *d = &m_corner_signal[tl + row + 1];
+            const bool horizontal = aa_contrast(*a, *b) > m_threshold || aa_contrast(*c, *d) > m_threshold;
+            const bool vertical = aa_contrast(*a, *c) > m_threshold || aa_contrast(*b, *d) > m_threshold;
+            p.level = horizontal || vertical ? 2 : 1;
+            p.vertical = vertical && !horizontal;  // ambiguous: horizontal
+            if (p.level == 2) m_level2_pixels.push_back(static_cast<int>(i));
+        }
+        return;
+    }
+    if (m_round == 2) {
+        m_level2.assign(results, results + n);
+        signals(samples, results, n, m_level2_signal);
+        for (size_t j = 0; j < m_level2_pixels.size(); ++j) {
+            PixelState& p = m_pixels[m_level2_pixels[j]];
+            p.first = static_cast<int>(aa::kLevel2 * j);
+            const AaSignal* pts[aa::kCorners + aa::kLevel2];
+            for (int k = 0; k < aa::kCorners; ++k) pts[k] = &m_corner_signal[corner_of(p, k)];
+            for (int k = 0; k < aa::kLevel2; ++k) pts[aa::kCorners + k] = &m_level2_signal[p.first + k];
+            // three fours of comparisons, each a 4-bit mask looked up in its zone table
+            uint8_t zones = 0;
+            for (int f = 0; f < 3; ++f) {
+                int mask = 0;
+                for (int l = 0; l < 4; ++l) {
+                    const aa::Pair pr = aa::kComparisons[f][l];
+                    mask |= (aa_contrast(*pts[pr.p], *pts[pr.q]) > m_threshold ? 1 : 0) << l;
+                }
+                zones |= aa::kZoneTable[f][mask];
+            }
+            p.zones = zones;
+            if (zones) {
+                p.level = 3;
+                m_level3_pixels.push_back(m_level2_pixels[j]);
+            }
+        }
+        return;
+    }
+    if (m_round == 3) {
+        m_level3.assign(results, results + n);
+        int next = 0;
+        for (const int i : m_level3_pixels) {
+            m_level3_first[i] = next;
+            for (int z = 0; z < aa::kZones; ++z)
+                if ((m_pixels[i].zones >> z) & 1) next += aa::kZigzag;
+        }
+    }
+}
+
+void AdaptiveSampler::finish() {
+    const bool record = m_pass == 0;
+    for (size_t i = 0; i < m_pixels.size(); ++i) {
+        const PixelState& p = m_pixels[i];
+        if (record) m_stats.level[p.pixel] = static_cast<uint8_t>(p.level);
+        if (p.level == 1) {
+            for (int k = 0; k < aa::kCorners; ++k) m_film.add(p.pixel, m_corners[corner_of(p, k)], aa::kCornerWeightLevel1);
+            if (record) m_stats.rays[p.pixel] = 1;
+            continue;
+        }
+        const auto& w = aa::kWeights[p.zones];
+        for (int k = 0; k < aa::kCorners; ++k) m_film.add(p.pixel, m_corners[corner_of(p, k)], w[k]);
+        for (int k = 0; k < aa::kLevel2; ++k) m_film.add(p.pixel, m_level2[p.first + k], w[aa::kCorners + k]);
+        int next = m_level3_first[i], zigzags = 0;
+        for (int z = 0; z < aa::kZones; ++z) {
+            if (!((p.zones >> z) & 1)) continue;
+            ++zigzags;
+            for (int k = 0; k < aa::kZigzag; ++k) {
+                const int s = aa::kCorners + aa::kLevel2 + z * aa::kZigzag + k;
+                m_film.add(p.pixel, m_level3[next++], w[s]);
+            }
+        }
+        if (record) m_stats.rays[p.pixel] = static_cast<uint8_t>(1 + aa::kLevel2 + aa::kZigzag * zigzags);
+    }
+}
+
+}  // namespace patina

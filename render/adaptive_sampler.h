@@ -1,0 +1,100 @@
+// The adaptive coherent antialiasing of thesis chapter 3 as a PixelSampler
+// (docs/antialiasing.md; the fixed positions, zone table and weights: adaptive_pattern.h).
+//
+// A (tile, pass) work item takes up to three rounds:
+//   1. the tile's (w + 1) x (h + 1) pixel corners, each traced once and shared by the
+//      pixels around it; each pixel is classified: no discontinuity (the mean of its
+//      corners, done), horizontal (high contrast A-B or C-D; also when ambiguous) or
+//      vertical (the pattern rotated 90 degrees counter-clockwise);
+//   2. E, F, G, H of every discontinuous pixel (one packet of four), then the three fours
+//      of comparisons give a 4-bit mask each, and the zone table the zones to refine;
+//   3. one zigzag of four through each flagged zone (at most five a pixel).
+// Every position's integrator sample is added with its precomputed weight.
+//
+// The decisions are not taken on the integrator's noisy radiance but on a signal that is a
+// function of the position only: whether the camera ray hits, the first hit's depth and
+// shading normal, and its albedo times the direct illuminance from a fixed set of light
+// samples (the same for every position of the image). A flat region, however noisy its
+// radiance, gives equal signals and stays at level 1; the pattern is the same in every
+// pass and for any thread count or SIMD width.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "render/adaptive_pattern.h"
+#include "render/film.h"
+#include "render/integrator.h"
+#include "render/pixel_sampler.h"
+#include "render/scene.h"
+
+namespace patina {
+
+inline constexpr float kDefaultAaThreshold = 0.1f;
+inline constexpr int kAaSignalLightSamples = 4;  // the fixed light samples of the signal
+
+// What decides refinement at one position.
+struct AaSignal {
+    float colour[3];  // a hit: albedo x direct illuminance (lux) of the fixed light samples; a miss: the radiance seen
+    float normal[3];
+    float depth;      // inf: a miss
+};
+
+// The contrast of two signals, in [0, 1]: the largest over
+//   r, g, b of the colour:  |a - b| / (a + b)   (relative: the same in dark and bright regions)
+//   the depth:              |a - b| / (a + b)
+//   the normal:             (1 - a . b) / 2
+// and 1 where one ray hits and the other does not. Refine where it exceeds the threshold.
+float aa_contrast(const AaSignal& a, const AaSignal& b);
+
+// Per-pixel outcome of the first pass (the pattern is the same in every pass).
+struct AaStats {
+    std::vector<uint8_t> level;  // 1, 2 or 3 (0: not rendered yet)
+    std::vector<uint8_t> rays;   // the pixel's own rays: 1 (its share of the corners) + 4 (level 2) + 4 a zigzag
+};
+
+class AdaptiveSampler final : public PixelSampler {
+public:
+    AdaptiveSampler(Film& film, const RenderScene& scene, const RenderKernels& kernels, uint32_t seed,
+                    float threshold, AaStats& stats);
+    void begin(const TileRect& tile, int pass) override;
+    bool next_batch(std::vector<CameraSample>& samples) override;
+    void take_results(const CameraSample* samples, const PathResult* results, size_t n) override;
+    size_t rays_traced() const override { return m_signal_scratch.rays_traced; }
+
+private:
+    struct PixelState {
+        int pixel;              // index in the image
+        int tx, ty;             // position in the tile
+        bool vertical = false;  // the pattern is rotated
+        uint8_t zones = 0;      // level-3 zones
+        int level = 1;
+        int first = -1;         // index of its level-2 (then level-3) results in m_refined
+    };
+    void signals(const CameraSample* samples, const PathResult* results, size_t n, std::vector<AaSignal>& out);
+    void place(const PixelState& p, int s, float& fx, float& fy) const;
+    int corner_of(const PixelState& p, int canonical) const;  // index into m_corners
+    void finish();
+
+    Film& m_film;
+    const RenderScene& m_scene;
+    const RenderKernels& m_kernels;
+    uint32_t m_seed;
+    float m_threshold;
+    AaStats& m_stats;
+    PathScratch m_signal_scratch;
+
+    TileRect m_tile{};
+    int m_pass = 0, m_round = 0;
+    std::vector<PixelState> m_pixels;  // Morton order
+    std::vector<int> m_corner_order;   // corner indices (cy * (w + 1) + cx) in Morton order
+    std::vector<PathResult> m_corners;
+    std::vector<AaSignal> m_corner_signal;
+    std::vector<int> m_level2_pixels, m_level3_pixels;  // into m_pixels
+    std::vector<PathResult> m_level2, m_level3;
+    std::vector<AaSignal> m_level2_signal;
+    std::vector<int> m_level3_first;  // per m_pixels entry: its first level-3 result, -1 none
+};
+
+}  // namespace patina

@@ -1,0 +1,262 @@
+// The adaptive antialiasing's fixed data against its documented construction
+// (docs/antialiasing.md): positions, the zone table, the Voronoi weights; and the contrast.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "render/adaptive_pattern.h"
+#include "render/adaptive_sampler.h"
+
+namespace aa = patina::aa;
+
+TEST(AdaptivePattern, PositionsAreInsideThePixelAndDistinct) {
+    for (int s = 0; s < aa::kMaxSamples; ++s) {
+        const aa::Point2 p = aa::sample_point(s);
+        EXPECT_GE(p.u, 0.0);
+        EXPECT_LE(p.u, 1.0);
+        EXPECT_GE(p.v, 0.0);
+        EXPECT_LE(p.v, 1.0);
+        for (int o = 0; o < s; ++o) {
+            const aa::Point2 q = aa::sample_point(o);
+            EXPECT_GT(std::hypot(p.u - q.u, p.v - q.v), 0.01) << s << " " << o;
+        }
+    }
+}
+
+TEST(AdaptivePattern, ZigzagPointsAreFourPercentApartAlongTheGradientInsideTheirZone) {
+    for (int z = 0; z < aa::kZones; ++z)
+        for (int i = 0; i < aa::kZigzag; ++i) {
+            const aa::Point2 p = aa::zigzag_point(z, i);
+            EXPECT_GT(p.u, z * aa::kZoneWidth);
+            EXPECT_LT(p.u, (z + 1) * aa::kZoneWidth);
+            if (i > 0) {
+                const aa::Point2 q = aa::zigzag_point(z, i - 1);
+                EXPECT_NEAR(std::fabs(p.u - q.u), 0.04, 1e-12);  // a zigzag: alternating in u
+                EXPECT_GT(p.v, q.v);                             // down the strip
+            }
+        }
+}
+
+// The zone table from its construction: the b links flag the strips they span; along the
+// c chains (corner -> outer point -> inner point) an edge is where the status changes.
+TEST(AdaptivePattern, ZoneTableFollowsItsConstruction) {
+    for (int m = 0; m < 16; ++m) {
+        uint8_t b = 0;
+        for (int l = 0; l < 4; ++l) {
+            if (!((m >> l) & 1)) continue;
+            const aa::Pair pr = aa::kComparisons[0][l];
+            if (l < 3) {
+                // a link between neighbours on the middle row spans exactly one strip
+                const double u0 = aa::sample_point(pr.p).u, u1 = aa::sample_point(pr.q).u;
+                b |= 1u << static_cast<int>(std::floor(0.5 * (u0 + u1) / aa::kZoneWidth));
+            } else if (m == 8) {
+                b |= 1u << 2;  // E-H alone: the centre strip
+            }
+        }
+        EXPECT_EQ(aa::kZoneTable[0][m], b) << m;
+        for (int f = 1; f < 3; ++f) {
+            // walk each chain from its corner; the strip between two consecutive points is
+            // flagged when one differs from the corner and the other does not
+            uint8_t c = 0;
+            const int chains[2][2] = {{0, 1}, {3, 2}};  // lanes: corner-outer, corner-inner
+            for (const auto& ch : chains) {
+                bool prev = false;
+                double prev_u = aa::sample_point(aa::kComparisons[f][ch[0]].p).u;
+                for (const int l : ch) {
+                    const bool now = (m >> l) & 1;
+                    const double u = aa::sample_point(aa::kComparisons[f][l].q).u;
+                    if (now != prev) c |= 1u << static_cast<int>(std::floor(0.5 * (u + prev_u) / aa::kZoneWidth));
+                    prev = now;
+                    prev_u = u;
+                }
+            }
+            EXPECT_EQ(aa::kZoneTable[f][m], c) << f << " " << m;
+        }
+    }
+    EXPECT_EQ(aa::kZoneTable[0][0] | aa::kZoneTable[1][0] | aa::kZoneTable[2][0], 0);  // all equal: nothing
+}
+
+TEST(AdaptivePattern, ComparisonsPairALevelTwoPointWithItsNeighbourOrACornerOnItsSide) {
+    for (int f = 1; f < 3; ++f)
+        for (int l = 0; l < 4; ++l) {
+            const aa::Pair pr = aa::kComparisons[f][l];
+            EXPECT_LT(pr.p, aa::kCorners);
+            EXPECT_GE(pr.q, aa::kCorners);
+            EXPECT_LT(std::fabs(aa::sample_point(pr.p).u - aa::sample_point(pr.q).u), 0.5);
+        }
+}
+
+TEST(AdaptivePattern, WeightsAreVoronoiAreasSummingToOnePerPattern) {
+    for (int z = 0; z < aa::kPatterns; ++z) {
+        double sum = 0;
+        for (int s = 0; s < aa::kMaxSamples; ++s) {
+            const float w = aa::kWeights[z][s];
+            EXPECT_GE(w, 0.0f);
+            EXPECT_EQ(w > 0, aa::in_pattern(s, z)) << z << " " << s;
+            sum += w;
+        }
+        EXPECT_NEAR(sum, 1.0, 1e-6) << z;
+    }
+    // against a brute-force nearest-sample count on a fine grid, for a few patterns
+    for (const int z : {0, 1, 4, 21, 31}) {
+        constexpr int n = 400;
+        double count[aa::kMaxSamples] = {};
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j) {
+                const double u = (i + 0.5) / n, v = (j + 0.5) / n;
+                int best = -1;
+                double bd = 1e9;
+                for (int s = 0; s < aa::kMaxSamples; ++s) {
+                    if (!aa::in_pattern(s, z)) continue;
+                    const aa::Point2 p = aa::sample_point(s);
+                    const double d = (p.u - u) * (p.u - u) + (p.v - v) * (p.v - v);
+                    if (d < bd) bd = d, best = s;
+                }
+                count[best] += 1.0 / (n * n);
+            }
+        for (int s = 0; s < aa::kMaxSamples; ++s) EXPECT_NEAR(aa::kWeights[z][s], count[s], 3e-3) << z << " " << s;
+    }
+}
+
+TEST(AdaptivePattern, MirrorSymmetricLevelTwoWeights) {
+    // E..H mirror about u = 1/2, so without zigzags their weights mirror too
+    EXPECT_NEAR(aa::kWeights[0][aa::kE], aa::kWeights[0][aa::kH], 1e-6);
+    EXPECT_NEAR(aa::kWeights[0][aa::kF], aa::kWeights[0][aa::kG], 1e-6);
+    for (int k = 0; k < aa::kCorners; ++k) EXPECT_NEAR(aa::kWeights[0][k], aa::kWeights[0][0], 1e-6);
+}
+
+TEST(AdaptiveContrast, IsScaleFreeAndSeesHitsAndMisses) {
+    const float inf = std::numeric_limits<float>::infinity();
+    patina::AaSignal a{{1, 1, 1}, {0, 0, 1}, 2}, b{{1.5f, 1, 1}, {0, 0, 1}, 2};
+    const float bright = patina::aa_contrast(a, b);
+    for (float& c : a.colour) c *= 1e-4f;
+    for (float& c : b.colour) c *= 1e-4f;
+    EXPECT_NEAR(patina::aa_contrast(a, b), bright, 1e-6);  // the same in the dark
+    EXPECT_NEAR(bright, 0.2f, 1e-6);
+    patina::AaSignal miss{{1, 1, 1}, {0, 0, 0}, inf};
+    EXPECT_EQ(patina::aa_contrast(a, miss), 1.0f);
+    EXPECT_EQ(patina::aa_contrast(miss, miss), 0.0f);
+    patina::AaSignal turned = a;
+    turned.normal[2] = 0;
+    turned.normal[0] = 1;
+    EXPECT_NEAR(patina::aa_contrast(a, turned), 0.5f, 1e-6);  // 90 degrees
+    patina::AaSignal nan = a;
+    nan.colour[0] = std::nanf("");
+    EXPECT_EQ(patina::aa_contrast(a, nan), 1.0f);
+}
+
+// ---- the sampler's rounds on synthetic results (no lights: the signal is hit, depth and
+// normal; the radiance is whatever the test says) ---------------------------------------------
+
+#include <functional>
+#include <vector>
+
+#include "render/film.h"
+#include "render/rng.h"
+
+namespace {
+
+struct TileRun {
+    patina::Film film{8, 8};
+    patina::AaStats stats;
+    std::vector<patina::CameraSample> traced;
+};
+
+// hit(fx, fy): the first hit exists there; rgb(fx, fy): its radiance
+void run_tile(TileRun& r, const std::function<bool(float, float)>& hit, const std::function<float(float, float)>& rgb) {
+    patina::RenderScene scene;
+    scene.camera.width = scene.camera.height = 8;
+    r.stats.level.assign(64, 0);
+    r.stats.rays.assign(64, 0);
+    patina::AdaptiveSampler s(r.film, scene, patina::render_kernels_w1(), 7, patina::kDefaultAaThreshold, r.stats);
+    s.begin(patina::TileRect{1, 1, 7, 6}, 0);
+    std::vector<patina::CameraSample> cs;
+    while (s.next_batch(cs)) {
+        std::vector<patina::PathResult> out(cs.size());
+        for (size_t i = 0; i < cs.size(); ++i) {
+            patina::PathResult& p = out[i];
+            const bool h = hit(cs[i].fx, cs[i].fy);
+            const float v = rgb(cs[i].fx, cs[i].fy);
+            for (int k = 0; k < 3; ++k) {
+                p.rgb[k] = v;
+                p.albedo[k] = h ? 0.5f : 0.0f;
+                p.normal[k] = h && k == 2 ? 1.0f : 0.0f;
+            }
+            p.depth = h ? 3.0f : std::numeric_limits<float>::infinity();
+            p.illuminance = 0;
+            r.traced.push_back(cs[i]);
+        }
+        s.take_results(cs.data(), out.data(), cs.size());
+    }
+}
+
+std::vector<float> image(const TileRun& r) {
+    std::vector<float> rgb(3 * 64), al(3 * 64), n(3 * 64), d(64), lux(64), w(64);
+    r.film.resolve(rgb.data(), al.data(), n.data(), d.data(), lux.data(), w.data());
+    std::vector<float> out(64);
+    for (int i = 0; i < 64; ++i) out[i] = rgb[3 * i];
+    return out;
+}
+
+float noise(float x, float y) {
+    // a deterministic "noisy" radiance: a hash of the position
+    const uint32_t h = patina::hash_u32(static_cast<uint32_t>(x * 4096) * 7919u + static_cast<uint32_t>(y * 4096));
+    return static_cast<float>(h >> 8) / 16777216.0f;
+}
+
+}  // namespace
+
+TEST(AdaptiveSampler, AFlatNoisyRegionStaysAtLevelOneAndIsTheMeanOfItsCorners) {
+    TileRun r;
+    run_tile(r, [](float, float) { return true; }, noise);
+    const std::vector<float> img = image(r);
+    for (int y = 1; y < 6; ++y)
+        for (int x = 1; x < 7; ++x) {
+            EXPECT_EQ(r.stats.level[y * 8 + x], 1);
+            const float mean = 0.25f * (noise(x, y) + noise(x + 1, y) + noise(x, y + 1) + noise(x + 1, y + 1));
+            EXPECT_NEAR(img[y * 8 + x], mean, 1e-6);
+        }
+    EXPECT_EQ(r.traced.size(), 7u * 6u);  // the (w + 1) x (h + 1) corners, none twice
+    for (size_t i = 0; i < r.traced.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+            EXPECT_FALSE(r.traced[i].fx == r.traced[j].fx && r.traced[i].fy == r.traced[j].fy);
+}
+
+TEST(AdaptiveSampler, AVerticalEdgeIsFoundInItsColumnAndItsCoverageEstimated) {
+    TileRun r;
+    const float edge = 3.3f;  // hit left of x = 3.3
+    run_tile(r, [&](float x, float) { return x < edge; }, [&](float x, float) { return x < edge ? 1.0f : 0.0f; });
+    const std::vector<float> img = image(r);
+    for (int y = 1; y < 6; ++y)
+        for (int x = 1; x < 7; ++x) {
+            EXPECT_EQ(r.stats.level[y * 8 + x], x == 3 ? 3 : 1) << x << " " << y;
+            if (x == 3) {
+                EXPECT_EQ(r.stats.rays[y * 8 + x], 9);  // one zigzag: zone 1 (u 0.2-0.4)
+                EXPECT_NEAR(img[y * 8 + x], 0.3f, 0.04f);
+            } else {
+                EXPECT_EQ(img[y * 8 + x], x < 3 ? 1.0f : 0.0f);
+            }
+        }
+}
+
+TEST(AdaptiveSampler, AHorizontalEdgeIsFoundInItsRowThroughTheRotatedPattern) {
+    TileRun r;
+    const float edge = 2.7f;  // hit above y = 2.7
+    run_tile(r, [&](float, float y) { return y < edge; }, [&](float, float y) { return y < edge ? 1.0f : 0.0f; });
+    const std::vector<float> img = image(r);
+    for (int y = 1; y < 6; ++y)
+        for (int x = 1; x < 7; ++x) {
+            EXPECT_EQ(r.stats.level[y * 8 + x], y == 2 ? 3 : 1) << x << " " << y;
+            if (y == 2) {
+                EXPECT_EQ(r.stats.rays[y * 8 + x], 9);
+                EXPECT_NEAR(img[y * 8 + x], 0.7f, 0.04f);
+            }
+        }
+    for (const auto& c : r.traced) {  // every sample inside the tile
+        EXPECT_GE(c.fx, 1.0f);
+        EXPECT_LE(c.fx, 7.0f);
+        EXPECT_GE(c.fy, 1.0f);
+        EXPECT_LE(c.fy, 6.0f);
+    }
+}

@@ -1,0 +1,228 @@
+"""The adaptive antialiasing (docs/antialiasing.md) on real scenes: a flat noisy region stays
+at level 1, edges are refined where they are, a 90-degree turn of the camera turns the
+image, widths 1/4/8 and thread counts give the same bits, no NaN/Inf; the API, the scene
+keys, the CLI options and the EXR header; bad values exit 2 with one line."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+
+import numpy as np
+import pytest
+
+from patina.cli import main
+from patina.native import _core
+from patina.render.images import read_exr_layers
+from patina.render.run import render
+from patina.scene.reading import parse_scene
+from repo_paths import ROOT
+
+SIZE = 32
+TAN = math.tan(math.radians(20.0))  # fov 40
+
+
+def scene_of(obj: dict):
+    return parse_scene(obj, os.path.join(ROOT, "test.json"))
+
+
+def top_down(shapes: list, up=(0, 0, -1), spp: int = 1, integrator: str = "direct", **render_keys) -> dict:
+    """A camera 4 m above the plane y = 0 looking down: image x is world x, image y world z
+    (up = -z), at 4 TAN metres from the centre to an edge of the image."""
+    return {
+        "version": 1,
+        "camera": {
+            "position": [0, 4, 0],
+            "look_at": [0, 0, 0],
+            "up": list(up),
+            "fov": 40,
+            "width": SIZE,
+            "height": SIZE,
+        },
+        "render": {"spp": spp, "integrator": integrator, "seed": 5, **render_keys},
+        "materials": {"grey": {"type": "lambert", "albedo": 0.6}},
+        "shapes": shapes,
+        "lights": [{"type": "point", "position": [0.7, 3, 0.4], "intensity": 20}],
+    }
+
+
+def world_x(fx: float) -> float:
+    """Where film column position fx meets the plane y = 0."""
+    return 4 * TAN * (2 * fx / SIZE - 1)
+
+
+def half_plane_left_of(fx: float) -> dict:
+    """A plane covering the image left of film position fx (nothing to its right)."""
+    edge = world_x(fx)
+    return {
+        "type": "plane",
+        "material": "grey",
+        "size": [edge + 10, 20],
+        "transform": {"translate": [(edge - 10) / 2, 0, 0]},
+    }
+
+
+def test_the_pattern_data_is_what_the_docs_say():
+    p = _core.aa_pattern()
+    pos = np.asarray(p["positions"])
+    assert pos.shape == (28, 2)
+    assert np.allclose(pos[:4], [[0, 0], [1, 0], [0, 1], [1, 1]])
+    assert np.allclose(pos[4:8], [[0.2, 0.5], [0.4, 0.5], [0.6, 0.5], [0.8, 0.5]])
+    assert np.allclose(np.asarray(p["weights"]).sum(axis=1), 1.0, atol=1e-6)
+    assert p["default_threshold"] == pytest.approx(0.1)
+
+
+def test_a_flat_noisy_region_stays_at_level_one():
+    # a plane under an environment, path traced at 1 spp: every pixel's radiance is noisy,
+    # the signal (hit, depth, normal, albedo x the fixed light samples) is flat
+    obj = top_down([{"type": "plane", "material": "grey", "size": [40, 40]}], integrator="path")
+    obj["lights"] = []
+    obj["environment"] = {"type": "constant", "radiance": 1.0}
+    scene = scene_of(obj)
+    r = render(scene, aa="adaptive")
+    assert r.aa_level is not None and r.aa_rays is not None
+    assert np.mean(r.aa_level > 1) <= 0.01
+    assert r.rgb.std() > 0.02  # it is noisy
+    assert np.isfinite(r.rgb).all()
+    # the mean of corners is an unbiased estimate like the uniform sampler's (the image of
+    # radiance 0.6 x 1 everywhere)
+    u = render(scene, aa="uniform")
+    assert abs(r.rgb.mean() - u.rgb.mean()) < 4 * r.rgb.std() / SIZE + 0.01
+    assert r.camera_rays / (SIZE * SIZE) < 1.2  # the corners and their tile borders
+
+
+def test_a_scene_without_discontinuities_is_the_mean_of_its_corners():
+    # a plane under one point light, direct light: noise-free, smooth; every pixel level 1
+    # and, the radiance being smooth, within a hair of the pixel-centre value of a dense render
+    scene = scene_of(top_down([{"type": "plane", "material": "grey", "size": [40, 40]}]))
+    r = render(scene, aa="adaptive")
+    assert (r.aa_level == 1).all() and (r.aa_rays == 1).all()
+    dense = render(
+        scene_of(
+            {
+                **top_down([{"type": "plane", "material": "grey", "size": [40, 40]}]),
+                "render": {"spp": 64, "integrator": "direct", "seed": 1},
+            }
+        )
+    )
+    assert np.allclose(r.rgb, dense.rgb, rtol=0.02)
+
+
+def test_a_vertical_edge_is_refined_in_its_column_only():
+    scene = scene_of(top_down([half_plane_left_of(13.3)]))
+    r = render(scene, aa="adaptive")
+    refined = r.aa_level > 1
+    assert refined[:, 13].all()
+    assert not np.delete(refined, 13, axis=1).any()
+    # the column is 30 % covered; the albedo AOV is the plane's albedo times the coverage
+    assert np.allclose(r.albedo[:, 13, 0] / 0.6, 0.3, atol=0.05)
+
+
+def test_a_horizontal_edge_is_refined_in_its_row_only():
+    # the same plane seen with the camera turned: its edge runs along image rows
+    scene = scene_of(top_down([half_plane_left_of(13.3)], up=(1, 0, 0)))
+    r = render(scene, aa="adaptive")
+    refined = r.aa_level > 1
+    rows = np.flatnonzero(refined.any(axis=1))
+    assert len(rows) == 1 and refined[rows[0]].all()
+    cover = r.albedo[rows[0], :, 0] / 0.6
+    assert np.allclose(cover, cover[0], atol=0.05) and 0.3 < cover[0] < 0.7
+
+
+def disc_scene(up) -> dict:
+    # a sphere and its shadow on a plane, lit from the side: silhouettes and shadow edges
+    # at every angle
+    return top_down(
+        [
+            {"type": "plane", "material": "grey", "size": [40, 40]},
+            {"type": "sphere", "material": "grey", "radius": 0.45, "transform": {"translate": [0.1, 0.5, -0.2]}},
+        ],
+        up=up,
+    )
+
+
+def test_a_scene_turned_by_90_degrees_gives_the_image_turned():
+    a = render(scene_of(disc_scene((0, 0, -1))), aa="adaptive")
+    b = render(scene_of(disc_scene((1, 0, 0))), aa="adaptive")
+    # up -z -> up +x: the image turns by 90 degrees (np.rot90's sense, counter-clockwise)
+    turned = np.rot90(a.rgb, k=1, axes=(0, 1))
+    assert (a.aa_level > 1).mean() > 0.02  # there are edges to refine
+    err = np.abs(turned - b.rgb).mean() / a.rgb.mean()
+    assert err < 0.01
+    assert abs((a.aa_level > 1).mean() - (b.aa_level > 1).mean()) < 0.01
+
+
+def test_widths_and_thread_counts_give_the_same_image():
+    scene = scene_of(disc_scene((0, 0, -1)))
+    base = render(scene, aa="adaptive", simd=1, threads=1)
+    for simd, threads in ((4, 3), (8, 2)):
+        if simd == 8 and _core.default_width() < 8:
+            continue
+        r = render(scene, aa="adaptive", simd=simd, threads=threads)
+        assert np.array_equal(r.rgb, base.rgb), (simd, threads)
+        assert np.array_equal(r.aa_level, base.aa_level)
+    assert np.isfinite(base.rgb).all() and np.isfinite(base.albedo).all()
+
+
+def test_more_spp_are_more_patterns_the_same_refinement():
+    scene = scene_of({**disc_scene((0, 0, -1)), "render": {"spp": 3, "integrator": "path", "max_depth": 3, "seed": 2}})
+    one = render(
+        scene_of({**disc_scene((0, 0, -1)), "render": {"spp": 1, "integrator": "path", "max_depth": 3, "seed": 2}}),
+        aa="adaptive",
+    )
+    three = render(scene, aa="adaptive")
+    assert np.array_equal(one.aa_level, three.aa_level)
+    assert np.allclose(three.samples, 3.0, atol=1e-4)
+    assert np.isfinite(three.rgb).all()
+
+
+def test_scene_keys_choose_the_sampler_and_are_checked(tmp_path, capsys):
+    obj = disc_scene((0, 0, -1))
+    obj["render"] = {**obj["render"], "aa": "adaptive", "aa_threshold": 0.2}
+    scene = scene_of(obj)
+    assert scene.render.aa == "adaptive" and scene.render.aa_threshold == 0.2
+    assert render(scene).aa == "adaptive"
+    for bad, key in (
+        ({"aa": 3}, "render.aa"),
+        ({"aa": "smart"}, "render.aa"),
+        ({"aa_threshold": "x"}, "render.aa_threshold"),
+        ({"aa_threshold": -0.1}, "render.aa_threshold"),
+    ):
+        path = tmp_path / "bad.json"
+        path.write_text(json.dumps({**obj, "render": {**obj["render"], **bad}}))
+        assert main(["render", str(path), "--out", str(tmp_path / "x.exr"), "--quiet"]) == 2
+        err = capsys.readouterr().err
+        assert key in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    with pytest.raises(ValueError, match="aa"):
+        render(scene, aa="smart")
+    with pytest.raises(ValueError, match="aa_threshold"):
+        render(scene, aa_threshold=float("nan"))
+
+
+def test_cli_options_and_the_exr_header(tmp_path, capsys):
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(disc_scene((0, 0, -1))))
+    out = tmp_path / "a.exr"
+    assert main(["render", str(path), "--out", str(out), "--aa", "adaptive", "--aa-threshold", "0.15"]) == 0
+    assert "camera rays per pixel" in capsys.readouterr().out
+    layers, meta = read_exr_layers(str(out))
+    assert meta["patina:aa"] == "adaptive"
+    assert meta["patina:aa_threshold"] == pytest.approx(0.15)
+    assert 1.0 <= meta["patina:aa_rays_per_pixel"] < 4.0
+    fractions = [meta[f"patina:aa_level{k}_fraction"] for k in (1, 2, 3)]
+    assert sum(fractions) == pytest.approx(1.0) and fractions[0] > 0.5
+    assert "aa_rays" in layers
+    for option, value in (
+        ("--aa", "smart"),
+        ("--aa-threshold", "-1"),
+        ("--aa-threshold", "nan"),
+        ("--aa-threshold", "2"),
+    ):
+        assert main(["render", str(path), "--out", str(tmp_path / "b.exr"), option, value, "--quiet"]) == 2
+        err = capsys.readouterr().err
+        assert option in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "b.exr").exists()
+    plain = tmp_path / "u.exr"
+    assert main(["render", str(path), "--out", str(plain), "--quiet"]) == 0
+    assert read_exr_layers(str(plain))[1]["patina:aa"] == "uniform"
