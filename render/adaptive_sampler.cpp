@@ -140,6 +140,9 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
 void AdaptiveSampler::signals(const CameraSample* samples, const PathResult* results, size_t n,
                               std::vector<AaSignal>& out) {
     out.resize(n);
+    m_hit_index.clear();
+    m_hit_points.clear();
+    m_hit_normals.clear();
     for (size_t q = 0; q < n; ++q) {
         const PathResult& r = results[q];
         AaSignal& g = out[q];
@@ -153,13 +156,20 @@ void AdaptiveSampler::signals(const CameraSample* samples, const PathResult* res
         Vec3f org, dir;
         camera_ray(m_scene.camera, samples[q].fx, samples[q].fy, 0.5f, 0.5f, org, dir);
         const Vec3f p = org + r.depth * dir;
-        const float pt[3] = {p.x, p.y, p.z};
-        float lux = 0;
-        // one point per call: the light samples are keyed by (seed, index 0), the same
-        // fixed set at every position
-        m_kernels.sensor_illuminance(m_scene, pt, r.normal, 0, 1, kAaSignalLightSamples, m_seed, &lux,
-                                     m_signal_scratch);
-        for (int k = 0; k < 3; ++k) g.colour[k] = r.albedo[k] * lux;
+        m_hit_index.push_back(q);
+        m_hit_points.insert(m_hit_points.end(), {p.x, p.y, p.z});
+        m_hit_normals.insert(m_hit_normals.end(), r.normal, r.normal + 3);
+    }
+    // the round's hits in one call (light samples and shadow rays in packets), every point
+    // with the same fixed light samples (shared)
+    const size_t hits = m_hit_index.size();
+    m_hit_lux.assign(hits, 0.0f);
+    if (hits)
+        m_kernels.sensor_illuminance(m_scene, m_hit_points.data(), m_hit_normals.data(), 0, hits,
+                                     kAaSignalLightSamples, m_seed, true, m_hit_lux.data(), m_signal_scratch);
+    for (size_t j = 0; j < hits; ++j) {
+        const size_t q = m_hit_index[j];
+        for (int k = 0; k < 3; ++k) out[q].colour[k] = results[q].albedo[k] * m_hit_lux[j];
     }
 }
 

@@ -95,6 +95,8 @@ private:
     std::vector<PathResult> m_level2, m_level3;
     std::vector<AaSignal> m_level2_signal;
     std::vector<int> m_level3_first;  // per m_pixels entry: its first level-3 result, -1 none
+    std::vector<size_t> m_hit_index;  // a round's hits: which sample, where, facing, lux
+    std::vector<float> m_hit_points, m_hit_normals, m_hit_lux;
 };
 
 }  // namespace patina

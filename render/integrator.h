@@ -80,9 +80,11 @@ struct RenderKernels {
     void (*trace_paths)(const RenderScene& scene, const IntegratorSettings& settings, const CameraSample* samples,
                         size_t n, PathResult* out, PathScratch& scratch);
     // lux[i] = direct illuminance (lux) on a sensor at points[i] facing unit normals[i], the
-    // mean of `samples` light samples (each shadowed), for sensors [begin, end)
+    // mean of `samples` light samples (each shadowed), for sensors [begin, end). Each sensor
+    // draws its own samples; shared: all draw the same ones (the adaptive antialiasing's
+    // signal, render/adaptive_sampler.h: a function of the position only)
     void (*sensor_illuminance)(const RenderScene& scene, const float* points, const float* normals, size_t begin,
-                               size_t end, int samples, uint32_t seed, float* lux, PathScratch& scratch);
+                               size_t end, int samples, uint32_t seed, bool shared, float* lux, PathScratch& scratch);
     // out[i] = the 2-D table at (x[i], y[i]), bilinear, clamped to the axes
     void (*grid2_eval)(const Grid2View& grid, const float* x, const float* y, float* out, size_t n);
 };
