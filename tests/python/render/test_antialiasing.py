@@ -15,6 +15,7 @@ import pytest
 from patina.cli import main
 from patina.native import _core
 from patina.render.images import read_exr_layers
+from patina.render.prepare import PreparedScene
 from patina.render.run import render
 from patina.scene.reading import parse_scene
 from repo_paths import ROOT
@@ -226,3 +227,19 @@ def test_cli_options_and_the_exr_header(tmp_path, capsys):
     plain = tmp_path / "u.exr"
     assert main(["render", str(path), "--out", str(plain), "--quiet"]) == 0
     assert read_exr_layers(str(plain))[1]["patina:aa"] == "uniform"
+
+
+def test_a_cancelled_adaptive_render_keeps_its_first_pass():
+    prepared = PreparedScene(scene_of(disc_scene((0, 0, -1))))
+    job = _core.RenderJob(prepared.core, spp=4, max_depth=1, seed=0, threads=1, aa="adaptive")
+    job.cancel()  # before it starts: the first pass (one pattern a pixel) still finishes
+    job.start()
+    job.wait()
+    images = job.resolve()
+    assert not job.progress()["finished"]
+    assert np.allclose(images["samples"], 1.0, atol=1e-4)
+    assert np.isfinite(images["rgb"]).all() and (images["aa_level"] >= 1).all()
+    with pytest.raises(ValueError, match="aa"):
+        _core.RenderJob(prepared.core, spp=1, max_depth=1, aa="smart")
+    with pytest.raises(ValueError, match="aa_threshold"):
+        _core.RenderJob(prepared.core, spp=1, max_depth=1, aa="adaptive", aa_threshold=-1.0)
