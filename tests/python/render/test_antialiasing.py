@@ -243,3 +243,21 @@ def test_a_cancelled_adaptive_render_keeps_its_first_pass():
         _core.RenderJob(prepared.core, spp=1, max_depth=1, aa="smart")
     with pytest.raises(ValueError, match="aa_threshold"):
         _core.RenderJob(prepared.core, spp=1, max_depth=1, aa="adaptive", aa_threshold=-1.0)
+
+
+@pytest.mark.parametrize("size", [(1, 1), (33, 17)])
+def test_tile_sizes_give_the_same_image(size):
+    # corners are keyed by their place in the image and the decisions by position only, so
+    # a corner on a tile border traced by both tiles gives both the same result
+    obj = disc_scene((0, 0, -1))
+    obj["camera"] = {**obj["camera"], "width": size[0], "height": size[1]}
+    prepared = PreparedScene(scene_of(obj))
+    images = []
+    for tile in (1, 3, 16):
+        job = _core.RenderJob(prepared.core, spp=2, max_depth=1, seed=0, threads=2, tile_size=tile, aa="adaptive")
+        job.start()
+        job.wait()
+        images.append(job.resolve())
+    for im in images[1:]:
+        assert np.array_equal(im["rgb"], images[0]["rgb"])
+    assert np.allclose(images[0]["samples"], 2.0, atol=1e-4)
