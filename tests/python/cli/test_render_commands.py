@@ -163,8 +163,8 @@ def test_an_image_out_with_exr_writes_both(tmp_path):
         (["--out", "x.png", "--exr", "y.png"], "--exr"),
     ],
 )
-def test_bad_output_options_exit_2_before_rendering(tmp_path, capsys, options, named):
-    os.chdir(tmp_path)
+def test_bad_output_options_exit_2_before_rendering(tmp_path, monkeypatch, capsys, options, named):
+    monkeypatch.chdir(tmp_path)
     assert main(["render", BALL, *options, *SMALL]) == 2
     captured = capsys.readouterr()
     assert named in captured.err and len(captured.err.strip().splitlines()) == 1

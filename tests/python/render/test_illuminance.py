@@ -114,8 +114,8 @@ def test_illuminance_refuses_existing_outputs_without_force_before_computing(tmp
 
 
 @pytest.mark.parametrize(("option", "value"), [("--samples", "0"), ("--samples", "99999999999"), ("--png", "x.jpg")])
-def test_bad_illuminance_options_exit_2_naming_the_option(tmp_path, capsys, option, value):
-    os.chdir(tmp_path)
+def test_bad_illuminance_options_exit_2_naming_the_option(tmp_path, monkeypatch, capsys, option, value):
+    monkeypatch.chdir(tmp_path)
     assert main(["illuminance", STREET, "--grid", "-1,-1,1,1,2,2", option, value]) == 2
     err = capsys.readouterr().err
     assert option in err and len(err.strip().splitlines()) == 1 and os.listdir(tmp_path) == []
