@@ -37,4 +37,4 @@ $PIP install -q --upgrade pip==25.1.1 >/dev/null 2>&1 || true
 # Build requirements installed once, so rebuilds need no isolated environment.
 $PIP install -q -r tools/requirements-build.txt
 echo "setup: building and installing Patina into .venv"
-$PIP install -q --no-build-isolation ".[test]"
+$PIP install -q --no-build-isolation ".[test,cluster]"

@@ -26,6 +26,7 @@ import contextlib
 import os
 import sys
 
+from patina.cli.batch import add_batch_command
 from patina.cli.bench import add_bench_command
 from patina.cli.common import HelpFormat, UsageError
 from patina.cli.fit import add_fit_command
@@ -47,6 +48,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_bench_command(sub)
     add_render_commands(sub)
     add_luminaire_commands(sub)
+    add_batch_command(sub)
     _help_shows_defaults(p)
     return p
 

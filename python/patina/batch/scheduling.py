@@ -1,0 +1,237 @@
+"""Running a batch: the tasks planned (one per material and step, each after the steps it
+needs), run on Dask distributed or, without it, one after the other in this process; then the
+library report (patina.batch.gallery).
+
+Dask: a LocalCluster on this machine by default (a worker process per core, one thread each,
+so a worker's fits and renders run on one thread and the workers fill the cores), or any
+running scheduler (`tcp://host:8786`) whose workers see the same files at the same paths.
+Tasks are submitted with RETRIES: a worker that dies mid-task loses nothing, the scheduler
+runs the task again on another worker (its outputs are written whole or not at all, the
+manifest last), and a task that keeps failing is reported as failed, the others go on.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import warnings
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import Any
+
+from patina.batch.gallery import summarise, write_gallery
+from patina.batch.library import Material, Settings, find_tables
+from patina.batch.tasks import NEEDS, one_line, result, run_task
+from patina.progress import Progress
+
+RETRIES = 2  # a task whose worker died (or that raised) is run up to this many times more
+CONNECT_TIMEOUT_S = 5  # an unreachable scheduler is reported within seconds
+WORKERS_TIMEOUT_S = 20  # a scheduler with no worker: waited for this long, then reported
+IN_PROCESS = "in-process"  # --scheduler value: no Dask, the tasks one after the other here
+
+
+@dataclass(frozen=True)
+class Task:
+    step: str
+    material: Material
+    needs: tuple[int, ...]  # indices of the tasks whose results it takes
+
+
+def plan(materials: list[Material], settings: Settings) -> list[Task]:
+    """Every material's steps in order; a task comes after the tasks it needs."""
+    tasks: list[Task] = []
+    for m in materials:
+        index: dict[str, int] = {}
+        for step in settings.steps:
+            index[step] = len(tasks)
+            tasks.append(Task(step, m, tuple(index[s] for s in NEEDS[step] if s in index)))
+    return tasks
+
+
+def _raised(task: Task, e: BaseException) -> dict[str, Any]:
+    """The result of a task that raised (after its retries): failed, with one line."""
+    return result(task.material, task.step, "failed", f"{type(e).__name__}: {one_line(e)}")
+
+
+def run_in_process(tasks: list[Task], settings: Settings, out_dir: str, progress: Progress) -> list[dict[str, Any]]:
+    results: list[dict[str, Any]] = []
+    for done, task in enumerate(tasks):
+        progress.update(done, postfix=f"{task.material.name} {task.step}")
+        try:
+            results.append(run_task(task.step, task.material, settings, out_dir, 0, *(results[i] for i in task.needs)))
+        except (KeyboardInterrupt, MemoryError):
+            raise
+        except Exception as e:  # one material's trouble does not stop the library
+            results.append(_raised(task, e))
+    progress.update(len(tasks))
+    return results
+
+
+def run_on_dask(
+    tasks: list[Task], settings: Settings, out_dir: str, client: Any, progress: Progress
+) -> list[dict[str, Any]]:
+    from distributed import as_completed
+
+    futures: list[Any] = []
+    for i, task in enumerate(tasks):
+        futures.append(
+            client.submit(
+                run_task,
+                task.step,
+                task.material,
+                settings,
+                out_dir,
+                1,  # one thread a task: the workers fill the cores
+                *(futures[j] for j in task.needs),
+                key=f"patina-batch-{task.step}-{i}-{os.getpid()}-{id(futures)}",
+                pure=False,
+                retries=RETRIES,
+            )
+        )
+    position = {f.key: i for i, f in enumerate(futures)}
+    try:
+        for done, future in enumerate(as_completed(futures), start=1):
+            task = tasks[position[future.key]]
+            progress.update(done, postfix=f"{task.material.name} {task.step}")
+    except BaseException:
+        client.cancel(futures)  # Ctrl-C: the finished tasks' outputs and manifests stay
+        raise
+    results: list[dict[str, Any]] = []
+    for task, future in zip(tasks, futures):
+        if future.status == "finished":
+            results.append(future.result())
+        elif any(results[j]["status"] != "ok" for j in task.needs):
+            # Dask fails a task whose input failed with the same error: say which it was
+            results.append(result(task.material, task.step, "blocked", "not run: an earlier step failed"))
+        else:
+            results.append(_raised(task, future.exception()))
+    return results
+
+
+# ---------------------------------------------------------------- Dask
+
+
+def dask_available() -> bool:
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def dashboard(client: Any) -> str:
+    """The dashboard's address, or why there is none (it needs bokeh where the scheduler runs)."""
+    try:
+        if "dashboard" in client.scheduler_info().get("services", {}):
+            return client.dashboard_link
+    except Exception:  # an old scheduler's info: no dashboard to print
+        pass
+    return "none (the scheduler serves no dashboard: bokeh is not installed there)"
+
+
+@contextlib.contextmanager
+def connect(scheduler: str | None, workers: int | None) -> Iterator[tuple[Any, str]]:
+    """(a Dask client, what it is) for a scheduler address, or a LocalCluster of `workers`
+    processes (default: one per core). ValueError, within seconds, for an address that does
+    not answer or a scheduler with no workers."""
+    from distributed import Client, LocalCluster
+
+    if scheduler is None:
+        n = workers or os.cpu_count() or 1
+        with warnings.catch_warnings():
+            # 8787 taken (another batch, another user): Dask takes a free port, and we print it
+            warnings.filterwarnings("ignore", message="Port .* is already in use")
+            cluster = LocalCluster(
+                n_workers=n,
+                threads_per_worker=1,
+                processes=True,
+                silence_logs=logging.ERROR,  # the batch's own lines and progress, not the cluster's log
+                dashboard_address=":8787",
+            )
+        try:
+            with Client(cluster) as client:
+                yield client, f"a local Dask cluster of {n} worker process{'es' if n > 1 else ''}"
+        finally:
+            cluster.close()
+        return
+    if workers is not None:
+        raise ValueError("--workers: sets the size of the local cluster; a --scheduler has its own workers")
+    try:
+        client = Client(scheduler, timeout=CONNECT_TIMEOUT_S)
+    except (OSError, ValueError, TypeError) as e:
+        raise ValueError(f"--scheduler {scheduler}: cannot connect: {one_line(e)}") from None
+    try:
+        try:
+            client.wait_for_workers(1, timeout=WORKERS_TIMEOUT_S)
+        except (OSError, TimeoutError):
+            raise ValueError(f"--scheduler {scheduler}: no worker joined within {WORKERS_TIMEOUT_S} s") from None
+        yield client, f"the Dask scheduler at {scheduler} ({len(client.nthreads())} workers)"
+    finally:
+        client.close()
+
+
+def check_scheduler(scheduler: str | None) -> None:
+    """An address's form checked before anything starts: PROTOCOL://HOST:PORT."""
+    if scheduler is None or scheduler == IN_PROCESS:
+        return
+    protocol, sep, rest = scheduler.partition("://")
+    host, colon, port = rest.rpartition(":")
+    if not sep or protocol not in ("tcp", "tls", "ucx", "inproc", "ws", "wss") or not colon or not host:
+        raise ValueError(f"--scheduler {scheduler}: expected an address like tcp://host:8786 (or {IN_PROCESS})")
+    if not port.isdigit() or not 0 < int(port) < 65536:
+        raise ValueError(f"--scheduler {scheduler}: the port must be a number in 1 .. 65535")
+
+
+# ---------------------------------------------------------------- the batch
+
+
+def run_batch(
+    library: str,
+    out_dir: str,
+    settings: Settings,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    client: Any = None,
+    progress: bool = True,
+    say: Callable[[str], None] = print,
+) -> dict[str, Any]:
+    """Processes every table of `library` into `out_dir` and writes the library report; returns
+    the summary (as summary.json). scheduler: None (a LocalCluster), an address, or IN_PROCESS;
+    `client`: a Dask client to use instead (tests). ValueError for unusable options or a
+    library with no table, before any task starts."""
+    check_scheduler(scheduler)
+    if workers is not None and not 1 <= workers <= 1024:
+        raise ValueError(f"--workers: {workers} is not in 1 .. 1024")
+    materials, skipped = find_tables(library)
+    if not materials:
+        names = f" ({len(skipped)} other files)" if skipped else ""
+        raise ValueError(f"{library}: no tables in this folder{names}; tables are .ptab, MERL .binary, ASTM, CSV")
+    out_dir = os.path.abspath(out_dir)
+    os.makedirs(os.path.join(out_dir, "materials"), exist_ok=True)
+    for name, why in skipped:
+        say(f"skipped {name}: {why}")
+    tasks = plan(materials, settings)
+    say(f"{len(materials)} tables, {len(tasks)} tasks ({', '.join(settings.steps)})")
+
+    def run(client: Any | None) -> list[dict[str, Any]]:
+        with Progress(len(tasks), "batch", unit="task", enabled=progress) as bar:
+            if client is None:
+                return run_in_process(tasks, settings, out_dir, bar)
+            return run_on_dask(tasks, settings, out_dir, client, bar)
+
+    if client is not None:
+        results = run(client)
+    elif scheduler == IN_PROCESS:
+        say("running in this process, one task at a time")
+        results = run(None)
+    elif not dask_available():
+        say("Dask distributed is not installed (pip install .[cluster]): running in this process, one task at a time")
+        results = run(None)
+    else:
+        with connect(scheduler, workers) as (dask_client, what):
+            say(f"running on {what}; dashboard: {dashboard(dask_client)}")
+            results = run(dask_client)
+    summary = summarise(library, out_dir, materials, skipped, results, settings)
+    write_gallery(out_dir, summary)
+    return summary

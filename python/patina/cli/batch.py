@@ -1,0 +1,92 @@
+"""`patina batch LIBRARY_DIR --out OUT_DIR`: every table of a folder validated, fitted, previewed
+and reported, and one library report (patina.batch; docs/batch.md)."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from typing import Any
+
+from patina.batch import DEFAULT_MODELS, IN_PROCESS, Settings, parse_steps, run_batch
+from patina.batch.library import check_settings
+from patina.cli.common import UsageError
+
+
+def cmd_batch(args: argparse.Namespace) -> int:
+    try:
+        settings = Settings(
+            steps=parse_steps(args.steps),
+            models=tuple(args.models),
+            loss=args.loss,
+            starts=args.starts,
+            seed=args.seed,
+            width=args.width,
+            height=args.height,
+            spp=args.spp,
+            shape=args.shape if args.shape in ("ball", "sphere", "panel") else os.path.abspath(args.shape),
+            env=os.path.abspath(args.env) if args.env else "",
+            lobes=args.lobes,
+        )
+        check_settings(settings)
+    except ValueError as e:
+        raise UsageError(f"batch: {e}") from None
+    say = print if not args.quiet else (lambda line: None)
+    try:
+        summary = run_batch(
+            args.library,
+            args.out,
+            settings,
+            scheduler=args.scheduler,
+            workers=args.workers,
+            progress=not args.quiet,
+            say=say,
+        )
+    except ValueError as e:  # options, the folder, the scheduler: before any task ran
+        raise UsageError(f"batch: {e}") from None
+    counts = summary["counts"]
+    for row in summary["materials"]:
+        if row["status"] == "failed":
+            print(f"patina batch: {row['name']}: {row['error']}", file=sys.stderr)
+    say(
+        f"{counts['ok']} of {counts['tables']} tables processed, {counts['failed']} failed "
+        f"({counts['tasks_run']} tasks run, {counts['tasks_reused']} reused); "
+        f"wrote {os.path.join(summary['out'], 'index.html')}, summary.json, summary.csv"
+    )
+    return 0 if counts["ok"] > 0 else 1  # non-zero only when nothing could be processed
+
+
+def add_batch_command(sub: Any) -> None:
+    s = sub.add_parser(
+        "batch",
+        help="a library of tables validated, fitted, previewed and reported (on Dask distributed when installed)",
+        description="Processes every table in LIBRARY_DIR (the formats patina info reads; other files are listed "
+        "as skipped) into OUT_DIR/materials/NAME/ and writes OUT_DIR/index.html (a sortable gallery), "
+        "summary.json and summary.csv. A rerun skips the work whose inputs and settings are unchanged. "
+        "Exit 0 when at least one table was processed, 1 when none could be, 2 for bad options.",
+    )
+    s.add_argument("library", metavar="LIBRARY_DIR", help="the folder of tables (read one level deep)")
+    s.add_argument("--out", required=True, metavar="OUT_DIR", help="the folder for the reports (made if missing)")
+    s.add_argument(
+        "--steps", default="validate,fit,preview,report", help="comma-separated, of validate, fit, preview, report"
+    )
+    s.add_argument("--models", nargs="+", default=list(DEFAULT_MODELS), metavar="MODEL", help="the models compared")
+    s.add_argument("--loss", default="l2cos", choices=("l2cos", "log"), help="the fitting loss (as patina fit)")
+    s.add_argument("--starts", type=int, default=2, help="local starts a model (as patina fit)")
+    s.add_argument("--seed", type=int, default=0, help="the seed of the fits and the preview renders")
+    s.add_argument("--width", type=int, default=160, help="each preview image's width (two side by side)")
+    s.add_argument("--height", type=int, default=120, help="each preview image's height")
+    s.add_argument("--spp", type=int, default=16, help="samples a pixel of the previews")
+    s.add_argument("--shape", default="ball", help="the preview object: ball, sphere, panel or a mesh file")
+    s.add_argument("--env", default=None, metavar="MAP", help="the previews' environment map (default: the studio)")
+    s.add_argument("--lobes", action="store_true", help="the 3-D lobe view in each report (slower)")
+    s.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help=f"a running Dask scheduler (tcp://host:8786), or {IN_PROCESS} for no Dask "
+        "(default: a local cluster on this machine)",
+    )
+    s.add_argument("--workers", type=int, default=None, help="worker processes of the local cluster (default: cores)")
+    s.add_argument("--quiet", action="store_true", help="errors only")
+    s.set_defaults(func=cmd_batch)

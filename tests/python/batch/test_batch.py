@@ -1,0 +1,237 @@
+"""patina batch in this process: the library report, reruns that skip, a changed input that
+reruns only its own tasks, a corrupt table reported while the others complete, bad options."""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import json
+import os
+import struct
+import time
+from html.parser import HTMLParser
+
+import pytest
+from batch_library import BAD, GOOD, PLASTICS, QUICK, write_plastic
+
+from patina.batch import IN_PROCESS, run_batch
+from patina.batch import scheduling as batch_scheduling
+from patina.cli import main
+
+
+def run(library: str, out: str, settings=QUICK, **options) -> dict:
+    lines: list[str] = []
+    summary = run_batch(library, out, settings, scheduler=IN_PROCESS, progress=False, say=lines.append, **options)
+    summary["_lines"] = lines
+    return summary
+
+
+def png_size(path: str) -> tuple[int, int]:
+    with open(path, "rb") as f:
+        head = f.read(24)
+    assert head[:8] == b"\x89PNG\r\n\x1a\n"
+    return struct.unpack(">II", head[16:24])
+
+
+class _Page(HTMLParser):
+    def __init__(self) -> None:
+        super().__init__()
+        self.rows = 0
+        self.links: list[str] = []
+        self.images: list[str] = []
+        self.script = False
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "tr":
+            self.rows += 1
+        if tag == "a":
+            self.links.append(a["href"])
+        if tag == "img":
+            self.images.append(a["src"])
+        if tag == "script":
+            self.script = True
+
+
+def by_name(summary: dict) -> dict:
+    return {m["name"]: m for m in summary["materials"]}
+
+
+def mtimes(out: str) -> dict[str, int]:
+    found = {}
+    for folder, _, names in os.walk(out):
+        for n in names:
+            found[os.path.join(folder, n)] = os.stat(os.path.join(folder, n)).st_mtime_ns
+    return found
+
+
+def test_a_library_in_process(library, tmp_path):
+    out = str(tmp_path / "out")
+    summary = run(library, out)
+    rows = by_name(summary)
+    assert sorted(rows) == sorted([*GOOD, BAD])
+    assert summary["skipped_files"] == [{"file": "README.md", "reason": summary["skipped_files"][0]["reason"]}]
+    assert any(line.startswith("skipped README.md:") for line in summary["_lines"])
+    for name in GOOD:
+        row = rows[name]
+        assert row["status"] == "ok" and row["validation"] == "passed", row
+        assert row["best_model"] == "ggx+lambert" and 0 <= row["ciede2000_mean"] < 5
+        # the table and its fit side by side, with a rule between
+        width, height = png_size(os.path.join(out, row["preview"]))
+        assert (height, width) == (QUICK.height, 2 * QUICK.width + 2)
+    # the whole summary, as files: JSON, CSV and the gallery
+    with open(os.path.join(out, "summary.json")) as f:
+        assert json.load(f)["counts"] == summary["counts"]
+    assert summary["counts"]["ok"] == 3 and summary["counts"]["failed"] == 1
+    with open(os.path.join(out, "summary.csv"), newline="") as f:
+        table = list(csv.DictReader(f))
+    assert [r["name"] for r in table] == [m["name"] for m in summary["materials"]]
+    assert {r["name"]: r["status"] for r in table}[BAD] == "failed"
+    page = _Page()
+    with open(os.path.join(out, "index.html"), encoding="utf-8") as f:
+        page.feed(f.read())
+    assert page.rows == 1 + 4 and page.script  # a heading row, a row a table, the sorting script
+    assert len(page.images) == 3
+    for src in page.images + [h for h in page.links if not h.startswith("summary")]:
+        assert os.path.isfile(os.path.join(out, src)), src
+    assert "summary.json" in page.links and "summary.csv" in page.links
+
+
+def test_a_corrupt_table_fails_alone_with_its_one_line_message(library, tmp_path):
+    summary = run(library, str(tmp_path / "out"))
+    bad = by_name(summary)[BAD]
+    assert bad["status"] == "failed" and bad["validation"] == "failed"
+    assert bad["error"].startswith(f"validate: {os.path.join(library, BAD)} (byte ")
+    assert "\n" not in bad["error"]
+    assert bad["steps"]["preview"]["status"] == "blocked"  # it needs the fit, which failed
+    assert all(by_name(summary)[n]["status"] == "ok" for n in GOOD)
+
+
+def test_a_rerun_skips_everything(library, tmp_path):
+    out = str(tmp_path / "out")
+    run(library, out)
+    before = mtimes(os.path.join(out, "materials"))
+    again = run(library, out)
+    counts = again["counts"]
+    assert counts["tasks_run"] == 0 and counts["tasks_reused"] == counts["tasks"] - counts["tasks_blocked"]
+    assert mtimes(os.path.join(out, "materials")) == before  # nothing rewritten
+    # and the failure is still reported, from its manifest
+    assert by_name(again)[BAD]["error"] == by_name(run(library, out))[BAD]["error"]
+
+
+def test_a_changed_input_reruns_only_its_tasks(library, tmp_path):
+    out = str(tmp_path / "out")
+    first = run(library, out)
+    write_plastic(os.path.join(library, "green.ptab"), (0.3, 0.3, 0.1), 0.25)  # re-measured
+    second = run(library, out)
+    run_now = {
+        (s, m["name"])
+        for m in second["materials"]
+        for s, r in m["steps"].items()
+        if not r["reused"] and r["status"] != "blocked"  # blocked: not run, whatever the run
+    }
+    assert run_now == {("validate", "green.ptab"), ("fit", "green.ptab"), ("preview", "green.ptab")}
+    assert by_name(second)["green.ptab"]["ciede2000_mean"] != by_name(first)["green.ptab"]["ciede2000_mean"]
+
+
+def test_changed_settings_rerun_only_the_steps_they_touch(library, tmp_path):
+    out = str(tmp_path / "out")
+    run(library, out)
+    second = run(library, out, dataclasses.replace(QUICK, spp=2))  # the previews only
+    ran = {s for m in second["materials"] for s, r in m["steps"].items() if not r.get("reused")}
+    assert ran == {"preview"}
+
+
+def test_a_half_written_task_runs_again(library, tmp_path):
+    """A task killed after its output but before its manifest (the manifest is written last):
+    the rerun does it again; an output changed after its manifest is redone too."""
+    out = str(tmp_path / "out")
+    run(library, out)
+    red = os.path.join(out, "materials", "red.ptab")
+    os.unlink(os.path.join(red, "fit.manifest.json"))
+    with open(os.path.join(red, "preview.png"), "ab") as f:
+        f.write(b"\0")
+    ran = {s for s, r in by_name(run(library, out))["red.ptab"]["steps"].items() if not r["reused"]}
+    assert ran == {"fit", "preview"}
+
+
+def test_the_report_step_links_each_materials_report(tmp_path):
+    lib = tmp_path / "one"
+    lib.mkdir()
+    diffuse, roughness = PLASTICS["red.ptab"]
+    write_plastic(str(lib / "red.ptab"), diffuse, roughness)
+    out = str(tmp_path / "out")
+    summary = run(str(lib), out, dataclasses.replace(QUICK, steps=("validate", "fit", "report")))
+    row = by_name(summary)["red.ptab"]
+    assert row["report"] == "materials/red.ptab/report/index.html" and row["preview"] is None
+    with open(os.path.join(out, row["report"]), encoding="utf-8") as f:
+        assert "ggx+lambert" in f.read()  # the fit is in the material's report
+
+
+def test_without_dask_it_runs_here_and_says_so_once(library, tmp_path, monkeypatch):
+    monkeypatch.setattr(batch_scheduling, "dask_available", lambda: False)
+    lines: list[str] = []
+    one = os.path.join(library, "red.ptab")
+    lib = tmp_path / "lib"
+    lib.mkdir()
+    os.link(one, lib / "red.ptab")
+    summary = run_batch(str(lib), str(tmp_path / "out"), QUICK, progress=False, say=lines.append)
+    assert summary["counts"]["ok"] == 1
+    assert sum("not installed" in line for line in lines) == 1
+
+
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        (["--steps", "validate,paint"], "unknown step 'paint'"),
+        (["--steps", "preview"], "needs the fit step"),
+        (["--models", "glossy"], "unknown model 'glossy'"),
+        (["--spp", "0"], "--spp: 0"),
+        (["--scheduler", "nowhere"], "expected an address like tcp://host:8786"),
+        (["--scheduler", "tcp://127.0.0.1:99999"], "the port"),
+    ],
+)
+def test_bad_options_give_one_line_and_exit_2(library, tmp_path, capsys, options, message):
+    code = main(["batch", library, "--out", str(tmp_path / "out"), *options])
+    err = capsys.readouterr().err
+    assert code == 2 and message in err and len(err.strip().splitlines()) == 1, err
+    assert not os.path.exists(tmp_path / "out" / "summary.json")
+
+
+def test_a_missing_or_empty_folder_exits_2(tmp_path, capsys):
+    assert main(["batch", str(tmp_path / "nothing"), "--out", str(tmp_path / "out")]) == 2
+    assert "no such folder" in capsys.readouterr().err
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    (empty / "notes.md").write_text("no tables here")
+    assert main(["batch", str(empty), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "no tables in this folder" in err and len(err.strip().splitlines()) == 1
+
+
+def test_an_unreachable_scheduler_exits_2_within_seconds(library, tmp_path, capsys):
+    pytest.importorskip("distributed")
+    started = time.monotonic()
+    code = main(["batch", library, "--out", str(tmp_path / "out"), "--scheduler", "tcp://127.0.0.1:9"])
+    err = capsys.readouterr().err
+    assert code == 2 and "tcp://127.0.0.1:9" in err and len(err.strip().splitlines()) == 1, err
+    assert time.monotonic() - started < 30
+
+
+def test_the_command_exits_0_when_some_tables_were_processed(library, tmp_path, capsys):
+    out = str(tmp_path / "out")
+    code = main(
+        [
+            "batch", library, "--out", out, "--scheduler", IN_PROCESS, "--steps", "validate",
+            "--quiet",
+        ]
+    )  # fmt: skip
+    err = capsys.readouterr().err
+    assert code == 0
+    with open(os.path.join(out, "summary.json")) as f:
+        error = by_name(json.load(f))[BAD]["error"]
+    assert err.strip().splitlines() == [f"patina batch: {BAD}: {error}"]
+    only_bad = tmp_path / "bad"
+    only_bad.mkdir()
+    os.link(os.path.join(library, BAD), only_bad / BAD)
+    assert main(["batch", str(only_bad), "--out", str(tmp_path / "o2"), "--scheduler", IN_PROCESS, "--quiet"]) == 1

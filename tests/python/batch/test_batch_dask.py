@@ -1,0 +1,96 @@
+"""patina batch on Dask distributed: a LocalCluster of 2 worker processes gives the in-process
+results; a rerun skips everything; a worker killed mid-task loses nothing; the command's own
+LocalCluster prints its dashboard."""
+
+from __future__ import annotations
+
+import glob
+import os
+import signal
+import threading
+import time
+
+import pytest
+from batch_library import BAD, GOOD, QUICK
+
+from patina.batch import IN_PROCESS, run_batch
+from patina.batch.manifest import checksum
+from patina.cli import main
+
+distributed = pytest.importorskip("distributed")
+
+
+@pytest.fixture(scope="module")
+def client():
+    with (
+        distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster,
+        distributed.Client(cluster) as c,
+    ):
+        yield c
+
+
+def on_dask(library: str, out: str, client, settings=QUICK) -> dict:
+    return run_batch(library, out, settings, client=client, progress=False, say=lambda line: None)
+
+
+def statuses(summary: dict) -> dict:
+    return {m["name"]: (m["status"], m["validation"], m["best_model"]) for m in summary["materials"]}
+
+
+def test_the_cluster_gives_the_in_process_results_and_a_rerun_skips(library, tmp_path, client):
+    here = run_batch(library, str(tmp_path / "here"), QUICK, scheduler=IN_PROCESS, progress=False, say=lambda s: None)
+    out = str(tmp_path / "there")
+    there = on_dask(library, out, client)
+    assert statuses(there) == statuses(here)
+    bad = {m["name"]: m for m in there["materials"]}[BAD]
+    assert bad["status"] == "failed" and bad["error"] == {m["name"]: m for m in here["materials"]}[BAD]["error"]
+    for name in GOOD:
+        assert os.path.isfile(os.path.join(out, "materials", name, "preview.png"))
+    again = on_dask(library, out, client)
+    assert again["counts"]["tasks_run"] == 0
+
+
+def _kill_a_busy_worker(client, killed: list[str], stop: threading.Event) -> None:
+    """SIGKILL the process of the first worker seen running a task (as a crash or the OOM killer would)."""
+    pids = client.run(os.getpid)
+    while not stop.is_set():
+        for worker, keys in client.processing().items():
+            if keys and worker in pids:
+                time.sleep(0.2)  # into the task, past its start
+                os.kill(pids[worker], signal.SIGKILL)
+                killed.append(worker)
+                return
+        time.sleep(0.02)
+
+
+def test_a_worker_killed_mid_task_loses_nothing(library, tmp_path, client):
+    out = str(tmp_path / "out")
+    killed: list[str] = []
+    stop = threading.Event()
+    killer = threading.Thread(target=_kill_a_busy_worker, args=(client, killed, stop), daemon=True)
+    killer.start()
+    try:
+        summary = on_dask(library, out, client)
+    finally:
+        stop.set()
+        killer.join()
+    assert killed, "no worker was seen running a task"
+    assert statuses(summary)[BAD][0] == "failed"
+    assert all(statuses(summary)[n][0] == "ok" for n in GOOD), summary["materials"]
+    # nothing half-written: every output a manifest lists is whole, no temporary is left beside them
+    for manifest in glob.glob(os.path.join(out, "materials", "*", "*.manifest.json")):
+        assert os.path.getsize(manifest) > 0
+    for name in GOOD:
+        folder = os.path.join(out, "materials", name)
+        assert not [n for n in os.listdir(folder) if ".tmp" in n]
+        assert checksum(os.path.join(folder, "preview.png"))
+    client.wait_for_workers(2, timeout=60)  # the nanny restarted it
+    assert on_dask(library, out, client)["counts"]["tasks_run"] == 0  # and every task was complete
+
+
+def test_the_command_runs_its_own_local_cluster(library, tmp_path, capsys):
+    code = main(["batch", library, "--out", str(tmp_path / "out"), "--workers", "1", "--steps", "validate", "--quiet"])
+    assert code == 0
+    code = main(["batch", library, "--out", str(tmp_path / "out"), "--workers", "1", "--steps", "validate"])
+    printed = capsys.readouterr().out
+    assert code == 0 and "running on a local Dask cluster of 1 worker process; dashboard: " in printed
