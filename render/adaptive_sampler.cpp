@@ -5,13 +5,13 @@
 #include <limits>
 #include <utility>
 
-#include "render/camera.h"
 #include "render/rng.h"
 
 namespace patina {
 namespace {
 
 constexpr uint32_t kCornerSalt = 0x6a09e667u;  // corners' random streams apart from the pixels'
+constexpr uint32_t kSignalSalt = 0xbb67ae85u;  // the signal's one shared stream
 
 uint32_t morton(uint32_t x, uint32_t y) {
     uint32_t m = 0;
@@ -137,47 +137,37 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
     return false;
 }
 
-void AdaptiveSampler::signals(const CameraSample* samples, const PathResult* results, size_t n,
-                              std::vector<AaSignal>& out) {
+void AdaptiveSampler::signals(const CameraSample* samples, size_t n, std::vector<AaSignal>& out) {
+    // the round's positions traced again by the direct-light integrator with one key shared
+    // by every position of the image: the same light sample and BRDF sample everywhere, so
+    // the radiance (highlights included) is a function of the position only
+    // (the integrator's own results are noisy: the decisions never look at them)
+    m_signal_cs.assign(samples, samples + n);
+    const uint32_t key = path_key(m_seed ^ kSignalSalt, 0, 0);
+    for (auto& c : m_signal_cs) c.key = key;
+    m_signal_out.resize(n);
+    trace_signal(m_signal_cs.data(), n, m_signal_out.data());
     out.resize(n);
-    m_hit_index.clear();
-    m_hit_points.clear();
-    m_hit_normals.clear();
     for (size_t q = 0; q < n; ++q) {
-        const PathResult& r = results[q];
+        const PathResult& r = m_signal_out[q];
         AaSignal& g = out[q];
         g.depth = r.depth;
         std::copy(r.normal, r.normal + 3, g.normal);
-        if (!std::isfinite(r.depth)) {
-            // a miss: the environment seen, which no random number touches
-            std::copy(r.rgb, r.rgb + 3, g.colour);
-            continue;
-        }
-        Vec3f org, dir;
-        camera_ray(m_scene.camera, samples[q].fx, samples[q].fy, 0.5f, 0.5f, org, dir);
-        const Vec3f p = org + r.depth * dir;
-        m_hit_index.push_back(q);
-        m_hit_points.insert(m_hit_points.end(), {p.x, p.y, p.z});
-        m_hit_normals.insert(m_hit_normals.end(), r.normal, r.normal + 3);
+        std::copy(r.rgb, r.rgb + 3, g.colour);
     }
-    // the round's hits in one call (light samples and shadow rays in packets), every point
-    // with the same fixed light samples (shared)
-    const size_t hits = m_hit_index.size();
-    m_hit_lux.assign(hits, 0.0f);
-    if (hits)
-        m_kernels.sensor_illuminance(m_scene, m_hit_points.data(), m_hit_normals.data(), 0, hits,
-                                     kAaSignalLightSamples, m_seed, true, m_hit_lux.data(), m_signal_scratch);
-    for (size_t j = 0; j < hits; ++j) {
-        const size_t q = m_hit_index[j];
-        for (int k = 0; k < 3; ++k) out[q].colour[k] = results[q].albedo[k] * m_hit_lux[j];
-    }
+}
+
+void AdaptiveSampler::trace_signal(const CameraSample* samples, size_t n, PathResult* out) {
+    IntegratorSettings direct;
+    direct.max_depth = 1;  // emission and direct light, one light sample and one BRDF sample
+    m_kernels.trace_paths(m_scene, direct, samples, n, out, m_signal_scratch);
 }
 
 void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult* results, size_t n) {
     if (m_round == 1) {
         m_corners.resize(n);
         std::vector<AaSignal> sig;
-        signals(samples, results, n, sig);
+        signals(samples, n, sig);
         m_corner_signal.resize(n);
         for (size_t q = 0; q < n; ++q) {
             m_corners[m_corner_order[q]] = results[q];
@@ -199,7 +189,7 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
     }
     if (m_round == 2) {
         m_level2.assign(results, results + n);
-        signals(samples, results, n, m_level2_signal);
+        signals(samples, n, m_level2_signal);
         for (size_t j = 0; j < m_level2_pixels.size(); ++j) {
             PixelState& p = m_pixels[m_level2_pixels[j]];
             p.first = static_cast<int>(aa::kLevel2 * j);

@@ -12,11 +12,13 @@
 // Every position's integrator sample is added with its precomputed weight.
 //
 // The decisions are not taken on the integrator's noisy radiance but on a signal that is a
-// function of the position only: whether the camera ray hits, the first hit's depth and
-// shading normal, and its albedo times the direct illuminance from a fixed set of light
-// samples (the same for every position of the image). A flat region, however noisy its
-// radiance, gives equal signals and stays at level 1; the pattern is the same in every
-// pass and for any thread count or SIMD width.
+// function of the position only: each position traced again by the direct-light integrator
+// with one random-number key shared by every position of the image (the same light sample,
+// BRDF sample and lens point everywhere), giving whether the camera ray hits, the first
+// hit's depth and shading normal, and the radiance of that one light sample through the
+// material's BRDF (highlights included). A flat region, however noisy its radiance, gives
+// equal signals and stays at level 1; the pattern is the same in every pass and for any
+// thread count or SIMD width.
 #pragma once
 
 #include <array>
@@ -32,11 +34,10 @@
 namespace patina {
 
 inline constexpr float kDefaultAaThreshold = 0.1f;
-inline constexpr int kAaSignalLightSamples = 4;  // the fixed light samples of the signal
 
 // What decides refinement at one position.
 struct AaSignal {
-    float colour[3];  // a hit: albedo x direct illuminance (lux) of the fixed light samples; a miss: the radiance seen
+    float colour[3];  // the radiance of the shared-key direct-light trace (a miss: the environment seen)
     float normal[3];
     float depth;      // inf: a miss
 };
@@ -54,7 +55,7 @@ struct AaStats {
     std::vector<uint8_t> rays;   // the pixel's own rays: 1 (its share of the corners) + 4 (level 2) + 4 a zigzag
 };
 
-class AdaptiveSampler final : public PixelSampler {
+class AdaptiveSampler : public PixelSampler {
 public:
     AdaptiveSampler(Film& film, const RenderScene& scene, const RenderKernels& kernels, uint32_t seed,
                     float threshold, AaStats& stats);
@@ -62,6 +63,11 @@ public:
     bool next_batch(std::vector<CameraSample>& samples) override;
     void take_results(const CameraSample* samples, const PathResult* results, size_t n) override;
     size_t rays_traced() const override { return m_signal_scratch.rays_traced; }
+
+protected:
+    // The signal's trace of a round's positions (samples carry the shared key); a test
+    // overrides it to feed a known signal.
+    virtual void trace_signal(const CameraSample* samples, size_t n, PathResult* out);
 
 private:
     struct PixelState {
@@ -72,7 +78,7 @@ private:
         int level = 1;
         int first = -1;         // index of its level-2 (then level-3) results in m_refined
     };
-    void signals(const CameraSample* samples, const PathResult* results, size_t n, std::vector<AaSignal>& out);
+    void signals(const CameraSample* samples, size_t n, std::vector<AaSignal>& out);
     void place(const PixelState& p, int s, float& fx, float& fy) const;
     int corner_of(const PixelState& p, int canonical) const;  // index into m_corners
     void finish();
@@ -95,8 +101,8 @@ private:
     std::vector<PathResult> m_level2, m_level3;
     std::vector<AaSignal> m_level2_signal;
     std::vector<int> m_level3_first;  // per m_pixels entry: its first level-3 result, -1 none
-    std::vector<size_t> m_hit_index;  // a round's hits: which sample, where, facing, lux
-    std::vector<float> m_hit_points, m_hit_normals, m_hit_lux;
+    std::vector<CameraSample> m_signal_cs;  // a round's positions with the signal's key
+    std::vector<PathResult> m_signal_out;
 };
 
 }  // namespace patina

@@ -146,10 +146,10 @@ TEST(AdaptiveContrast, IsScaleFreeAndSeesHitsAndMisses) {
     EXPECT_EQ(patina::aa_contrast(a, nan), 1.0f);
 }
 
-// ---- the sampler's rounds on synthetic results (no lights: the signal is hit, depth and
-// normal; the radiance is whatever the test says) ---------------------------------------------
+// ---- the sampler's rounds on synthetic results and a known signal ---------------------------
 
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "render/film.h"
@@ -163,30 +163,56 @@ struct TileRun {
     std::vector<patina::CameraSample> traced;
 };
 
+using HitFn = std::function<bool(float, float)>;
+using RgbFn = std::function<float(float, float)>;
+
 // hit(fx, fy): the first hit exists there; rgb(fx, fy): its radiance
-void run_tile(TileRun& r, const std::function<bool(float, float)>& hit, const std::function<float(float, float)>& rgb) {
+void fill(const patina::CameraSample* cs, size_t n, patina::PathResult* out, const HitFn& hit, const RgbFn& rgb) {
+    for (size_t i = 0; i < n; ++i) {
+        patina::PathResult& p = out[i];
+        const bool h = hit(cs[i].fx, cs[i].fy);
+        const float v = rgb(cs[i].fx, cs[i].fy);
+        for (int k = 0; k < 3; ++k) {
+            p.rgb[k] = v;
+            p.albedo[k] = h ? 0.5f : 0.0f;
+            p.normal[k] = h && k == 2 ? 1.0f : 0.0f;
+        }
+        p.depth = h ? 3.0f : std::numeric_limits<float>::infinity();
+        p.illuminance = 0;
+    }
+}
+
+// The sampler with a known signal instead of a traced one: `signal_rgb` at each position
+class KnownSignal final : public patina::AdaptiveSampler {
+public:
+    KnownSignal(patina::Film& film, const patina::RenderScene& scene, patina::AaStats& stats, HitFn hit, RgbFn signal_rgb)
+        : AdaptiveSampler(film, scene, patina::render_kernels_w1(), 7, patina::kDefaultAaThreshold, stats),
+          m_hit(std::move(hit)),
+          m_rgb(std::move(signal_rgb)) {}
+
+protected:
+    void trace_signal(const patina::CameraSample* samples, size_t n, patina::PathResult* out) override {
+        fill(samples, n, out, m_hit, m_rgb);
+    }
+
+private:
+    HitFn m_hit;
+    RgbFn m_rgb;
+};
+
+// the integrator's radiance is rgb; the signal's is signal_rgb (default: the same)
+void run_tile(TileRun& r, const HitFn& hit, const RgbFn& rgb, RgbFn signal_rgb = nullptr) {
     patina::RenderScene scene;
     scene.camera.width = scene.camera.height = 8;
     r.stats.level.assign(64, 0);
     r.stats.rays.assign(64, 0);
-    patina::AdaptiveSampler s(r.film, scene, patina::render_kernels_w1(), 7, patina::kDefaultAaThreshold, r.stats);
+    KnownSignal s(r.film, scene, r.stats, hit, signal_rgb ? signal_rgb : rgb);
     s.begin(patina::TileRect{1, 1, 7, 6}, 0);
     std::vector<patina::CameraSample> cs;
     while (s.next_batch(cs)) {
         std::vector<patina::PathResult> out(cs.size());
-        for (size_t i = 0; i < cs.size(); ++i) {
-            patina::PathResult& p = out[i];
-            const bool h = hit(cs[i].fx, cs[i].fy);
-            const float v = rgb(cs[i].fx, cs[i].fy);
-            for (int k = 0; k < 3; ++k) {
-                p.rgb[k] = v;
-                p.albedo[k] = h ? 0.5f : 0.0f;
-                p.normal[k] = h && k == 2 ? 1.0f : 0.0f;
-            }
-            p.depth = h ? 3.0f : std::numeric_limits<float>::infinity();
-            p.illuminance = 0;
-            r.traced.push_back(cs[i]);
-        }
+        fill(cs.data(), cs.size(), out.data(), hit, rgb);
+        r.traced.insert(r.traced.end(), cs.begin(), cs.end());
         s.take_results(cs.data(), out.data(), cs.size());
     }
 }
@@ -209,7 +235,8 @@ float noise(float x, float y) {
 
 TEST(AdaptiveSampler, AFlatNoisyRegionStaysAtLevelOneAndIsTheMeanOfItsCorners) {
     TileRun r;
-    run_tile(r, [](float, float) { return true; }, noise);
+    // the integrator's radiance is noise; the signal (deterministic) is flat
+    run_tile(r, [](float, float) { return true; }, noise, [](float, float) { return 0.5f; });
     const std::vector<float> img = image(r);
     for (int y = 1; y < 6; ++y)
         for (int x = 1; x < 7; ++x) {
