@@ -208,7 +208,10 @@ def run_batch(
         names = f" ({len(skipped)} other files)" if skipped else ""
         raise ValueError(f"{library}: no tables in this folder{names}; tables are .ptab, MERL .binary, ASTM, CSV")
     out_dir = os.path.abspath(out_dir)
-    os.makedirs(os.path.join(out_dir, "materials"), exist_ok=True)
+    try:
+        os.makedirs(os.path.join(out_dir, "materials"), exist_ok=True)
+    except OSError as e:
+        raise ValueError(f"--out {out_dir}: cannot make the report folder: {e.strerror}") from None
     for name, why in skipped:
         say(f"skipped {name}: {why}")
     tasks = plan(materials, settings)

@@ -37,11 +37,14 @@ from patina.scene import parse_scene, with_overrides
 from patina.scene.preview import preview_scene_dict
 from patina.table import load_brdf, validate
 
-# A step reads the outputs of these earlier steps (when they ran and succeeded).
+# A step reads the outputs of these earlier steps (when they are among the steps run) ...
 NEEDS = {"validate": (), "fit": (), "preview": ("fit",), "report": ("fit",)}
+# ... and cannot run without these: a preview shows the best fit; a report is made without fits
+BLOCKED_BY = {"preview": ("fit",)}
 FIT_FILE = "fit.json"
 PREVIEW_FILE = "preview.png"
 REPORT_DIR = "report"
+StepOutput = tuple[dict[str, Any], list[str]]  # (the result's data, the outputs written, relative to the folder)
 
 
 def material_folder(out_dir: str, material: Material) -> str:
@@ -62,7 +65,7 @@ def one_line(e: BaseException) -> str:
 # ---------------------------------------------------------------- the steps
 
 
-def _validate(material: Material, settings: Settings, folder: str, threads: int) -> tuple[dict[str, Any], list[str]]:
+def _validate(material: Material, settings: Settings, folder: str, threads: int, fitted: bool) -> StepOutput:
     report = validate(load_brdf(material.path))
     write_text(os.path.join(folder, "validate.json"), json.dumps(report.as_json(), indent=2))
     data = {"ok": report.ok, "problems": report.problems}
@@ -73,7 +76,7 @@ def _de(metrics: dict[str, float]) -> dict[str, float]:
     return {"ciede2000_mean": metrics["ciede2000_mean"], "ciede2000_p95": metrics["ciede2000_p95"]}
 
 
-def _fit(material: Material, settings: Settings, folder: str, threads: int) -> tuple[dict[str, Any], list[str]]:
+def _fit(material: Material, settings: Settings, folder: str, threads: int, fitted: bool) -> StepOutput:
     brdf = load_brdf(material.path)
     ranked = compare(
         brdf, list(settings.models), starts=settings.starts, seed=settings.seed, loss=settings.loss, threads=threads
@@ -101,18 +104,18 @@ def _render_material(material_file: str, settings: Settings, folder: str, thread
     return rendered.rgb
 
 
-def _preview(material: Material, settings: Settings, folder: str, threads: int) -> tuple[dict[str, Any], list[str]]:
+def _preview(material: Material, settings: Settings, folder: str, threads: int, fitted: bool) -> StepOutput:
     measured = _render_material(material.path, settings, folder, threads)
-    fitted = _render_material(os.path.join(folder, FIT_FILE), settings, folder, threads)
+    best_fit = _render_material(os.path.join(folder, FIT_FILE), settings, folder, threads)
     gap = np.ones((measured.shape[0], max(2, settings.width // 80), 3), np.float32)  # a white rule between
-    write_png(os.path.join(folder, PREVIEW_FILE), np.concatenate([measured, gap, fitted], axis=1))
+    write_png(os.path.join(folder, PREVIEW_FILE), np.concatenate([measured, gap, best_fit], axis=1))
     return {"image": PREVIEW_FILE}, [PREVIEW_FILE]
 
 
-def _report(material: Material, settings: Settings, folder: str, threads: int) -> tuple[dict[str, Any], list[str]]:
+def _report(material: Material, settings: Settings, folder: str, threads: int, fitted: bool) -> StepOutput:
     brdf = load_brdf(material.path)
     fit_path = os.path.join(folder, FIT_FILE)
-    fits = read_fits(fit_path) if "fit" in settings.steps and os.path.isfile(fit_path) else []
+    fits = read_fits(fit_path) if fitted else []  # not a fit.json left by an earlier run
     target = os.path.join(folder, REPORT_DIR)
     skipped: list[str] = []
     write_report(brdf, target, fits, lobes=LobeOptions() if settings.lobes else None, on_skip=skipped.append)
@@ -120,7 +123,8 @@ def _report(material: Material, settings: Settings, folder: str, threads: int) -
     return {"page": os.path.join(REPORT_DIR, "index.html"), "notes": skipped}, outputs
 
 
-STEP_FUNCTIONS: dict[str, Callable[[Material, Settings, str, int], tuple[dict[str, Any], list[str]]]] = {
+# (material, settings, its folder, threads, whether this run's fit succeeded) -> (result data, outputs)
+STEP_FUNCTIONS: dict[str, Callable[[Material, Settings, str, int, bool], StepOutput]] = {
     "validate": _validate,
     "fit": _fit,
     "preview": _preview,
@@ -135,23 +139,24 @@ def run_task(
     step: str, material: Material, settings: Settings, out_dir: str, threads: int, *earlier: dict[str, Any]
 ) -> dict[str, Any]:
     """Runs one step for one material, or reuses its outputs when the manifest matches.
-    `earlier`: the results of the steps it needs (NEEDS), in that order; a failed one blocks it."""
+    `earlier`: the results of the steps it needs (NEEDS), in that order; a failed one blocks it
+    (BLOCKED_BY) or is left out (a report without fits)."""
     started = time.perf_counter()
-    needed = [r for r in earlier if r["step"] in NEEDS[step]]
-    for r in needed:
-        if r["status"] != "ok":
+    for r in earlier:
+        if r["step"] in BLOCKED_BY.get(step, ()) and r["status"] != "ok":
             why = "failed" if r["status"] == "failed" else "did not run"
             return result(material, step, "blocked", f"not run: the {r['step']} step {why}")
+    fitted = any(r["step"] == "fit" and r["status"] == "ok" for r in earlier if "fit" in NEEDS[step])
     folder = material_folder(out_dir, material)
     os.makedirs(folder, exist_ok=True)
     input_sum = checksum(material.path)
-    inputs = {FIT_FILE: checksum(os.path.join(folder, FIT_FILE))} if needed else {}
+    inputs = {FIT_FILE: checksum(os.path.join(folder, FIT_FILE))} if fitted else {}
     chosen = settings.for_step(step)
     recorded = up_to_date(folder, step, input_sum, inputs, chosen)
     if recorded is not None and input_sum:
         return {**recorded, "reused": True}
     try:
-        data, outputs = STEP_FUNCTIONS[step](material, settings, folder, threads)
+        data, outputs = STEP_FUNCTIONS[step](material, settings, folder, threads, fitted)
     except ValueError as e:  # FormatError among them: the input is what it is, a retry would fail again
         outcome = result(material, step, "failed", one_line(e), seconds=time.perf_counter() - started)
         write_manifest(folder, step, material.path, input_sum, inputs, chosen, [], outcome)

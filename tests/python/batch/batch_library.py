@@ -25,8 +25,12 @@ BAD = "corrupt.ptab"
 QUICK = Settings(steps=("validate", "fit", "preview"), models=("ggx+lambert",), starts=1, width=24, height=18, spp=1)
 
 
-def write_plastic(path: str, diffuse: tuple[float, ...], roughness: float) -> None:
-    data = sample_isotropic(plastic(diffuse=diffuse, roughness=roughness), THETA, THETA, PHI, "batch test")
+def write_plastic(
+    path: str, diffuse: tuple[float, ...], roughness: float, theta_knots: int = 0, phi_knots: int = 0
+) -> None:
+    theta = np.radians(np.linspace(0, 85, theta_knots)) if theta_knots else THETA
+    phi = np.radians(np.linspace(0, 180, phi_knots)) if phi_knots else PHI
+    data = sample_isotropic(plastic(diffuse=diffuse, roughness=roughness), theta, theta, phi, "batch test")
     patina.Brdf(table_from_data(data), "synthetic").save(path)
 
 

@@ -155,19 +155,6 @@ def test_a_half_written_task_runs_again(library, tmp_path):
     assert ran == {"fit", "preview"}
 
 
-def test_the_report_step_links_each_materials_report(tmp_path):
-    lib = tmp_path / "one"
-    lib.mkdir()
-    diffuse, roughness = PLASTICS["red.ptab"]
-    write_plastic(str(lib / "red.ptab"), diffuse, roughness)
-    out = str(tmp_path / "out")
-    summary = run(str(lib), out, dataclasses.replace(QUICK, steps=("validate", "fit", "report")))
-    row = by_name(summary)["red.ptab"]
-    assert row["report"] == "materials/red.ptab/report/index.html" and row["preview"] is None
-    with open(os.path.join(out, row["report"]), encoding="utf-8") as f:
-        assert "ggx+lambert" in f.read()  # the fit is in the material's report
-
-
 def test_without_dask_it_runs_here_and_says_so_once(library, tmp_path, monkeypatch):
     monkeypatch.setattr(batch_scheduling, "dask_available", lambda: False)
     lines: list[str] = []
@@ -235,3 +222,32 @@ def test_the_command_exits_0_when_some_tables_were_processed(library, tmp_path, 
     only_bad.mkdir()
     os.link(os.path.join(library, BAD), only_bad / BAD)
     assert main(["batch", str(only_bad), "--out", str(tmp_path / "o2"), "--scheduler", IN_PROCESS, "--quiet"]) == 1
+
+
+def test_the_report_and_a_failed_fit_that_blocks_the_preview_but_not_the_report(tmp_path):
+    """Each material's report, with its fits; then the table re-measured too small to fit: the
+    preview (table beside fit) cannot be made, the report is, without fits -- not with the
+    fit.json the earlier run left for the same file."""
+    lib = tmp_path / "lib"
+    lib.mkdir()
+    diffuse, roughness = PLASTICS["red.ptab"]
+    write_plastic(str(lib / "red.ptab"), diffuse, roughness)
+    out = str(tmp_path / "out")
+    settings = dataclasses.replace(QUICK, steps=("validate", "fit", "preview", "report"))
+    row = by_name(run(str(lib), out, settings))["red.ptab"]
+    assert row["status"] == "ok" and row["report"] == "materials/red.ptab/report/index.html"
+    with open(os.path.join(out, row["report"]), encoding="utf-8") as f:
+        assert "ggx+lambert" in f.read()  # the fit is in the material's report
+    write_plastic(str(lib / "red.ptab"), diffuse, roughness, theta_knots=3, phi_knots=2)  # 18 samples
+    row = by_name(run(str(lib), out, settings))["red.ptab"]
+    assert row["status"] == "failed" and "too few to fit" in row["error"], row
+    assert row["steps"]["preview"]["status"] == "blocked" and row["steps"]["report"]["status"] == "ok"
+    with open(os.path.join(out, row["report"]), encoding="utf-8") as f:
+        assert "ggx+lambert" not in f.read()
+
+
+def test_an_output_folder_that_cannot_be_made_exits_2(library, tmp_path, capsys):
+    (tmp_path / "file").write_text("not a folder")
+    assert main(["batch", library, "--out", str(tmp_path / "file" / "out"), "--scheduler", IN_PROCESS]) == 2
+    err = capsys.readouterr().err
+    assert "cannot make the report folder: Not a directory" in err and len(err.strip().splitlines()) == 1
