@@ -3,15 +3,46 @@
 from __future__ import annotations
 
 import os
+import shutil
 import sys
+from dataclasses import dataclass
 
 import pytest
 
 sys.path.append(os.path.dirname(__file__))  # appended: `conftest` stays the one of tests/python (others import it)
 
-from batch_library import make_library
+from batch_library import QUICK, make_library
+
+from patina.batch import IN_PROCESS, run_batch
 
 
 @pytest.fixture
 def library(tmp_path) -> str:
     return make_library(str(tmp_path / "library"))
+
+
+@dataclass(frozen=True)
+class Finished:
+    library: str
+    out: str
+    summary: dict
+    lines: tuple[str, ...]  # what the run said
+
+
+@pytest.fixture(scope="session")
+def finished_once(tmp_path_factory) -> Finished:
+    """The library processed once in this process (QUICK settings), shared: read it, never change it."""
+    root = tmp_path_factory.mktemp("batch")
+    library = make_library(str(root / "library"))
+    out = str(root / "out")
+    lines: list[str] = []
+    summary = run_batch(library, out, QUICK, scheduler=IN_PROCESS, progress=False, say=lines.append)
+    return Finished(library, out, summary, tuple(lines))
+
+
+@pytest.fixture
+def finished(finished_once, tmp_path) -> Finished:
+    """A copy of the processed library and its outputs, to change (the manifests hold checksums, not paths)."""
+    library = shutil.copytree(finished_once.library, tmp_path / "library")
+    out = shutil.copytree(finished_once.out, tmp_path / "out")
+    return Finished(str(library), str(out), finished_once.summary, finished_once.lines)

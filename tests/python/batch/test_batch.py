@@ -65,13 +65,12 @@ def mtimes(out: str) -> dict[str, int]:
     return found
 
 
-def test_a_library_in_process(library, tmp_path):
-    out = str(tmp_path / "out")
-    summary = run(library, out)
+def test_a_library_in_process(finished_once):
+    out, summary = finished_once.out, finished_once.summary
     rows = by_name(summary)
     assert sorted(rows) == sorted([*GOOD, BAD])
     assert summary["skipped_files"] == [{"file": "README.md", "reason": summary["skipped_files"][0]["reason"]}]
-    assert any(line.startswith("skipped README.md:") for line in summary["_lines"])
+    assert any(line.startswith("skipped README.md:") for line in finished_once.lines)
     for name in GOOD:
         row = rows[name]
         assert row["status"] == "ok" and row["validation"] == "passed", row
@@ -97,19 +96,18 @@ def test_a_library_in_process(library, tmp_path):
     assert "summary.json" in page.links and "summary.csv" in page.links
 
 
-def test_a_corrupt_table_fails_alone_with_its_one_line_message(library, tmp_path):
-    summary = run(library, str(tmp_path / "out"))
+def test_a_corrupt_table_fails_alone_with_its_one_line_message(finished_once):
+    summary = finished_once.summary
     bad = by_name(summary)[BAD]
     assert bad["status"] == "failed" and bad["validation"] == "failed"
-    assert bad["error"].startswith(f"validate: {os.path.join(library, BAD)} (byte ")
+    assert bad["error"].startswith(f"validate: {os.path.join(finished_once.library, BAD)} (byte ")
     assert "\n" not in bad["error"]
     assert bad["steps"]["preview"]["status"] == "blocked"  # it needs the fit, which failed
     assert all(by_name(summary)[n]["status"] == "ok" for n in GOOD)
 
 
-def test_a_rerun_skips_everything(library, tmp_path):
-    out = str(tmp_path / "out")
-    run(library, out)
+def test_a_rerun_skips_everything(finished):
+    library, out = finished.library, finished.out
     before = mtimes(os.path.join(out, "materials"))
     again = run(library, out)
     counts = again["counts"]
@@ -119,9 +117,8 @@ def test_a_rerun_skips_everything(library, tmp_path):
     assert by_name(again)[BAD]["error"] == by_name(run(library, out))[BAD]["error"]
 
 
-def test_a_changed_input_reruns_only_its_tasks(library, tmp_path):
-    out = str(tmp_path / "out")
-    first = run(library, out)
+def test_a_changed_input_reruns_only_its_tasks(finished):
+    library, out, first = finished.library, finished.out, finished.summary
     write_plastic(os.path.join(library, "green.ptab"), (0.3, 0.3, 0.1), 0.25)  # re-measured
     second = run(library, out)
     run_now = {
@@ -134,19 +131,16 @@ def test_a_changed_input_reruns_only_its_tasks(library, tmp_path):
     assert by_name(second)["green.ptab"]["ciede2000_mean"] != by_name(first)["green.ptab"]["ciede2000_mean"]
 
 
-def test_changed_settings_rerun_only_the_steps_they_touch(library, tmp_path):
-    out = str(tmp_path / "out")
-    run(library, out)
-    second = run(library, out, dataclasses.replace(QUICK, spp=2))  # the previews only
+def test_changed_settings_rerun_only_the_steps_they_touch(finished):
+    second = run(finished.library, finished.out, dataclasses.replace(QUICK, spp=2))  # the previews only
     ran = {s for m in second["materials"] for s, r in m["steps"].items() if not r.get("reused")}
     assert ran == {"preview"}
 
 
-def test_a_half_written_task_runs_again(library, tmp_path):
+def test_a_half_written_task_runs_again(finished):
     """A task killed after its output but before its manifest (the manifest is written last):
     the rerun does it again; an output changed after its manifest is redone too."""
-    out = str(tmp_path / "out")
-    run(library, out)
+    library, out = finished.library, finished.out
     red = os.path.join(out, "materials", "red.ptab")
     os.unlink(os.path.join(red, "fit.manifest.json"))
     with open(os.path.join(red, "preview.png"), "ab") as f:

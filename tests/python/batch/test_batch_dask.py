@@ -13,7 +13,7 @@ import time
 import pytest
 from batch_library import BAD, GOOD, QUICK
 
-from patina.batch import IN_PROCESS, run_batch
+from patina.batch import run_batch
 from patina.batch.manifest import checksum
 from patina.cli import main
 
@@ -37,8 +37,8 @@ def statuses(summary: dict) -> dict:
     return {m["name"]: (m["status"], m["validation"], m["best_model"]) for m in summary["materials"]}
 
 
-def test_the_cluster_gives_the_in_process_results_and_a_rerun_skips(library, tmp_path, client):
-    here = run_batch(library, str(tmp_path / "here"), QUICK, scheduler=IN_PROCESS, progress=False, say=lambda s: None)
+def test_the_cluster_gives_the_in_process_results_and_a_rerun_skips(finished_once, tmp_path, client):
+    library, here = finished_once.library, finished_once.summary
     out = str(tmp_path / "there")
     there = on_dask(library, out, client)
     assert statuses(there) == statuses(here)
