@@ -1,7 +1,8 @@
 """What a batch runs on: the tables of a library folder and the settings every task gets.
 
-A file is a table when `detect_format` (the one `load_brdf` uses) recognises it; the others
-are listed as skipped with the reason. A recognised file that then fails to load (a corrupt
+A file is a table when `detect_format` (the one `load_brdf` uses) recognises it and its
+extension is not one of the documents, images and scenes a library keeps beside its tables
+(NOT_TABLES); the others are listed as skipped with the reason. A recognised file that then fails to load (a corrupt
 .ptab) is a table whose tasks fail: it is in the report with its error, not skipped.
 """
 
@@ -103,6 +104,12 @@ def check_settings(settings: Settings) -> None:
 
 
 _HIDDEN = re.compile(r"^\.|~$")  # dot-files (our own temporaries among them) and editor backups
+# Files a library keeps beside its tables (provenance notes, images, scenes, luminaires): never
+# tables, though a note that mentions ASTM would pass detect_format's look at the content.
+NOT_TABLES = frozenset(
+    ".md .rst .html .htm .json .yaml .yml .toml .pdf .png .jpg .jpeg .exr .hdr .tif .tiff "
+    ".ies .ldt .obj .ply .stl .py .sh .zip .gz".split()
+)
 
 
 def find_tables(folder: str) -> tuple[list[Material], list[tuple[str, str]]]:
@@ -118,6 +125,10 @@ def find_tables(folder: str) -> tuple[list[Material], list[tuple[str, str]]]:
             continue
         if os.path.isdir(path):
             skipped.append((name, "a folder (libraries are read one level deep)"))
+            continue
+        extension = os.path.splitext(name)[1].lower()
+        if extension in NOT_TABLES:
+            skipped.append((name, f"not a table (a {extension} file)"))
             continue
         try:
             detect_format(path)

@@ -41,5 +41,5 @@ def make_library(folder: str) -> str:
     with open(os.path.join(folder, BAD), "wb") as f:
         f.write(b"PTAB\r\n\x1a\n" + bytes(40))  # the magic, then nothing a reader accepts
     with open(os.path.join(folder, "README.md"), "w") as f:
-        f.write("measured in March\n")
+        f.write("Measured in March to ASTM E1392.\n")  # a note: not read as an ASTM table for the word
     return folder
