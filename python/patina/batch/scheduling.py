@@ -203,6 +203,11 @@ def run_batch(
     check_scheduler(scheduler)
     if workers is not None and not 1 <= workers <= 1024:
         raise ValueError(f"--workers: {workers} is not in 1 .. 1024")
+    if workers is not None and scheduler == IN_PROCESS:
+        raise ValueError(f"--workers: sets the size of the local cluster; {IN_PROCESS} runs one task at a time")
+    if os.path.isdir(library) and os.path.realpath(out_dir) == os.path.realpath(library):
+        # the library report's summary.csv would be read as a table by the next run
+        raise ValueError(f"--out {out_dir}: the library folder itself; give the reports a folder of their own")
     materials, skipped = find_tables(library)
     if not materials:
         names = f" ({len(skipped)} other files)" if skipped else ""

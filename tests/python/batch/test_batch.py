@@ -180,6 +180,14 @@ def test_bad_options_give_one_line_and_exit_2(library, tmp_path, capsys, options
     assert not os.path.exists(tmp_path / "out" / "summary.json")
 
 
+def test_the_library_folder_as_out_or_workers_in_process_exit_2(library, capsys):
+    assert main(["batch", library, "--out", library + "/."]) == 2
+    assert "the library folder itself" in capsys.readouterr().err
+    assert main(["batch", library, "--out", library + "/out", "--scheduler", IN_PROCESS, "--workers", "2"]) == 2
+    assert "--workers: sets the size of the local cluster" in capsys.readouterr().err
+    assert not os.path.exists(library + "/out")
+
+
 def test_a_missing_or_empty_folder_exits_2(tmp_path, capsys):
     assert main(["batch", str(tmp_path / "nothing"), "--out", str(tmp_path / "out")]) == 2
     assert "no such folder" in capsys.readouterr().err
