@@ -70,7 +70,13 @@ def add_batch_command(sub: Any) -> None:
     s.add_argument(
         "--steps", default="validate,fit,preview,report", help="comma-separated, of validate, fit, preview, report"
     )
-    s.add_argument("--models", nargs="+", default=list(DEFAULT_MODELS), metavar="MODEL", help="the models compared")
+    s.add_argument(
+        "--models",
+        nargs="+",
+        default=list(DEFAULT_MODELS),
+        metavar="MODEL",
+        help=f"the models compared, MODEL or MODEL:LOBES as patina fit --compare (default: {' '.join(DEFAULT_MODELS)})",
+    )
     s.add_argument("--loss", default="l2cos", choices=("l2cos", "log"), help="the fitting loss (as patina fit)")
     s.add_argument("--starts", type=int, default=2, help="local starts a model (as patina fit)")
     s.add_argument("--seed", type=int, default=0, help="the seed of the fits and the preview renders")
