@@ -15,6 +15,7 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
+import uuid
 import warnings
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
@@ -60,9 +61,7 @@ def run_in_process(tasks: list[Task], settings: Settings, out_dir: str, progress
         progress.update(done, postfix=f"{task.material.name} {task.step}")
         try:
             results.append(run_task(task.step, task.material, settings, out_dir, 0, *(results[i] for i in task.needs)))
-        except (KeyboardInterrupt, MemoryError):
-            raise
-        except Exception as e:  # one material's trouble does not stop the library
+        except Exception as e:  # one material's trouble (a MemoryError too) does not stop the library
             results.append(_raised(task, e))
     progress.update(len(tasks))
     return results
@@ -73,6 +72,7 @@ def run_on_dask(
 ) -> list[dict[str, Any]]:
     from distributed import as_completed
 
+    run_id = uuid.uuid4().hex[:12]  # keys unique to this run, on a scheduler other batches share
     futures: list[Any] = []
     for i, task in enumerate(tasks):
         futures.append(
@@ -84,7 +84,7 @@ def run_on_dask(
                 out_dir,
                 1,  # one thread a task: the workers fill the cores
                 *(futures[j] for j in task.needs),
-                key=f"patina-batch-{task.step}-{i}-{os.getpid()}-{id(futures)}",
+                key=f"patina-batch-{run_id}-{i}-{task.step}",
                 pure=False,
                 retries=RETRIES,
             )

@@ -16,6 +16,7 @@ from batch_library import BAD, GOOD, PLASTICS, QUICK, write_plastic
 
 from patina.batch import IN_PROCESS, run_batch
 from patina.batch import scheduling as batch_scheduling
+from patina.batch import tasks as batch_tasks
 from patina.cli import main
 
 
@@ -254,3 +255,20 @@ def test_an_output_folder_that_cannot_be_made_exits_2(library, tmp_path, capsys)
     assert main(["batch", library, "--out", str(tmp_path / "file" / "out"), "--scheduler", IN_PROCESS]) == 2
     err = capsys.readouterr().err
     assert "cannot make the report folder: Not a directory" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_task_that_raises_is_reported_and_the_others_complete(finished, monkeypatch):
+    """Not bad input but an exception (here a MemoryError, as a huge table may raise): that
+    material's step is failed with the exception's one line, the batch goes on."""
+    real = batch_tasks.STEP_FUNCTIONS["preview"]
+
+    def preview(material, *args):
+        if material.name == "blue.ptab":
+            raise MemoryError("cannot allocate the film")
+        return real(material, *args)
+
+    monkeypatch.setitem(batch_tasks.STEP_FUNCTIONS, "preview", preview)
+    summary = run(finished.library, finished.out, dataclasses.replace(QUICK, spp=2))  # the previews run again
+    rows = by_name(summary)
+    assert rows["blue.ptab"]["error"] == "preview: MemoryError: cannot allocate the film"
+    assert rows["red.ptab"]["status"] == "ok" and rows["green.ptab"]["status"] == "ok"
