@@ -94,3 +94,14 @@ def test_the_command_runs_its_own_local_cluster(library, tmp_path, capsys):
     code = main(["batch", library, "--out", str(tmp_path / "out"), "--workers", "1", "--steps", "validate"])
     printed = capsys.readouterr().out
     assert code == 0 and "running on a local Dask cluster of 1 worker process; dashboard: " in printed
+
+
+def test_the_command_on_a_running_scheduler(library, tmp_path, client, capsys):
+    address = client.scheduler.address
+    out = str(tmp_path / "out")
+    assert main(["batch", library, "--out", out, "--scheduler", address, "--steps", "validate"]) == 0
+    printed = capsys.readouterr().out
+    assert f"running on the Dask scheduler at {address} (2 workers)" in printed
+    assert main(["batch", library, "--out", out, "--scheduler", address, "--workers", "2"]) == 2
+    err = capsys.readouterr().err
+    assert "--workers: sets the size of the local cluster" in err and len(err.strip().splitlines()) == 1
