@@ -5,7 +5,9 @@
 
 namespace patina {
 
-const Kernels& kernels_for(int width) { return kernels_for_width(width, kernels_w1, kernels_w4, kernels_w8); }
+const Kernels& kernels_for(int width) {
+    return kernels_for_width(width, kernels_w1, kernels_w4, kernels_w8, kernels_w16);
+}
 
 void eval_batch(const TableView& t, const float* wi, const float* wo, float* out, size_t n, int width, int threads,
                 bool libm_trig) {

@@ -33,6 +33,7 @@ struct Kernels {
 const Kernels& kernels_w1();
 const Kernels& kernels_w4();
 const Kernels& kernels_w8();
+const Kernels& kernels_w16();
 
 // width 0 = default (PATINA_SIMD or the widest the CPU runs); throws std::invalid_argument otherwise.
 const Kernels& kernels_for(int width);

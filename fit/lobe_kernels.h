@@ -56,6 +56,7 @@ struct LobeKernels {
 const LobeKernels& lobe_kernels_w1();
 const LobeKernels& lobe_kernels_w4();
 const LobeKernels& lobe_kernels_w8();
+const LobeKernels& lobe_kernels_w16();
 const LobeKernels& lobe_kernels_for(int width);  // 0 = default; throws std::invalid_argument
 
 }  // namespace patina

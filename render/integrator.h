@@ -92,6 +92,7 @@ struct RenderKernels {
 const RenderKernels& render_kernels_w1();
 const RenderKernels& render_kernels_w4();
 const RenderKernels& render_kernels_w8();
+const RenderKernels& render_kernels_w16();
 const RenderKernels& render_kernels_for(int width);  // 0 = default; throws std::invalid_argument
 
 }  // namespace patina

@@ -1,4 +1,4 @@
-// Materials over arrays of shading points, N lanes at a time (included by integrator_w{1,4,8}.cpp).
+// Materials over arrays of shading points, N lanes at a time (included by integrator_w{1,4,8,16}.cpp).
 // Directions are local (z = shading normal, x = tangent): v towards the viewer (the known
 // direction), l towards the light (or the sampled one). Values are RGB BRDFs in 1/sr,
 // zero when either direction is at or below the horizon -- except for the dielectric,
@@ -23,9 +23,11 @@ namespace render_detail {
 using namespace kernel_width;
 
 // The table and analytic-lobe kernels compiled for this width.
-inline const Kernels& table_kernels() { return kernels_at_width<N>(kernels_w1, kernels_w4, kernels_w8); }
+inline const Kernels& table_kernels() {
+    return kernels_at_width<N>(kernels_w1, kernels_w4, kernels_w8, kernels_w16);
+}
 inline const LobeKernels& lobe_kernels() {
-    return kernels_at_width<N>(lobe_kernels_w1, lobe_kernels_w4, lobe_kernels_w8);
+    return kernels_at_width<N>(lobe_kernels_w1, lobe_kernels_w4, lobe_kernels_w8, lobe_kernels_w16);
 }
 
 // The clear coat's GGX reflection with exact dielectric Fresnel (fit/microfacet.h's coat

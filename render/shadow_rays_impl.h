@@ -20,7 +20,7 @@ using namespace kernel_width;
 
 // The ray-tracing kernels compiled for this width: N rays per packet.
 inline const TraceKernels& trace_kernels() {
-    return kernels_at_width<N>(trace_kernels_w1, trace_kernels_w4, trace_kernels_w8);
+    return kernels_at_width<N>(trace_kernels_w1, trace_kernels_w4, trace_kernels_w8, trace_kernels_w16);
 }
 
 // Queues the shadow ray of a light sample taken at p: from p lifted by `offset` along n to

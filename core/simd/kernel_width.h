@@ -1,8 +1,8 @@
 // The vocabulary of a kernel translation unit, compiled for one SIMD width. Each kernel
-// family has a *_w{1,4,8}.cpp per width that defines PATINA_KERNEL_WIDTH, with that
+// family has a *_w{1,4,8,16}.cpp per width that defines PATINA_KERNEL_WIDTH, with that
 // width's compiler flags, and includes the family's *_impl.h; every *_impl.h includes this
 // header and writes its kernels once in terms of what it defines:
-//   N             the SIMD width (1, 4 or 8); in render/accel/ the packet code takes it as K
+//   N             the SIMD width (1, 4, 8 or 16); in render/accel/ the packet code takes it as K
 //   F, I, B, V3   vfloat<N>, vint<N>, vbool<N>, Vec3<vfloat<N>>
 //   enter_kernel  first thing in a kernel entry point (see core/simd/upper_state.h)
 //   for_blocks    a loop over blocks of N rows, the last one partial
@@ -21,14 +21,14 @@
 #include "core/vec3.h"
 
 #ifndef PATINA_KERNEL_WIDTH
-#error "define PATINA_KERNEL_WIDTH (1, 4 or 8) before including a kernel header (*_impl.h)"
+#error "define PATINA_KERNEL_WIDTH (1, 4, 8 or 16) before including a kernel header (*_impl.h)"
 #endif
 
 PATINA_BEGIN_TARGET
 namespace kernel_width {
 
 constexpr int N = PATINA_KERNEL_WIDTH;
-static_assert(N == 1 || N == 4 || N == 8, "kernels are compiled for widths 1, 4 and 8");
+static_assert(N == 1 || N == 4 || N == 8 || N == 16, "kernels are compiled for widths 1, 4, 8 and 16");
 using F = vfloat<N>;
 using I = vint<N>;
 using B = vbool<N>;

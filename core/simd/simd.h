@@ -1,8 +1,9 @@
-// Patina's SIMD vocabulary: vfloat<N>, vint<N>, vbool<N> for N = 1, 4, 8.
+// Patina's SIMD vocabulary: vfloat<N>, vint<N>, vbool<N> for N = 1, 4, 8, 16.
 //
 // N = 1 is plain float / int32_t / bool; N = 4 is SSE4.1 (available when the
 // translation unit is compiled with -msse4.1); N = 8 is AVX2 + FMA (only in
-// translation units compiled with -mavx2 -mfma). Kernels are written once as
+// translation units compiled with -mavx2 -mfma); N = 16 is AVX-512 F/VL/DQ/BW (only in
+// translation units compiled with PATINA_AVX512_FLAGS, CMakeLists.txt). Kernels are written once as
 // `template <int N>` using free functions (select, any, madd, gather, ...).
 #pragma once
 
@@ -13,6 +14,9 @@
 #endif
 #if defined(PATINA_HAS_AVX2)
 #include "vec8_avx.h"
+#endif
+#if defined(PATINA_HAS_AVX512)
+#include "vec16_avx512.h"
 #endif
 
 PATINA_BEGIN_TARGET
@@ -39,6 +43,14 @@ struct Simd<8> {
     using F = vfloat8;
     using I = vint8;
     using B = vbool8;
+};
+#endif
+#if defined(PATINA_HAS_AVX512)
+template <>
+struct Simd<16> {
+    using F = vfloat16;
+    using I = vint16;
+    using B = vbool16;
 };
 #endif
 

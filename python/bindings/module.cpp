@@ -103,7 +103,7 @@ NB_MODULE(_core, m) {
     });
 
     m.def("width_supported", &patina::width_supported, nb::arg("width"),
-          "True if kernels of this SIMD width (1, 4, 8) can run on this CPU.");
+          "True if kernels of this SIMD width (1, 4, 8, 16) can run on this CPU.");
     m.def("default_width", &patina::default_width,
           "The SIMD width used when none is asked for (PATINA_SIMD or the widest supported).");
     m.def("math", &math, nb::arg("op"), nb::arg("a"), nb::arg("b") = nb::none(), nb::arg("width") = 0, nb::arg("out") = nb::none(),

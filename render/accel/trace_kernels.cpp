@@ -8,7 +8,7 @@
 namespace patina {
 
 const TraceKernels& trace_kernels_for(int width) {
-    return kernels_for_width(width, trace_kernels_w1, trace_kernels_w4, trace_kernels_w8);
+    return kernels_for_width(width, trace_kernels_w1, trace_kernels_w4, trace_kernels_w8, trace_kernels_w16);
 }
 
 size_t first_invalid_ray(const RayBatch& rays, size_t n) {

@@ -35,6 +35,7 @@ struct TraceKernels {
 const TraceKernels& trace_kernels_w1();
 const TraceKernels& trace_kernels_w4();
 const TraceKernels& trace_kernels_w8();
+const TraceKernels& trace_kernels_w16();
 const TraceKernels& trace_kernels_for(int width);  // 0 = default; throws std::invalid_argument
 
 // Index of the first ray with a non-finite origin or a zero / non-finite direction, or n.

@@ -234,7 +234,7 @@ TEST(Eval, WideWidthsMatchScalarLaneByLane) {
         make_pairs(20000, 3, wi, wo);
         make_coherent_pairs(4000, wi, wo);
         const auto r1 = eval_with(1, prep.view, wi, wo);
-        for (int w : {4, 8}) {
+        for (int w : {4, 8, 16}) {
             if (!width_supported(w)) continue;
             const auto rw = eval_with(w, prep.view, wi, wo);
             for (size_t i = 0; i < r1.size(); ++i) {
@@ -281,7 +281,7 @@ TEST(Eval, AnyBatchLengthAndThreadsGiveTheSameValues) {
     const PreparedTable prep = prepare(t);
     std::vector<float> wi, wo;
     make_pairs(70001, 8, wi, wo);
-    for (int w : {1, 4, 8}) {
+    for (int w : {1, 4, 8, 16}) {
         if (!width_supported(w)) continue;
         const auto all = eval_with(w, prep.view, wi, wo, 1);
         const auto threaded = eval_with(w, prep.view, wi, wo, 2);
@@ -308,14 +308,14 @@ TEST(Eval, KnotsAreReproducedAndOutsideClamps) {
                 const size_t point = (a * t.axes[1].size() + b) * t.axes[2].size() + c;
                 for (int ch = 0; ch < 3; ++ch) want.push_back(t.values[point * 3 + ch]);
             }
-    for (int w : {1, 4, 8}) {
+    for (int w : {1, 4, 8, 16}) {
         if (!width_supported(w)) continue;
         const auto got = eval_with(w, prep.view, wi, wo);
         for (size_t i = 0; i < got.size(); ++i) ASSERT_NEAR(got[i], want[i], 2e-5 * want[i]) << "knot " << i / 3;
     }
     // Below the horizon gives 0, for either direction.
     const std::vector<float> up = {0.0f, 0.6f, 0.8f}, down = {0.0f, 0.6f, -0.8f};
-    for (int w : {1, 4, 8}) {
+    for (int w : {1, 4, 8, 16}) {
         if (!width_supported(w)) continue;
         for (float v : eval_with(w, prep.view, up, down)) EXPECT_EQ(v, 0.0f);
         for (float v : eval_with(w, prep.view, down, up)) EXPECT_EQ(v, 0.0f);
@@ -329,7 +329,7 @@ TEST(Eval, MissingCellsGiveZeroNotData) {
     const PreparedTable prep = prepare(t);
     std::vector<float> wi, wo;
     make_pairs(1000, 4, wi, wo);
-    for (int w : {1, 4, 8}) {
+    for (int w : {1, 4, 8, 16}) {
         if (!width_supported(w)) continue;
         for (float v : eval_with(w, prep.view, wi, wo)) ASSERT_EQ(v, 0.0f);
     }
@@ -342,7 +342,7 @@ TEST(Eval, SearchFindsTheCell) {
     std::uniform_real_distribution<float> u(-0.1f, 1.7f);
     for (int i = 0; i < 10000; ++i) xs.push_back(u(rng));
     for (int i = 0; i < 10000; ++i) xs.push_back(float(i) / 10000 * 1.6f);  // coherent
-    for (int w : {1, 4, 8}) {
+    for (int w : {1, 4, 8, 16}) {
         if (!width_supported(w)) continue;
         for (auto search : {kernels_for(w).search, kernels_for(w).search_thesis}) {
             std::vector<int32_t> cells(xs.size(), -5);

@@ -202,9 +202,10 @@ TEST(KdTree, PacketsMatchSingleRays) {
         const KdTree tree = build(*m);
         for (const Rays& rays : {camera_rays(64, 48), random_rays(5001, 4)}) {
             const Result single = trace(tree, rays, 1);
-            for (int w : {4, 8}) {
+            for (int w : {4, 8, 16}) {
                 if (width_supported(w)) {
-                    expect_same_hits(single, trace(tree, rays, w), w == 4 ? "4-ray packets" : "8-ray packets");
+                    const char* what = w == 4 ? "4-ray packets" : w == 8 ? "8-ray packets" : "16-ray packets";
+                    expect_same_hits(single, trace(tree, rays, w), what);
                 }
             }
         }
@@ -230,7 +231,7 @@ TEST(KdTree, ClosedMeshNeverLeaks) {
     const Rays random = random_rays(20000, 9, 0.3f);
     rays.o.insert(rays.o.end(), random.o.begin(), random.o.end());
     rays.d.insert(rays.d.end(), random.d.begin(), random.d.end());
-    for (int w : {1, 4, 8}) {
+    for (int w : {1, 4, 8, 16}) {
         if (!width_supported(w)) continue;
         const Result r = trace(tree, rays, w);
         for (size_t i = 0; i < rays.size(); ++i) ASSERT_GE(r.prim[i], 0) << "width " << w << ": ray " << i << " leaked";
@@ -250,7 +251,7 @@ TEST(KdTree, OccludedAgreesWithIntersect) {
     std::uniform_real_distribution<float> u(0.0f, 3.0f);
     for (float& t : tmax) t = u(rng);
     const Result r = trace(tree, rays, 1);
-    for (int w : {1, 4, 8}) {
+    for (int w : {1, 4, 8, 16}) {
         if (!width_supported(w)) continue;
         std::vector<uint8_t> blocked(rays.size());
         const RayBatch batch{rays.o.data(), rays.d.data(), 0.0f, tmax.data(), 0.0f};
@@ -267,7 +268,7 @@ TEST(KdTree, DegenerateTrianglesAreHarmless) {
     m.f.insert(m.f.end(), {base, base, base + 1, base, base + 1, base + 2, base + 3, base + 3, base + 3});
     const KdTree tree = build(m);
     const Rays rays = random_rays(3000, 10);
-    for (int w : {1, 4, 8}) {
+    for (int w : {1, 4, 8, 16}) {
         if (!width_supported(w)) continue;
         const Result r = trace(tree, rays, w);
         for (size_t i = 0; i < rays.size(); ++i) {
@@ -282,7 +283,7 @@ TEST(KdTree, EmptySceneMissesEverything) {
     const Mesh m;
     const KdTree tree = build(m);
     const Rays rays = random_rays(100, 11);
-    for (int w : {1, 4, 8}) {
+    for (int w : {1, 4, 8, 16}) {
         if (!width_supported(w)) continue;
         const Result r = trace(tree, rays, w);
         for (size_t i = 0; i < rays.size(); ++i) {
@@ -318,7 +319,7 @@ TEST(KdTree, RaysInAndAlongSplittingPlanes) {
             EXPECT_NEAR(single.t[i], t, 1e-5 * t + 1e-6) << "ray " << i;
         }
     }
-    for (int w : {4, 8}) {
+    for (int w : {4, 8, 16}) {
         if (width_supported(w)) expect_same_hits(single, trace(tree, rays, w), "axis-parallel rays");
     }
 }

@@ -102,7 +102,7 @@ TEST(Lobes, WideWidthsMatchScalar) {
             for (auto& lobe : q.shape)
                 for (float& s : lobe) s = s > 0 ? 2.0f / (s * s) : 1.0f;
         const auto r1 = eval(q, wi, wo, 1);
-        for (int w : {4, 8}) {
+        for (int w : {4, 8, 16}) {
             if (width_supported(w)) {
                 EXPECT_EQ(eval(q, wi, wo, w), r1) << "kind " << int(kind) << " width " << w;
             }
@@ -110,7 +110,7 @@ TEST(Lobes, WideWidthsMatchScalar) {
     }
     std::vector<float> s1(wi.size()), p1(wi.size() / 3);
     lobe_kernels_w1().sample_lobe(LobeKind::GGX, 0.3f, wi.data(), u1.data(), u2.data(), s1.data(), p1.data(), p1.size());
-    for (int w : {4, 8}) {
+    for (int w : {4, 8, 16}) {
         if (!width_supported(w)) continue;
         EXPECT_EQ(eval(p, wi, wo, w), ref) << "width " << w;
         std::vector<float> sw(wi.size()), pw(wi.size() / 3);
@@ -150,7 +150,7 @@ TEST(Lobes, AnisotropicAndLafortuneMixturesMatchScalarAndAreReciprocal) {
             const auto r1 = eval(p, wi, wo, 1);
             EXPECT_EQ(eval(p, wo, wi, 1), r1) << "kind " << int(k.kind) << " coat " << coat;
             for (float v : r1) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f) << "kind " << int(k.kind);
-            for (int w : {4, 8}) {
+            for (int w : {4, 8, 16}) {
                 if (width_supported(w)) {
                     EXPECT_EQ(eval(p, wi, wo, w), r1) << "kind " << int(k.kind) << " coat " << coat << " width " << w;
                 }
@@ -341,7 +341,7 @@ TEST(Lobes, WardIsReciprocalKeepsEnergyAndSamplesItsPdf) {
     const auto wi = hemisphere(4099, 13);
     std::vector<float> s1(wi.size()), p1(wi.size() / 3);
     lobe_kernels_w1().sample_ward(0.2f, 0.05f, wi.data(), u1.data(), u2.data(), s1.data(), p1.data(), p1.size());
-    for (int w : {4, 8}) {
+    for (int w : {4, 8, 16}) {
         if (!width_supported(w)) continue;
         std::vector<float> sw(wi.size()), pw(wi.size() / 3);
         lobe_kernels_for(w).sample_ward(0.2f, 0.05f, wi.data(), u1.data(), u2.data(), sw.data(), pw.data(), pw.size());
@@ -477,7 +477,7 @@ TEST(Lobes, LambertSamplesItsPdf) {
     EXPECT_GT(sampling_p_value(sample, pdf), 1e-3);
     std::vector<float> w1(3 * 1001), p1(1001);
     lobe_kernels_w1().sample_lambert(u1.data(), u2.data(), w1.data(), p1.data(), 1001);
-    for (int w : {4, 8}) {
+    for (int w : {4, 8, 16}) {
         if (!width_supported(w)) continue;
         std::vector<float> ww(3 * 1001), pw(1001);
         lobe_kernels_for(w).sample_lambert(u1.data(), u2.data(), ww.data(), pw.data(), 1001);

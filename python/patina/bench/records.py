@@ -10,6 +10,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from patina.native import _core
+from patina.widths import WIDTHS
 
 
 @dataclass
@@ -40,4 +41,5 @@ def median_times(fns: list[Callable[[], Any]], repeat: int) -> list[float]:
 
 
 def simd_widths() -> list[int]:
-    return [w for w in (4, 8) if _core.width_supported(w)]
+    """The wide paths this CPU runs, each compared with width 1 (records `.w4`, `.w8`, `.w16`)."""
+    return [w for w in WIDTHS if w > 1 and _core.width_supported(w)]

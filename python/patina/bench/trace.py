@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from patina.bench.records import Record, median_times
+from patina.bench.records import Record, median_times, simd_widths
 from patina.geometry import benchmark_geometry as scenes
 from patina.geometry.accel import Accel
 from patina.geometry.mesh import Mesh
@@ -54,7 +54,7 @@ def _scenes(quick: bool) -> list[_Scene]:
 
 
 def _packetsimd_widths() -> list[int]:
-    return [w for w in (4, 8) if _core.width_supported(w)]
+    return simd_widths()
 
 
 def _embree_scene(mesh: Mesh) -> Any | None:

@@ -42,11 +42,12 @@ def channel_labels(brdf: Any) -> list[str]:
 
 
 def add_simd_option(s: argparse.ArgumentParser) -> None:
-    """`--simd {1,4,8}`: the one name for the SIMD width on every command (`--width` is an image's width)."""
+    """`--simd {1,4,8,16}`: the one name for the SIMD width on every command (`--width` is an image's width)."""
     s.add_argument(
         "--simd",
         type=int,
         choices=WIDTHS,
         default=None,
-        help="force a SIMD width: 1 (scalar), 4 (SSE4.1) or 8 (AVX2); default: PATINA_SIMD, else the widest",
+        help="force a SIMD width: 1 (scalar), 4 (SSE4.1), 8 (AVX2) or 16 (AVX-512); "
+        "default: PATINA_SIMD, else the widest",
     )

@@ -52,7 +52,7 @@ def test_simd_width_has_one_name(bundled_ptab, capsys):
     for name, command in sub.choices.items():
         options = {o: a for a in command._actions for o in a.option_strings}
         if "--simd" in options:
-            assert tuple(options["--simd"].choices) == (1, 4, 8), name
+            assert tuple(options["--simd"].choices) == (1, 4, 8, 16), name
         if name in ("eval", "bench", "fit", "validate", "info"):
             assert "--width" not in options, name
     # the Python API says it the same way: render_scene(simd=), no width= beside an image's width
@@ -60,7 +60,10 @@ def test_simd_width_has_one_name(bundled_ptab, capsys):
     assert "simd" in parameters and "width" not in parameters
 
 
-@pytest.mark.parametrize("value, width", [("1", 1), ("scalar", 1), ("4", 4), ("sse4", 4), ("8", 8), ("avx2", 8)])
+@pytest.mark.parametrize(
+    "value, width",
+    [("1", 1), ("scalar", 1), ("4", 4), ("sse4", 4), ("8", 8), ("avx2", 8), ("16", 16), ("avx512", 16)],
+)
 def test_patina_simd_takes_the_numbers_simd_takes(value, width):
     if not patina._core.width_supported(width):
         pytest.skip(f"this CPU has no {width}-wide path")
@@ -71,10 +74,10 @@ def test_patina_simd_takes_the_numbers_simd_takes(value, width):
 
 
 def test_a_bad_patina_simd_is_one_line_naming_the_values(bundled_ptab):
-    env = {**os.environ, "PATINA_SIMD": "16"}
+    env = {**os.environ, "PATINA_SIMD": "32"}
     r = _run([*PATINA, "eval", bundled_ptab, "--wi", "0", "0", "--wo", "0", "0"], env)
     assert r.returncode == 2 and "Traceback" not in r.stderr
-    assert "PATINA_SIMD=16" in r.stderr and "1, 4 or 8" in r.stderr
+    assert "PATINA_SIMD=32" in r.stderr and "1, 4, 8 or 16" in r.stderr
 
 
 def _run(command: list[str], env: dict[str, str] | None = None) -> subprocess.CompletedProcess:

@@ -15,10 +15,11 @@ from patina.geometry import benchmark_geometry as scenes
 from patina.geometry.accel import Accel, Hits
 from patina.geometry.mesh import Mesh
 from patina.native import _core
+from patina.widths import WIDTHS as ALL_WIDTHS
 
 CoreAccel = _core.Accel  # these tests need the C++ tracer; fail loudly at import without it
 
-WIDTHS = [w for w in (1, 4, 8) if _core.width_supported(w)]
+WIDTHS = [w for w in ALL_WIDTHS if _core.width_supported(w)]
 PACKETS = [w for w in WIDTHS if w > 1]
 
 # --- a plain reference: Moller-Trumbore in double precision over every triangle --------

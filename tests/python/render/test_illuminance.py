@@ -10,6 +10,7 @@ import os
 import numpy as np
 import pytest
 
+from conftest import WIDTHS
 from patina.cli import main
 from patina.errors import FormatError
 from patina.render import illuminance as il
@@ -37,7 +38,7 @@ def test_point_light_illuminance_is_exact_at_every_sensor_and_width():
     to = np.array([1, 2.5, -0.5]) - pts
     d2 = (to**2).sum(1)
     expected = 1000 * (to[:, 1] / np.sqrt(d2)) / d2
-    for width in (1, 4, 8):
+    for width in WIDTHS:
         report = il.compute(s, grid, samples=4, width=width)
         assert np.allclose(report.lux.ravel(), expected, rtol=2e-5)
     st = report.stats

@@ -1,0 +1,14 @@
+// The path integrator at width 16 (compiled with PATINA_AVX512_FLAGS: AVX-512 F, VL, DQ, BW and FMA).
+#define PATINA_KERNEL_WIDTH 16
+#include "render/grid2_impl.h"
+#include "render/integrator_impl.h"
+
+namespace patina {
+
+const RenderKernels& render_kernels_w16() {
+    static const RenderKernels k{16, &render_detail::trace_paths, &render_detail::sensor_illuminance,
+                                 &render_detail::grid2_w::eval_array};
+    return k;
+}
+
+}  // namespace patina
