@@ -633,7 +633,7 @@ def test_bad_tmax_tmin_width_threads(small_accel, monkeypatch):
         small_accel.occluded(o, d, np.array([1, 1, np.nan, 1, 1, 1, 1, 1]))
     with pytest.raises(ValueError, match="tmin"):
         small_accel.intersect(o, d, tmin=np.nan)
-    for width in (0, 2, 3, 16):
+    for width in (0, 2, 3, 32):
         with pytest.raises(ValueError, match="width"):
             small_accel.intersect(o, d, width=width)
     with pytest.raises(ValueError, match="threads"):
