@@ -7,7 +7,6 @@ from __future__ import annotations
 import json
 import os
 import warnings
-from types import SimpleNamespace
 
 import numpy as np
 import OpenImageIO as oiio
@@ -22,7 +21,7 @@ from patina.render import images, prepare
 from patina.render.images import read_exr_layers, write_exr
 from patina.render.outputs import metadata
 from patina.render.prepare import PreparedScene, check_render_memory
-from patina.render.run import render
+from patina.render.run import RenderResult, render
 from patina.scene.reading import load_scene, parse_scene
 from patina.table import load_brdf
 from patina.table.brdf import Brdf
@@ -64,9 +63,22 @@ def test_metadata_beyond_32_bits_is_written_as_text_not_refused(tmp_path):
 
 def test_render_metadata_has_rays_and_seed_as_decimal_text(tmp_path):
     scene = parse_scene(scene_dict(render={"spp": 1, "seed": 2**63 - 1}), tmp_path / "s.json")
-    result = SimpleNamespace(spp=1, samples=np.ones((1, 1)), seconds=1.0, rays=3 * 2**31, simd_width=4, threads=2)
-    result.complete = True
-    meta = metadata(scene, result)  # type: ignore[arg-type]
+    image = np.zeros((1, 1, 3), np.float32)
+    result = RenderResult(
+        rgb=image,
+        albedo=image,
+        normal=image,
+        depth=np.ones((1, 1), np.float32),
+        illuminance=np.zeros((1, 1), np.float32),
+        samples=np.ones((1, 1)),
+        spp=1,
+        seconds=1.0,
+        rays=3 * 2**31,
+        complete=True,
+        simd_width=4,
+        threads=2,
+    )
+    meta = metadata(scene, result)
     assert meta["patina:seed"] == str(2**63 - 1) and meta["patina:rays"] == str(3 * 2**31)
     write_exr(tmp_path / "r.exr", {"beauty": np.zeros((1, 1, 3))}, meta)  # fits every attribute type
 
