@@ -1,5 +1,6 @@
-"""The SIMD widths: 16 (AVX-512) is chosen from CPUID at run time and is never reached on a CPU
-without it; the Python side accepts exactly the widths the C++ dispatcher does."""
+"""The SIMD widths: 16 (AVX-512) is opt-in (PATINA_SIMD=16) and then chosen from CPUID at run
+time, never reached on a CPU without it; the Python side accepts exactly the widths the C++
+dispatcher does."""
 
 from __future__ import annotations
 
@@ -27,42 +28,50 @@ def _cpu_flags() -> set[str] | None:
     return None
 
 
-def _default_width(env_value: str | None) -> subprocess.CompletedProcess:
+def _in_subprocess(env_value: str | None, expression: str) -> subprocess.CompletedProcess:
     env = {k: v for k, v in os.environ.items() if k != "PATINA_SIMD"}
     if env_value is not None:
         env["PATINA_SIMD"] = env_value
-    code = "from patina.native import _core; print(_core.default_width())"
+    code = f"from patina.native import _core; print({expression})"
     command = [sys.executable, "-c", code]
     return subprocess.run(command, check=False, env=env, capture_output=True, text=True, timeout=120)
+
+
+def _cpu_has_avx512() -> bool:
+    flags = _cpu_flags()
+    if flags is None:
+        pytest.skip("no /proc/cpuinfo")
+    return all(f in flags for f in AVX512)
 
 
 def test_width_16_is_known_everywhere():
     assert WIDTHS == (1, 4, 8, 16)
 
 
-def test_width_16_supported_exactly_when_the_cpu_reports_avx512():
+def test_width_16_is_offered_only_when_patina_simd_asks():
+    r = _in_subprocess(None, "_core.width_supported(16)")
+    assert r.returncode == 0 and r.stdout.strip() == "False", r.stderr
+
+
+def test_width_16_supported_exactly_when_asked_and_the_cpu_reports_avx512():
     """The CPUID + XGETBV check agrees with the kernel's view of the CPU (which also needs the
     OS to save the ZMM state: Linux lists avx512* only when it does)."""
-    flags = _cpu_flags()
-    if flags is None:
-        pytest.skip("no /proc/cpuinfo")
-    assert _core.width_supported(16) == all(f in flags for f in AVX512)
-    if _core.width_supported(16):
-        assert _core.width_supported(8) and _core.width_supported(4)
-
-
-def test_the_default_is_the_widest_supported_width():
-    r = _default_width(None)
+    r = _in_subprocess("16", "_core.width_supported(16), _core.width_supported(8)")
     assert r.returncode == 0, r.stderr
-    widest = max(w for w in WIDTHS if _core.width_supported(w))
-    assert int(r.stdout) == widest
+    assert r.stdout.split() == [str(_cpu_has_avx512()), "True"]
+
+
+def test_the_default_is_the_widest_supported_width_up_to_8():
+    r = _in_subprocess(None, "_core.default_width()")
+    assert r.returncode == 0, r.stderr
+    assert int(r.stdout) == max(w for w in (1, 4, 8) if _core.width_supported(w))
 
 
 @pytest.mark.parametrize("value", ["16", "avx512"])
 def test_patina_simd_16_without_avx512_is_refused(value):
-    if _core.width_supported(16):
+    if _cpu_has_avx512():
         pytest.skip("this CPU runs width 16")
-    r = _default_width(value)
+    r = _in_subprocess(value, "_core.default_width()")
     assert r.returncode != 0 and f"PATINA_SIMD={value}: this CPU cannot run that path" in r.stderr
 
 
