@@ -12,13 +12,17 @@
 #include <random>
 #include <vector>
 
-#include "core/cpu.h"
 #include "core/simd/fastmath.h"
+#include "lane_width_fixture.h"
 #include "test_values.h"
 
 #define PATINA_CAT2(a, b) a##b
 #define PATINA_CAT(a, b) PATINA_CAT2(a, b)
-#define LANE_TEST(name) TEST(PATINA_CAT(SimdLanes_w, PATINA_TEST_WIDTH), name)
+#define LANE_SUITE PATINA_CAT(SimdLanes_w, PATINA_TEST_WIDTH)
+#define LANE_TEST(name) TEST_F(LANE_SUITE, name)
+
+// a width the CPU cannot run is skipped by the fixture, before any of its code runs
+using LANE_SUITE = patina::test::LaneWidth<PATINA_TEST_WIDTH>;
 
 namespace {
 using namespace patina;
@@ -81,7 +85,6 @@ std::vector<float> padded(std::vector<float> v) {
 }  // namespace
 
 LANE_TEST(ArithmeticMatchesScalar) {
-    if (!width_supported(N)) GTEST_SKIP() << "CPU lacks this width";
     const auto xs = padded(test_values::mixed(4096, 11));
     const auto ys = padded(test_values::mixed(4096, 12));
     check_binary(ys, xs, [](F a, F b) { return a + b; }, [](float a, float b) { return a + b; }, 0);
@@ -109,7 +112,6 @@ LANE_TEST(ArithmeticMatchesScalar) {
 }
 
 LANE_TEST(FusedMaddWithinOneRounding) {
-    if (!width_supported(N)) GTEST_SKIP() << "CPU lacks this width";
     const auto a = padded(test_values::uniform(4096, -100.0f, 100.0f, 21));
     const auto b = padded(test_values::uniform(4096, -100.0f, 100.0f, 22));
     for (size_t i = 0; i + N <= a.size(); i += N) {
@@ -122,7 +124,6 @@ LANE_TEST(FusedMaddWithinOneRounding) {
 }
 
 LANE_TEST(IntegerOpsAndMasks) {
-    if (!width_supported(N)) GTEST_SKIP() << "CPU lacks this width";
     std::mt19937 rng(5);
     std::uniform_int_distribution<int32_t> dist(-100000, 100000);
     int32_t a[N], b[N];
@@ -174,7 +175,6 @@ LANE_TEST(IntegerOpsAndMasks) {
 }
 
 LANE_TEST(GatherReadsEveryLane) {
-    if (!width_supported(N)) GTEST_SKIP() << "CPU lacks this width";
     std::vector<float> table(1000);
     for (size_t i = 0; i < table.size(); ++i) table[i] = float(i) * 0.5f + 1.0f;
     std::mt19937 rng(9);
@@ -198,7 +198,6 @@ LANE_TEST(GatherReadsEveryLane) {
 }
 
 LANE_TEST(FastMathMatchesScalar) {
-    if (!width_supported(N)) GTEST_SKIP() << "CPU lacks this width";
     const auto unit = padded(test_values::with_specials(test_values::uniform(1 << 16, -1.0f, 1.0f, 31)));
     const auto wide = padded(test_values::mixed(1 << 16, 32));
     const auto wide2 = padded(test_values::mixed(1 << 16, 33));
@@ -211,7 +210,6 @@ LANE_TEST(FastMathMatchesScalar) {
 }
 
 LANE_TEST(ReciprocalsWithinStatedBound) {
-    if (!width_supported(N)) GTEST_SKIP() << "CPU lacks this width";
     // The wide rcp / rsqrt refine a hardware estimate: within 3e-7 relative of width 1
     // for normal inputs, exact on the special values.
     auto xs = test_values::log_uniform(1 << 16, -120.0f, 120.0f, 41);
@@ -257,7 +255,6 @@ std::vector<float> dense_unit_sweep() {
 
 // The bounds fastmath.h states, enforced against double precision.
 LANE_TEST(FastMathErrorBounds) {
-    if (!width_supported(N)) GTEST_SKIP() << "CPU lacks this width";
     const auto unit = dense_unit_sweep();
     EXPECT_LE(max_error(unit, [](F x) { return patina::fast_acos(x); }, [](double x) { return std::acos(x); }), 5e-7);
     EXPECT_LE(max_error(unit, [](F x) { return patina::fast_asin(x); }, [](double x) { return std::asin(x); }), 4e-7);
@@ -298,7 +295,6 @@ LANE_TEST(FastMathErrorBounds) {
 
 // Special values: the C library's answers, signed zeros included.
 LANE_TEST(FastMathSpecialValues) {
-    if (!width_supported(N)) GTEST_SKIP() << "CPU lacks this width";
     const auto s = test_values::specials();
     for (float x : s) {
         float xs[N];
@@ -335,7 +331,6 @@ LANE_TEST(FastMathSpecialValues) {
 
 // fast_sincos against double over several periods, and the same bits at every width.
 LANE_TEST(FastSinCos) {
-    if (!width_supported(N)) GTEST_SKIP() << "CPU lacks this width";
     auto xs = test_values::uniform(1 << 18, -100.0f, 100.0f, 71);
     for (int i = 0; i <= 4096; ++i) xs.push_back(6.2831853f * float(i) / 4096.0f);
     xs = padded(xs);
@@ -355,7 +350,6 @@ LANE_TEST(FastSinCos) {
 }
 
 LANE_TEST(FastLogExp) {
-    if (!width_supported(N)) GTEST_SKIP() << "CPU lacks this width";
     auto xs = test_values::log_uniform(1 << 18, -149.0f, 127.0f, 81);
     for (int i = 0; i < 4096; ++i) xs.push_back(0.5f + float(i) / 2048.0f);  // around 1
     xs = padded(xs);
