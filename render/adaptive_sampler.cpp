@@ -93,6 +93,13 @@ void AdaptiveSampler::place(const PixelState& p, int s, float& fx, float& fy) co
 bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
     samples.clear();
     const uint32_t pass = static_cast<uint32_t>(m_pass);
+    // a pixel's sample s at its fixed position, keyed by pixel, pass and s
+    const auto add_sample = [&](int i, int s) {
+        CameraSample cs;
+        place(m_pixels[i], s, cs.fx, cs.fy);
+        cs.key = path_key(m_seed, static_cast<uint32_t>(m_pixels[i].pixel), pass * aa::kMaxSamples + s);
+        samples.push_back(cs);
+    };
     if (m_round == 0) {
         const int w = m_tile.x1 - m_tile.x0;
         const uint32_t row = static_cast<uint32_t>(m_film.width()) + 1;
@@ -108,12 +115,7 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
     }
     if (m_round == 1 && !m_level2_pixels.empty()) {
         for (const int i : m_level2_pixels)
-            for (int s = aa::kCorners; s < aa::kCorners + aa::kLevel2; ++s) {
-                CameraSample cs;
-                place(m_pixels[i], s, cs.fx, cs.fy);
-                cs.key = path_key(m_seed, static_cast<uint32_t>(m_pixels[i].pixel), pass * aa::kMaxSamples + s);
-                samples.push_back(cs);
-            }
+            for (int s = aa::kCorners; s < aa::kCorners + aa::kLevel2; ++s) add_sample(i, s);
         m_round = 2;
         return true;
     }
@@ -121,13 +123,7 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
         for (const int i : m_level3_pixels)
             for (int z = 0; z < aa::kZones; ++z) {
                 if (!((m_pixels[i].zones >> z) & 1)) continue;
-                for (int k = 0; k < aa::kZigzag; ++k) {
-                    const int s = aa::kCorners + aa::kLevel2 + z * aa::kZigzag + k;
-                    CameraSample cs;
-                    place(m_pixels[i], s, cs.fx, cs.fy);
-                    cs.key = path_key(m_seed, static_cast<uint32_t>(m_pixels[i].pixel), pass * aa::kMaxSamples + s);
-                    samples.push_back(cs);
-                }
+                for (int k = 0; k < aa::kZigzag; ++k) add_sample(i, aa::kCorners + aa::kLevel2 + z * aa::kZigzag + k);
             }
         m_round = 3;
         return true;

@@ -126,22 +126,15 @@ def add_table_commands(sub: Any) -> None:
 
     s = sub.add_parser("eval", help="evaluate a table at one direction pair (degrees)")
     s.add_argument("file")
-    s.add_argument(
-        "--wi",
-        nargs=2,
-        type=float,
-        required=True,
-        metavar=("THETA", "PHI"),
-        help="incident direction, degrees: theta from the normal (0..90), phi the azimuth",
-    )
-    s.add_argument(
-        "--wo",
-        nargs=2,
-        type=float,
-        required=True,
-        metavar=("THETA", "PHI"),
-        help="outgoing direction, degrees: theta from the normal (0..90), phi the azimuth",
-    )
+    for option, which in (("--wi", "incident"), ("--wo", "outgoing")):
+        s.add_argument(
+            option,
+            nargs=2,
+            type=float,
+            required=True,
+            metavar=("THETA", "PHI"),
+            help=f"{which} direction, degrees: theta from the normal (0..90), phi the azimuth",
+        )
     s.add_argument("--json", action="store_true", help="machine-readable output")
     add_simd_option(s)
     s.set_defaults(func=cmd_eval)
