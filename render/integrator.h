@@ -28,12 +28,18 @@ struct PathResult {
     float albedo[3];    // first hit: the material's albedo estimate (0 on a miss)
     float normal[3];    // first hit: shading normal, world space (0 on a miss)
     float depth;        // first hit: distance from the camera (inf on a miss)
-    float illuminance;  // first hit: direct illuminance on the shading normal, lux (683 lm/W x Y)
+    float illuminance;  // first hit: illuminance on the shading normal, lux (683 lm/W x Y): direct, plus
+                        // the light reflected by the scene with IntegratorSettings::indirect_illuminance
 };
 
 struct IntegratorSettings {
     int max_depth = 8;  // 1: direct lighting only
     int rr_depth = 3;   // Russian roulette from this bounce on
+    // The illuminance AOV also counts light reflected by the scene: from each first hit, one
+    // cosine-weighted sensor ray continued as a path of at most max_depth - 1 further
+    // vertices (sensor_illuminance_indirect's estimate). Off: the AOV is direct only, and
+    // the image is the same bits either way (the sensor paths draw their own numbers).
+    bool indirect_illuminance = false;
 };
 
 // A shading point of the current bounce.
@@ -72,6 +78,10 @@ struct PathScratch {
     std::vector<float> shadow_org, shadow_dir, shadow_tmax, shadow_rgb, shadow_lux;
     std::vector<int32_t> shadow_path;
     std::vector<uint8_t> blocked;
+    // sensor paths (indirect illuminance): their sensors, keys and results
+    std::vector<ShadingPoint> sensors;
+    std::vector<CameraSample> sensor_samples;
+    std::vector<PathResult> sensor_results;
     size_t rays_traced = 0;  // primary, secondary and shadow rays since construction
 };
 
@@ -85,6 +95,14 @@ struct RenderKernels {
     // signal, render/adaptive_sampler.h: a function of the position only)
     void (*sensor_illuminance)(const RenderScene& scene, const float* points, const float* normals, size_t begin,
                                size_t end, int samples, uint32_t seed, bool shared, float* lux, PathScratch& scratch);
+    // lux[i] += the illuminance (lux) that light reflected by the scene adds on the sensor at
+    // points[i] facing normals[i], for sensors [begin, end): the mean of `samples` sensor
+    // rays over the cosine-weighted hemisphere, each continued as a path of at most
+    // settings.max_depth vertices whose first hit's emission is not counted (light sampling
+    // counts that: sensor_illuminance). Keys from (seed, sensor, sample) as there, salted.
+    void (*sensor_illuminance_indirect)(const RenderScene& scene, const IntegratorSettings& settings,
+                                        const float* points, const float* normals, size_t begin, size_t end,
+                                        int samples, uint32_t seed, float* lux, PathScratch& scratch);
     // out[i] = the 2-D table at (x[i], y[i]), bilinear, clamped to the axes
     void (*grid2_eval)(const Grid2View& grid, const float* x, const float* y, float* out, size_t n);
 };

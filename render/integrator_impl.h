@@ -92,6 +92,9 @@ struct Wavefront {
     bool can_sample_lights;  // some light (or the environment) can light something
     bool has_sun;
     float eps;               // secondary rays leave this far off the surface
+    // emission the first segment sees counts; not for sensor paths, whose direct light
+    // light sampling counts (sensor_illuminance)
+    bool first_emission = true;
 };
 
 // The batch's camera rays, with throughput 1 and empty results; every path active.
@@ -187,11 +190,12 @@ inline void add_emission_and_environment(const Wavefront& w, const HitBatch& hit
     const RenderScene& s = w.s;
     PathScratch& sc = w.sc;
     sc.misses.clear();
+    const bool emission = depth > 0 || w.first_emission;
     for (size_t j = 0; j < sc.active.size(); ++j) {
         const int32_t i = sc.active[j];
         const int32_t prim = hits.prim[j];
         if (prim < 0) {
-            if (s.env.present || w.has_sun) sc.misses.push_back(i);
+            if (emission && (s.env.present || w.has_sun)) sc.misses.push_back(i);
             continue;
         }
         const Material& mat = s.materials[s.tri_material[prim]];
@@ -199,7 +203,7 @@ inline void add_emission_and_environment(const Wavefront& w, const HitBatch& hit
         const Light& l = s.lights[mat.light];
         const Vec3f ng = load_vec3(s.tree->normals.data() + 3 * static_cast<size_t>(prim));  // quads: their normal
         const float facing = -dot(load_vec3(sc.dir.data() + 3 * i), ng);
-        if (facing > 0 || (l.two_sided && facing < 0)) {
+        if (emission && (facing > 0 || (l.two_sided && facing < 0))) {
             float wt = 1.0f;
             if (sc.prev_pdf[i] > 0 && w.can_sample_lights)
                 wt = power_heuristic(sc.prev_pdf[i], area_light_pdf(s, load_vec3(sc.prev_pos.data() + 3 * i),
@@ -213,7 +217,8 @@ inline void add_emission_and_environment(const Wavefront& w, const HitBatch& hit
 }
 
 // 3. Surface hits (not lights) become the bounce's shading points, in hit order, while the
-//    path may still bounce; the first hit also fills the AOVs.
+//    path may still bounce; the first hit also fills the AOVs (and, for the indirect
+//    illuminance, is kept as a sensor: sc.sensors).
 inline void make_shading_points(const Wavefront& w, const HitBatch& hits, int depth) {
     const RenderScene& s = w.s;
     PathScratch& sc = w.sc;
@@ -236,6 +241,7 @@ inline void make_shading_points(const Wavefront& w, const HitBatch& hits, int de
             std::copy(mat.albedo, mat.albedo + 3, w.out[i].albedo);
             store_vec3(sp.n, w.out[i].normal);
             w.out[i].depth = hits.t[j];
+            if (w.st.indirect_illuminance) sc.sensors.push_back(sp);
         }
         sc.points.push_back(sp);
     }
@@ -378,13 +384,9 @@ inline void resolve_shadow_rays(const Wavefront& w) {
     }
 }
 
-void trace_paths(const RenderScene& s, const IntegratorSettings& st, const CameraSample* cs, size_t n,
-                 PathResult* out, PathScratch& sc) {
-    enter_kernel();
-    bool has_sun = false;
-    for (const Light& l : s.lights) has_sun = has_sun || l.kind == LightKind::Sun;
-    const Wavefront w{s, st, cs, out, sc, lights_emit(s), has_sun, s.ray_offset};
-    start_camera_paths(w, n);
+// The stages, bounce after bounce, until every path of the batch has ended.
+inline void run_paths(const Wavefront& w) {
+    PathScratch& sc = w.sc;
     for (int depth = 0; !sc.active.empty(); ++depth) {
         const HitBatch hits = trace_bounce(w);
         add_emission_and_environment(w, hits, depth);
@@ -395,6 +397,88 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
         resolve_shadow_rays(w);
         std::swap(sc.active, sc.next_active);
     }
+}
+
+inline bool scene_has_sun(const RenderScene& s) {
+    for (const Light& l : s.lights)
+        if (l.kind == LightKind::Sun) return true;
+    return false;
+}
+
+// Sensor paths: path i starts at sensor sc.sensors[i] (its point, geometric normal and
+// frame) along a cosine-weighted direction about its normal, drawn from the lens dimensions
+// of w.cs[i].key (a sensor has no lens). A direction below the geometric surface (a bent
+// shading normal) starts no path: it adds nothing, as the estimator of a sensor on that
+// surface should. Throughput 1: the radiance found, times pi, is the illuminance estimate
+// (E = integral of L cos over the hemisphere = pi x the mean of L under cosine sampling).
+inline void start_sensor_paths(const Wavefront& w, size_t n) {
+    PathScratch& sc = w.sc;
+    float* org = grow(sc.org, 3 * n);
+    float* dir = grow(sc.dir, 3 * n);
+    float* thr = grow(sc.throughput, 3 * n);
+    float* prev_pdf = grow(sc.prev_pdf, n);
+    grow(sc.prev_pos, 3 * n);
+    sc.active.clear();
+    for (size_t i = 0; i < n; ++i) {
+        PathResult& r = w.out[i];
+        std::fill(r.rgb, r.rgb + 3, 0.0f);
+        std::fill(r.albedo, r.albedo + 3, 0.0f);
+        std::fill(r.normal, r.normal + 3, 0.0f);
+        r.depth = kInfinity;
+        r.illuminance = 0;
+        const ShadingPoint& sp = sc.sensors[i];
+        const uint32_t key = w.cs[i].key;
+        const float u1 = bounce_uniform(key, 0, kDimLensU), u2 = bounce_uniform(key, 0, kDimLensV);
+        const float radius = std::sqrt(u1), phi = kTwoPi * u2;
+        const Vec3f l{radius * std::cos(phi), radius * std::sin(phi), std::sqrt(std::max(1.0f - u1, 0.0f))};
+        const Vec3f d = normalize(to_world(sp, l));
+        if (!(dot(d, sp.ng) > 0)) continue;
+        store_vec3(sp.p + w.eps * sp.ng, org + 3 * i);
+        store_vec3(d, dir + 3 * i);
+        std::fill(thr + 3 * i, thr + 3 * i + 3, 1.0f);
+        prev_pdf[i] = 0;
+        sc.active.push_back(static_cast<int32_t>(i));
+    }
+}
+
+// The lux a sensor path's radiance stands for: pi x 683 lm/W x its luminance.
+inline float sensor_path_lux(const PathResult& r) { return kPi * kLumensPerWatt * luminance(r.rgb); }
+
+// Traces sc.sensor_samples.size() sensor paths from sc.sensors (start_sensor_paths) with at
+// most st.max_depth vertices each, into sc.sensor_results.
+inline void trace_sensor_paths(const RenderScene& s, const IntegratorSettings& st, PathScratch& sc) {
+    const size_t n = sc.sensor_samples.size();
+    sc.sensor_results.resize(n);
+    IntegratorSettings inner = st;
+    inner.indirect_illuminance = false;  // the sensors are not sensors again
+    Wavefront w{s, inner, sc.sensor_samples.data(), sc.sensor_results.data(), sc, lights_emit(s), scene_has_sun(s),
+                s.ray_offset};
+    w.first_emission = false;
+    start_sensor_paths(w, n);
+    run_paths(w);
+}
+
+// A sensor path's key: the key of the sample it belongs to, salted, so it draws numbers of
+// its own and leaves the camera path's (and the direct light sampling's) unchanged.
+inline uint32_t sensor_path_key(uint32_t key) { return hash_u32(key ^ 0x5f3759dfu); }
+
+void trace_paths(const RenderScene& s, const IntegratorSettings& st, const CameraSample* cs, size_t n,
+                 PathResult* out, PathScratch& sc) {
+    enter_kernel();
+    const Wavefront w{s, st, cs, out, sc, lights_emit(s), scene_has_sun(s), s.ray_offset};
+    sc.sensors.clear();
+    start_camera_paths(w, n);
+    run_paths(w);
+    // the indirect illuminance AOV: each first hit a sensor, its path one vertex shorter
+    if (!st.indirect_illuminance || st.max_depth < 2 || sc.sensors.empty()) return;
+    sc.sensor_samples.resize(sc.sensors.size());
+    for (size_t q = 0; q < sc.sensors.size(); ++q)
+        sc.sensor_samples[q] = CameraSample{0, 0, sensor_path_key(cs[sc.sensors[q].path].key)};
+    IntegratorSettings inner = st;
+    inner.max_depth = st.max_depth - 1;
+    trace_sensor_paths(s, inner, sc);
+    for (size_t q = 0; q < sc.sensors.size(); ++q)
+        out[sc.sensors[q].path].illuminance += sensor_path_lux(sc.sensor_results[q]);
 }
 
 // Direct illuminance on sensors (patina illuminance): the same light sampling and shadow
@@ -442,6 +526,37 @@ void sensor_illuminance(const RenderScene& s, const float* points, const float* 
             if (!blocked[j]) sum[sc.shadow_path[j]] += sc.shadow_lux[j];
     }
     for (size_t q = 0; q < np; ++q) lux[begin + q] = static_cast<float>(sum[q] / samples);
+}
+
+// Indirect illuminance on sensors (patina illuminance --indirect): per sample, every sensor's
+// path traced as one wavefront (trace_sensor_paths), its lux added to the sensor's sum.
+void sensor_illuminance_indirect(const RenderScene& s, const IntegratorSettings& st, const float* points,
+                                 const float* normals, size_t begin, size_t end, int samples, uint32_t seed,
+                                 float* lux, PathScratch& sc) {
+    enter_kernel();
+    const size_t np = end - begin;
+    if (np == 0 || !lights_emit(s) || st.max_depth < 1) return;
+    std::vector<double> sum(np, 0.0);
+    for (int k = 0; k < samples; ++k) {
+        sc.sensors.resize(np);
+        sc.sensor_samples.resize(np);
+        for (size_t q = 0; q < np; ++q) {
+            ShadingPoint& sp = sc.sensors[q];
+            const size_t i = begin + q;
+            sp.p = load_vec3(points + 3 * i);
+            sp.ng = normalize(load_vec3(normals + 3 * i));
+            sp.n = sp.ng;
+            orthonormal_frame(sp.n, sp.t, sp.b);
+            sp.path = static_cast<int32_t>(q);
+            sp.material = 0;
+            sp.eta = 1;
+            const uint32_t key = path_key(seed, static_cast<uint32_t>(i), static_cast<uint32_t>(k));
+            sc.sensor_samples[q] = CameraSample{0, 0, sensor_path_key(key)};
+        }
+        trace_sensor_paths(s, st, sc);
+        for (size_t q = 0; q < np; ++q) sum[q] += sensor_path_lux(sc.sensor_results[q]);
+    }
+    for (size_t q = 0; q < np; ++q) lux[begin + q] += static_cast<float>(sum[q] / samples);
 }
 
 }  // namespace render_detail

@@ -28,6 +28,7 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     const Camera& c = scene.camera;
     if (c.width < 1 || c.height < 1) throw std::invalid_argument("the image must be at least 1 x 1 pixels");
     m_integrator.max_depth = settings.max_depth;
+    m_integrator.indirect_illuminance = settings.indirect_illuminance;
     m_tiles_x = (c.width + settings.tile_size - 1) / settings.tile_size;
     m_tiles_y = (c.height + settings.tile_size - 1) / settings.tile_size;
     // at least `passes` passes, each of at most max_pass_spp samples

@@ -35,6 +35,7 @@ struct RenderSettings {
     // (render/adaptive_sampler.h; spp patterns a pixel, one a pass, each of 1 to 25 rays).
     enum class Aa { Uniform, Adaptive } aa = Aa::Uniform;
     float aa_threshold = kDefaultAaThreshold;  // the adaptive sampler's contrast threshold, >= 0
+    bool indirect_illuminance = false;  // the illuminance AOV counts reflected light (IntegratorSettings)
 };
 
 struct RenderProgress {

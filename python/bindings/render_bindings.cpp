@@ -396,7 +396,8 @@ uint32_t stream_seed(uint64_t seed) {
 }
 
 std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth, uint64_t seed, int threads,
-                                    int width, int tile_size, int passes, const std::string& aa, float aa_threshold) {
+                                    int width, int tile_size, int passes, const std::string& aa, float aa_threshold,
+                                    bool indirect_illuminance) {
     SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
     check_materials(h);
     patina::prepare_light_selection(h.scene);
@@ -413,6 +414,7 @@ std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth
     else if (aa != "uniform")
         throw std::invalid_argument("aa: '" + aa + "' is not one of 'uniform', 'adaptive'");
     st.aa_threshold = aa_threshold;
+    st.indirect_illuminance = indirect_illuminance;
     auto j = std::make_unique<JobHandle>();
     j->scene_ref = scene_obj;
     j->job = std::make_unique<patina::RenderJob>(h.scene, st);
@@ -542,13 +544,16 @@ nb::object grid2_eval(const Grid2Handle& g, FloatVector x, FloatVector y, int wi
     return nb::cast(result);
 }
 
-// Direct illuminance (lux) on sensors: points and unit normals (n, 3); split over threads.
+// Illuminance (lux) on sensors: points and unit normals (n, 3); split over threads. Direct
+// light; with indirect_depth > 0 also the light reflected by the scene, by sensor paths of
+// at most that many vertices.
 nb::object sensor_illuminance(nb::object scene_obj, Rows3 points, Rows3 normals, int samples, uint64_t seed,
-                              int width, int threads) {
+                              int width, int threads, int indirect_depth) {
     SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
     const size_t n = points.shape(0);
     if (normals.shape(0) != n) throw std::invalid_argument("points and normals have different lengths");
     if (samples < 1) throw std::invalid_argument("samples must be at least 1");
+    if (indirect_depth < 0) throw std::invalid_argument("indirect_depth must be at least 0");
     check_materials(h);
     patina::prepare_light_selection(h.scene);
     float* out;
@@ -560,6 +565,12 @@ nb::object sensor_illuminance(nb::object scene_obj, Rows3 points, Rows3 normals,
             patina::PathScratch scratch;
             k.sensor_illuminance(h.scene, points.data(), normals.data(), b, e, samples, stream_seed(seed), false, out,
                                   scratch);
+            if (indirect_depth > 0) {
+                patina::IntegratorSettings settings;
+                settings.max_depth = indirect_depth;
+                k.sensor_illuminance_indirect(h.scene, settings, points.data(), normals.data(), b, e, samples,
+                                              stream_seed(seed), out, scratch);
+            }
         });
     }
     return nb::cast(result);
@@ -583,11 +594,14 @@ void bind_render(nb::module_& m) {
     m.def("aa_pattern", &aa_pattern, "The adaptive antialiasing's positions, comparisons, zone tables, weights.");
     m.def("sensor_illuminance", &sensor_illuminance, nb::arg("scene"), nb::arg("points"), nb::arg("normals"),
           nb::arg("samples") = 64, nb::arg("seed") = 0, nb::arg("width") = 0, nb::arg("threads") = 0,
-          "Direct illuminance in lux on sensors at points facing normals, by shadowed light sampling.");
+          nb::arg("indirect_depth") = 0,
+          "Illuminance in lux on sensors at points facing normals: direct by shadowed light sampling, and with "
+          "indirect_depth > 0 the light the scene reflects, by cosine-weighted sensor paths of that many vertices.");
     nb::class_<JobHandle>(m, "RenderJob", "A render running on worker threads: start, poll progress, cancel, resolve.")
         .def(nb::new_(&make_job), nb::arg("scene"), nb::arg("spp"), nb::arg("max_depth"), nb::arg("seed") = 0,
              nb::arg("threads") = 0, nb::arg("width") = 0, nb::arg("tile_size") = 16, nb::arg("passes") = 8,
-             nb::arg("aa") = "uniform", nb::arg("aa_threshold") = patina::kDefaultAaThreshold)
+             nb::arg("aa") = "uniform", nb::arg("aa_threshold") = patina::kDefaultAaThreshold,
+             nb::arg("indirect_illuminance") = false)
         .def("start", [](JobHandle& j) { j.job->start(); })
         .def("cancel", [](JobHandle& j) { j.job->cancel(); })
         .def("wait",

@@ -115,6 +115,7 @@ def _with_options(scene: Scene, args: argparse.Namespace) -> Scene:
         height=height,
         aa=args.aa,
         aa_threshold=args.aa_threshold,
+        indirect_illuminance=True if args.indirect_illuminance else None,
     )
 
 
@@ -267,7 +268,15 @@ def cmd_illuminance(args: argparse.Namespace) -> int:
             raise _command_line("--png", f"expected a .png file, got '{args.png}'")
         check_outputs([args.csv, args.json_out, args.png], args.force)
         scene = load_scene(args.scene)
-        report = il.compute(scene, grid, samples=args.samples, threads=args.threads, width=args.simd, progress=True)
+        report = il.compute(
+            scene,
+            grid,
+            samples=args.samples,
+            threads=args.threads,
+            width=args.simd,
+            progress=True,
+            indirect=args.indirect,
+        )
         if args.json:
             json.dump(report.as_json(), sys.stdout)
             sys.stdout.write("\n")
@@ -323,6 +332,12 @@ def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help:
         default=None,
         help="image height in pixels (default: the scene's; alone: keeps the aspect)",
     )
+    s.add_argument(
+        "--indirect-illuminance",
+        action="store_true",
+        help="the illuminance AOV also counts light reflected by the scene (default: the scene's "
+        "render.indirect_illuminance; slower: one more path per sample)",
+    )
     s.add_argument("--threads", type=int, default=0, help="worker threads (default: 0, all cores)")
     add_simd_option(s)
     s.add_argument("--quiet", action="store_true", help="no progress display")
@@ -366,7 +381,9 @@ def add_render_commands(sub: Any) -> None:
     s.set_defaults(func=cmd_preview)
 
     s = sub.add_parser(
-        "illuminance", help="direct illuminance (lux) on a grid of sensors, with uniformity", formatter_class=HelpFormat
+        "illuminance",
+        help="illuminance (lux) on a grid of sensors, with uniformity: direct, or with interreflections (--indirect)",
+        formatter_class=HelpFormat,
     )
     _NegativeValues.allow(s)
     s.add_argument("scene", metavar="SCENE_JSON", help="a scene file (docs/scene.md)")
@@ -379,6 +396,12 @@ def add_render_commands(sub: Any) -> None:
     s.add_argument("--height", type=float, default=0.0, help="the grid's height y (m)")
     s.add_argument("--facing", choices=("up", "down"), default="up", help="the sensors' facing")
     s.add_argument("--samples", type=int, default=256, help="light samples per sensor")
+    s.add_argument(
+        "--indirect",
+        action="store_true",
+        help="also count light reflected by the scene (interreflections): as many sensor paths per sensor, "
+        "at most the scene's render.max_depth segments each (its path setting, whatever render.integrator says)",
+    )
     s.add_argument("--threads", type=int, default=0, help="worker threads (0: all cores)")
     add_simd_option(s)
     s.add_argument("--json", action="store_true", help="print the report as JSON")

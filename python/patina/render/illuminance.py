@@ -1,16 +1,20 @@
-"""Illuminance on a grid of sensor points: `patina illuminance SCENE.json --grid SPEC`.
+"""Illuminance on a grid of sensor points: `patina illuminance SCENE.json --grid SPEC [--indirect]`.
 
-What a lighting engineer checks against a standard (a pitch, a road, a workplane): the
-direct illuminance in lux on horizontal sensors at a height, from every light of the scene
-(luminaires, area lights, the sun, the environment), shadowed by the scene's geometry, by
-the renderer's own light sampling and shadow-ray packets. Interreflections are not included.
-Reported: minimum, mean and maximum, and the uniformity ratios U0 = Emin / Eavg and
-Ud = Emin / Emax.
+What a lighting engineer checks against a standard (a pitch, a road, a workplane, an
+interior's desks, a cockpit's instruments): the illuminance in lux on horizontal sensors at
+a height. Direct: from every light of the scene (luminaires, area lights, the sun, the
+environment), shadowed by the scene's geometry, by the renderer's own light sampling and
+shadow-ray packets. With `indirect` (DIALux's "with interreflections"): plus the light the
+scene reflects, by the path tracer -- per sample one sensor ray over the cosine-weighted
+hemisphere continued as a path whose first hit's emission is not counted (light sampling
+counted it), so direct + indirect is every light once. Reported: minimum, mean and maximum,
+and the uniformity ratios U0 = Emin / Eavg and Ud = Emin / Emax.
 """
 
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import json
 import os
@@ -25,6 +29,7 @@ from patina.native import _core
 from patina.plot.figures import save_figure
 from patina.progress import Progress
 from patina.render.prepare import PreparedScene
+from patina.render.run import core_depth
 from patina.scene.types import Scene
 from patina.widths import core_width
 
@@ -78,6 +83,7 @@ class IlluminanceReport:
     grid: Grid
     lux: np.ndarray  # (nz, nx)
     samples: int
+    indirect: bool = False  # lux includes interreflections
 
     @property
     def stats(self) -> dict[str, float]:
@@ -105,6 +111,7 @@ class IlluminanceReport:
                 "facing": "up" if g.facing_up else "down",
             },
             "samples_per_sensor": self.samples,
+            "interreflections": self.indirect,
             **self.stats,
             "lux": self.lux.tolist(),
         }
@@ -117,25 +124,37 @@ def compute(
     threads: int = 0,
     width: int | None = None,
     progress: bool = False,
+    indirect: bool = False,
 ) -> IlluminanceReport:
     """The grid's illuminance, CHUNK_SENSORS sensors per call: a grid of that size or less
     is one call; a larger one shows progress (`progress`) and stops between chunks on Ctrl-C.
     Each chunk's sensors are numbered from 0 in its random streams, so the result depends on
-    the seed and the chunk size only (not on threads or width)."""
+    the seed and the chunk size only (not on threads or width). `indirect`: interreflections
+    too, by `samples` sensor paths per sensor of at most `indirect_depth(scene)` vertices."""
     prepared = PreparedScene(scene)
     _, _, pts = grid.points()
     normals = np.tile(np.array([0, 1 if grid.facing_up else -1, 0], np.float32), (len(pts), 1))
     lux = np.empty(len(pts), np.float32)
     simd, seed = core_width(width), scene.render.seed
-    chunks = range(0, len(pts), CHUNK_SENSORS)
+    depth = indirect_depth(scene) if indirect else 0
+    # a chunk of sensor paths costs about a camera path per sample: show progress sooner
+    chunk = CHUNK_SENSORS // 16 if indirect else CHUNK_SENSORS
+    chunks = range(0, len(pts), chunk)
     with Progress(len(pts), "illuminance", unit="sensor", enabled=progress and len(chunks) > 1) as bar:
         for begin in chunks:
-            end = min(begin + CHUNK_SENSORS, len(pts))
+            end = min(begin + chunk, len(pts))
             lux[begin:end] = _core.sensor_illuminance(
-                prepared.core, pts[begin:end], normals[begin:end], samples, seed, simd, threads
+                prepared.core, pts[begin:end], normals[begin:end], samples, seed, simd, threads, depth
             )
             bar.update(end)
-    return IlluminanceReport(grid, lux.reshape(grid.nz, grid.nx), samples)
+    return IlluminanceReport(grid, lux.reshape(grid.nz, grid.nx), samples, indirect)
+
+
+def indirect_depth(scene: Scene) -> int:
+    """Vertices a sensor path may have: those of the scene's camera paths under the path
+    integrator (render.max_depth in segments, Mitsuba's convention, whatever render.integrator
+    says): a sensor sees what a camera at its place would, minus the emitters."""
+    return core_depth(dataclasses.replace(scene, render=dataclasses.replace(scene.render, integrator="path")))
 
 
 def write_csv(report: IlluminanceReport, path: str) -> None:
@@ -177,9 +196,10 @@ def summary(report: IlluminanceReport, scene_path: str) -> str:
     g, st = report.grid, report.stats
     return "\n".join(
         [
-            f"{os.path.basename(scene_path)}: direct illuminance on {g.nx} x {g.nz} sensors at y = {g.y:g} m "
+            f"{os.path.basename(scene_path)}: {'total' if report.indirect else 'direct'} illuminance "
+            f"on {g.nx} x {g.nz} sensors at y = {g.y:g} m "
             f"facing {'up' if g.facing_up else 'down'}, x {g.x0:g}..{g.x1:g}, z {g.z0:g}..{g.z1:g} m "
-            f"({report.samples} light samples per sensor)",
+            f"({report.samples} light samples{' and sensor paths' if report.indirect else ''} per sensor)",
             f"  Emin  {st['min_lux']:10.2f} lux",
             f"  Eavg  {st['mean_lux']:10.2f} lux",
             f"  Emax  {st['max_lux']:10.2f} lux",

@@ -165,6 +165,7 @@ def render(
         width=core_simd,
         aa=aa,
         aa_threshold=float(threshold),
+        indirect_illuminance=scene.render.indirect_illuminance,
     )
     pixels = scene.camera.width * scene.camera.height
     interrupted = _run_job(job, pixels, scene.render.spp, progress, by_items=aa == "adaptive")

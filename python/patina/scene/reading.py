@@ -183,7 +183,7 @@ AA_THRESHOLD = 0.1  # the adaptive sampler's contrast threshold; contrasts are i
 
 
 def _render(o: Obj) -> Render:
-    o.allow(("spp", "integrator", "max_depth", "seed", "aa", "aa_threshold"), "render")
+    o.allow(("spp", "integrator", "max_depth", "seed", "aa", "aa_threshold", "indirect_illuminance"), "render")
     return Render(
         spp=o.read("spp", integer, 64, lo=1, hi=MAX_SPP),
         integrator=o.read("integrator", choice, "direct", options=("direct", "path")),
@@ -191,6 +191,7 @@ def _render(o: Obj) -> Render:
         seed=o.read("seed", integer, 0, lo=0, hi=MAX_SEED),
         aa=o.read("aa", choice, "uniform", options=AA_SAMPLERS),
         aa_threshold=o.read("aa_threshold", number, AA_THRESHOLD, lo=0.0, hi=1.0),
+        indirect_illuminance=o.read("indirect_illuminance", boolean, False),
     )
 
 
@@ -626,6 +627,7 @@ def with_overrides(
     height: int | None = None,
     aa: str | None = None,
     aa_threshold: float | None = None,
+    indirect_illuminance: bool | None = None,
 ) -> Scene:
     """The scene with command-line settings replacing the file's; bad values are FormatErrors
     naming the option (file "command line")."""
@@ -641,6 +643,8 @@ def with_overrides(
         render = dataclasses.replace(render, aa=choice(ctx, "--aa", aa, AA_SAMPLERS))
     if aa_threshold is not None:
         render = dataclasses.replace(render, aa_threshold=number(ctx, "--aa-threshold", aa_threshold, lo=0.0, hi=1.0))
+    if indirect_illuminance is not None:
+        render = dataclasses.replace(render, indirect_illuminance=bool(indirect_illuminance))
     if width is not None:
         camera = dataclasses.replace(camera, width=integer(ctx, "--width", width, lo=1, hi=MAX_IMAGE_SIDE))
     if height is not None:

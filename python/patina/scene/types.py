@@ -74,6 +74,7 @@ class Render:
     seed: int
     aa: str = "uniform"  # the pixel sampler: "uniform" | "adaptive" (docs/antialiasing.md)
     aa_threshold: float = 0.1  # the adaptive sampler's contrast threshold, in [0, 1]
+    indirect_illuminance: bool = False  # the illuminance AOV also counts light reflected by the scene
 
 
 # --- materials ------------------------------------------------------------------------------
