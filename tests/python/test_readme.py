@@ -31,7 +31,7 @@ EXCLUDED = {
     "make test": "make test runs this test",
     **{
         f"patina bench --only {group}": "a full benchmark group takes minutes; `patina bench --quick` runs it"
-        for group in ("brdf --json bench.json", "trace", "fit", "render", "lights")
+        for group in ("brdf --json bench.json", "trace", "fit", "render", "lights", "cache")
     },
 }
 

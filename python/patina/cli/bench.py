@@ -15,7 +15,9 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 def add_bench_command(sub: Any) -> None:
     s = sub.add_parser("bench", help="measure kernel speed (ratios against baselines in the same run)")
-    s.add_argument("--only", default=None, help="a group: math, brdf, fit, trace, render, lights, aa, cache (default: all)")
+    s.add_argument(
+        "--only", default=None, help="a group: math, brdf, fit, trace, render, lights, aa, cache (default: all)"
+    )
     s.add_argument("--json", default=None, metavar="FILE", help="also write the records as JSON")
     s.add_argument("--repeat", type=int, default=7, help="repetitions; medians are reported")
     s.add_argument("--quick", action="store_true", help="small inputs, for a smoke test")
