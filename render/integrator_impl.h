@@ -481,6 +481,19 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
         out[sc.sensors[q].path].illuminance += sensor_path_lux(sc.sensor_results[q]);
 }
 
+// Sensor i (point and normal from the arrays) as shading point q: its frame about the normal.
+inline ShadingPoint sensor_point(const float* points, const float* normals, size_t i, size_t q) {
+    ShadingPoint sp;
+    sp.p = load_vec3(points + 3 * i);
+    sp.ng = normalize(load_vec3(normals + 3 * i));
+    sp.n = sp.ng;
+    orthonormal_frame(sp.n, sp.t, sp.b);
+    sp.path = static_cast<int32_t>(q);
+    sp.material = 0;
+    sp.eta = 1;
+    return sp;
+}
+
 // Direct illuminance on sensors (patina illuminance): the same light sampling and shadow
 // packets as the renderer's, with the sensor's cosine instead of a BRDF.
 void sensor_illuminance(const RenderScene& s, const float* points, const float* normals, size_t begin, size_t end,
@@ -490,17 +503,7 @@ void sensor_illuminance(const RenderScene& s, const float* points, const float* 
     std::fill(lux + begin, lux + end, 0.0f);
     if (np == 0 || !lights_emit(s)) return;
     sc.sorted.resize(np);
-    for (size_t q = 0; q < np; ++q) {
-        ShadingPoint& sp = sc.sorted[q];
-        const size_t i = begin + q;
-        sp.p = load_vec3(points + 3 * i);
-        sp.ng = normalize(load_vec3(normals + 3 * i));
-        sp.n = sp.ng;
-        orthonormal_frame(sp.n, sp.t, sp.b);
-        sp.path = static_cast<int32_t>(q);
-        sp.material = 0;
-        sp.eta = 1;
-    }
+    for (size_t q = 0; q < np; ++q) sc.sorted[q] = sensor_point(points, normals, begin + q, q);
     const float eps = s.ray_offset;
     std::vector<double> sum(np, 0.0);
     sc.point_keys.resize(np);
@@ -537,20 +540,12 @@ void sensor_illuminance_indirect(const RenderScene& s, const IntegratorSettings&
     const size_t np = end - begin;
     if (np == 0 || !lights_emit(s) || st.max_depth < 1) return;
     std::vector<double> sum(np, 0.0);
+    sc.sensors.resize(np);  // the sensor paths leave them as they are (no sensors of their own)
+    for (size_t q = 0; q < np; ++q) sc.sensors[q] = sensor_point(points, normals, begin + q, q);
+    sc.sensor_samples.resize(np);
     for (int k = 0; k < samples; ++k) {
-        sc.sensors.resize(np);
-        sc.sensor_samples.resize(np);
         for (size_t q = 0; q < np; ++q) {
-            ShadingPoint& sp = sc.sensors[q];
-            const size_t i = begin + q;
-            sp.p = load_vec3(points + 3 * i);
-            sp.ng = normalize(load_vec3(normals + 3 * i));
-            sp.n = sp.ng;
-            orthonormal_frame(sp.n, sp.t, sp.b);
-            sp.path = static_cast<int32_t>(q);
-            sp.material = 0;
-            sp.eta = 1;
-            const uint32_t key = path_key(seed, static_cast<uint32_t>(i), static_cast<uint32_t>(k));
+            const uint32_t key = path_key(seed, static_cast<uint32_t>(begin + q), static_cast<uint32_t>(k));
             sc.sensor_samples[q] = CameraSample{0, 0, sensor_path_key(key)};
         }
         trace_sensor_paths(s, st, sc);
