@@ -97,31 +97,44 @@ struct Wavefront {
     bool first_emission = true;
 };
 
-// The batch's camera rays, with throughput 1 and empty results; every path active.
-inline void start_camera_paths(const Wavefront& w, size_t n) {
+// Path i starts along (o, d) with throughput 1 (its result emptied first by start_paths).
+inline void start_path(const Wavefront& w, size_t i, const Vec3f& o, const Vec3f& d) {
     PathScratch& sc = w.sc;
-    float* org = grow(sc.org, 3 * n);
-    float* dir = grow(sc.dir, 3 * n);
-    float* thr = grow(sc.throughput, 3 * n);
-    float* prev_pdf = grow(sc.prev_pdf, n);
+    store_vec3(o, sc.org.data() + 3 * i);
+    store_vec3(d, sc.dir.data() + 3 * i);
+    std::fill(sc.throughput.data() + 3 * i, sc.throughput.data() + 3 * i + 3, 1.0f);
+    sc.prev_pdf[i] = 0;  // a first segment: whatever it sees counts in full
+    sc.active.push_back(static_cast<int32_t>(i));
+}
+
+// The path arrays sized for n paths, none active yet, the n results empty.
+inline void start_paths(const Wavefront& w, size_t n) {
+    PathScratch& sc = w.sc;
+    grow(sc.org, 3 * n);
+    grow(sc.dir, 3 * n);
+    grow(sc.throughput, 3 * n);
+    grow(sc.prev_pdf, n);
     grow(sc.prev_pos, 3 * n);
     sc.active.clear();
     for (size_t i = 0; i < n; ++i) {
-        const uint32_t key = w.cs[i].key;
-        Vec3f o, d;
-        camera_ray(w.s.camera, w.cs[i].fx, w.cs[i].fy, bounce_uniform(key, 0, kDimLensU),
-                   bounce_uniform(key, 0, kDimLensV), o, d);
-        store_vec3(o, org + 3 * i);
-        store_vec3(d, dir + 3 * i);
-        std::fill(thr + 3 * i, thr + 3 * i + 3, 1.0f);
-        prev_pdf[i] = 0;  // a camera ray: whatever it sees counts in full
         PathResult& r = w.out[i];
         std::fill(r.rgb, r.rgb + 3, 0.0f);
         std::fill(r.albedo, r.albedo + 3, 0.0f);
         std::fill(r.normal, r.normal + 3, 0.0f);
         r.depth = kInfinity;
         r.illuminance = 0;
-        sc.active.push_back(static_cast<int32_t>(i));
+    }
+}
+
+// The batch's camera rays, with throughput 1 and empty results; every path active.
+inline void start_camera_paths(const Wavefront& w, size_t n) {
+    start_paths(w, n);
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t key = w.cs[i].key;
+        Vec3f o, d;
+        camera_ray(w.s.camera, w.cs[i].fx, w.cs[i].fy, bounce_uniform(key, 0, kDimLensU),
+                   bounce_uniform(key, 0, kDimLensV), o, d);
+        start_path(w, i, o, d);
     }
 }
 
@@ -412,32 +425,15 @@ inline bool scene_has_sun(const RenderScene& s) {
 // surface should. Throughput 1: the radiance found, times pi, is the illuminance estimate
 // (E = integral of L cos over the hemisphere = pi x the mean of L under cosine sampling).
 inline void start_sensor_paths(const Wavefront& w, size_t n) {
-    PathScratch& sc = w.sc;
-    float* org = grow(sc.org, 3 * n);
-    float* dir = grow(sc.dir, 3 * n);
-    float* thr = grow(sc.throughput, 3 * n);
-    float* prev_pdf = grow(sc.prev_pdf, n);
-    grow(sc.prev_pos, 3 * n);
-    sc.active.clear();
+    start_paths(w, n);
     for (size_t i = 0; i < n; ++i) {
-        PathResult& r = w.out[i];
-        std::fill(r.rgb, r.rgb + 3, 0.0f);
-        std::fill(r.albedo, r.albedo + 3, 0.0f);
-        std::fill(r.normal, r.normal + 3, 0.0f);
-        r.depth = kInfinity;
-        r.illuminance = 0;
-        const ShadingPoint& sp = sc.sensors[i];
+        const ShadingPoint& sp = w.sc.sensors[i];
         const uint32_t key = w.cs[i].key;
         const float u1 = bounce_uniform(key, 0, kDimLensU), u2 = bounce_uniform(key, 0, kDimLensV);
         const float radius = std::sqrt(u1), phi = kTwoPi * u2;
         const Vec3f l{radius * std::cos(phi), radius * std::sin(phi), std::sqrt(std::max(1.0f - u1, 0.0f))};
         const Vec3f d = normalize(to_world(sp, l));
-        if (!(dot(d, sp.ng) > 0)) continue;
-        store_vec3(sp.p + w.eps * sp.ng, org + 3 * i);
-        store_vec3(d, dir + 3 * i);
-        std::fill(thr + 3 * i, thr + 3 * i + 3, 1.0f);
-        prev_pdf[i] = 0;
-        sc.active.push_back(static_cast<int32_t>(i));
+        if (dot(d, sp.ng) > 0) start_path(w, i, sp.p + w.eps * sp.ng, d);
     }
 }
 
