@@ -93,11 +93,13 @@ void AdaptiveSampler::place(const PixelState& p, int s, float& fx, float& fy) co
 bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
     samples.clear();
     const uint32_t pass = static_cast<uint32_t>(m_pass);
-    // a pixel's sample s at its fixed position, keyed by pixel, pass and s
+    // a pixel's sample s at its fixed position: sample `pass` of the stream of (pixel, s),
+    // so that each position's passes are one Sobol sequence
     const auto add_sample = [&](int i, int s) {
         CameraSample cs;
         place(m_pixels[i], s, cs.fx, cs.fy);
-        cs.key = path_key(m_seed, static_cast<uint32_t>(m_pixels[i].pixel), pass * aa::kMaxSamples + s);
+        cs.key = stream_key(m_seed, static_cast<uint32_t>(m_pixels[i].pixel) * aa::kMaxSamples + s);
+        cs.index = pass;
         samples.push_back(cs);
     };
     if (m_round == 0) {
@@ -108,7 +110,7 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
             // keyed by the corner's place in the image: the tiles on both sides of a tile
             // border trace it alike
             const uint32_t id = static_cast<uint32_t>(cy) * row + static_cast<uint32_t>(cx);
-            samples.push_back({static_cast<float>(cx), static_cast<float>(cy), path_key(m_seed ^ kCornerSalt, id, pass)});
+            samples.push_back({static_cast<float>(cx), static_cast<float>(cy), stream_key(m_seed ^ kCornerSalt, id), pass});
         }
         m_round = 1;
         return !samples.empty();
@@ -140,7 +142,10 @@ void AdaptiveSampler::signals(const CameraSample* samples, size_t n, std::vector
     // (the integrator's own results are noisy: the decisions never look at them)
     m_signal_cs.assign(samples, samples + n);
     const uint32_t key = path_key(m_seed ^ kSignalSalt, 0, 0);
-    for (auto& c : m_signal_cs) c.key = key;
+    for (auto& c : m_signal_cs) {
+        c.key = key;
+        c.index = 0;
+    }
     m_signal_out.resize(n);
     trace_signal(m_signal_cs.data(), n, m_signal_out.data());
     out.resize(n);

@@ -18,9 +18,14 @@
 
 namespace patina {
 
+// Where the paths' random numbers come from (render/sample_numbers.h): Owen-scrambled
+// Sobol points, one sequence a pixel, or independent hashes of (path, dimension).
+enum class SamplerKind : uint8_t { Sobol, Independent };
+
 struct CameraSample {
-    float fx, fy;  // film position in pixels (x right, y down)
-    uint32_t key;  // the path's random-number key (rng.h)
+    float fx, fy;    // film position in pixels (x right, y down)
+    uint32_t key;    // the key of the path's stream, a pixel's sequence (rng.h stream_key)
+    uint32_t index;  // the path's sample in that stream
 };
 
 struct PathResult {
@@ -40,6 +45,7 @@ struct IntegratorSettings {
     // vertices (sensor_illuminance_indirect's estimate). Off: the AOV is direct only, and
     // the image is the same bits either way (the sensor paths draw their own numbers).
     bool indirect_illuminance = false;
+    SamplerKind sampler = SamplerKind::Sobol;
 };
 
 // A shading point of the current bounce.
@@ -63,7 +69,8 @@ struct PathScratch {
     std::vector<ShadingPoint> points, sorted;
     std::vector<int32_t> material_start;
     std::vector<float> v_local, l_local, f, pdf, eta, u_pick, u1, u2;
-    std::vector<int32_t> point_keys;  // the paths' random-number keys (uint32 bits)
+    std::vector<int32_t> point_keys, point_index;  // the paths' stream keys and sample indices (uint32 bits)
+    SamplerKind sampler = SamplerKind::Sobol;      // what the point_keys and point_index draw from
     // misses (the environment seen), and the points that sample the environment
     std::vector<int32_t> misses;
     std::vector<float> miss_dir, miss_rgb, miss_pdf;

@@ -9,7 +9,8 @@
 //                                 its shadow ray queued
 //   sample_bsdf                   the next bounce's direction, throughput, Russian roulette
 //   resolve_shadow_rays           the shadow rays traced as packets; the unblocked ones add their light
-// Everything random comes from rng.h's counter-based hash, and every kernel it calls gives
+// Everything random comes from render/sample_numbers.h (Sobol or rng.h's counter-based
+// hash, both integer functions of the path's stream and sample), and every kernel it calls gives
 // the same bits at every width, so one seed renders the same image at widths 1, 4 and 8
 // (the tests check this).
 #pragma once
@@ -27,6 +28,7 @@
 #include "render/light_sampling_impl.h"
 #include "render/material_impl.h"
 #include "render/rng.h"
+#include "render/sample_numbers.h"
 #include "render/scene.h"
 #include "render/shadow_rays_impl.h"
 #include "render/uniforms_impl.h"
@@ -130,10 +132,10 @@ inline void start_paths(const Wavefront& w, size_t n) {
 inline void start_camera_paths(const Wavefront& w, size_t n) {
     start_paths(w, n);
     for (size_t i = 0; i < n; ++i) {
-        const uint32_t key = w.cs[i].key;
+        const CameraSample& c = w.cs[i];
         Vec3f o, d;
-        camera_ray(w.s.camera, w.cs[i].fx, w.cs[i].fy, bounce_uniform(key, 0, kDimLensU),
-                   bounce_uniform(key, 0, kDimLensV), o, d);
+        camera_ray(w.s.camera, c.fx, c.fy, sample_uniform(w.st.sampler, c.key, c.index, 0, kDimLensU),
+                   sample_uniform(w.st.sampler, c.key, c.index, 0, kDimLensV), o, d);
         start_path(w, i, o, d);
     }
 }
@@ -277,11 +279,13 @@ inline void group_by_material(const Wavefront& w) {
     float* vl = grow(sc.v_local, 3 * np);
     float* eta = grow(sc.eta, np);
     sc.point_keys.resize(np);
+    sc.point_index.resize(np);
     for (size_t q = 0; q < np; ++q) {
         const ShadingPoint& sp = sc.sorted[q];
         store_vec3(to_local(sp, -load_vec3(sc.dir.data() + 3 * sp.path)), vl + 3 * q);
         eta[q] = sp.eta;
         sc.point_keys[q] = static_cast<int32_t>(w.cs[sp.path].key);
+        sc.point_index[q] = static_cast<int32_t>(w.cs[sp.path].index);
     }
 }
 
@@ -353,9 +357,9 @@ inline void sample_bsdf(const Wavefront& w, int depth) {
     float* upick = grow(sc.u_pick, np);
     float* u1 = grow(sc.u1, np);
     float* u2 = grow(sc.u2, np);
-    fill_uniforms(sc.point_keys.data(), np, depth, kDimBsdfPick, upick);
-    fill_uniforms(sc.point_keys.data(), np, depth, kDimBsdfU, u1);
-    fill_uniforms(sc.point_keys.data(), np, depth, kDimBsdfV, u2);
+    fill_uniforms(sc, np, depth, kDimBsdfPick, upick);
+    fill_uniforms(sc, np, depth, kDimBsdfU, u1);
+    fill_uniforms(sc, np, depth, kDimBsdfV, u2);
     for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
         material_sample(m, vl + 3 * a, eta + a, upick + a, u1 + a, u2 + a, ll + 3 * a, pdf + a, count);
         material_eval(m, ll + 3 * a, vl + 3 * a, eta + a, fv + 3 * a, count);
@@ -373,7 +377,7 @@ inline void sample_bsdf(const Wavefront& w, int depth) {
         if (!(T[0] > 0 || T[1] > 0 || T[2] > 0)) continue;
         if (depth + 1 >= w.st.rr_depth) {
             const float survive = std::min(0.95f, std::max(T[0], std::max(T[1], T[2])));
-            if (bounce_uniform(w.cs[i].key, depth, kDimRoulette) >= survive) continue;
+            if (sample_uniform(w.st.sampler, w.cs[i].key, w.cs[i].index, depth, kDimRoulette) >= survive) continue;
             for (int k = 0; k < 3; ++k) T[k] /= survive;
         }
         const float side = l.z > 0 ? w.eps : -w.eps;
@@ -400,6 +404,7 @@ inline void resolve_shadow_rays(const Wavefront& w) {
 // The stages, bounce after bounce, until every path of the batch has ended.
 inline void run_paths(const Wavefront& w) {
     PathScratch& sc = w.sc;
+    sc.sampler = w.st.sampler;  // what fill_uniforms draws the points' numbers from
     for (int depth = 0; !sc.active.empty(); ++depth) {
         const HitBatch hits = trace_bounce(w);
         add_emission_and_environment(w, hits, depth);
@@ -428,8 +433,9 @@ inline void start_sensor_paths(const Wavefront& w, size_t n) {
     start_paths(w, n);
     for (size_t i = 0; i < n; ++i) {
         const ShadingPoint& sp = w.sc.sensors[i];
-        const uint32_t key = w.cs[i].key;
-        const float u1 = bounce_uniform(key, 0, kDimLensU), u2 = bounce_uniform(key, 0, kDimLensV);
+        const CameraSample& c = w.cs[i];
+        const float u1 = sample_uniform(w.st.sampler, c.key, c.index, 0, kDimLensU);
+        const float u2 = sample_uniform(w.st.sampler, c.key, c.index, 0, kDimLensV);
         const float radius = std::sqrt(u1), phi = kTwoPi * u2;
         const Vec3f l{radius * std::cos(phi), radius * std::sin(phi), std::sqrt(std::max(1.0f - u1, 0.0f))};
         const Vec3f d = normalize(to_world(sp, l));
@@ -454,8 +460,9 @@ inline void trace_sensor_paths(const RenderScene& s, const IntegratorSettings& s
     run_paths(w);
 }
 
-// A sensor path's key: the key of the sample it belongs to, salted, so it draws numbers of
-// its own and leaves the camera path's (and the direct light sampling's) unchanged.
+// A sensor path's stream key: the key of the sample's stream, salted, so it draws numbers
+// of its own (the same index: with Sobol, a pixel's sensor paths are one sequence too) and
+// leaves the camera path's (and the direct light sampling's) unchanged.
 inline uint32_t sensor_path_key(uint32_t key) { return hash_u32(key ^ 0x5f3759dfu); }
 
 void trace_paths(const RenderScene& s, const IntegratorSettings& st, const CameraSample* cs, size_t n,
@@ -468,8 +475,10 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
     // the indirect illuminance AOV: each first hit a sensor, its path one vertex shorter
     if (!st.indirect_illuminance || st.max_depth < 2 || sc.sensors.empty()) return;
     sc.sensor_samples.resize(sc.sensors.size());
-    for (size_t q = 0; q < sc.sensors.size(); ++q)
-        sc.sensor_samples[q] = CameraSample{0, 0, sensor_path_key(cs[sc.sensors[q].path].key)};
+    for (size_t q = 0; q < sc.sensors.size(); ++q) {
+        const CameraSample& c = cs[sc.sensors[q].path];
+        sc.sensor_samples[q] = CameraSample{0, 0, sensor_path_key(c.key), c.index};
+    }
     IntegratorSettings inner = st;
     inner.max_depth = st.max_depth - 1;
     trace_sensor_paths(s, inner, sc);
@@ -503,10 +512,13 @@ void sensor_illuminance(const RenderScene& s, const float* points, const float* 
     const float eps = s.ray_offset;
     std::vector<double> sum(np, 0.0);
     sc.point_keys.resize(np);
+    sc.point_index.resize(np);
+    sc.sampler = SamplerKind::Independent;
     for (int k = 0; k < samples; ++k) {
         for (size_t q = 0; q < np; ++q) {
-            const uint32_t key = path_key(seed, shared ? 0u : static_cast<uint32_t>(begin + q), static_cast<uint32_t>(k));
+            const uint32_t key = stream_key(seed, shared ? 0u : static_cast<uint32_t>(begin + q));
             sc.point_keys[q] = static_cast<int32_t>(key);
+            sc.point_index[q] = k;
         }
         sample_lights(s, sc, 0, np);
         clear_shadow_rays(sc);
@@ -541,8 +553,8 @@ void sensor_illuminance_indirect(const RenderScene& s, const IntegratorSettings&
     sc.sensor_samples.resize(np);
     for (int k = 0; k < samples; ++k) {
         for (size_t q = 0; q < np; ++q) {
-            const uint32_t key = path_key(seed, static_cast<uint32_t>(begin + q), static_cast<uint32_t>(k));
-            sc.sensor_samples[q] = CameraSample{0, 0, sensor_path_key(key)};
+            const uint32_t key = stream_key(seed, static_cast<uint32_t>(begin + q));
+            sc.sensor_samples[q] = CameraSample{0, 0, sensor_path_key(key), static_cast<uint32_t>(k)};
         }
         trace_sensor_paths(s, st, sc);
         for (size_t q = 0; q < np; ++q) sum[q] += sensor_path_lux(sc.sensor_results[q]);

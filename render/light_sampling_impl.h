@@ -278,9 +278,9 @@ inline void sample_lights(const RenderScene& s, PathScratch& sc, int depth, size
     float* pick = grow(sc.u_pick, np);
     float* u1 = grow(sc.u1, np);
     float* u2 = grow(sc.u2, np);
-    fill_uniforms(sc.point_keys.data(), np, depth, kDimLightPick, pick);
-    fill_uniforms(sc.point_keys.data(), np, depth, kDimLightU, u1);
-    fill_uniforms(sc.point_keys.data(), np, depth, kDimLightV, u2);
+    fill_uniforms(sc, np, depth, kDimLightPick, pick);
+    fill_uniforms(sc, np, depth, kDimLightU, u1);
+    fill_uniforms(sc, np, depth, kDimLightV, u2);
     const int count = light_count(s);
     std::vector<int32_t>& chosen = sc.light_of_point;
     chosen.resize(np);

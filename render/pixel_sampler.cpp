@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <utility>
 
-#include "render/rng.h"
+#include "render/sample_numbers.h"
 
 namespace patina {
 namespace {
@@ -18,8 +18,9 @@ uint32_t morton(uint32_t x, uint32_t y) {
 
 }  // namespace
 
-UniformSampler::UniformSampler(Film& film, uint32_t seed, std::vector<int> pass_begin, size_t max_batch)
-    : m_film(film), m_seed(seed), m_pass_begin(std::move(pass_begin)), m_max_batch(max_batch) {}
+UniformSampler::UniformSampler(Film& film, uint32_t seed, SamplerKind kind, std::vector<int> pass_begin,
+                               size_t max_batch)
+    : m_film(film), m_seed(seed), m_kind(kind), m_pass_begin(std::move(pass_begin)), m_max_batch(max_batch) {}
 
 void UniformSampler::begin(const TileRect& tile, int pass) {
     std::vector<std::pair<uint32_t, int>> order;
@@ -41,9 +42,11 @@ bool UniformSampler::next_batch(std::vector<CameraSample>& samples) {
     const int width = m_film.width();
     for (int s = m_next_sample; s < s1; ++s)
         for (const int pixel : m_pixels) {
-            const uint32_t key = path_key(m_seed, static_cast<uint32_t>(pixel), static_cast<uint32_t>(s));
-            samples.push_back({static_cast<float>(pixel % width) + bounce_uniform(key, 0, kDimPixelX),
-                               static_cast<float>(pixel / width) + bounce_uniform(key, 0, kDimPixelY), key});
+            // each pixel one stream, its samples in order (Sobol: one sequence a pixel)
+            const uint32_t key = stream_key(m_seed, static_cast<uint32_t>(pixel)), index = static_cast<uint32_t>(s);
+            samples.push_back({static_cast<float>(pixel % width) + sample_uniform(m_kind, key, index, 0, kDimPixelX),
+                               static_cast<float>(pixel / width) + sample_uniform(m_kind, key, index, 0, kDimPixelY),
+                               key, index});
         }
     m_next_sample = s1;
     return true;

@@ -29,6 +29,7 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     if (c.width < 1 || c.height < 1) throw std::invalid_argument("the image must be at least 1 x 1 pixels");
     m_integrator.max_depth = settings.max_depth;
     m_integrator.indirect_illuminance = settings.indirect_illuminance;
+    m_integrator.sampler = settings.sampler;
     m_tiles_x = (c.width + settings.tile_size - 1) / settings.tile_size;
     m_tiles_y = (c.height + settings.tile_size - 1) / settings.tile_size;
     // at least `passes` passes, each of at most max_pass_spp samples
@@ -89,7 +90,7 @@ RenderProgress RenderJob::progress() const {
 
 void RenderJob::worker() {
     PathScratch scratch;
-    UniformSampler uniform(m_film, m_settings.seed, m_pass_begin, kMaxBatch);
+    UniformSampler uniform(m_film, m_settings.seed, m_settings.sampler, m_pass_begin, kMaxBatch);
     AdaptiveSampler adaptive(m_film, m_scene, *m_kernels, m_settings.seed, m_settings.aa_threshold, m_aa_stats);
     PixelSampler& sampler = m_settings.aa == RenderSettings::Aa::Adaptive ? static_cast<PixelSampler&>(adaptive)
                                                                           : static_cast<PixelSampler&>(uniform);

@@ -36,6 +36,8 @@ struct RenderSettings {
     enum class Aa { Uniform, Adaptive } aa = Aa::Uniform;
     float aa_threshold = kDefaultAaThreshold;  // the adaptive sampler's contrast threshold, >= 0
     bool indirect_illuminance = false;  // the illuminance AOV counts reflected light (IntegratorSettings)
+    // The paths' numbers (render/sample_numbers.h): Owen-scrambled Sobol or independent.
+    SamplerKind sampler = SamplerKind::Sobol;
 };
 
 struct RenderProgress {

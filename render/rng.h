@@ -21,8 +21,13 @@ inline uint32_t hash_u32(uint32_t x) {
     return x;
 }
 
+// A stream's key (a pixel's, a corner's: render/sample_numbers.h), and the key of its
+// sample `sample`; path_key(seed, pixel, sample) = sample_key(stream_key(seed, pixel), sample).
+inline uint32_t stream_key(uint32_t seed, uint32_t stream) { return hash_u32(hash_u32(seed ^ 0x9e3779b9u) ^ stream); }
+inline uint32_t sample_key(uint32_t stream, uint32_t sample) { return hash_u32(stream + sample * 0x85ebca6bu); }
+
 inline uint32_t path_key(uint32_t seed, uint32_t pixel, uint32_t sample) {
-    return hash_u32(hash_u32(hash_u32(seed ^ 0x9e3779b9u) ^ pixel) + sample * 0x85ebca6bu);
+    return sample_key(stream_key(seed, pixel), sample);
 }
 
 // Uniform in [0, 1): the top 24 bits of the hash.

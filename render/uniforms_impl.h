@@ -1,5 +1,5 @@
-// The random numbers of many paths for one use at one bounce (rng.h's bounce_uniform),
-// N keys at a time: what light selection, light sampling and BRDF sampling draw per point.
+// The random numbers of many paths for one use at one bounce (render/sample_numbers.h),
+// N points at a time: what light selection, light sampling and BRDF sampling draw per point.
 #pragma once
 
 #include <algorithm>
@@ -7,18 +7,25 @@
 #include <cstdint>
 
 #include "core/simd/kernel_width.h"
-#include "render/rng.h"
+#include "render/integrator.h"
+#include "render/sample_numbers.h"
 
 PATINA_BEGIN_TARGET
 namespace render_detail {
 using namespace kernel_width;
 
-// out[q] = bounce_uniform(keys[q], depth, d).
-inline void fill_uniforms(const int32_t* keys, size_t n, int depth, RandomDim d, float* out) {
+// out[q] = sample_uniform(sc.sampler, sc.point_keys[q], sc.point_index[q], depth, d), q < n.
+inline void fill_uniforms(const PathScratch& sc, size_t n, int depth, RandomDim d, float* out) {
+    const int32_t* keys = sc.point_keys.data();
+    const int32_t* index = sc.point_index.data();
     for_blocks(n, [&](size_t i, int lanes) {
-        int32_t pad[N] = {};
-        std::copy(keys + i, keys + i + lanes, pad);
-        store_lanes(out, i, lanes, bounce_uniform_lanes(load_n<N>(pad), depth, d));
+        int32_t key_pad[N] = {}, index_pad[N] = {};
+        std::copy(keys + i, keys + i + lanes, key_pad);
+        std::copy(index + i, index + i + lanes, index_pad);
+        uint32_t all = 0;
+        for (int k = 0; k < lanes; ++k) all |= static_cast<uint32_t>(index_pad[k]);
+        store_lanes(out, i, lanes,
+                    sample_uniform_lanes(sc.sampler, load_n<N>(key_pad), load_n<N>(index_pad), bit_length(all), depth, d));
     });
 }
 

@@ -19,6 +19,7 @@
 #include "render/grid2.h"
 #include "render/integrator.h"
 #include "render/render_job.h"
+#include "render/sample_numbers.h"
 #include "render/scene.h"
 #include "core/parallel.h"
 
@@ -397,7 +398,7 @@ uint32_t stream_seed(uint64_t seed) {
 
 std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth, uint64_t seed, int threads,
                                     int width, int tile_size, int passes, const std::string& aa, float aa_threshold,
-                                    bool indirect_illuminance) {
+                                    bool indirect_illuminance, const std::string& sampler) {
     SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
     check_materials(h);
     patina::prepare_light_selection(h.scene);
@@ -415,6 +416,10 @@ std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth
         throw std::invalid_argument("aa: '" + aa + "' is not one of 'uniform', 'adaptive'");
     st.aa_threshold = aa_threshold;
     st.indirect_illuminance = indirect_illuminance;
+    if (sampler == "independent")
+        st.sampler = patina::SamplerKind::Independent;
+    else if (sampler != "sobol")
+        throw std::invalid_argument("sampler: '" + sampler + "' is not one of 'sobol', 'independent'");
     auto j = std::make_unique<JobHandle>();
     j->scene_ref = scene_obj;
     j->job = std::make_unique<patina::RenderJob>(h.scene, st);
@@ -484,6 +489,32 @@ void check_axis(const FloatVector& a, const char* name) {
 // The adaptive sampler's fixed data (render/adaptive_pattern.h), for the drawings of
 // tools/draw_antialiasing.py and the tests: positions in the canonical frame, the three
 // fours of compared sample pairs, the zone tables, the weights per refined-zone set.
+// The first dimensions of a stream's samples [first, first + n) as the sampler draws them
+// (render/sample_numbers.h; sobol unscrambled: the plain Sobol points), for the tests of
+// stratification and convergence: out[i][d] is Sobol dimension d, or independent dimension d.
+nb::ndarray<nb::numpy, float, nb::ndim<2>> sample_points(const std::string& sampler, size_t n, int dims, uint64_t seed,
+                                                        uint32_t first, bool scramble) {
+    const bool sobol = sampler == "sobol";
+    if (!sobol && sampler != "independent")
+        throw std::invalid_argument("sampler: '" + sampler + "' is not one of 'sobol', 'independent'");
+    if (dims < 1 || (sobol && dims > patina::sobol::kDimensions))
+        throw std::invalid_argument("dims: must be 1 to " + std::to_string(patina::sobol::kDimensions));
+    float* out;
+    const size_t shape[2] = {n, static_cast<size_t>(dims)};
+    auto a = new_array<float, 2>(shape, &out);
+    const uint32_t key = patina::stream_key(stream_seed(seed), 0);
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t index = first + static_cast<uint32_t>(i);
+        for (int d = 0; d < dims; ++d) {
+            const uint32_t dim = static_cast<uint32_t>(d), bits = sobol ? patina::sobol::point_bits(index, d) : 0;
+            out[i * dims + d] = !sobol     ? patina::uniform(patina::sample_key(key, index), dim)
+                                : scramble ? patina::unit_float(patina::sobol::owen_scramble(bits, patina::scramble_seed(key, dim)))
+                                           : patina::unit_float(bits);
+        }
+    }
+    return a;
+}
+
 nb::dict aa_pattern() {
     namespace aa = patina::aa;
     float *pos, *weights;
@@ -591,6 +622,9 @@ void bind_render(nb::module_& m) {
         .def("set_environment", &set_environment, nb::arg("rgb").none(), nb::arg("constant"),
              nb::arg("intensity") = 1.0f, nb::arg("rotation") = 0.0f)
         .def_prop_ro("scene_radius", [](const SceneHandle& h) { return h.scene.scene_radius; });
+    m.def("sample_points", &sample_points, nb::arg("sampler"), nb::arg("n"), nb::arg("dims"), nb::arg("seed") = 0,
+          nb::arg("first") = 0, nb::arg("scramble") = true,
+          "The sampler's numbers of one stream: samples [first, first + n) x dimensions [0, dims).");
     m.def("aa_pattern", &aa_pattern, "The adaptive antialiasing's positions, comparisons, zone tables, weights.");
     m.def("sensor_illuminance", &sensor_illuminance, nb::arg("scene"), nb::arg("points"), nb::arg("normals"),
           nb::arg("samples") = 64, nb::arg("seed") = 0, nb::arg("width") = 0, nb::arg("threads") = 0,
@@ -601,7 +635,7 @@ void bind_render(nb::module_& m) {
         .def(nb::new_(&make_job), nb::arg("scene"), nb::arg("spp"), nb::arg("max_depth"), nb::arg("seed") = 0,
              nb::arg("threads") = 0, nb::arg("width") = 0, nb::arg("tile_size") = 16, nb::arg("passes") = 8,
              nb::arg("aa") = "uniform", nb::arg("aa_threshold") = patina::kDefaultAaThreshold,
-             nb::arg("indirect_illuminance") = false)
+             nb::arg("indirect_illuminance") = false, nb::arg("sampler") = "sobol")
         .def("start", [](JobHandle& j) { j.job->start(); })
         .def("cancel", [](JobHandle& j) { j.job->cancel(); })
         .def("wait",

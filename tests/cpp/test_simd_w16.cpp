@@ -2,3 +2,4 @@
 // skipped on a CPU without AVX-512 F/VL/DQ/BW (width_supported(16) false).
 #define PATINA_TEST_WIDTH 16
 #include "simd_lane_tests.h"
+#include "sample_numbers_lane_tests.h"

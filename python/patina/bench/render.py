@@ -2,7 +2,8 @@
 
 SIMD: the preview scene (car paint on the preview object, path tracing) rendered at
 width 4 and 8 against the same render at width 1, one thread, one prepared scene.
-Threads: all cores against one. Against Mitsuba 3: the time each renderer needs to reach
+Threads: all cores against one. Low-discrepancy samples: the samples a pixel Owen-scrambled
+Sobol and independent numbers need to the same RMSE on the preview scene. Against Mitsuba 3: the time each renderer needs to reach
 the same RMSE against a converged reference on a scene both render (the rough gold sphere
 under the studio map), at the same thread count. docs/bench.md describes the records.
 
@@ -36,15 +37,25 @@ def _scene_path(name: str) -> str:
     return materials_path("scenes", f"{name}.json")
 
 
-def _render(prep: PreparedScene, scene: Scene, simd: int, threads: int, spp: int | None = None) -> np.ndarray:
-    """One render of the prepared scene, start to resolved image; the linear RGB image. simd: 1, 4, 8 (0: default)."""
+def _render(
+    prep: PreparedScene,
+    scene: Scene,
+    simd: int,
+    threads: int,
+    spp: int | None = None,
+    seed: int | None = None,
+    sampler: str | None = None,
+) -> np.ndarray:
+    """One render of the prepared scene, start to resolved image; the linear RGB image. simd: 1, 4, 8 (0: default);
+    seed, sampler: the scene's unless given."""
     job = _core.RenderJob(
         prep.core,
         spp=spp or scene.render.spp,
         max_depth=core_depth(scene),
-        seed=scene.render.seed,
+        seed=scene.render.seed if seed is None else seed,
         threads=threads,
         width=simd,
+        sampler=sampler or scene.render.sampler,
     )
     job.start()
     job.wait()
@@ -93,6 +104,60 @@ def _thread_record(scene: Scene, prep: PreparedScene, label: str, repeat: int) -
         speedup,
         speedup / cores,
         "per core",
+    )
+
+
+# --- low-discrepancy against independent numbers -------------------------------------------
+
+
+def _spp_for(levels: list[int], mse: list[float], target_mse: float) -> float:
+    """The spp at which the MSE reaches target_mse: a power law through the two measured
+    levels around it (through the last two, or the first two, outside them). The exponent
+    is measured, not assumed: low-discrepancy error falls faster than 1 / spp."""
+    k = next((i for i in range(1, len(levels)) if mse[i] <= target_mse), len(levels) - 1)
+    (n0, e0), (n1, e1) = (levels[k - 1], mse[k - 1]), (levels[k], mse[k])
+    slope = np.log(e1 / e0) / np.log(n1 / n0)  # d log MSE / d log spp, negative
+    return float(n0 * np.exp(np.log(target_mse / e0) / slope)) if slope < 0 else float("inf")
+
+
+def _ld_vs_independent_record(repeat: int, quick: bool) -> Record:
+    """Samples a pixel to the same RMSE on the preview ball, independent over Sobol.
+
+    The preview scene path traced at 96 x 72 (quick: 32 x 24). Reference: a Sobol render at
+    4096 spp (quick: 512) as two halves of different seeds, their mean the reference and a
+    quarter of their mean squared difference its own MSE, subtracted from every measured
+    MSE. Each sampler renders at 4, 16 and 64 spp (quick: 4, 16) with max(repeat, 3) seeds;
+    its MSE at a level is the mean over the seeds, relative to the reference's image mean
+    squared; the spp to a relative RMSE of TARGET_RMSE follows from a power law through the
+    two levels around it (_spp_for). ratio = independent's spp / Sobol's, value = Sobol's spp.
+    """
+    w, h, levels, ref_spp = (32, 24, [4, 16], 512) if quick else (96, 72, [4, 16, 64], 4096)
+    scene = with_overrides(load_scene(_scene_path("preview-ball")), integrator="path", width=w, height=h)
+    prep = PreparedScene(scene)
+    threads = os.cpu_count() or 1
+    a, b = (_render(prep, scene, 0, threads, ref_spp // 2, seed=s, sampler="sobol") for s in (1001, 1002))
+    reference, reference_mse = (a + b) / 2, float(((a - b) ** 2).mean()) / 4
+    mean2 = float(reference.mean()) ** 2
+    seeds = range(max(repeat, 3))
+    spp = {}
+    for sampler in ("sobol", "independent"):
+        mse = [
+            statistics.fmean(
+                max(float(((_render(prep, scene, 0, threads, n, seed=s, sampler=sampler) - reference) ** 2).mean())
+                    - reference_mse, 1e-30) / mean2
+                for s in seeds
+            )
+            for n in levels
+        ]  # fmt: skip
+        spp[sampler] = _spp_for(levels, mse, TARGET_RMSE**2)
+    return Record(
+        "render.preview.ld_vs_independent",
+        f"Owen-scrambled Sobol, preview-ball {w}x{h}, path (max_depth {scene.render.max_depth}): "
+        f"{spp['sobol']:.0f} spp for RMSE {TARGET_RMSE:g} x mean ({len(seeds)} seeds a level)",
+        f"independent numbers, same scene: {spp['independent']:.0f} spp",
+        spp["independent"] / spp["sobol"],
+        spp["sobol"],
+        "spp",
     )
 
 
@@ -219,11 +284,12 @@ def _vs_mitsuba_records(repeat: int, quick: bool, llvm: bool) -> list[Record]:
 
 
 def bench_render(repeat: int, quick: bool, mitsuba: bool = True) -> list[Record]:
-    """The `render` group: SIMD width records, the thread record, then the Mitsuba comparison
+    """The `render` group: SIMD width records, the thread record, Sobol against independent, then the Mitsuba comparison
     (skipped without Mitsuba, or with mitsuba=False; `_llvm` only where llvm_ad_rgb works)."""
     scene, prep, label = _preview(quick)
     records = _simd_records(scene, prep, label, repeat)
     records.append(_thread_record(scene, prep, label, repeat))
+    records.append(_ld_vs_independent_record(repeat, quick))
     if mitsuba:
         try:
             import mitsuba as _  # noqa: F401

@@ -116,6 +116,7 @@ def _with_options(scene: Scene, args: argparse.Namespace) -> Scene:
         aa=args.aa,
         aa_threshold=args.aa_threshold,
         indirect_illuminance=True if args.indirect_illuminance else None,
+        sampler=args.sampler,
     )
 
 
@@ -322,6 +323,12 @@ def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help:
         default=None,
         metavar="T",
         help="the adaptive sampler's contrast threshold in [0, 1] (default: the scene's, 0.1)",
+    )
+    s.add_argument(
+        "--sampler",
+        default=None,
+        metavar="sobol|independent",
+        help="the paths' random numbers: Owen-scrambled Sobol or independent (default: the scene's render.sampler)",
     )
     s.add_argument(
         "--width", type=int, default=None, help="image width in pixels (default: the scene's; alone: keeps the aspect)"

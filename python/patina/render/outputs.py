@@ -43,6 +43,7 @@ def metadata(scene: Scene, result: RenderResult) -> dict[str, str | float | int]
         "patina:threads": int(result.threads),
         "patina:complete": int(result.complete),
         "patina:aa": result.aa,
+        "patina:sampler": result.sampler,
     }
     if result.aa_level is not None:
         # docs/antialiasing.md: camera rays a pixel a pass (the patterns traced: the weight sums)

@@ -22,7 +22,7 @@ import numpy as np
 from patina.native import _core
 from patina.progress import Progress
 from patina.render.prepare import PreparedScene
-from patina.scene.reading import AA_SAMPLERS
+from patina.scene.reading import AA_SAMPLERS, SAMPLERS
 from patina.scene.types import Scene
 from patina.widths import core_width
 
@@ -53,6 +53,7 @@ class RenderResult:
     interrupted: bool = False  # Ctrl-C (or SIGTERM in the CLI) came; the image may still be complete
     aa: str = "uniform"  # the pixel sampler (docs/antialiasing.md)
     aa_threshold: float = 0.1
+    sampler: str = "sobol"  # the paths' numbers (docs/render.md)
     camera_rays: int = 0  # camera rays traced (the adaptive sampler: its positions, each one integrator sample)
     aa_level: np.ndarray | None = None  # (H, W) adaptive: 1, 2 or 3, the level each pixel reached
     aa_rays: np.ndarray | None = None  # (H, W) adaptive: the pixel's own rays a pass (1 = its share of the corners)
@@ -136,17 +137,23 @@ def render(
     prepared: PreparedScene | None = None,
     aa: str | None = None,
     aa_threshold: float | None = None,
+    sampler: str | None = None,
 ) -> RenderResult:
     """Renders `scene` (its render settings as given: apply CLI overrides with
     `scene_file.with_overrides` first). simd: SIMD width 1, 4 or 8 (None: PATINA_SIMD or the
     widest; named as the CLI's --simd, `width` being an image's width there). aa: the pixel
     sampler, "uniform" or "adaptive", and aa_threshold its contrast threshold in [0, 1]
-    (None: the scene's render.aa, render.aa_threshold; docs/antialiasing.md).
+    (None: the scene's render.aa, render.aa_threshold; docs/antialiasing.md). sampler: the
+    paths' numbers, "sobol" (Owen-scrambled Sobol) or "independent" (None: the scene's
+    render.sampler; docs/render.md).
     Ctrl-C: see the module docstring (a second one raises `RenderAborted`)."""
     aa = scene.render.aa if aa is None else aa
     threshold = scene.render.aa_threshold if aa_threshold is None else aa_threshold
     if aa not in AA_SAMPLERS:
         raise ValueError(f"aa: {aa!r} is not one of {', '.join(repr(a) for a in AA_SAMPLERS)}")
+    sampler = scene.render.sampler if sampler is None else sampler
+    if sampler not in SAMPLERS:
+        raise ValueError(f"sampler: {sampler!r} is not one of {', '.join(repr(s) for s in SAMPLERS)}")
     if isinstance(threshold, bool) or not isinstance(threshold, (int, float)) or not 0.0 <= threshold <= 1.0:
         raise ValueError(f"aa_threshold: must be a number in [0, 1], got {threshold!r}")
     prep = prepared or PreparedScene(scene)
@@ -166,6 +173,7 @@ def render(
         aa=aa,
         aa_threshold=float(threshold),
         indirect_illuminance=scene.render.indirect_illuminance,
+        sampler=sampler,
     )
     pixels = scene.camera.width * scene.camera.height
     interrupted = _run_job(job, pixels, scene.render.spp, progress, by_items=aa == "adaptive")
@@ -193,6 +201,7 @@ def render(
         interrupted=interrupted,
         aa=aa,
         aa_threshold=float(threshold),
+        sampler=sampler,
         camera_rays=int(p["samples_done"]),
         aa_level=images.get("aa_level"),
         aa_rays=images.get("aa_rays"),

@@ -180,10 +180,13 @@ def _camera(o: Obj) -> Camera:
 
 AA_SAMPLERS = ("uniform", "adaptive")  # render.aa, --aa (docs/antialiasing.md)
 AA_THRESHOLD = 0.1  # the adaptive sampler's contrast threshold; contrasts are in [0, 1]
+SAMPLERS = ("sobol", "independent")  # render.sampler, --sampler: the paths' numbers (docs/render.md)
 
 
 def _render(o: Obj) -> Render:
-    o.allow(("spp", "integrator", "max_depth", "seed", "aa", "aa_threshold", "indirect_illuminance"), "render")
+    o.allow(
+        ("spp", "integrator", "max_depth", "seed", "aa", "aa_threshold", "indirect_illuminance", "sampler"), "render"
+    )
     return Render(
         spp=o.read("spp", integer, 64, lo=1, hi=MAX_SPP),
         integrator=o.read("integrator", choice, "direct", options=("direct", "path")),
@@ -192,6 +195,7 @@ def _render(o: Obj) -> Render:
         aa=o.read("aa", choice, "uniform", options=AA_SAMPLERS),
         aa_threshold=o.read("aa_threshold", number, AA_THRESHOLD, lo=0.0, hi=1.0),
         indirect_illuminance=o.read("indirect_illuminance", boolean, False),
+        sampler=o.read("sampler", choice, "sobol", options=SAMPLERS),
     )
 
 
@@ -628,6 +632,7 @@ def with_overrides(
     aa: str | None = None,
     aa_threshold: float | None = None,
     indirect_illuminance: bool | None = None,
+    sampler: str | None = None,
 ) -> Scene:
     """The scene with command-line settings replacing the file's; bad values are FormatErrors
     naming the option (file "command line")."""
@@ -645,6 +650,8 @@ def with_overrides(
         render = dataclasses.replace(render, aa_threshold=number(ctx, "--aa-threshold", aa_threshold, lo=0.0, hi=1.0))
     if indirect_illuminance is not None:
         render = dataclasses.replace(render, indirect_illuminance=bool(indirect_illuminance))
+    if sampler is not None:
+        render = dataclasses.replace(render, sampler=choice(ctx, "--sampler", sampler, SAMPLERS))
     if width is not None:
         camera = dataclasses.replace(camera, width=integer(ctx, "--width", width, lo=1, hi=MAX_IMAGE_SIDE))
     if height is not None:
