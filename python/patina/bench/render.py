@@ -3,9 +3,10 @@
 SIMD: the preview scene (car paint on the preview object, path tracing) rendered at
 width 4 and 8 against the same render at width 1, one thread, one prepared scene.
 Threads: all cores against one. Low-discrepancy samples: the samples a pixel Owen-scrambled
-Sobol and independent numbers need to the same RMSE on the preview scene. Against Mitsuba 3: the time each renderer needs to reach
-the same RMSE against a converged reference on a scene both render (the rough gold sphere
-under the studio map), at the same thread count. docs/bench.md describes the records.
+Sobol and independent numbers need to the same RMSE on the preview scene. Against Mitsuba 3:
+the time each renderer needs to reach the same RMSE against a converged reference on a
+scene both render (the rough gold sphere under the studio map), at the same thread count.
+docs/bench.md describes the records.
 
 Renders are timed from job start to resolved image, calling the C++ job directly:
 `render.render` polls progress every 50 ms, which would blur short renders.
@@ -110,53 +111,60 @@ def _thread_record(scene: Scene, prep: PreparedScene, label: str, repeat: int) -
 # --- low-discrepancy against independent numbers -------------------------------------------
 
 
-def _spp_for(levels: list[int], mse: list[float], target_mse: float) -> float:
-    """The spp at which the MSE reaches target_mse: a power law through the two measured
-    levels around it (through the last two, or the first two, outside them). The exponent
-    is measured, not assumed: low-discrepancy error falls faster than 1 / spp."""
-    k = next((i for i in range(1, len(levels)) if mse[i] <= target_mse), len(levels) - 1)
-    (n0, e0), (n1, e1) = (levels[k - 1], mse[k - 1]), (levels[k], mse[k])
+LD_SEEDS = 3  # renders a level and sampler (different seeds); their MSEs are averaged
+
+
+def _spp_to_target(mse_at: Callable[[int], float], target_mse: float, first: int, last: int) -> tuple[float, list]:
+    """The spp at which the MSE falls to target_mse, and the levels measured: spp first,
+    4 first, ... until the MSE is at or below the target (or spp `last`), then a power law
+    through the last two levels. The exponent is measured, not assumed: low-discrepancy
+    error falls faster than 1 / spp, and by how much depends on the scene and the spp."""
+    measured = [(first, mse_at(first))]
+    while measured[-1][1] > target_mse and measured[-1][0] < last:
+        n = measured[-1][0] * 4
+        measured.append((n, mse_at(n)))
+    (n0, e0), (n1, e1) = measured[-2], measured[-1]
     slope = np.log(e1 / e0) / np.log(n1 / n0)  # d log MSE / d log spp, negative
-    return float(n0 * np.exp(np.log(target_mse / e0) / slope)) if slope < 0 else float("inf")
+    return (float(n0 * np.exp(np.log(target_mse / e0) / slope)) if slope < 0 else float("inf")), measured
 
 
-def _ld_vs_independent_record(repeat: int, quick: bool) -> Record:
+def _ld_vs_independent_record(quick: bool) -> Record:
     """Samples a pixel to the same RMSE on the preview ball, independent over Sobol.
 
-    The preview scene path traced at 96 x 72 (quick: 32 x 24). Reference: a Sobol render at
-    4096 spp (quick: 512) as two halves of different seeds, their mean the reference and a
-    quarter of their mean squared difference its own MSE, subtracted from every measured
-    MSE. Each sampler renders at 4, 16 and 64 spp (quick: 4, 16) with max(repeat, 3) seeds;
-    its MSE at a level is the mean over the seeds, relative to the reference's image mean
-    squared; the spp to a relative RMSE of TARGET_RMSE follows from a power law through the
-    two levels around it (_spp_for). ratio = independent's spp / Sobol's, value = Sobol's spp.
+    The preview scene path traced at 32 x 24 (quick: 16 x 12, RMSE target 0.05). Reference:
+    a Sobol render at 8192 spp (quick: 1024) as two halves of different seeds, their mean
+    the reference and a quarter of their mean squared difference its own MSE, subtracted
+    from every measured MSE. Each sampler renders at 16, 64, 256, ... spp, LD_SEEDS seeds a
+    level (the MSE their mean, relative to the reference's image mean squared), until it
+    reaches a relative RMSE of TARGET_RMSE; the spp to the target is interpolated between
+    the last two levels by a power law. ratio = independent's spp / Sobol's, value = Sobol's.
     """
-    w, h, levels, ref_spp = (32, 24, [4, 16], 512) if quick else (96, 72, [4, 16, 64], 4096)
+    w, h, ref_spp, target = (16, 12, 1024, 0.05) if quick else (32, 24, 8192, TARGET_RMSE)
     scene = with_overrides(load_scene(_scene_path("preview-ball")), integrator="path", width=w, height=h)
     prep = PreparedScene(scene)
     threads = os.cpu_count() or 1
     a, b = (_render(prep, scene, 0, threads, ref_spp // 2, seed=s, sampler="sobol") for s in (1001, 1002))
     reference, reference_mse = (a + b) / 2, float(((a - b) ** 2).mean()) / 4
     mean2 = float(reference.mean()) ** 2
-    seeds = range(max(repeat, 3))
-    spp = {}
-    for sampler in ("sobol", "independent"):
-        mse = [
-            statistics.fmean(
-                max(float(((_render(prep, scene, 0, threads, n, seed=s, sampler=sampler) - reference) ** 2).mean())
-                    - reference_mse, 1e-30) / mean2
-                for s in seeds
-            )
-            for n in levels
-        ]  # fmt: skip
-        spp[sampler] = _spp_for(levels, mse, TARGET_RMSE**2)
+
+    def mse_at(sampler: str, spp: int) -> float:
+        errors = [
+            float(((_render(prep, scene, 0, threads, spp, seed=s, sampler=sampler) - reference) ** 2).mean())
+            for s in range(LD_SEEDS)
+        ]
+        return max(statistics.fmean(errors) - reference_mse, 1e-30) / mean2
+
+    found = {
+        s: _spp_to_target(lambda n, s=s: mse_at(s, n), target**2, 16, ref_spp // 2) for s in ("sobol", "independent")
+    }
+    (ld, ld_levels), (iid, iid_levels) = found["sobol"], found["independent"]
     return Record(
         "render.preview.ld_vs_independent",
-        f"Owen-scrambled Sobol, preview-ball {w}x{h}, path (max_depth {scene.render.max_depth}): "
-        f"{spp['sobol']:.0f} spp for RMSE {TARGET_RMSE:g} x mean ({len(seeds)} seeds a level)",
-        f"independent numbers, same scene: {spp['independent']:.0f} spp",
-        spp["independent"] / spp["sobol"],
-        spp["sobol"],
+        f"Owen-scrambled Sobol, preview-ball {w}x{h}, path (max_depth {scene.render.max_depth}): {ld:.0f} spp for "
+        f"RMSE {target:g} x mean (measured at {', '.join(str(n) for n, _ in ld_levels)} spp, {LD_SEEDS} seeds each)",
+        f"independent numbers, same scene: {iid:.0f} spp (measured at {', '.join(str(n) for n, _ in iid_levels)})",
+        iid / ld,
+        ld,
         "spp",
     )
 
@@ -289,7 +297,7 @@ def bench_render(repeat: int, quick: bool, mitsuba: bool = True) -> list[Record]
     scene, prep, label = _preview(quick)
     records = _simd_records(scene, prep, label, repeat)
     records.append(_thread_record(scene, prep, label, repeat))
-    records.append(_ld_vs_independent_record(repeat, quick))
+    records.append(_ld_vs_independent_record(quick))
     if mitsuba:
         try:
             import mitsuba as _  # noqa: F401
