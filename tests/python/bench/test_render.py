@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from patina.bench import GROUPS, Record
-from patina.bench.render import _convergence, bench_render
+from patina.bench.render import _convergence, _spp_to_target, bench_render
 from patina.native import _core
 
 
@@ -21,7 +21,7 @@ def test_quick_group_records():
     assert all(isinstance(r, Record) for r in records)
     by_name = {r.name: r for r in records}
     expected = {f"render.preview.w{w}" for w in (4, 8) if _core.width_supported(w)}
-    expected |= {"render.threads", "render.vs_mitsuba"}
+    expected |= {"render.threads", "render.vs_mitsuba", "render.preview.ld_vs_independent"}
     assert expected <= set(by_name) <= expected | {"render.vs_mitsuba_llvm"}
     for r in records:
         assert math.isfinite(r.ratio) and r.ratio > 0, r
@@ -29,6 +29,7 @@ def test_quick_group_records():
     threads = by_name["render.threads"]
     assert threads.value == pytest.approx(threads.ratio / (os.cpu_count() or 1))
     assert by_name["render.vs_mitsuba"].unit == "s"
+    assert by_name["render.preview.ld_vs_independent"].unit == "spp"
     assert GROUPS["render"].__name__ == "bench_render"
 
 
@@ -55,3 +56,22 @@ def test_convergence_recovers_the_noise_level():
     assert fit.spp_for(0.02) == pytest.approx(expected / 0.02**2, rel=0.03)
     assert fit.per_spp == pytest.approx(1e-3, rel=0.25)
     assert fit.seconds_for(0.02) >= fit.per_spp * fit.spp_for(0.02) > 0
+
+
+@pytest.mark.parametrize("exponent", [1.0, 1.5])
+def test_spp_to_target_follows_the_measured_power_law(exponent):
+    """MSE = 0.3 spp^-exponent: the levels 16, 64, ... until the target, and the spp at which
+    the power law through the last two meets it (exact here); a target never reached stops
+    at the last level and extrapolates."""
+    measured = []
+
+    def mse_at(spp: int) -> float:
+        measured.append(spp)
+        return 0.3 * spp**-exponent
+
+    target = 0.3 * 700.0**-exponent
+    spp, levels = _spp_to_target(mse_at, target, 16, 4096)
+    assert spp == pytest.approx(700.0, rel=1e-9)
+    assert [n for n, _ in levels] == measured == [16, 64, 256, 1024]
+    far, levels = _spp_to_target(mse_at, 0.3 * 1e5**-exponent, 16, 256)
+    assert far == pytest.approx(1e5, rel=1e-9) and [n for n, _ in levels] == [16, 64, 256]
