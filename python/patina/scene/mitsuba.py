@@ -12,9 +12,13 @@ convention) turned by the rotation as its `to_world`, a quad light is a `rectang
 `to_world` takes [-1, 1]^2 to center + s u + t v, with a black BSDF. Shapes are Mitsuba
 meshes built from the arrays given for them (vertex normals included); spheres and
 planes without arrays become Mitsuba's analytic `sphere` and `rectangle`. Materials
-Mitsuba has no equivalent for (tabulated, fitted, car paint) raise
+Mitsuba has no equivalent for (tabulated, fitted, car paint over a table or a fit) raise
 `MitsubaConversionError` naming the material: a cross-check needs the same material on
-both sides.
+both sides. A car paint over a Lambert base (without `thickness_tint`) becomes Mitsuba's
+`plastic` (`roughplastic` with GGX under a rough coat): the same coat over the same
+diffuse base, though the two renderers need not agree on the light that goes back and
+forth between coat and base; the cache benchmark (bench/cache_mitsuba.py), which measures
+each renderer against its own reference, uses it.
 """
 
 from __future__ import annotations
@@ -26,6 +30,7 @@ import numpy as np
 
 from patina.scene.types import (
     Camera,
+    CarpaintMaterial,
     ConductorMaterial,
     ConstantEnvironment,
     DielectricMaterial,
@@ -116,6 +121,14 @@ def bsdf(material: Material, where: str = "material") -> dict[str, Any]:
         ax, ay = material.roughness
         if ax > 0 or ay > 0:
             out.update(type="roughconductor", distribution="ggx", alpha_u=ax, alpha_v=ay)
+    elif isinstance(material, CarpaintMaterial) and isinstance(material.base, LambertMaterial):
+        coat = material.coat
+        if tuple(coat.thickness_tint) != (1.0, 1.0, 1.0):
+            raise MitsubaConversionError(where, "a car paint's thickness_tint has no Mitsuba 3 equivalent here")
+        out = {"type": "plastic", "diffuse_reflectance": _rgb(material.base.albedo), "int_ior": coat.eta}
+        out.update(ext_ior=1.0, nonlinear=False)
+        if coat.roughness > 0:
+            out.update(type="roughplastic", distribution="ggx", alpha=coat.roughness)
     elif isinstance(material, DielectricMaterial):
         out = {"type": "dielectric", "int_ior": material.eta, "ext_ior": 1.0}
         if material.roughness > 0:
@@ -124,7 +137,8 @@ def bsdf(material: Material, where: str = "material") -> dict[str, Any]:
     else:
         raise MitsubaConversionError(
             where,
-            f"a {material.type} material has no Mitsuba 3 equivalent here (supported: lambert, conductor, dielectric)",
+            f"a {material.type} material has no Mitsuba 3 equivalent here (supported: lambert, conductor, "
+            "dielectric, carpaint over lambert)",
         )
     if material.two_sided:
         return {"type": "twosided", "bsdf": out}

@@ -16,8 +16,9 @@ mi = pytest.importorskip("mitsuba")
 
 import trimesh  # noqa: E402
 
-from patina.scene.mitsuba import MitsubaConversionError, quad_to_world, to_mitsuba  # noqa: E402
+from patina.scene.mitsuba import MitsubaConversionError, bsdf, quad_to_world, to_mitsuba  # noqa: E402
 from patina.scene.reading import load_scene, parse_scene, with_overrides  # noqa: E402
+from patina.scene.types import CarpaintMaterial, Coat, LambertMaterial  # noqa: E402
 from scene_helpers import ROOT, referenced_files  # noqa: E402
 
 
@@ -275,3 +276,15 @@ def test_unsupported_parts_are_named(tmp_path):
     s = scene(tmp_path, materials={"l": {"type": "lambert"}}, shapes=[stretched])
     with pytest.raises(MitsubaConversionError, match="non-uniform"):
         to_mitsuba(s)
+
+
+def test_carpaint_over_lambert_is_mitsubas_plastic():
+    base = LambertMaterial((0.2, 0.3, 0.6), False)
+    smooth = bsdf(CarpaintMaterial(base, Coat(1.5, 0.0, (1.0, 1.0, 1.0)), False))
+    assert smooth["type"] == "plastic" and smooth["int_ior"] == 1.5 and smooth["nonlinear"] is False
+    assert smooth["diffuse_reflectance"]["value"] == [0.2, 0.3, 0.6]
+    rough = bsdf(CarpaintMaterial(base, Coat(1.4, 0.05, (1.0, 1.0, 1.0)), True))
+    assert rough["type"] == "twosided" and rough["bsdf"]["type"] == "roughplastic"
+    assert rough["bsdf"]["alpha"] == 0.05 and rough["bsdf"]["distribution"] == "ggx"
+    with pytest.raises(MitsubaConversionError, match="thickness_tint"):
+        bsdf(CarpaintMaterial(base, Coat(1.5, 0.0, (0.9, 1.0, 1.0)), False))

@@ -1,0 +1,46 @@
+"""The cache scenes' analytic counterparts for the comparison with Mitsuba 3: tables and fits
+become their Lambert fits (the car paint keeps its coat), the result converts to Mitsuba,
+and a scene with a light Mitsuba lacks says so."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from patina.bench.cache_mitsuba import analytic_counterpart, lambert_fit, vs_mitsuba_record
+from patina.bench.convergence import Sizes
+from patina.bundled import materials_path
+from patina.render.prepare import shape_mesh
+from patina.scene.mitsuba import to_mitsuba
+from patina.scene.reading import load_scene
+from patina.scene.types import BallShape, CarpaintMaterial, LambertMaterial, TableMaterial
+
+
+def test_tables_become_their_lambert_fits_and_the_car_paint_keeps_its_coat():
+    scene = load_scene(materials_path("scenes", "cache-room.json"))
+    counterpart = analytic_counterpart(scene)
+    assert counterpart.shapes == scene.shapes and counterpart.lights == scene.lights
+    for name, m in scene.materials.items():
+        c = counterpart.materials[name]
+        if isinstance(m, TableMaterial):
+            assert isinstance(c, LambertMaterial) and c.two_sided == m.two_sided
+            assert all(0 <= a <= 1 for a in c.albedo)
+        elif isinstance(m, CarpaintMaterial):
+            assert isinstance(c, CarpaintMaterial) and isinstance(c.base, LambertMaterial) and c.coat == m.coat
+        else:
+            assert c == m
+    # the red plastic's fit is red, and its tint scales it
+    wall = counterpart.materials["feature-wall"].albedo
+    assert wall[0] > 3 * wall[1] > 0
+    tinted = lambert_fit(scene.materials["plastic"], False).albedo
+    assert np.allclose(np.array(tinted) / np.array(wall), [1.2, 6, 9], rtol=1e-4)
+
+
+def test_the_counterparts_convert_to_mitsuba_and_luminaires_are_named():
+    pytest.importorskip("mitsuba")
+    for name in ("cache-room", "cache-studio"):
+        scene = analytic_counterpart(load_scene(materials_path("scenes", f"{name}.json")))
+        meshes = {i: shape_mesh(s) for i, s in enumerate(scene.shapes) if isinstance(s, BallShape)}
+        assert to_mitsuba(scene, meshes, variant="scalar_rgb")["type"] == "scene"
+    why = vs_mitsuba_record("cache-ies-interior", Sizes(8, 8, (2, 4), 2), 1, 1, [])
+    assert why == "no Mitsuba 3 equivalent: lights[0]: a luminaire light has no Mitsuba 3 equivalent here"
