@@ -4,9 +4,9 @@ path tracer on the bundled scenes where secondary light matters (materials/scene
 Per scene, at a small size (64 pixels wide; `--quick` 16), all renders on every core:
 
 1. A converged reference, rendered once by `path` as two halves with different seeds and
-   kept on disk outside the repository (`reference_dir()`, keyed by a hash of the scene
-   file, the settings and Patina's version): their mean is the reference, a quarter of
-   their squared difference its own error, subtracted from every error measured.
+   kept on disk outside the repository (bench/convergence.py, `reference_dir()`, keyed by
+   a hash of the scene file, the settings and Patina's version): their mean is the
+   reference, its own error (from the halves) subtracted from every error measured.
 2. The error of an image: relMSE, per pixel (x - r)^2 / (r^2 + 0.01) averaged over RGB with
    both images divided by the reference's mean, the top 0.1 % of pixel errors discarded
    (as path-guiding evaluations do, so a few fireflies do not decide a record).
@@ -16,7 +16,9 @@ Per scene, at a small size (64 pixels wide; `--quick` 16), all renders on every 
    error `cache` reaches, over the time `cache` takes), `cache.<scene>.guided_vs_path` (the
    same for `cache-guided`) and `cache.<scene>.guided_equal_time` (path's error at the time
    `cache-guided` takes, over `cache-guided`'s), `cache.<scene>.bias` (the relative bias of
-   `cache`'s image mean), `cache.threads` (`cache` on every core against one thread).
+   `cache`'s image mean), `cache.threads` (`cache` on every core against one thread),
+   `cache.<scene>.vs_mitsuba_llvm` (bench/cache_mitsuba.py: Patina's fastest integrator
+   against Mitsuba 3's llvm_ad_rgb path tracer on the scene's analytic counterpart).
 
 A record whose integrator this build does not have is skipped with the reason on stderr;
 `run_cache_bench(..., integrators=...)` runs the same measurements with other integrators
