@@ -131,11 +131,13 @@ inline void start_paths(const Wavefront& w, size_t n) {
 // The batch's camera rays, with throughput 1 and empty results; every path active.
 inline void start_camera_paths(const Wavefront& w, size_t n) {
     start_paths(w, n);
+    const bool lens = w.s.camera.aperture_radius > 0;  // a pinhole draws no lens numbers
     for (size_t i = 0; i < n; ++i) {
         const CameraSample& c = w.cs[i];
+        const float lu = lens ? sample_uniform(w.st.sampler, c.key, c.index, 0, kDimLensU) : 0.0f;
+        const float lv = lens ? sample_uniform(w.st.sampler, c.key, c.index, 0, kDimLensV) : 0.0f;
         Vec3f o, d;
-        camera_ray(w.s.camera, c.fx, c.fy, sample_uniform(w.st.sampler, c.key, c.index, 0, kDimLensU),
-                   sample_uniform(w.st.sampler, c.key, c.index, 0, kDimLensV), o, d);
+        camera_ray(w.s.camera, c.fx, c.fy, lu, lv, o, d);
         start_path(w, i, o, d);
     }
 }

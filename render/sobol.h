@@ -13,7 +13,10 @@
 // whole: a (t, m, s)-net stays one, and the points are uniform in [0, 1). The node's bit is
 // a hash of (node, seed): one seed per dimension and pixel gives every pixel its own
 // scramble, which decorrelates the pixels' errors. The top 24 bits are scrambled, as many as
-// a float in [0, 1) keeps.
+// a float in [0, 1) keeps: the top kOwenLevels bit by bit, the rest flipped together by one
+// hash of the node above them (a digital shift of each interval of width 2^-kOwenLevels: a
+// nested scramble still, with half the hashes; it differs from a full one only for more
+// than 2^kOwenLevels points of a pixel).
 //
 // Integer-only arithmetic, the same at every SIMD width: the lanes version gives each lane
 // the bits the scalar one gives.
@@ -33,6 +36,7 @@ namespace sobol {
 inline constexpr int kDimensions = sobol_data::kDimensions;
 inline constexpr int kBits = 32;        // indices of up to 2^32 points
 inline constexpr int kScrambledBits = 24;  // the bits a float in [0, 1) keeps
+inline constexpr int kOwenLevels = 12;     // of them, scrambled bit by bit
 
 using Matrices = std::array<std::array<uint32_t, kBits>, kDimensions>;
 
@@ -74,15 +78,19 @@ inline uint32_t point_bits(uint32_t index, int d) {
     return x;
 }
 
+// The bits flipped together below the top kOwenLevels.
+inline constexpr uint32_t kShiftMask = ((1u << (kScrambledBits - kOwenLevels)) - 1u) << (kBits - kScrambledBits);
+
 // Owen's nested uniform scramble of the top kScrambledBits of x. Node of bit b: the bits
 // above it with a leading 1 (the root is 1), unique over the tree's levels.
 inline uint32_t owen_scramble(uint32_t x, uint32_t seed) {
     uint32_t out = x;
-    for (int b = kBits - 1; b >= kBits - kScrambledBits; --b) {
+    for (int b = kBits - 1; b >= kBits - kOwenLevels; --b) {
         const uint32_t node = b == kBits - 1 ? 1u : (x >> (b + 1)) | (1u << (kBits - 1 - b));
         out ^= (hash_u32(node ^ seed) >> 31) << b;
     }
-    return out;
+    const uint32_t node = (x >> (kBits - kOwenLevels)) | (1u << kOwenLevels);
+    return out ^ (hash_u32(node ^ seed) & kShiftMask);
 }
 
 // The same for N lanes (uint32 bits in int32 lanes); dimension d is shared by the lanes.
@@ -109,11 +117,12 @@ PATINA_INLINE I point_bits_lanes(I index, int d, int index_bits) {
 template <class I>
 PATINA_INLINE I owen_scramble_lanes(I x, I seed) {
     I out = x;
-    for (int b = kBits - 1; b >= kBits - kScrambledBits; --b) {
+    for (int b = kBits - 1; b >= kBits - kOwenLevels; --b) {
         const I node = b == kBits - 1 ? I(1) : srl(x, b + 1) | I(static_cast<int32_t>(1u << (kBits - 1 - b)));
         out = out ^ shift_left(srl(hash_lanes(node ^ seed), 31), b);
     }
-    return out;
+    const I node = srl(x, kBits - kOwenLevels) | I(1 << kOwenLevels);
+    return out ^ (hash_lanes(node ^ seed) & I(static_cast<int32_t>(kShiftMask)));
 }
 
 }  // namespace sobol
