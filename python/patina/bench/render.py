@@ -132,14 +132,14 @@ def _ld_vs_independent_record(quick: bool) -> Record:
     """Samples a pixel to the same RMSE on the preview ball, independent over Sobol.
 
     The preview scene path traced at 32 x 24 (quick: 16 x 12, RMSE target 0.05). Reference:
-    a Sobol render at 8192 spp (quick: 1024) as two halves of different seeds, their mean
+    a Sobol render at 4096 spp (quick: 1024) as two halves of different seeds, their mean
     the reference and a quarter of their mean squared difference its own MSE, subtracted
     from every measured MSE. Each sampler renders at 16, 64, 256, ... spp, LD_SEEDS seeds a
     level (the MSE their mean, relative to the reference's image mean squared), until it
-    reaches a relative RMSE of TARGET_RMSE; the spp to the target is interpolated between
+    reaches a relative RMSE of TARGET_RMSE (or 4096 spp); the spp to the target is interpolated between
     the last two levels by a power law. ratio = independent's spp / Sobol's, value = Sobol's.
     """
-    w, h, ref_spp, target = (16, 12, 1024, 0.05) if quick else (32, 24, 8192, TARGET_RMSE)
+    w, h, ref_spp, target = (16, 12, 1024, 0.05) if quick else (32, 24, 4096, TARGET_RMSE)
     scene = with_overrides(load_scene(_scene_path("preview-ball")), integrator="path", width=w, height=h)
     prep = PreparedScene(scene)
     threads = os.cpu_count() or 1
@@ -155,7 +155,7 @@ def _ld_vs_independent_record(quick: bool) -> Record:
         return max(statistics.fmean(errors) - reference_mse, 1e-30) / mean2
 
     found = {
-        s: _spp_to_target(lambda n, s=s: mse_at(s, n), target**2, 16, ref_spp // 2) for s in ("sobol", "independent")
+        s: _spp_to_target(lambda n, s=s: mse_at(s, n), target**2, 16, ref_spp) for s in ("sobol", "independent")
     }
     (ld, ld_levels), (iid, iid_levels) = found["sobol"], found["independent"]
     return Record(
