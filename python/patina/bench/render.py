@@ -154,9 +154,7 @@ def _ld_vs_independent_record(quick: bool) -> Record:
         ]
         return max(statistics.fmean(errors) - reference_mse, 1e-30) / mean2
 
-    found = {
-        s: _spp_to_target(lambda n, s=s: mse_at(s, n), target**2, 16, ref_spp) for s in ("sobol", "independent")
-    }
+    found = {s: _spp_to_target(lambda n, s=s: mse_at(s, n), target**2, 16, ref_spp) for s in ("sobol", "independent")}
     (ld, ld_levels), (iid, iid_levels) = found["sobol"], found["independent"]
     return Record(
         "render.preview.ld_vs_independent",
