@@ -143,17 +143,21 @@ def run_cache_bench(
     sizes = QUICK if quick else FULL
     out = CacheBench()
     for name in scenes:
-        t0 = time.perf_counter()
+        t0, before = time.perf_counter(), len(out.records)
         _scene_records(name, sizes, repeat, threads, integrators, out)
-        print(f"patina bench: cache: {name} measured in {time.perf_counter() - t0:.0f} s", file=sys.stderr)
+        if len(out.records) > before:
+            print(f"patina bench: cache: {name} measured in {time.perf_counter() - t0:.0f} s", file=sys.stderr)
     if "biased" in integrators:
         _threads_record(sizes, repeat, integrators["biased"], out)
     if mitsuba:
         why = mitsuba_missing()
         for name in scenes:
+            t0 = time.perf_counter()
             found = why or vs_mitsuba_record(name, sizes, repeat, threads, list(integrators.values()))
             if isinstance(found, Record):
                 out.records.append(found)
+                seconds = time.perf_counter() - t0
+                print(f"patina bench: cache: {name} against Mitsuba in {seconds:.0f} s", file=sys.stderr)
             else:
                 out.skipped.append((f"cache.{name}.vs_mitsuba_llvm", found))
     return out

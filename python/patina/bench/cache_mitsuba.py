@@ -188,6 +188,8 @@ def vs_mitsuba_record(name: str, sizes: Sizes, repeat: int, threads: int, integr
     what = f"Patina {best}, {name} {size} (Lambert fits for its tables), {threads} threads: {best_time:.2f} s "
     what += f"to relMSE {target:.3g} (each against its own {sizes.reference_spp}-spp reference)"
     baseline = f"Mitsuba 3 {VARIANT} path, same scene and threads: {mitsuba_time:.2f} s"
+    # the two converged images should be the same scene's: their means say how near
+    baseline += f" (its reference's mean / Patina's: {float(m_ref.mean()) / float(ref.image.mean()):.3f})"
     return Record(record, what, baseline, mitsuba_time / best_time, best_time, "s")
 
 
