@@ -14,6 +14,7 @@ import pytest
 from conftest import WIDTHS
 from patina.render.run import PreparedScene, render
 from patina.scene.reading import parse_scene
+from polygon_irradiance import rectangle_irradiance
 from repo_paths import ROOT
 
 
@@ -104,20 +105,6 @@ def test_lambert_plane_under_a_point_light_matches_the_analytic_irradiance():
     # illuminance AOV: E = I cos / d^2 in lux (683 lm/W x luminance of the RGB intensity)
     lux = 683 * (0.2126 * 10 + 0.7152 * 20 + 0.0722 * 5) * g
     assert np.median(np.abs(r.illuminance[inside] - lux[inside]) / lux[inside]) < 2e-3
-
-
-def rectangle_irradiance(p: np.ndarray, corners: np.ndarray) -> np.ndarray:
-    """Irradiance on an upward-facing point from a unit-radiance polygon (Lambert's contour integral)."""
-    e = np.zeros(p.shape[:-1])
-    for a, b in zip(corners, np.roll(corners, -1, axis=0)):
-        va, vb = a - p, b - p
-        va /= np.linalg.norm(va, axis=-1, keepdims=True)
-        vb /= np.linalg.norm(vb, axis=-1, keepdims=True)
-        angle = np.arccos(np.clip((va * vb).sum(-1), -1, 1))
-        cross = np.cross(va, vb)
-        n = np.linalg.norm(cross, axis=-1)
-        e += angle * cross[..., 1] / np.maximum(n, 1e-12)
-    return np.abs(e) / 2
 
 
 def test_lambert_plane_under_a_quad_light_matches_the_form_factor():
