@@ -14,7 +14,7 @@ import pytest
 from conftest import WIDTHS
 from patina.render.run import PreparedScene, render
 from patina.scene.reading import parse_scene
-from polygon_irradiance import rectangle_irradiance
+from quad_light import quad_light_floor, quad_light_scene
 from repo_paths import ROOT
 
 
@@ -108,26 +108,9 @@ def test_lambert_plane_under_a_point_light_matches_the_analytic_irradiance():
 
 
 def test_lambert_plane_under_a_quad_light_matches_the_form_factor():
-    scene = scene_of(
-        {
-            "version": 1,
-            "camera": {"position": [0, 5, 0.01], "look_at": [0, 0, 0], "fov": 50, "width": 48, "height": 48},
-            "render": {"spp": 256, "integrator": "direct", "seed": 1},
-            "materials": {"white": {"type": "lambert", "albedo": 1.0}},
-            "shapes": [{"type": "plane", "material": "white", "size": [8, 8]}],
-            "lights": [{"type": "quad", "center": [0, 1, 0], "u": [0.5, 0, 0], "v": [0, 0, 0.3], "radiance": 2.0}],
-        }
-    )
+    scene = scene_of(quad_light_scene(48, 256))
     r = render(scene)
-    cam = scene.camera
-    sub = 6  # the exact field box-filtered over sub x sub points per pixel, as the renderer's pixels are
-    ys, xs = np.mgrid[0 : cam.height * sub, 0 : cam.width * sub] + 0.5
-    d = cam.ray_direction(xs / sub, ys / sub)
-    p = np.asarray(cam.position) + (-cam.position[1] / d[..., 1])[..., None] * d
-    corners = np.array([[-0.5, 1, 0.3], [0.5, 1, 0.3], [0.5, 1, -0.3], [-0.5, 1, -0.3]])
-    box = lambda a: a.reshape(cam.height, sub, cam.width, sub).mean(axis=(1, 3))  # noqa: E731
-    expected = box(2.0 * rectangle_irradiance(p, corners) / math.pi)  # albedo 1: radiance E / pi
-    under = box(((np.abs(p[..., 0]) < 0.6) & (np.abs(p[..., 2]) < 0.4)).astype(float)) > 0
+    expected, under = quad_light_floor(scene.camera, 6)
     seen = np.isfinite(r.depth) & (r.depth > 4.5)  # the floor (the light's dark back is 4 m away)
     floor = seen & ~under  # not under the light's outline, seen from the camera
     got = r.rgb[..., 0][floor]

@@ -20,7 +20,7 @@ from patina.native import _core
 from patina.render.images import read_exr_layers
 from patina.render.run import PreparedScene, render
 from patina.scene.reading import parse_scene
-from polygon_irradiance import rectangle_irradiance
+from quad_light import quad_light_floor, quad_light_scene
 from repo_paths import ROOT
 
 SEEDS = range(16)
@@ -104,24 +104,8 @@ def test_a_render_under_a_quad_light_converges_faster_to_the_form_factor():
     # (pixel position, point on the light) against its exact value (Lambert's polygon form
     # factor, box-filtered); Sobol's relative RMSE falls faster than n^-1/2 and is well below
     # independent numbers' at the same spp
-    scene = scene_of(
-        {
-            "version": 1,
-            "camera": {"position": [0, 5, 0.01], "look_at": [0, 0, 0], "fov": 50, "width": 24, "height": 24},
-            "render": {"spp": 16, "integrator": "direct", "seed": 1},
-            "materials": {"white": {"type": "lambert", "albedo": 1.0}},
-            "shapes": [{"type": "plane", "material": "white", "size": [8, 8]}],
-            "lights": [{"type": "quad", "center": [0, 1, 0], "u": [0.5, 0, 0], "v": [0, 0, 0.3], "radiance": 2.0}],
-        }
-    )
-    cam, sub = scene.camera, 8
-    ys, xs = np.mgrid[0 : cam.height * sub, 0 : cam.width * sub] + 0.5
-    d = cam.ray_direction(xs / sub, ys / sub)
-    p = np.asarray(cam.position) + (-cam.position[1] / d[..., 1])[..., None] * d
-    corners = np.array([[-0.5, 1, 0.3], [0.5, 1, 0.3], [0.5, 1, -0.3], [-0.5, 1, -0.3]])
-    box = lambda a: a.reshape(cam.height, sub, cam.width, sub).mean(axis=(1, 3))  # noqa: E731
-    expected = box(2.0 * rectangle_irradiance(p, corners) / np.pi)
-    under = box(((np.abs(p[..., 0]) < 0.6) & (np.abs(p[..., 2]) < 0.4)).astype(float)) > 0  # the light's outline
+    scene = scene_of(quad_light_scene(24, 16))
+    expected, under = quad_light_floor(scene.camera, 8)
     prepared = PreparedScene(scene)
     rmse = {}
     for sampler, spp in itertools.product(("sobol", "independent"), (16, 64)):
