@@ -26,6 +26,12 @@ float relative(float a, float b) {
     return s > 0 ? std::fabs(a - b) / s : 0.0f;
 }
 
+int zone_count(uint8_t zones) {
+    int n = 0;
+    for (; zones != 0; zones &= zones - 1) ++n;
+    return n;
+}
+
 }  // namespace
 
 float aa_contrast(const AaSignal& a, const AaSignal& b) {
@@ -41,9 +47,27 @@ float aa_contrast(const AaSignal& a, const AaSignal& b) {
     return std::isfinite(c) ? c : 1.0f;
 }
 
-AdaptiveSampler::AdaptiveSampler(Film& film, const RenderScene& scene, const RenderKernels& kernels, uint32_t seed,
-                                 float threshold, AaStats& stats)
-    : m_film(film), m_scene(scene), m_kernels(kernels), m_seed(seed), m_threshold(threshold), m_stats(stats) {}
+bool aa_sample_is_signal(const RenderScene& scene, const IntegratorSettings& integrator) {
+    if (integrator.max_depth != 1 || scene.camera.aperture_radius > 0 || scene.env.present) return false;
+    if (scene.lights.size() != 1) return false;
+    const LightKind k = scene.lights[0].kind;
+    if (k != LightKind::Point && k != LightKind::Spot && k != LightKind::Goniometric) return false;
+    for (const Material& m : scene.materials)
+        if (m.kind == MaterialKind::Emitter) return false;
+    return true;
+}
+
+AdaptiveSampler::AdaptiveSampler(Film& film, const RenderScene& scene, const RenderKernels& kernels,
+                                 const IntegratorSettings& integrator, uint32_t seed, float threshold, AaStats& stats,
+                                 const AaEdgeHints* hints)
+    : m_film(film),
+      m_scene(scene),
+      m_kernels(kernels),
+      m_seed(seed),
+      m_threshold(threshold),
+      m_stats(stats),
+      m_sample_is_signal(aa_sample_is_signal(scene, integrator)),
+      m_hints(hints != nullptr && !hints->empty() ? hints : nullptr) {}
 
 void AdaptiveSampler::begin(const TileRect& tile, int pass) {
     m_tile = tile;
@@ -135,22 +159,27 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
     return false;
 }
 
-void AdaptiveSampler::signals(const CameraSample* samples, size_t n, std::vector<AaSignal>& out) {
-    // the round's positions traced again by the direct-light integrator with one key shared
-    // by every position of the image: the same light sample and BRDF sample everywhere, so
-    // the radiance (highlights included) is a function of the position only
-    // (the integrator's own results are noisy: the decisions never look at them)
-    m_signal_cs.assign(samples, samples + n);
-    const uint32_t key = path_key(m_seed ^ kSignalSalt, 0, 0);
-    for (auto& c : m_signal_cs) {
-        c.key = key;
-        c.index = 0;
+void AdaptiveSampler::signals(const CameraSample* samples, const PathResult* results, size_t n,
+                              std::vector<AaSignal>& out) {
+    const PathResult* sig = results;
+    if (!m_sample_is_signal) {
+        // the round's positions traced again by the direct-light integrator with one key
+        // shared by every position of the image: the same light sample and BRDF sample
+        // everywhere, so the radiance (highlights included) is a function of the position
+        // only (the integrator's own results are noisy: the decisions never look at them)
+        m_signal_cs.assign(samples, samples + n);
+        const uint32_t key = path_key(m_seed ^ kSignalSalt, 0, 0);
+        for (auto& c : m_signal_cs) {
+            c.key = key;
+            c.index = 0;
+        }
+        m_signal_out.resize(n);
+        trace_signal(m_signal_cs.data(), n, m_signal_out.data());
+        sig = m_signal_out.data();
     }
-    m_signal_out.resize(n);
-    trace_signal(m_signal_cs.data(), n, m_signal_out.data());
     out.resize(n);
     for (size_t q = 0; q < n; ++q) {
-        const PathResult& r = m_signal_out[q];
+        const PathResult& r = sig[q];
         AaSignal& g = out[q];
         g.depth = r.depth;
         std::copy(r.normal, r.normal + 3, g.normal);
@@ -168,7 +197,7 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
     if (m_round == 1) {
         m_corners.resize(n);
         std::vector<AaSignal> sig;
-        signals(samples, n, sig);
+        signals(samples, results, n, sig);
         m_corner_signal.resize(n);
         for (size_t q = 0; q < n; ++q) {
             m_corners[m_corner_order[q]] = results[q];
@@ -182,15 +211,31 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
                            *d = &m_corner_signal[tl + row + 1];
             const bool horizontal = aa_contrast(*a, *b) > m_threshold || aa_contrast(*c, *d) > m_threshold;
             const bool vertical = aa_contrast(*a, *c) > m_threshold || aa_contrast(*b, *d) > m_threshold;
-            p.level = horizontal || vertical ? 2 : 1;
-            p.vertical = vertical && !horizontal;  // ambiguous: horizontal
+            uint8_t hint[2] = {0, 0};
+            if (m_hints != nullptr) {
+                // an edge behind what all four corners see is hidden (a surface covers the pixel)
+                const float nearest = m_hints->nearest[p.pixel];
+                const bool hidden = a->depth < 0.99f * nearest && b->depth < 0.99f * nearest &&
+                                    c->depth < 0.99f * nearest && d->depth < 0.99f * nearest;
+                if (!hidden) {
+                    hint[0] = m_hints->zones[0][p.pixel];
+                    hint[1] = m_hints->zones[1][p.pixel];
+                }
+            }
+            const bool geometric = hint[0] != 0 || hint[1] != 0;
+            p.level = horizontal || vertical || geometric ? 2 : 1;
+            if (horizontal || vertical)
+                p.vertical = vertical && !horizontal;  // ambiguous: horizontal
+            else  // an edge seen by the pre-pass alone: the gradient across it, the way it crosses fewer zones
+                p.vertical = zone_count(hint[1]) < zone_count(hint[0]);
+            p.hint = hint[p.vertical ? 1 : 0];
             if (p.level == 2) m_level2_pixels.push_back(static_cast<int>(i));
         }
         return;
     }
     if (m_round == 2) {
         m_level2.assign(results, results + n);
-        signals(samples, n, m_level2_signal);
+        signals(samples, results, n, m_level2_signal);
         for (size_t j = 0; j < m_level2_pixels.size(); ++j) {
             PixelState& p = m_pixels[m_level2_pixels[j]];
             p.first = static_cast<int>(aa::kLevel2 * j);
@@ -207,8 +252,8 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
                 }
                 zones |= aa::kZoneTable[f][mask];
             }
-            p.zones = zones;
-            if (zones) {
+            p.zones = zones | p.hint;
+            if (p.zones) {
                 p.level = 3;
                 m_level3_pixels.push_back(m_level2_pixels[j]);
             }

@@ -19,12 +19,17 @@
 // material's BRDF (highlights included). A flat region, however noisy its radiance, gives
 // equal signals and stays at level 1; the pattern is the same in every pass and for any
 // thread count or SIMD width.
+//
+// Where the integrator's own sample is already such a function of the position (direct
+// light from one delta light through a pinhole, nothing random left: aa_sample_is_signal),
+// the sample is the signal and nothing is traced twice.
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <vector>
 
+#include "render/aa_edge_hints.h"
 #include "render/adaptive_pattern.h"
 #include "render/film.h"
 #include "render/integrator.h"
@@ -49,6 +54,14 @@ struct AaSignal {
 // and 1 where one ray hits and the other does not. Refine where it exceeds the threshold.
 float aa_contrast(const AaSignal& a, const AaSignal& b);
 
+// Whether the integrator's sample at a position is the same for every random-number key,
+// so it can serve as the signal: direct light only (max_depth 1), a pinhole camera, one
+// light and that a delta light (point, spot, goniometric: no choice between lights, no
+// point on an area), no environment and no emitting surface for the BRDF-sampled ray to
+// find. Then the only random numbers left pick the BRDF-sampled direction, whose ray can
+// reach nothing that emits.
+bool aa_sample_is_signal(const RenderScene& scene, const IntegratorSettings& integrator);
+
 // Per-pixel outcome of the first pass (the pattern is the same in every pass).
 struct AaStats {
     std::vector<uint8_t> level;  // 1, 2 or 3 (0: not rendered yet)
@@ -57,8 +70,10 @@ struct AaStats {
 
 class AdaptiveSampler : public PixelSampler {
 public:
-    AdaptiveSampler(Film& film, const RenderScene& scene, const RenderKernels& kernels, uint32_t seed,
-                    float threshold, AaStats& stats);
+    // hints: the geometric pre-pass (aa_edge_hints.h), or nullptr for none
+    AdaptiveSampler(Film& film, const RenderScene& scene, const RenderKernels& kernels,
+                    const IntegratorSettings& integrator, uint32_t seed, float threshold, AaStats& stats,
+                    const AaEdgeHints* hints = nullptr);
     void begin(const TileRect& tile, int pass) override;
     bool next_batch(std::vector<CameraSample>& samples) override;
     void take_results(const CameraSample* samples, const PathResult* results, size_t n) override;
@@ -75,10 +90,12 @@ private:
         int tx, ty;             // position in the tile
         bool vertical = false;  // the pattern is rotated
         uint8_t zones = 0;      // level-3 zones
+        uint8_t hint = 0;       // the zones a visible feature edge crosses (the geometric pre-pass)
         int level = 1;
         int first = -1;         // index of its level-2 (then level-3) results in m_refined
     };
-    void signals(const CameraSample* samples, size_t n, std::vector<AaSignal>& out);
+    // the signals of a round's positions: its own results where they are the signal, else traced
+    void signals(const CameraSample* samples, const PathResult* results, size_t n, std::vector<AaSignal>& out);
     void place(const PixelState& p, int s, float& fx, float& fy) const;
     int corner_of(const PixelState& p, int canonical) const;  // index into m_corners
     void finish();
@@ -89,6 +106,8 @@ private:
     uint32_t m_seed;
     float m_threshold;
     AaStats& m_stats;
+    bool m_sample_is_signal;
+    const AaEdgeHints* m_hints;
     PathScratch m_signal_scratch;
 
     TileRect m_tile{};

@@ -97,11 +97,9 @@ struct RenderKernels {
     void (*trace_paths)(const RenderScene& scene, const IntegratorSettings& settings, const CameraSample* samples,
                         size_t n, PathResult* out, PathScratch& scratch);
     // lux[i] = direct illuminance (lux) on a sensor at points[i] facing unit normals[i], the
-    // mean of `samples` light samples (each shadowed), for sensors [begin, end). Each sensor
-    // draws its own samples; shared: all draw the same ones (the adaptive antialiasing's
-    // signal, render/adaptive_sampler.h: a function of the position only)
+    // mean of `samples` light samples (each shadowed, each sensor its own), for sensors [begin, end)
     void (*sensor_illuminance)(const RenderScene& scene, const float* points, const float* normals, size_t begin,
-                               size_t end, int samples, uint32_t seed, bool shared, float* lux, PathScratch& scratch);
+                               size_t end, int samples, uint32_t seed, float* lux, PathScratch& scratch);
     // lux[i] += the illuminance (lux) that light reflected by the scene adds on the sensor at
     // points[i] facing normals[i], for sensors [begin, end): the mean of `samples` sensor
     // rays over the cosine-weighted hemisphere, each continued as a path of at most

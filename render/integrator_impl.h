@@ -504,7 +504,7 @@ inline ShadingPoint sensor_point(const float* points, const float* normals, size
 // Direct illuminance on sensors (patina illuminance): the same light sampling and shadow
 // packets as the renderer's, with the sensor's cosine instead of a BRDF.
 void sensor_illuminance(const RenderScene& s, const float* points, const float* normals, size_t begin, size_t end,
-                        int samples, uint32_t seed, bool shared, float* lux, PathScratch& sc) {
+                        int samples, uint32_t seed, float* lux, PathScratch& sc) {
     enter_kernel();
     const size_t np = end - begin;
     std::fill(lux + begin, lux + end, 0.0f);
@@ -518,7 +518,7 @@ void sensor_illuminance(const RenderScene& s, const float* points, const float* 
     sc.sampler = SamplerKind::Independent;
     for (int k = 0; k < samples; ++k) {
         for (size_t q = 0; q < np; ++q) {
-            const uint32_t key = stream_key(seed, shared ? 0u : static_cast<uint32_t>(begin + q));
+            const uint32_t key = stream_key(seed, static_cast<uint32_t>(begin + q));
             sc.point_keys[q] = static_cast<int32_t>(key);
             sc.point_index[q] = k;
         }

@@ -48,6 +48,7 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     if (settings.aa == RenderSettings::Aa::Adaptive) {
         m_aa_stats.level.assign(static_cast<size_t>(c.width) * c.height, 0);
         m_aa_stats.rays.assign(static_cast<size_t>(c.width) * c.height, 0);
+        m_aa_hints = project_feature_edges(scene, settings.aa_threshold);
     }
 }
 
@@ -91,7 +92,8 @@ RenderProgress RenderJob::progress() const {
 void RenderJob::worker() {
     PathScratch scratch;
     UniformSampler uniform(m_film, m_settings.seed, m_settings.sampler, m_pass_begin, kMaxBatch);
-    AdaptiveSampler adaptive(m_film, m_scene, *m_kernels, m_settings.seed, m_settings.aa_threshold, m_aa_stats);
+    AdaptiveSampler adaptive(m_film, m_scene, *m_kernels, m_integrator, m_settings.seed, m_settings.aa_threshold,
+                             m_aa_stats, &m_aa_hints);
     PixelSampler& sampler = m_settings.aa == RenderSettings::Aa::Adaptive ? static_cast<PixelSampler&>(adaptive)
                                                                           : static_cast<PixelSampler&>(uniform);
     std::vector<CameraSample> cs;

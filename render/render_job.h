@@ -89,6 +89,7 @@ private:
     std::vector<std::atomic<int>> m_tile_passes;  // passes finished per tile
     Film m_film;
     AaStats m_aa_stats;
+    AaEdgeHints m_aa_hints;  // the adaptive sampler's geometric pre-pass, computed once
     std::atomic<size_t> m_next{0}, m_done{0}, m_rays{0}, m_samples_done{0};
     std::atomic<int> m_cancels{0};  // cancel() calls: 1 = after the first pass, 2 = now
     std::vector<std::thread> m_threads;

@@ -594,7 +594,7 @@ nb::object sensor_illuminance(nb::object scene_obj, Rows3 points, Rows3 normals,
         nb::gil_scoped_release release;
         patina::parallel_for(n, 256, threads, [&](size_t b, size_t e) {
             patina::PathScratch scratch;
-            k.sensor_illuminance(h.scene, points.data(), normals.data(), b, e, samples, stream_seed(seed), false, out,
+            k.sensor_illuminance(h.scene, points.data(), normals.data(), b, e, samples, stream_seed(seed), out,
                                   scratch);
             if (indirect_depth > 0) {
                 patina::IntegratorSettings settings;

@@ -24,16 +24,16 @@ TEST(AdaptivePattern, PositionsAreInsideThePixelAndDistinct) {
     }
 }
 
-TEST(AdaptivePattern, ZigzagPointsAreFourPercentApartAlongTheGradientInsideTheirZone) {
+TEST(AdaptivePattern, ZigzagPointsAreFourPercentApartAlongTheGradientAcrossTheirZone) {
     for (int z = 0; z < aa::kZones; ++z)
         for (int i = 0; i < aa::kZigzag; ++i) {
             const aa::Point2 p = aa::zigzag_point(z, i);
-            EXPECT_GT(p.u, z * aa::kZoneWidth);
-            EXPECT_LT(p.u, (z + 1) * aa::kZoneWidth);
+            // with the zone's boundaries, five equal steps of 4 % across the strip
+            EXPECT_NEAR(p.u, z * aa::kZoneWidth + 0.04 * (i + 1), 1e-12);
             if (i > 0) {
                 const aa::Point2 q = aa::zigzag_point(z, i - 1);
-                EXPECT_NEAR(std::fabs(p.u - q.u), 0.04, 1e-12);  // a zigzag: alternating in u
-                EXPECT_GT(p.v, q.v);                             // down the strip
+                EXPECT_NEAR(p.u - q.u, 0.04, 1e-12);  // along the gradient
+                EXPECT_NEAR(std::fabs(p.v - q.v), 0.5, 1e-12);  // a zigzag: alternating halves
             }
         }
 }
@@ -87,7 +87,7 @@ TEST(AdaptivePattern, ComparisonsPairALevelTwoPointWithItsNeighbourOrACornerOnIt
         }
 }
 
-TEST(AdaptivePattern, WeightsAreVoronoiAreasSummingToOnePerPattern) {
+TEST(AdaptivePattern, WeightsAreVoronoiAreasWithinTheStripsSummingToOnePerPattern) {
     for (int z = 0; z < aa::kPatterns; ++z) {
         double sum = 0;
         for (int s = 0; s < aa::kMaxSamples; ++s) {
@@ -98,17 +98,19 @@ TEST(AdaptivePattern, WeightsAreVoronoiAreasSummingToOnePerPattern) {
         }
         EXPECT_NEAR(sum, 1.0, 1e-6) << z;
     }
-    // against a brute-force nearest-sample count on a fine grid, for a few patterns
+    // against a brute-force count on a fine grid, for a few patterns: each point of the
+    // pixel goes to the nearest sample among those of its strip
     for (const int z : {0, 1, 4, 21, 31}) {
         constexpr int n = 400;
         double count[aa::kMaxSamples] = {};
         for (int i = 0; i < n; ++i)
             for (int j = 0; j < n; ++j) {
                 const double u = (i + 0.5) / n, v = (j + 0.5) / n;
+                const int strip = static_cast<int>(u / aa::kZoneWidth);
                 int best = -1;
                 double bd = 1e9;
                 for (int s = 0; s < aa::kMaxSamples; ++s) {
-                    if (!aa::in_pattern(s, z)) continue;
+                    if (!aa::in_pattern(s, z) || !aa::in_strip(s, strip)) continue;
                     const aa::Point2 p = aa::sample_point(s);
                     const double d = (p.u - u) * (p.u - u) + (p.v - v) * (p.v - v);
                     if (d < bd) bd = d, best = s;
@@ -185,8 +187,10 @@ void fill(const patina::CameraSample* cs, size_t n, patina::PathResult* out, con
 // The sampler with a known signal instead of a traced one: `signal_rgb` at each position
 class KnownSignal final : public patina::AdaptiveSampler {
 public:
-    KnownSignal(patina::Film& film, const patina::RenderScene& scene, patina::AaStats& stats, HitFn hit, RgbFn signal_rgb)
-        : AdaptiveSampler(film, scene, patina::render_kernels_w1(), 7, patina::kDefaultAaThreshold, stats),
+    KnownSignal(patina::Film& film, const patina::RenderScene& scene, patina::AaStats& stats, HitFn hit, RgbFn signal_rgb,
+                const patina::AaEdgeHints* hints)
+        : AdaptiveSampler(film, scene, patina::render_kernels_w1(), patina::IntegratorSettings{}, 7,
+                          patina::kDefaultAaThreshold, stats, hints),
           m_hit(std::move(hit)),
           m_rgb(std::move(signal_rgb)) {}
 
@@ -201,12 +205,13 @@ private:
 };
 
 // the integrator's radiance is rgb; the signal's is signal_rgb (default: the same)
-void run_tile(TileRun& r, const HitFn& hit, const RgbFn& rgb, RgbFn signal_rgb = nullptr) {
+void run_tile(TileRun& r, const HitFn& hit, const RgbFn& rgb, RgbFn signal_rgb = nullptr,
+              const patina::AaEdgeHints* hints = nullptr) {
     patina::RenderScene scene;
     scene.camera.width = scene.camera.height = 8;
     r.stats.level.assign(64, 0);
     r.stats.rays.assign(64, 0);
-    KnownSignal s(r.film, scene, r.stats, hit, signal_rgb ? signal_rgb : rgb);
+    KnownSignal s(r.film, scene, r.stats, hit, signal_rgb ? signal_rgb : rgb, hints);
     s.begin(patina::TileRect{1, 1, 7, 6}, 0);
     std::vector<patina::CameraSample> cs;
     while (s.next_batch(cs)) {
@@ -286,4 +291,40 @@ TEST(AdaptiveSampler, AHorizontalEdgeIsFoundInItsRowThroughTheRotatedPattern) {
         EXPECT_GE(c.fy, 1.0f);
         EXPECT_LE(c.fy, 6.0f);
     }
+}
+
+// A line thinner than the gaps between the corners and E..H (x in [3.45, 3.55]: between F
+// and G of column 3) is invisible to the rays of levels 1 and 2; the geometric pre-pass's
+// edges send its pixels to level 3, where the zigzag of zone 2 finds it
+TEST(AdaptiveSampler, AThinLineBetweenTheRaysIsFoundThroughTheGeometricPrePass) {
+    const auto on = [](float x, float) { return x >= 3.45f && x <= 3.55f ? 1.0f : 0.0f; };
+    const auto hit = [](float, float) { return true; };
+    patina::AaEdgeHints hints;
+    hints.width = hints.height = 8;
+    for (auto& z : hints.zones) z.assign(64, 0);
+    hints.nearest.assign(64, INFINITY);
+    for (const float x : {3.45f, 3.55f}) patina::rasterise_edge(hints, x, 0.0f, x, 8.0f, 2.0f, 2.0f, 0.5f, 0.5f);
+    TileRun blind, seen;
+    run_tile(blind, hit, on);
+    run_tile(seen, hit, on, nullptr, &hints);
+    const std::vector<float> a = image(blind), b = image(seen);
+    for (int y = 1; y < 6; ++y) {
+        const int i = y * 8 + 3;
+        EXPECT_EQ(blind.stats.level[i], 1);
+        EXPECT_EQ(a[i], 0.0f);
+        EXPECT_EQ(seen.stats.level[i], 3);
+        EXPECT_EQ(seen.stats.rays[i], 9);  // one zigzag: both sides of the line are in zone 2
+        // the line's share is the weights of the zigzag's rays on it (u = 0.48 and 0.52)
+        const auto& w = aa::kWeights[1 << 2];
+        const int first = aa::kCorners + aa::kLevel2 + 2 * aa::kZigzag;
+        EXPECT_NEAR(b[i], w[first + 1] + w[first + 2], 1e-6);
+        EXPECT_NEAR(b[i], 0.1f, 0.1f);  // coverage 0.1, to the zigzag's resolution
+        EXPECT_EQ(seen.stats.level[i + 1], 1);  // its neighbours stay at level 1
+    }
+    // an edge behind what all four corners see (depth 3 here) is hidden: no refinement
+    for (auto& d : hints.nearest)
+        if (std::isfinite(d)) d = 10.0f;
+    TileRun hidden;
+    run_tile(hidden, hit, on, nullptr, &hints);
+    for (int y = 1; y < 6; ++y) EXPECT_EQ(hidden.stats.level[y * 8 + 3], 1);
 }

@@ -1,0 +1,106 @@
+// The adaptive antialiasing's geometric pre-pass (render/aa_edge_hints.h): a segment marks
+// the pixels it crosses with the zones it crosses in each orientation, and of a mesh only
+// the feature edges are projected.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "render/aa_edge_hints.h"
+#include "render/accel/kdtree.h"
+
+namespace {
+
+patina::AaEdgeHints empty_hints(int w, int h) {
+    patina::AaEdgeHints hints;
+    hints.width = w;
+    hints.height = h;
+    hints.zones[0].assign(static_cast<size_t>(w) * h, 0);
+    hints.zones[1].assign(static_cast<size_t>(w) * h, 0);
+    hints.nearest.assign(static_cast<size_t>(w) * h, INFINITY);
+    return hints;
+}
+
+}  // namespace
+
+TEST(AaEdgeHints, AVerticalSegmentMarksItsColumnWithTheZoneItCrosses) {
+    patina::AaEdgeHints h = empty_hints(8, 8);
+    patina::rasterise_edge(h, 3.3f, 1.0f, 3.3f, 5.0f, 2.0f, 2.0f, 0.5f, 0.5f);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) {
+            const size_t i = static_cast<size_t>(y) * 8 + x;
+            const bool on = x == 3 && y >= 1 && y < 5;
+            EXPECT_EQ(h.zones[0][i], on ? 1u << 1 : 0u) << x << " " << y;  // u = 0.3: zone 1
+            EXPECT_EQ(h.zones[1][i], on ? 0x1Fu : 0u) << x << " " << y;    // turned: across every zone
+            EXPECT_EQ(std::isfinite(h.nearest[i]), on);
+            if (on) {
+                EXPECT_GE(h.nearest[i], 2.0f);  // at least its depth along the view axis
+            }
+        }
+}
+
+TEST(AaEdgeHints, AnObliqueSegmentMarksTheZonesOfItsPartInEachPixel) {
+    patina::AaEdgeHints h = empty_hints(4, 4);
+    // from (1.1, 1.0) to (1.5, 2.0): inside pixel (1, 1), u from 0.1 to 0.5
+    patina::rasterise_edge(h, 1.1f, 1.0f, 1.5f, 2.0f, 1.0f, 1.0f, 0.5f, 0.5f);
+    EXPECT_EQ(h.zones[0][1 * 4 + 1], 0x07u);  // zones 0, 1, 2
+    EXPECT_EQ(h.zones[1][1 * 4 + 1], 0x1Fu);
+    int marked = 0;
+    for (const uint8_t z : h.zones[0]) marked += z != 0;
+    EXPECT_EQ(marked, 1);
+}
+
+TEST(AaEdgeHints, ASegmentOutsideTheImageMarksNothing) {
+    patina::AaEdgeHints h = empty_hints(4, 4);
+    patina::rasterise_edge(h, -3.0f, -1.0f, 9.0f, -0.5f, 1.0f, 1.0f, 0.5f, 0.5f);
+    for (const uint8_t z : h.zones[0]) EXPECT_EQ(z, 0u);
+}
+
+TEST(AaEdgeHints, OfAMeshOnlyTheFeatureEdgesAreProjected) {
+    // a square of two triangles facing a camera 2 m away, its boundary inside the image:
+    // its four sides are boundary edges, the shared diagonal (same material, flat) is not
+    const std::vector<float> v = {-0.5f, -0.5f, 0, 0.5f, -0.5f, 0, 0.5f, 0.5f, 0, -0.5f, 0.5f, 0};
+    const std::vector<int32_t> idx = {0, 1, 2, 0, 2, 3};
+    const std::vector<int32_t> mat = {0, 0};
+    const std::vector<float> n = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+    patina::KdTree tree;
+    const auto set_triangles = [&](const std::vector<float>& pos, const std::vector<int32_t>& tris) {
+        tree.triangles.clear();  // the positions the tree holds, corner by corner
+        for (const int32_t k : tris) tree.triangles.insert(tree.triangles.end(), &pos[3 * k], &pos[3 * k] + 3);
+    };
+    set_triangles(v, idx);
+    tree.normals = {0, 0, 1, 0, 0, 1};
+    patina::RenderScene s;
+    s.tree = &tree;
+    s.indices = idx.data();
+    s.normals = n.data();
+    s.tri_material = mat.data();
+    s.triangle_count = 2;
+    s.camera.position[2] = 2;  // looking down -z, 32 x 32, the square 0.5 / (2 tan) = half the half height
+    s.camera.tan_half_fov = 0.5f;
+    s.camera.width = s.camera.height = 32;
+    const patina::AaEdgeHints h = patina::project_feature_edges(s, 0.1f);
+    // the square spans film 8 .. 24 on both axes: its sides on x = 8, x = 24, y = 8, y = 24
+    const auto marked = [&](int x, int y) {
+        const size_t i = static_cast<size_t>(y) * 32 + x;
+        return h.zones[0][i] != 0 || h.zones[1][i] != 0;
+    };
+    EXPECT_TRUE(marked(8, 16) || marked(7, 16));
+    EXPECT_TRUE(marked(16, 8) || marked(16, 7));
+    EXPECT_TRUE(marked(23, 16) || marked(24, 16));
+    EXPECT_FALSE(marked(16, 15));  // on the diagonal (film x + y = 32): no feature
+    EXPECT_FALSE(marked(12, 12));
+    EXPECT_FALSE(marked(2, 2));    // outside the square
+    EXPECT_NEAR(h.nearest[16 * 32 + 8] < INFINITY ? h.nearest[16 * 32 + 8] : h.nearest[16 * 32 + 7], 2.06f, 0.05f);
+    // a crease: the same square folded along its diagonal (split normals) marks the diagonal
+    const std::vector<float> v2 = {-0.5f, -0.5f, 0, 0.5f, -0.5f, 0, 0.5f, 0.5f, 0,
+                                   -0.5f, -0.5f, 0, 0.5f, 0.5f, 0,  -0.5f, 0.5f, 0};
+    const std::vector<int32_t> idx2 = {0, 1, 2, 3, 4, 5};
+    const std::vector<float> n2 = {0.6f, 0, 0.8f, 0.6f, 0, 0.8f, 0.6f, 0, 0.8f, -0.6f, 0, 0.8f, -0.6f, 0, 0.8f, -0.6f, 0, 0.8f};
+    set_triangles(v2, idx2);
+    s.indices = idx2.data();
+    s.normals = n2.data();
+    const patina::AaEdgeHints folded = patina::project_feature_edges(s, 0.1f);
+    EXPECT_NE(folded.zones[0][15 * 32 + 16], 0u);
+    EXPECT_EQ(folded.zones[0][20 * 32 + 12], 0u);  // away from the diagonal and the sides
+}
