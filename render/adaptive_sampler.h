@@ -5,10 +5,13 @@
 //   1. the tile's (w + 1) x (h + 1) pixel corners, each traced once and shared by the
 //      pixels around it; each pixel is classified: no discontinuity (the mean of its
 //      corners, done), horizontal (high contrast A-B or C-D; also when ambiguous) or
-//      vertical (the pattern rotated 90 degrees counter-clockwise);
+//      vertical (the pattern rotated 90 degrees counter-clockwise); a pixel that a visible
+//      feature edge of the geometric pre-pass crosses (aa_edge_hints.h) is refined even
+//      when its corners agree;
 //   2. E, F, G, H of every discontinuous pixel (one packet of four), then the three fours
 //      of comparisons give a 4-bit mask each, and the zone table the zones to refine;
-//   3. one zigzag of four through each flagged zone (at most five a pixel).
+//   3. one zigzag of four through each flagged zone (at most five a pixel), the zones the
+//      pre-pass's edges cross included.
 // Every position's integrator sample is added with its precomputed weight.
 //
 // The decisions are not taken on the integrator's noisy radiance but on a signal that is a

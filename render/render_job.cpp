@@ -48,7 +48,6 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     if (settings.aa == RenderSettings::Aa::Adaptive) {
         m_aa_stats.level.assign(static_cast<size_t>(c.width) * c.height, 0);
         m_aa_stats.rays.assign(static_cast<size_t>(c.width) * c.height, 0);
-        m_aa_hints = project_feature_edges(scene, settings.aa_threshold);
     }
 }
 
@@ -62,6 +61,9 @@ void RenderJob::start() {
     if (m_started) throw std::logic_error("a render job starts once");
     m_started = true;
     m_start = std::chrono::steady_clock::now();
+    // the adaptive sampler's geometric pre-pass: part of the render's time
+    if (m_settings.aa == RenderSettings::Aa::Adaptive)
+        m_aa_hints = project_feature_edges(m_scene, m_settings.aa_threshold);
     const int threads = m_settings.threads > 0 ? m_settings.threads : default_thread_count();
     for (int i = 0; i < threads; ++i) m_threads.emplace_back([this] { worker(); });
 }

@@ -6,7 +6,8 @@ drawings cannot drift from the code.
 
 Writes aa-levels.png (the three levels and the zones), aa-comparisons.png (the three fours
 of comparisons), aa-rotation.png (a vertical discontinuity: the pattern turned 90 degrees
-counter-clockwise) and aa-weights.png (the Voronoi cells that are the weights).
+counter-clockwise) and aa-weights.png (the Voronoi cells within each strip that are the
+weights).
 """
 
 from __future__ import annotations
@@ -126,10 +127,16 @@ def draw(out: str) -> None:
     n = 240
     uu, vv = np.meshgrid((np.arange(n) + 0.5) / n, (np.arange(n) + 0.5) / n)
     for ax, zones in zip(axes, (0, 0b00110, 0b11111)):
-        members = [s for s in range(28) if weights[zones, s] > 0]
+        members = np.asarray([s for s in range(28) if weights[zones, s] > 0])
         d = (uu[..., None] - pos[members, 0]) ** 2 + (vv[..., None] - pos[members, 1]) ** 2
-        cell = np.asarray(members)[np.argmin(d, axis=-1)]
-        ax.imshow(weights[zones][cell], extent=(0, 1, 1, 0), cmap="viridis", vmin=0, vmax=0.17)
+        # each point of the pixel goes to the nearest sample among those on its strip or its sides
+        strip = np.minimum((uu / 0.2).astype(int), ZONES - 1)[..., None]
+        u = pos[members, 0]
+        d[(u < 0.2 * strip - 1e-9) | (u > 0.2 * (strip + 1) + 1e-9)] = np.inf
+        cell = members[np.argmin(d, axis=-1)]
+        ax.imshow(weights[zones][cell], extent=(0, 1, 1, 0), cmap="viridis", vmin=0, vmax=0.2)
+        for z in range(1, ZONES):  # the strips' boundaries: no cell crosses one
+            ax.plot([z / ZONES] * 2, [0, 1], color="white", lw=0.6)
         shown = [z for z in range(ZONES) if zones >> z & 1]
         _frame(ax, "refined zones: " + (", ".join(f"z{z}" for z in shown) or "none (level 2 only)"))
         _points(ax, pos, members, labels=False)
