@@ -21,7 +21,9 @@ V3 load(const float* p) { return {p[0], p[1], p[2]}; }
 // The zones of canonical coordinates u in [ua, ub] (either order), as flags.
 uint8_t zones_between(double ua, double ub) {
     if (ua > ub) std::swap(ua, ub);
-    const auto zone = [](double u) { return std::clamp(static_cast<int>(std::floor(u / aa::kZoneWidth)), 0, aa::kZones - 1); };
+    const auto zone = [](double u) {
+        return std::clamp(static_cast<int>(std::floor(u / aa::kZoneWidth)), 0, aa::kZones - 1);
+    };
     uint8_t z = 0;
     for (int j = zone(ua); j <= zone(ub); ++j) z |= 1u << j;
     return z;
@@ -193,8 +195,8 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold) {
         }
         const auto fx = [&](double x, double z) { return static_cast<float>((x / z / tan_x + 1) * 0.5 * c.width); };
         const auto fy = [&](double y, double z) { return static_cast<float>((1 - y / z / tan_y) * 0.5 * c.height); };
-        rasterise_edge(h, fx(xa, za), fy(ya, za), fx(xb, zb), fy(yb, zb), static_cast<float>(za), static_cast<float>(zb),
-                       static_cast<float>(tan_x), static_cast<float>(tan_y));
+        rasterise_edge(h, fx(xa, za), fy(ya, za), fx(xb, zb), fy(yb, zb), static_cast<float>(za),
+                       static_cast<float>(zb), static_cast<float>(tan_x), static_cast<float>(tan_y));
     }
     return h;
 }

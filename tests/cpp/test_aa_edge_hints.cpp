@@ -96,7 +96,8 @@ TEST(AaEdgeHints, OfAMeshOnlyTheFeatureEdgesAreProjected) {
     const std::vector<float> v2 = {-0.5f, -0.5f, 0, 0.5f, -0.5f, 0, 0.5f, 0.5f, 0,
                                    -0.5f, -0.5f, 0, 0.5f, 0.5f, 0,  -0.5f, 0.5f, 0};
     const std::vector<int32_t> idx2 = {0, 1, 2, 3, 4, 5};
-    const std::vector<float> n2 = {0.6f, 0, 0.8f, 0.6f, 0, 0.8f, 0.6f, 0, 0.8f, -0.6f, 0, 0.8f, -0.6f, 0, 0.8f, -0.6f, 0, 0.8f};
+    const std::vector<float> n2 = {0.6f,  0, 0.8f, 0.6f,  0, 0.8f, 0.6f,  0, 0.8f,
+                                   -0.6f, 0, 0.8f, -0.6f, 0, 0.8f, -0.6f, 0, 0.8f};
     set_triangles(v2, idx2);
     s.indices = idx2.data();
     s.normals = n2.data();

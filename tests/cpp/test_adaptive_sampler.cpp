@@ -187,8 +187,8 @@ void fill(const patina::CameraSample* cs, size_t n, patina::PathResult* out, con
 // The sampler with a known signal instead of a traced one: `signal_rgb` at each position
 class KnownSignal final : public patina::AdaptiveSampler {
 public:
-    KnownSignal(patina::Film& film, const patina::RenderScene& scene, patina::AaStats& stats, HitFn hit, RgbFn signal_rgb,
-                const patina::AaEdgeHints* hints)
+    KnownSignal(patina::Film& film, const patina::RenderScene& scene, patina::AaStats& stats, HitFn hit,
+                RgbFn signal_rgb, const patina::AaEdgeHints* hints)
         : AdaptiveSampler(film, scene, patina::render_kernels_w1(), patina::IntegratorSettings{}, 7,
                           patina::kDefaultAaThreshold, stats, hints),
           m_hit(std::move(hit)),
