@@ -92,7 +92,8 @@ def bench_aa(repeat: int, quick: bool) -> list[Record]:
         prep = PreparedScene(scene)
         scene25 = with_overrides(scene, spp=25)
         runs = [functools.partial(render, scene, aa="adaptive", prepared=prep)]
-        runs.append(functools.partial(render, scene25, aa="uniform", prepared=prep))
+        # random: independent numbers (the uniform sampler's default is Sobol, stratified)
+        runs.append(functools.partial(render, scene25, aa="uniform", prepared=prep, sampler="independent"))
         adaptive, random25 = (f() for f in runs)  # also the warm-up
         # the renders' own time (RenderResult.seconds: from the start of the job, the adaptive
         # sampler's geometric pre-pass included, to its last tile), not the call's: the call
