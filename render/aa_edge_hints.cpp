@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <unordered_map>
 
 #include "render/adaptive_pattern.h"
 
@@ -117,58 +116,101 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold) {
     h.zones[0].assign(pixels, 0);
     h.zones[1].assign(pixels, 0);
     h.nearest.assign(pixels, std::numeric_limits<float>::infinity());
-    if (s.tree == nullptr || s.triangle_count == 0 || s.tree->triangle_count() != s.triangle_count) return h;
+    if (s.tree == nullptr || s.indices == nullptr || s.triangle_count == 0 ||
+        s.tree->triangle_count() != s.triangle_count)
+        return h;
     const size_t nt = s.triangle_count;
     const float* tri = s.tree->triangles.data();  // corner e of triangle t at tri + 9 t + 3 e
-    // triangle corners merged by position: a mesh's seams (split normals or uvs) and shapes
-    // that meet exactly share their edges
-    struct Key {
+    // the vertices merged by position (sorted by their coordinates' bits, so the merge is the
+    // same in every run): a mesh's seams (split normals or uvs) and shapes that meet exactly
+    // share their edges. Vertices, not corners: a mesh shares its vertices, so there are a
+    // sixth as many to sort.
+    int32_t nv = 0;
+    for (size_t k = 0; k < 3 * nt; ++k) nv = std::max(nv, s.indices[k] + 1);
+    struct Vertex {
         uint32_t b[3];
-        bool operator==(const Key& o) const { return b[0] == o.b[0] && b[1] == o.b[1] && b[2] == o.b[2]; }
+        int32_t v;
     };
-    struct KeyHash {
-        size_t operator()(const Key& k) const {
-            return (k.b[0] * 73856093u) ^ (k.b[1] * 19349663u) ^ (k.b[2] * 83492791u);
-        }
-    };
-    std::unordered_map<Key, int32_t, KeyHash> by_position;
-    std::vector<int32_t> merged(3 * nt);
+    std::vector<Vertex> verts(static_cast<size_t>(nv), Vertex{{0, 0, 0}, -1});
     for (size_t k = 0; k < 3 * nt; ++k) {
-        Key key;
+        Vertex& x = verts[s.indices[k]];
+        if (x.v >= 0) continue;
+        x.v = s.indices[k];
         for (int a = 0; a < 3; ++a) {
             float f = tri[3 * k + a];
             if (f == 0) f = 0;  // -0 and +0 alike
-            std::memcpy(&key.b[a], &f, 4);
+            std::memcpy(&x.b[a], &f, 4);
         }
-        merged[k] = by_position.emplace(key, static_cast<int32_t>(by_position.size())).first->second;
     }
-    std::unordered_map<uint64_t, EdgeUse> edges;
-    edges.reserve(3 * nt);
+    std::sort(verts.begin(), verts.end(), [](const Vertex& x, const Vertex& y) {
+        if (x.b[0] != y.b[0]) return x.b[0] < y.b[0];
+        if (x.b[1] != y.b[1]) return x.b[1] < y.b[1];
+        if (x.b[2] != y.b[2]) return x.b[2] < y.b[2];
+        return x.v < y.v;
+    });
+    std::vector<int32_t> place(static_cast<size_t>(nv), -1);  // vertex -> its merged place
+    int32_t places = 0;
+    for (size_t i = 0; i < verts.size(); ++i) {
+        if (verts[i].v < 0) continue;  // an index no triangle uses
+        const bool same = i > 0 && verts[i - 1].v >= 0 && verts[i - 1].b[0] == verts[i].b[0] &&
+                          verts[i - 1].b[1] == verts[i].b[1] && verts[i - 1].b[2] == verts[i].b[2];
+        if (!same) ++places;
+        place[verts[i].v] = places - 1;
+    }
+    const auto merged = [&](int32_t corner) { return place[s.indices[corner]]; };
+    // every triangle's edges bucketed by their lower end (counting sort), then each small
+    // bucket sorted by the other end: the uses of one edge side by side
+    struct EdgeRef {
+        int32_t other, t, ca, cb;
+    };
+    std::vector<int32_t> start(static_cast<size_t>(places) + 1, 0);
+    for (size_t t = 0; t < nt; ++t)
+        for (int e = 0; e < 3; ++e) {
+            const int32_t pa = merged(static_cast<int32_t>(3 * t + e));
+            const int32_t pb = merged(static_cast<int32_t>(3 * t + (e + 1) % 3));
+            if (pa != pb) ++start[std::min(pa, pb) + 1];
+        }
+    for (int32_t p = 0; p < places; ++p) start[p + 1] += start[p];
+    std::vector<EdgeRef> refs(static_cast<size_t>(start[places]));
+    std::vector<int32_t> fill(start.begin(), start.end() - 1);
     for (size_t t = 0; t < nt; ++t)
         for (int e = 0; e < 3; ++e) {
             int32_t ca = static_cast<int32_t>(3 * t + e), cb = static_cast<int32_t>(3 * t + (e + 1) % 3);
-            if (merged[ca] == merged[cb]) continue;  // a degenerate edge
-            if (merged[ca] > merged[cb]) std::swap(ca, cb);
-            EdgeUse& u = edges[static_cast<uint64_t>(merged[ca]) << 32 | static_cast<uint32_t>(merged[cb])];
-            if (u.count < 2) {
-                u.tri[u.count] = static_cast<int32_t>(t);
-                u.ends[u.count][0] = ca;
-                u.ends[u.count][1] = cb;
-            }
-            ++u.count;
+            if (merged(ca) == merged(cb)) continue;  // a degenerate edge
+            if (merged(ca) > merged(cb)) std::swap(ca, cb);
+            refs[fill[merged(ca)]++] = {merged(cb), static_cast<int32_t>(t), ca, cb};
         }
+    std::vector<EdgeUse> edges;
+    for (int32_t p = 0; p < places; ++p) {
+        const auto b0 = refs.begin() + start[p], b1 = refs.begin() + start[p + 1];
+        std::sort(b0, b1, [](const EdgeRef& x, const EdgeRef& y) {
+            return x.other != y.other ? x.other < y.other : x.t < y.t;
+        });
+        for (auto i = b0; i != b1;) {
+            auto j = i;
+            EdgeUse u;
+            for (; j != b1 && j->other == i->other; ++j, ++u.count)
+                if (u.count < 2) {
+                    u.tri[u.count] = j->t;
+                    u.ends[u.count][0] = j->ca;
+                    u.ends[u.count][1] = j->cb;
+                }
+            edges.push_back(u);
+            i = j;
+        }
+    }
     const V3 eye = load(c.position), fwd = load(c.forward), right = load(c.right), up = load(c.up);
     const double tan_y = c.tan_half_fov, tan_x = tan_y * c.width / c.height;
     const double z_near = 1e-5 * std::max(s.scene_radius, 1e-6f);
     const float* ng = s.tree->normals.data();
     const auto front = [&](int32_t t, V3 p) { return dot(load(ng + 3 * static_cast<size_t>(t)), sub(eye, p)) > 0; };
     const auto crease = [&](int32_t a, int32_t b) {  // two triangle corners at one place
-        if (s.normals == nullptr || s.indices == nullptr) return false;
+        if (s.normals == nullptr) return false;
         const double d = dot(load(s.normals + 3 * static_cast<size_t>(s.indices[a])),
                              load(s.normals + 3 * static_cast<size_t>(s.indices[b])));
         return 0.5 * (1 - d) > threshold;
     };
-    for (const auto& [key, u] : edges) {
+    for (const EdgeUse& u : edges) {
         const V3 pa = load(tri + 3 * static_cast<size_t>(u.ends[0][0]));
         const V3 pb = load(tri + 3 * static_cast<size_t>(u.ends[0][1]));
         bool feature = u.count != 2;
