@@ -15,6 +15,7 @@
 #include "core/vec3.h"
 #include "render/grid2.h"
 #include "render/scene.h"
+#include "render/stage_timer.h"
 
 namespace patina {
 
@@ -90,6 +91,7 @@ struct PathScratch {
     std::vector<CameraSample> sensor_samples;
     std::vector<PathResult> sensor_results;
     size_t rays_traced = 0;  // primary, secondary and shadow rays since construction
+    StageTimer timer;        // time per integrator stage since construction (stage_timer.h)
 };
 
 struct RenderKernels {

@@ -143,7 +143,7 @@ inline void start_camera_paths(const Wavefront& w, size_t n) {
 }
 
 // 1. The active paths' rays, N per packet; hit j belongs to path sc.active[j].
-inline HitBatch trace_bounce(const Wavefront& w) {
+inline HitBatch trace_bounce(const Wavefront& w, int depth) {
     PathScratch& sc = w.sc;
     const size_t m = sc.active.size();
     float* ro = grow(sc.ray_org, 3 * m);
@@ -154,8 +154,11 @@ inline HitBatch trace_bounce(const Wavefront& w) {
         std::copy(sc.dir.data() + 3 * i, sc.dir.data() + 3 * i + 3, rd + 3 * j);
     }
     HitBatch hits{grow(sc.hit_t, m), grow(sc.hit_prim, m), grow(sc.hit_u, m), grow(sc.hit_v, m)};
+    sc.timer.lap(Stage::RayGather);
     trace_kernels().intersect(*w.s.tree, RayBatch{ro, rd, 0.0f, nullptr, kInfinity}, hits, 0, m);
     sc.rays_traced += m;
+    (depth == 0 ? sc.timer.times.camera_rays : sc.timer.times.secondary_rays) += m;
+    sc.timer.lap(depth == 0 ? Stage::TraceCamera : Stage::TraceSecondary);
     return hits;
 }
 
@@ -324,10 +327,12 @@ inline void queue_light_samples(const Wavefront& w, int depth) {
         const bool transmissive = w.s.materials[sp.material].kind == MaterialKind::Dielectric;
         sc.ls_ok[q] = sc.ls_ok[q] && (transmissive ? side * l.z > 0 : side > 0);
     }
+    sc.timer.lap(Stage::LightToLocal);
     for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
         material_eval(m, ll + 3 * a, vl + 3 * a, eta + a, fv + 3 * a, count);
         material_pdf(m, ll + 3 * a, vl + 3 * a, eta + a, pdf + a, count);
     });
+    sc.timer.lap(Stage::ShadeLight);
     for (size_t q = 0; q < np; ++q) {
         if (!sc.ls_ok[q]) continue;
         const ShadingPoint& sp = sc.sorted[q];
@@ -343,6 +348,7 @@ inline void queue_light_samples(const Wavefront& w, int depth) {
         if (c[0] <= 0 && c[1] <= 0 && c[2] <= 0 && lux <= 0) continue;
         queue_shadow_ray(sc, sp.path, sp.p, sp.ng, side, ls, c, lux);
     }
+    sc.timer.lap(Stage::ShadowQueue);
 }
 
 // 6. BRDF sampling: each point's next direction (N points of a material at a time); the
@@ -362,10 +368,12 @@ inline void sample_bsdf(const Wavefront& w, int depth) {
     fill_uniforms(sc, np, depth, kDimBsdfPick, upick);
     fill_uniforms(sc, np, depth, kDimBsdfU, u1);
     fill_uniforms(sc, np, depth, kDimBsdfV, u2);
+    sc.timer.lap(Stage::BsdfUniforms);
     for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
         material_sample(m, vl + 3 * a, eta + a, upick + a, u1 + a, u2 + a, ll + 3 * a, pdf + a, count);
         material_eval(m, ll + 3 * a, vl + 3 * a, eta + a, fv + 3 * a, count);
     });
+    sc.timer.lap(Stage::ShadeSample);
     sc.next_active.clear();
     for (size_t q = 0; q < np; ++q) {
         const ShadingPoint& sp = sc.sorted[q];
@@ -389,18 +397,22 @@ inline void sample_bsdf(const Wavefront& w, int depth) {
         store_vec3(sp.p, sc.prev_pos.data() + 3 * i);
         sc.next_active.push_back(i);
     }
+    sc.timer.lap(Stage::PathUpdate);
 }
 
 // 7. The queued shadow rays, N per packet; the unblocked ones add their light.
 inline void resolve_shadow_rays(const Wavefront& w) {
     PathScratch& sc = w.sc;
     const uint8_t* blocked = trace_shadow_rays(w.s, sc);
+    sc.timer.times.shadow_rays += sc.shadow_path.size();
+    sc.timer.lap(Stage::TraceShadow);
     for (size_t q = 0; q < sc.shadow_path.size(); ++q) {
         if (blocked[q]) continue;
         PathResult& r = w.out[sc.shadow_path[q]];
         for (int k = 0; k < 3; ++k) r.rgb[k] += sc.shadow_rgb[3 * q + k];
         r.illuminance += sc.shadow_lux[q];
     }
+    sc.timer.lap(Stage::ShadowResolve);
 }
 
 // The stages, bounce after bounce, until every path of the batch has ended.
@@ -408,10 +420,14 @@ inline void run_paths(const Wavefront& w) {
     PathScratch& sc = w.sc;
     sc.sampler = w.st.sampler;  // what fill_uniforms draws the points' numbers from
     for (int depth = 0; !sc.active.empty(); ++depth) {
-        const HitBatch hits = trace_bounce(w);
+        const HitBatch hits = trace_bounce(w, depth);
         add_emission_and_environment(w, hits, depth);
+        sc.timer.lap(Stage::Emission);
         make_shading_points(w, hits, depth);
+        sc.timer.lap(Stage::ShadingPoints);
         group_by_material(w);
+        sc.timer.times.shading_points += sc.sorted.size();
+        sc.timer.lap(Stage::GroupMaterial);
         queue_light_samples(w, depth);
         sample_bsdf(w, depth);
         resolve_shadow_rays(w);
@@ -459,6 +475,7 @@ inline void trace_sensor_paths(const RenderScene& s, const IntegratorSettings& s
                 s.ray_offset};
     w.first_emission = false;
     start_sensor_paths(w, n);
+    sc.timer.lap(Stage::CameraRays);  // a path's start counts as camera rays, a sensor's too
     run_paths(w);
 }
 
@@ -472,7 +489,9 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
     enter_kernel();
     const Wavefront w{s, st, cs, out, sc, lights_emit(s), scene_has_sun(s), s.ray_offset};
     sc.sensors.clear();
+    sc.timer.start();
     start_camera_paths(w, n);
+    sc.timer.lap(Stage::CameraRays);
     run_paths(w);
     // the indirect illuminance AOV: each first hit a sensor, its path one vertex shorter
     if (!st.indirect_illuminance || st.max_depth < 2 || sc.sensors.empty()) return;
@@ -506,6 +525,7 @@ inline ShadingPoint sensor_point(const float* points, const float* normals, size
 void sensor_illuminance(const RenderScene& s, const float* points, const float* normals, size_t begin, size_t end,
                         int samples, uint32_t seed, float* lux, PathScratch& sc) {
     enter_kernel();
+    sc.timer.start();  // its laps (in sample_lights) count as light sampling
     const size_t np = end - begin;
     std::fill(lux + begin, lux + end, 0.0f);
     if (np == 0 || !lights_emit(s)) return;

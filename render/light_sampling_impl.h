@@ -297,10 +297,12 @@ inline void sample_lights(const RenderScene& s, PathScratch& sc, int depth, size
     sc.light_points.resize(np);
     sc.light_fill.assign(sc.light_start.begin(), sc.light_start.end() - 1);
     for (size_t q = 0; q < np; ++q) sc.light_points[sc.light_fill[chosen[q]]++] = static_cast<int32_t>(q);
+    sc.timer.lap(Stage::LightSelect);
     for (int k = 0; k < count; ++k) {
         const size_t a = sc.light_start[k], n = sc.light_start[k + 1] - a;
         if (n > 0) sample_light_group(s, sc, k, sc.light_points.data() + a, n, u1, u2);
     }
+    sc.timer.lap(Stage::LightSample);
 }
 
 }  // namespace render_detail

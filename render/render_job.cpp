@@ -93,6 +93,15 @@ RenderProgress RenderJob::progress() const {
 
 void RenderJob::worker() {
     PathScratch scratch;
+    // however the worker ends, its stage times join the job's
+    struct AddStageTimes {
+        RenderJob& job;
+        const PathScratch& sc;
+        ~AddStageTimes() {
+            std::lock_guard<std::mutex> lock(job.m_error_lock);
+            job.m_stage_times += sc.timer.times;
+        }
+    } add_stage_times{*this, scratch};
     UniformSampler uniform(m_film, m_settings.seed, m_settings.sampler, m_pass_begin, kMaxBatch);
     AdaptiveSampler adaptive(m_film, m_scene, *m_kernels, m_integrator, m_settings.seed, m_settings.aa_threshold,
                              m_aa_stats, &m_aa_hints);
@@ -114,11 +123,14 @@ void RenderJob::worker() {
                 std::this_thread::yield();
             }
             const size_t before = scratch.rays_traced + sampler.rays_traced();
+            const auto item_start = std::chrono::steady_clock::now();
             run_item(item, sampler, scratch, cs, out);
             m_rays.fetch_add(scratch.rays_traced + sampler.rays_traced() - before);
             m_tile_passes[item.tile].store(item.pass + 1, std::memory_order_release);
-            const int64_t ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                   std::chrono::steady_clock::now() - m_start).count();
+            const auto item_end = std::chrono::steady_clock::now();
+            scratch.timer.times.item_ns +=
+                std::chrono::duration_cast<std::chrono::nanoseconds>(item_end - item_start).count();
+            const int64_t ns = std::chrono::duration_cast<std::chrono::nanoseconds>(item_end - m_start).count();
             int64_t seen = m_last_done_ns.load();
             while (ns > seen && !m_last_done_ns.compare_exchange_weak(seen, ns)) {
             }
@@ -129,6 +141,11 @@ void RenderJob::worker() {
         if (!m_error) m_error = std::current_exception();
         m_cancels.store(2);
     }
+}
+
+StageTimes RenderJob::stage_times() const {
+    std::lock_guard<std::mutex> lock(m_error_lock);
+    return m_stage_times;
 }
 
 void RenderJob::run_item(const Item& item, PixelSampler& sampler, PathScratch& scratch, std::vector<CameraSample>& cs,

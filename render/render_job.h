@@ -70,6 +70,9 @@ public:
     // The adaptive sampler's per-pixel level and rays (render/adaptive_sampler.h; empty for
     // the uniform sampler). Call after wait().
     const AaStats& aa_stats() const { return m_aa_stats; }
+    // Time per integrator stage summed over the workers, and their time in work items
+    // (render/stage_timer.h). Call after wait().
+    StageTimes stage_times() const;
 
 private:
     struct Item {
@@ -93,7 +96,8 @@ private:
     std::atomic<size_t> m_next{0}, m_done{0}, m_rays{0}, m_samples_done{0};
     std::atomic<int> m_cancels{0};  // cancel() calls: 1 = after the first pass, 2 = now
     std::vector<std::thread> m_threads;
-    std::mutex m_error_lock;
+    mutable std::mutex m_error_lock;
+    StageTimes m_stage_times;  // the finished workers' sums (under m_error_lock)
     std::exception_ptr m_error;
     std::chrono::steady_clock::time_point m_start;
     std::atomic<int64_t> m_last_done_ns{0};  // when the last item so far finished, since m_start

@@ -439,6 +439,23 @@ nb::dict progress(const JobHandle& j) {
     return d;
 }
 
+// Seconds per integrator stage summed over the workers (render/stage_timer.h: names in stage
+// order), the workers' seconds in work items, and the rays and shading points counted.
+nb::dict stage_times(const JobHandle& j) {
+    const patina::StageTimes t = j.job->stage_times();
+    nb::dict stages;
+    for (int k = 0; k < patina::kStageCount; ++k)
+        stages[patina::stage_name(static_cast<patina::Stage>(k))] = 1e-9 * static_cast<double>(t.ns[k]);
+    nb::dict d;
+    d["stages"] = stages;
+    d["item_seconds"] = 1e-9 * static_cast<double>(t.item_ns);
+    d["camera_rays"] = t.camera_rays;
+    d["secondary_rays"] = t.secondary_rays;
+    d["shadow_rays"] = t.shadow_rays;
+    d["shading_points"] = t.shading_points;
+    return d;
+}
+
 nb::dict resolve(const JobHandle& j) {
     const auto& cam = j.job->camera();
     const size_t hgt = cam.height, wid = cam.width;
@@ -644,6 +661,7 @@ void bind_render(nb::module_& m) {
                  j.job->wait();
              })
         .def("progress", &progress)
+        .def("stage_times", &stage_times, "After wait(): seconds per integrator stage, summed over the threads.")
         .def("resolve", &resolve);
 }
 

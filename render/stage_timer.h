@@ -1,0 +1,86 @@
+// Where a render's time goes: the wavefront integrator's stages, timed per thread.
+//
+// Each stage of a bounce (integrator_impl.h) ends with one lap(): one steady_clock read per
+// stage per bounce of a batch of thousands of paths, a few hundred nanoseconds against
+// milliseconds of work, so the timers stay compiled in and always run. A thread's
+// StageTimer lives in its PathScratch; the render job sums them over its workers
+// (RenderJob::stage_times) and `patina bench --only profile` reports them
+// (docs/performance.md).
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+
+namespace patina {
+
+// The stages, in the order a bounce runs them. Trace* are ray traversal; Shade* the BRDF
+// kernels; Light* light sampling; the rest is bookkeeping around them.
+enum class Stage : int {
+    CameraRays,       // camera rays generated, path state reset
+    RayGather,        // the active paths' rays copied into the traced batch
+    TraceCamera,      // traversal of camera rays (bounce 0)
+    TraceSecondary,   // traversal of BRDF-sampled rays (bounces 1+)
+    Emission,         // emitters hit, misses' environment and sun (with MIS weights)
+    ShadingPoints,    // hits made shading points: interpolated normals, frames, AOVs
+    GroupMaterial,    // shading points counting-sorted by material, local view directions, keys
+    LightSelect,      // light-sample random numbers, each point's light picked, grouping by light
+    LightSample,      // the light groups sampled N points at a time (gathers and scatters included)
+    LightToLocal,     // light directions into the points' frames, side tests
+    ShadeLight,       // BRDF value and pdf for the light samples (material kernels)
+    ShadowQueue,      // MIS weights and contributions; shadow rays queued
+    BsdfUniforms,     // BRDF-sampling random numbers
+    ShadeSample,      // BRDF sampling: direction, pdf, value (material kernels)
+    PathUpdate,       // throughput, Russian roulette, the next bounce's rays
+    TraceShadow,      // traversal of shadow rays (any hit)
+    ShadowResolve,    // unblocked shadow rays' light added to the paths
+    Count
+};
+constexpr int kStageCount = static_cast<int>(Stage::Count);
+
+// Stable names (bench records, docs/performance.md), in Stage order.
+inline const char* stage_name(Stage s) {
+    static const char* const names[kStageCount] = {
+        "camera_rays",   "ray_gather",    "trace_camera",  "trace_secondary", "emission",   "shading_points",
+        "group_material", "light_select", "light_sample",  "light_to_local",  "shade_light", "shadow_queue",
+        "bsdf_uniforms", "shade_sample",  "path_update",   "trace_shadow",    "shadow_resolve"};
+    return names[static_cast<int>(s)];
+}
+
+// Accumulated nanoseconds per stage, and the work they did.
+struct StageTimes {
+    int64_t ns[kStageCount] = {};
+    uint64_t camera_rays = 0, secondary_rays = 0, shadow_rays = 0, shading_points = 0;
+    // a render job's threads' time in their work items: the stages above plus the pixel
+    // sampler and film between batches (set by RenderJob, not by the timer)
+    int64_t item_ns = 0;
+
+    StageTimes& operator+=(const StageTimes& o) {
+        for (int k = 0; k < kStageCount; ++k) ns[k] += o.ns[k];
+        camera_rays += o.camera_rays;
+        secondary_rays += o.secondary_rays;
+        shadow_rays += o.shadow_rays;
+        shading_points += o.shading_points;
+        item_ns += o.item_ns;
+        return *this;
+    }
+};
+
+// One thread's clock: start() at the entry of a traced batch, lap(stage) as each stage ends
+// (the time since the previous lap or start is that stage's).
+class StageTimer {
+public:
+    using Clock = std::chrono::steady_clock;
+    void start() { m_last = Clock::now(); }
+    void lap(Stage s) {
+        const Clock::time_point now = Clock::now();
+        times.ns[static_cast<int>(s)] += std::chrono::duration_cast<std::chrono::nanoseconds>(now - m_last).count();
+        m_last = now;
+    }
+    StageTimes times;
+
+private:
+    Clock::time_point m_last{};
+};
+
+}  // namespace patina
