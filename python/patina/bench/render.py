@@ -66,7 +66,7 @@ def _render(
 # --- SIMD width and threads on the preview scene ---------------------------------------------
 
 
-def _preview(quick: bool) -> tuple[Scene, PreparedScene, str]:
+def preview_scene(quick: bool) -> tuple[Scene, PreparedScene, str]:
     """The preview scene, path traced (the file's max_depth), at 256 x 192 and 32 spp (quick: 64 x 48, 4 spp)."""
     w, h, spp = (64, 48, 4) if quick else (256, 192, 32)
     scene = with_overrides(load_scene(_scene_path("preview-ball")), integrator="path", width=w, height=h, spp=spp)
@@ -292,7 +292,7 @@ def _vs_mitsuba_records(repeat: int, quick: bool, llvm: bool) -> list[Record]:
 def bench_render(repeat: int, quick: bool, mitsuba: bool = True) -> list[Record]:
     """The `render` group: SIMD width records, the thread record, Sobol against independent, then the Mitsuba comparison
     (skipped without Mitsuba, or with mitsuba=False; `_llvm` only where llvm_ad_rgb works)."""
-    scene, prep, label = _preview(quick)
+    scene, prep, label = preview_scene(quick)
     records = _simd_records(scene, prep, label, repeat)
     records.append(_thread_record(scene, prep, label, repeat))
     records.append(_ld_vs_independent_record(quick))

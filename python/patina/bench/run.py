@@ -23,6 +23,7 @@ from patina.bench.cache import bench_cache
 from patina.bench.fit import bench_fit
 from patina.bench.kernels import bench_brdf, bench_math
 from patina.bench.lights import bench_lights
+from patina.bench.profile import bench_profile
 from patina.bench.records import Record
 from patina.bench.render import bench_render
 from patina.bench.trace import bench_trace
@@ -36,6 +37,7 @@ GROUPS: dict[str, Callable[[int, bool], list[Record]]] = {
     "fit": bench_fit,
     "trace": bench_trace,
     "render": bench_render,
+    "profile": bench_profile,
     "lights": bench_lights,
     "aa": bench_aa,
     "cache": bench_cache,
@@ -71,7 +73,7 @@ def run_bench(
     if json_path:
         check_writable(json_path)  # an OSError naming it now (exit 2), not after minutes of timing
     groups = [only] if only else list(GROUPS)
-    if {"render", "lights", "aa", "cache"} & set(groups):
+    if {"render", "profile", "lights", "aa", "cache"} & set(groups):
         materials_path("scenes")  # their scenes are the checkout's: FileNotFoundError now, not minutes in
     # brdf includes the math kernels it relies on, as the record list asks
     steps = [("math", bench_math), ("brdf", bench_brdf)] if only == "brdf" else [(g, GROUPS[g]) for g in groups]

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from patina.bench import run_bench
+from patina.bench import GROUPS, run_bench
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
@@ -15,9 +15,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 def add_bench_command(sub: Any) -> None:
     s = sub.add_parser("bench", help="measure kernel speed (ratios against baselines in the same run)")
-    s.add_argument(
-        "--only", default=None, help="a group: math, brdf, fit, trace, render, lights, aa, cache (default: all)"
-    )
+    s.add_argument("--only", default=None, help=f"a group: {', '.join(GROUPS)} (default: all)")
     s.add_argument("--json", default=None, metavar="FILE", help="also write the records as JSON")
     s.add_argument("--repeat", type=int, default=7, help="repetitions; medians are reported")
     s.add_argument("--quick", action="store_true", help="small inputs, for a smoke test")
