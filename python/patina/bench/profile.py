@@ -11,14 +11,18 @@ printed with them is the breakdown docs/performance.md quotes.
 
 from __future__ import annotations
 
+import os
 import statistics
 import sys
 import time
 
+from patina.bench.mitsuba_split import mitsuba_split_records
 from patina.bench.records import Record, simd_widths
-from patina.bench.render import preview_scene
+from patina.bench.render import llvm_variant_works, preview_scene
+from patina.bundled import materials_path
 from patina.native import _core
 from patina.render.run import PreparedScene, core_depth
+from patina.scene.reading import load_scene, with_overrides
 from patina.scene.types import Scene
 
 # What each stage is, by the kind of work the issue splits the time into.
@@ -93,12 +97,14 @@ def breakdown_table(medians: dict[int, dict[str, float]]) -> str:
     return "\n".join(lines)
 
 
-def bench_profile(repeat: int, quick: bool) -> list[Record]:
-    """The `profile` group: the stage breakdown of the preview render at width 1 and each wide width."""
-    scene, prep, label = preview_scene(quick)
+def _profile_records(
+    prefix: str, scene: Scene, prep: PreparedScene, label: str, repeat: int, stages: bool
+) -> list[Record]:
+    """The scene's breakdown at width 1 and each wide width (the table on stderr); records per
+    kind of work (and per stage: `stages`), named `{prefix}.kind.<kind>.w<N>` / `.stage.`."""
     wide = [w for w in simd_widths() if w in (4, 8)]
     t0 = time.perf_counter()
-    medians = median_stage_seconds(prep, scene, [1, *wide], max(repeat // 2, 1))
+    medians = median_stage_seconds(prep, scene, [1, *wide], repeat)
     print(f"profile: {label}, 1 thread, median stage times ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
     print(breakdown_table(medians), file=sys.stderr)
     samples = scene.camera.width * scene.camera.height * scene.render.spp
@@ -106,13 +112,14 @@ def bench_profile(repeat: int, quick: bool) -> list[Record]:
     for w in wide:
         kinds_1, kinds_w = kind_seconds(medians[1]), kind_seconds(medians[w])
         parts = [(f"kind.{k}", kinds_1[k], kinds_w[k]) for k in KINDS]
-        parts += [(f"stage.{s}", medians[1][s], medians[w][s]) for names in KINDS.values() for s in names]
+        if stages:
+            parts += [(f"stage.{s}", medians[1][s], medians[w][s]) for names in KINDS.values() for s in names]
         for name, base, cand in parts:
             if cand <= 0 or base <= 0:
                 continue  # a stage this scene never runs
             records.append(
                 Record(
-                    f"render.profile.{name}.w{w}",
+                    f"{prefix}.{name}.w{w}",
                     f"{label}: {name.split('.', 1)[1]} at SIMD width {w}, 1 thread",
                     "the same stage at width 1",
                     base / cand,
@@ -121,3 +128,25 @@ def bench_profile(repeat: int, quick: bool) -> list[Record]:
                 )
             )
     return records
+
+
+def bench_profile(repeat: int, quick: bool) -> list[Record]:
+    """The `profile` group: the stage breakdown of the preview render and of the gold sphere (the
+    scene of render.vs_mitsuba) at width 1 and each wide width; then, where Mitsuba's llvm_ad_rgb
+    runs, its lead split by its own switches (bench/mitsuba_split.py)."""
+    runs = max(repeat // 2, 1)
+    scene, prep, label = preview_scene(quick)
+    records = _profile_records("render.profile", scene, prep, label, runs, stages=True)
+    w, h = (32, 24) if quick else (128, 96)
+    gold = with_overrides(load_scene(materials_path("scenes", "conductor-sphere.json")), width=w, height=h, spp=128)
+    label = f"conductor-sphere {w}x{h}, 128 spp, direct"
+    records += _profile_records("render.profile.gold", gold, PreparedScene(gold), label, runs, stages=False)
+    try:
+        import mitsuba as _  # noqa: F401
+    except ImportError:
+        print("patina bench: Mitsuba 3 is not installed: no render.profile.mitsuba records", file=sys.stderr)
+        return records
+    if not llvm_variant_works():
+        print("patina bench: Mitsuba's llvm_ad_rgb does not run here: no render.profile.mitsuba", file=sys.stderr)
+        return records
+    return records + mitsuba_split_records(repeat, quick, os.cpu_count() or 1)

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from patina.bench.mitsuba_scenes import mitsuba_scene_dict, preview_mitsuba_scene
 from patina.bench.records import Record, median_times_and_values
 from patina.bundled import materials_path
 from patina.native import _core
@@ -128,6 +129,13 @@ def _spp_to_target(mse_at: Callable[[int], float], target_mse: float, first: int
     return (float(n0 * np.exp(np.log(target_mse / e0) / slope)) if slope < 0 else float("inf")), measured
 
 
+def _own_reference(render_at: Callable[..., np.ndarray], spp: int) -> tuple[np.ndarray, float]:
+    """A renderer's converged image of its own: two halves of `spp` with different seeds; their
+    mean, and a quarter of their mean squared difference (the mean's own MSE)."""
+    a, b = render_at(spp // 2, seed=1001), render_at(spp // 2, seed=1002)
+    return (a + b) / 2, float(((a - b) ** 2).mean()) / 4
+
+
 def _ld_vs_independent_record(quick: bool) -> Record:
     """Samples a pixel to the same RMSE on the preview ball, independent over Sobol.
 
@@ -143,8 +151,9 @@ def _ld_vs_independent_record(quick: bool) -> Record:
     scene = with_overrides(load_scene(_scene_path("preview-ball")), integrator="path", width=w, height=h)
     prep = PreparedScene(scene)
     threads = os.cpu_count() or 1
-    a, b = (_render(prep, scene, 0, threads, ref_spp // 2, seed=s, sampler="sobol") for s in (1001, 1002))
-    reference, reference_mse = (a + b) / 2, float(((a - b) ** 2).mean()) / 4
+    reference, reference_mse = _own_reference(
+        lambda n, seed: _render(prep, scene, 0, threads, n, seed=seed, sampler="sobol"), ref_spp
+    )
     mean2 = float(reference.mean()) ** 2
 
     def mse_at(sampler: str, spp: int) -> float:
@@ -205,13 +214,16 @@ def _convergence(render_at: Callable[[int], np.ndarray], levels: list[int], refe
     return _Convergence(c2, times[0] - per_spp * levels[0], per_spp)
 
 
-def _mitsuba_renderer(scene: Scene, variant: str, threads: int) -> Callable[[int], np.ndarray]:
-    """Renders of the scene by Mitsuba's `variant` on `threads` threads: spp (and seed) -> image."""
+def _mitsuba_renderer(scene: Scene, variant: str, threads: int, stand_ins: bool = False) -> Callable[..., np.ndarray]:
+    """Renders of the scene by Mitsuba's `variant` on `threads` threads: spp (and seed) -> image.
+    stand_ins: Patina's triangles for every shape and Mitsuba's nearest BSDFs for car paints
+    (bench/mitsuba_scenes.py); else the exact conversion (analytic spheres and planes)."""
     import drjit as dr
     import mitsuba as mi
 
     dr.set_thread_count(threads)
-    loaded = mi.load_dict(to_mitsuba(scene, variant=variant))  # to_mitsuba sets the variant
+    # both set the variant
+    loaded = mi.load_dict(mitsuba_scene_dict(scene, variant) if stand_ins else to_mitsuba(scene, variant=variant))
 
     def render_at(spp: int, seed: int = 0) -> np.ndarray:
         mi.set_variant(variant)
@@ -264,8 +276,7 @@ def _vs_mitsuba_records(repeat: int, quick: bool, llvm: bool) -> list[Record]:
     prep = PreparedScene(scene)
 
     ref_render = _mitsuba_renderer(scene, "llvm_ad_rgb" if llvm else "scalar_rgb", threads)
-    a, b = ref_render(ref_spp // 2, seed=1001), ref_render(ref_spp // 2, seed=1002)
-    reference, reference_mse = (a + b) / 2, float(((a - b) ** 2).mean()) / 4
+    reference, reference_mse = _own_reference(ref_render, ref_spp)
 
     patina = _convergence(lambda n: _render(prep, scene, 0, threads, n), levels, reference, reference_mse, repeat)
     variants = ["scalar_rgb"] + (["llvm_ad_rgb"] if llvm else [])
@@ -289,6 +300,42 @@ def _vs_mitsuba_records(repeat: int, quick: bool, llvm: bool) -> list[Record]:
     return records
 
 
+def _preview_vs_mitsuba_record(repeat: int, quick: bool) -> Record:
+    """Time to the same relative RMSE on the preview ball with materials Mitsuba also has
+    (materials/scenes/preview-mitsuba.json), Patina against Mitsuba 3 llvm_ad_rgb, same threads.
+
+    Path traced (5 segments), 128 x 96 (quick: 32 x 24), every shape the same triangles on both
+    sides. Two of its materials are Mitsuba stand-ins, not exact equivalents (bench/mitsuba_scenes.py),
+    so each renderer's error is measured against its own converged image (2048 spp; quick 256) and
+    the record compares noise per time, the method otherwise render.vs_mitsuba's (_convergence).
+    The candidate string gives Patina's image mean over Mitsuba's, to show the scenes agree.
+    """
+    threads = os.cpu_count() or 1
+    w, h, levels, ref_spp = (32, 24, [4, 16], 256) if quick else (128, 96, [16, 64], 2048)
+    scene = preview_mitsuba_scene(w, h)
+    prep = PreparedScene(scene)
+
+    def patina_at(n: int, seed: int = 0) -> np.ndarray:
+        return _render(prep, scene, 0, threads, n, seed)
+
+    mitsuba_at = _mitsuba_renderer(scene, "llvm_ad_rgb", threads, stand_ins=True)
+    own = {"patina": _own_reference(patina_at, ref_spp), "mitsuba": _own_reference(mitsuba_at, ref_spp)}
+    patina = _convergence(patina_at, levels, *own["patina"], repeat)
+    other = _convergence(mitsuba_at, levels, *own["mitsuba"], repeat)
+    tp, tm = patina.seconds_for(TARGET_RMSE), other.seconds_for(TARGET_RMSE)
+    means = float(own["patina"][0].mean()) / float(own["mitsuba"][0].mean())
+    return Record(
+        "render.preview.vs_mitsuba_llvm",
+        f"Patina, preview-mitsuba {w}x{h}, path, {threads} threads: {patina.spp_for(TARGET_RMSE):.0f} spp "
+        f"for RMSE {TARGET_RMSE:g} x mean ({patina.per_spp * 1e3:.2f} ms/spp; image mean {means:.3f} x Mitsuba's)",
+        f"Mitsuba 3 llvm_ad_rgb, same scene (stand-in BSDFs for the coats) and threads: "
+        f"{other.spp_for(TARGET_RMSE):.0f} spp ({other.per_spp * 1e3:.2f} ms/spp)",
+        tm / tp,
+        tp,
+        "s",
+    )
+
+
 def bench_render(repeat: int, quick: bool, mitsuba: bool = True) -> list[Record]:
     """The `render` group: SIMD width records, the thread record, Sobol against independent, then the Mitsuba comparison
     (skipped without Mitsuba, or with mitsuba=False; `_llvm` only where llvm_ad_rgb works)."""
@@ -306,4 +353,6 @@ def bench_render(repeat: int, quick: bool, mitsuba: bool = True) -> list[Record]
         if not llvm:
             print("patina bench: Mitsuba's llvm_ad_rgb does not run here: no render.vs_mitsuba_llvm", file=sys.stderr)
         records += _vs_mitsuba_records(repeat, quick, llvm)
+        if llvm:
+            records.append(_preview_vs_mitsuba_record(repeat, quick))
     return records

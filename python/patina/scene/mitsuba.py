@@ -263,12 +263,19 @@ def _lights(mi: Any, scene: Scene) -> dict[str, Any]:
 # --- the scene ------------------------------------------------------------------------------
 
 
-def to_mitsuba(scene: Scene, meshes: dict[int, MeshArrays] | None = None, variant: str = VARIANT) -> dict[str, Any]:
+def to_mitsuba(
+    scene: Scene,
+    meshes: dict[int, MeshArrays] | None = None,
+    variant: str = VARIANT,
+    bsdfs: dict[str, dict[str, Any]] | None = None,
+) -> dict[str, Any]:
     """The scene as a dictionary for `mi.load_dict` (sets the Mitsuba variant if another is active).
 
     meshes: shape index -> that shape's arrays in its own coordinates (before its transform):
     (vertices (V, 3), indices (T, 3), normals (V, 3) or None), or an object with those
     attributes. Needed for ball, panel and mesh shapes; optional for spheres and planes.
+    bsdfs: material name -> a Mitsuba BSDF dictionary used for it instead of converting it
+    (the caller's choice of a stand-in, e.g. for a car paint, which has no exact equivalent).
     """
     mi = _mi(variant)
     meshes = meshes or {}
@@ -277,16 +284,17 @@ def to_mitsuba(scene: Scene, meshes: dict[int, MeshArrays] | None = None, varian
         "integrator": _integrator(scene),
         "sensor": _sensor(mi, scene.camera, scene.render.spp, scene.render.seed),
     }
-    bsdfs: dict[str, Any] = {}
+    loaded: dict[str, Any] = {}
     for index, shape in enumerate(scene.shapes):
         name = shape.material
-        if name not in bsdfs:
-            bsdfs[name] = mi.load_dict(bsdf(scene.materials[name], f"materials.{name}"))
+        if name not in loaded:
+            given = (bsdfs or {}).get(name)
+            loaded[name] = mi.load_dict(given or bsdf(scene.materials[name], f"materials.{name}"))
         where = f"shapes[{index}]"
         if index in meshes:
-            out[f"shape_{index}"] = mitsuba_mesh(mi, f"shape_{index}", meshes[index], shape.transform, bsdfs[name])
+            out[f"shape_{index}"] = mitsuba_mesh(mi, f"shape_{index}", meshes[index], shape.transform, loaded[name])
         else:
-            out[f"shape_{index}"] = _analytic_shape(mi, shape, where, bsdfs[name])
+            out[f"shape_{index}"] = _analytic_shape(mi, shape, where, loaded[name])
     out.update(_lights(mi, scene))
     return out
 
