@@ -67,7 +67,7 @@ struct PathScratch {
     std::vector<float> ray_org, ray_dir, hit_t, hit_u, hit_v;
     std::vector<int32_t> hit_prim;
     // per shading point, grouped by material
-    std::vector<ShadingPoint> points, sorted;
+    std::vector<ShadingPoint> sorted;
     std::vector<int32_t> material_start;
     std::vector<float> v_local, l_local, f, pdf, eta, u_pick, u1, u2;
     std::vector<int32_t> point_keys, point_index;  // the paths' stream keys and sample indices (uint32 bits)

@@ -3,8 +3,9 @@
 // stages, each over all the paths still alive, as pbrt-v4's wavefront integrator does:
 //   trace_bounce                  every path's ray, N per packet
 //   add_emission_and_environment  lights hit and rays escaping to the environment or the sun
-//   make_shading_points           surface hits become shading points (and first-hit AOVs)
-//   group_by_material             points sorted by material, so each group is shaded N at a time
+//   group_by_material             the hits that will be shading points counted by material...
+//   make_shading_points           ...and made shading points straight into their material's group,
+//                                 so each group is shaded N at a time (and first-hit AOVs)
 //   queue_light_samples           one light sample per point (light_sampling_impl.h), MIS-weighted,
 //                                 its shadow ray queued
 //   sample_bsdf                   the next bounce's direction, throughput, Russian roulette
@@ -236,62 +237,89 @@ inline void add_emission_and_environment(const Wavefront& w, const HitBatch& hit
     add_environment(w);
 }
 
-// 3. Surface hits (not lights) become the bounce's shading points, in hit order, while the
-//    path may still bounce; the first hit also fills the AOVs (and, for the indirect
-//    illuminance, is kept as a sensor: sc.sensors).
+// Whether hit j may become a shading point: a surface (not a light) while the path may
+// still bounce (make_shading_point may still end the path there).
+inline bool may_shade(const Wavefront& w, const HitBatch& hits, size_t j, int depth) {
+    const int32_t prim = hits.prim[j];
+    return prim >= 0 && w.s.materials[w.s.tri_material[prim]].kind != MaterialKind::Emitter &&
+           depth < w.st.max_depth;
+}
+
+// 3. Grouping by material before the points exist: the hits that may become shading points
+//    counted per material (sc.material_start: each group's first slot in sc.sorted), so
+//    make_shading_points writes each point straight into its group, in hit order (what a
+//    stable counting sort of the points would give, without building and copying them twice).
+inline void group_by_material(const Wavefront& w, const HitBatch& hits, int depth) {
+    PathScratch& sc = w.sc;
+    const size_t nm = w.s.materials.size();
+    sc.material_start.assign(nm + 1, 0);
+    for (size_t j = 0; j < sc.active.size(); ++j)
+        if (may_shade(w, hits, j, depth)) ++sc.material_start[w.s.tri_material[hits.prim[j]] + 1];
+    for (size_t k = 0; k < nm; ++k) sc.material_start[k + 1] += sc.material_start[k];
+}
+
+// 4. Surface hits become the bounce's shading points in sc.sorted, grouped by material (groups
+//    at sc.material_start), each with its view direction in its frame, its relative index and
+//    its path's random-number key and sample index; the first hit also fills the AOVs (and, for
+//    the indirect illuminance, is kept as a sensor: sc.sensors).
 inline void make_shading_points(const Wavefront& w, const HitBatch& hits, int depth) {
     const RenderScene& s = w.s;
     PathScratch& sc = w.sc;
-    sc.points.clear();
+    const size_t nm = s.materials.size();
+    const size_t most = sc.material_start[nm];
+    sc.sorted.resize(most);
+    float* vl = grow(sc.v_local, 3 * most);
+    float* eta = grow(sc.eta, most);
+    sc.point_keys.resize(most);
+    sc.point_index.resize(most);
+    std::vector<int32_t>& fill = sc.next_active;  // reused as the write cursors
+    fill.assign(sc.material_start.begin(), sc.material_start.end() - 1);
     for (size_t j = 0; j < sc.active.size(); ++j) {
+        if (!may_shade(w, hits, j, depth)) continue;
         const int32_t i = sc.active[j];
         const int32_t prim = hits.prim[j];
-        if (prim < 0) continue;
-        const Material& mat = s.materials[s.tri_material[prim]];
-        if (mat.kind == MaterialKind::Emitter || depth >= w.st.max_depth) continue;
-        ShadingPoint sp;
-        if (!make_shading_point(s, prim, hits.u[j], hits.v[j], load_vec3(sc.org.data() + 3 * i),
-                                load_vec3(sc.dir.data() + 3 * i), hits.t[j], sp)) {
+        const int32_t material = s.tri_material[prim];
+        const size_t q = fill[material];
+        ShadingPoint& sp = sc.sorted[q];
+        const Vec3f dir = load_vec3(sc.dir.data() + 3 * i);
+        if (!make_shading_point(s, prim, hits.u[j], hits.v[j], load_vec3(sc.org.data() + 3 * i), dir, hits.t[j], sp)) {
             if (depth == 0) w.out[i].depth = hits.t[j];
-            continue;
+            continue;  // the slot is taken by the group's next point
         }
+        ++fill[material];
         sp.path = i;
-        sp.material = s.tri_material[prim];
+        sp.material = material;
         if (depth == 0) {
+            const Material& mat = s.materials[material];
             std::copy(mat.albedo, mat.albedo + 3, w.out[i].albedo);
             store_vec3(sp.n, w.out[i].normal);
             w.out[i].depth = hits.t[j];
             if (w.st.indirect_illuminance) sc.sensors.push_back(sp);
         }
-        sc.points.push_back(sp);
+        store_vec3(to_local(sp, -dir), vl + 3 * q);
+        eta[q] = sp.eta;
+        sc.point_keys[q] = static_cast<int32_t>(w.cs[i].key);
+        sc.point_index[q] = static_cast<int32_t>(w.cs[i].index);
     }
-}
-
-// 4. The shading points sorted by material (a counting sort: sc.sorted, groups at
-//    sc.material_start), with each point's view direction in its frame, its relative index
-//    and its path's random-number key.
-inline void group_by_material(const Wavefront& w) {
-    PathScratch& sc = w.sc;
-    const size_t np = sc.points.size();
-    const size_t nm = w.s.materials.size();
-    sc.material_start.assign(nm + 1, 0);
-    for (const ShadingPoint& sp : sc.points) ++sc.material_start[sp.material + 1];
-    for (size_t k = 0; k < nm; ++k) sc.material_start[k + 1] += sc.material_start[k];
+    // paths that ended at a hit (the back of a one-sided surface) left their group short:
+    // close the gaps, groups in order
+    size_t np = 0;
+    for (size_t k = 0; k < nm; ++k) {
+        const size_t a = sc.material_start[k], count = fill[k] - a;
+        sc.material_start[k] = np;
+        if (a != np) {
+            std::copy(sc.sorted.begin() + a, sc.sorted.begin() + a + count, sc.sorted.begin() + np);
+            std::copy(vl + 3 * a, vl + 3 * (a + count), vl + 3 * np);
+            std::copy(eta + a, eta + a + count, eta + np);
+            std::copy(sc.point_keys.begin() + a, sc.point_keys.begin() + a + count, sc.point_keys.begin() + np);
+            std::copy(sc.point_index.begin() + a, sc.point_index.begin() + a + count, sc.point_index.begin() + np);
+        }
+        np += count;
+    }
+    sc.material_start[nm] = np;
     sc.sorted.resize(np);
-    std::vector<int32_t>& fill = sc.next_active;  // reused as the write cursors
-    fill.assign(sc.material_start.begin(), sc.material_start.end() - 1);
-    for (const ShadingPoint& sp : sc.points) sc.sorted[fill[sp.material]++] = sp;
-    float* vl = grow(sc.v_local, 3 * np);
-    float* eta = grow(sc.eta, np);
     sc.point_keys.resize(np);
     sc.point_index.resize(np);
-    for (size_t q = 0; q < np; ++q) {
-        const ShadingPoint& sp = sc.sorted[q];
-        store_vec3(to_local(sp, -load_vec3(sc.dir.data() + 3 * sp.path)), vl + 3 * q);
-        eta[q] = sp.eta;
-        sc.point_keys[q] = static_cast<int32_t>(w.cs[sp.path].key);
-        sc.point_index[q] = static_cast<int32_t>(w.cs[sp.path].index);
-    }
 }
 
 // Runs kernel(material, first point, count) for each material's group of sorted points.
@@ -423,11 +451,11 @@ inline void run_paths(const Wavefront& w) {
         const HitBatch hits = trace_bounce(w, depth);
         add_emission_and_environment(w, hits, depth);
         sc.timer.lap(Stage::Emission);
-        make_shading_points(w, hits, depth);
-        sc.timer.lap(Stage::ShadingPoints);
-        group_by_material(w);
-        sc.timer.times.shading_points += sc.sorted.size();
+        group_by_material(w, hits, depth);
         sc.timer.lap(Stage::GroupMaterial);
+        make_shading_points(w, hits, depth);
+        sc.timer.times.shading_points += sc.sorted.size();
+        sc.timer.lap(Stage::ShadingPoints);
         queue_light_samples(w, depth);
         sample_bsdf(w, depth);
         resolve_shadow_rays(w);

@@ -102,6 +102,7 @@ void RenderJob::worker() {
             job.m_stage_times += sc.timer.times;
         }
     } add_stage_times{*this, scratch};
+    scratch.timer.use_cpu_time(m_settings.stage_cpu_time);
     UniformSampler uniform(m_film, m_settings.seed, m_settings.sampler, m_pass_begin, kMaxBatch);
     AdaptiveSampler adaptive(m_film, m_scene, *m_kernels, m_integrator, m_settings.seed, m_settings.aa_threshold,
                              m_aa_stats, &m_aa_hints);
@@ -123,14 +124,13 @@ void RenderJob::worker() {
                 std::this_thread::yield();
             }
             const size_t before = scratch.rays_traced + sampler.rays_traced();
-            const auto item_start = std::chrono::steady_clock::now();
+            const int64_t item_start = scratch.timer.now();
             run_item(item, sampler, scratch, cs, out);
+            scratch.timer.times.item_ns += scratch.timer.now() - item_start;
             m_rays.fetch_add(scratch.rays_traced + sampler.rays_traced() - before);
             m_tile_passes[item.tile].store(item.pass + 1, std::memory_order_release);
-            const auto item_end = std::chrono::steady_clock::now();
-            scratch.timer.times.item_ns +=
-                std::chrono::duration_cast<std::chrono::nanoseconds>(item_end - item_start).count();
-            const int64_t ns = std::chrono::duration_cast<std::chrono::nanoseconds>(item_end - m_start).count();
+            const int64_t ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                   std::chrono::steady_clock::now() - m_start).count();
             int64_t seen = m_last_done_ns.load();
             while (ns > seen && !m_last_done_ns.compare_exchange_weak(seen, ns)) {
             }

@@ -38,6 +38,7 @@ struct RenderSettings {
     bool indirect_illuminance = false;  // the illuminance AOV counts reflected light (IntegratorSettings)
     // The paths' numbers (render/sample_numbers.h): Owen-scrambled Sobol or independent.
     SamplerKind sampler = SamplerKind::Sobol;
+    bool stage_cpu_time = false;  // stage timers on each thread's CPU time, not wall time (stage_timer.h)
 };
 
 struct RenderProgress {

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <ctime>
 
 namespace patina {
 
@@ -67,20 +68,35 @@ struct StageTimes {
 };
 
 // One thread's clock: start() at the entry of a traced batch, lap(stage) as each stage ends
-// (the time since the previous lap or start is that stage's).
+// (the time since the previous lap or start is that stage's). Wall time by default; with
+// use_cpu_time(true), the thread's CPU time, which leaves out the time the thread waits
+// for a core: the breakdown of a loaded machine (docs/performance.md), at the price of a
+// system call a lap (about a microsecond, some 2 % of a render).
 class StageTimer {
 public:
-    using Clock = std::chrono::steady_clock;
-    void start() { m_last = Clock::now(); }
+    void use_cpu_time(bool on) { m_cpu = on; }
+    bool uses_cpu_time() const { return m_cpu; }
+    void start() { m_last = now(); }
     void lap(Stage s) {
-        const Clock::time_point now = Clock::now();
-        times.ns[static_cast<int>(s)] += std::chrono::duration_cast<std::chrono::nanoseconds>(now - m_last).count();
-        m_last = now;
+        const int64_t t = now();
+        times.ns[static_cast<int>(s)] += t - m_last;
+        m_last = t;
+    }
+    // nanoseconds on the clock in use (item times use it too, so the stages add up)
+    int64_t now() const {
+        if (m_cpu) {
+            timespec ts;
+            clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+            return static_cast<int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
+        }
+        return std::chrono::duration_cast<std::chrono::nanoseconds>(
+                   std::chrono::steady_clock::now().time_since_epoch()).count();
     }
     StageTimes times;
 
 private:
-    Clock::time_point m_last{};
+    int64_t m_last = 0;
+    bool m_cpu = false;
 };
 
 }  // namespace patina

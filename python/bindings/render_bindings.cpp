@@ -398,7 +398,8 @@ uint32_t stream_seed(uint64_t seed) {
 
 std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth, uint64_t seed, int threads,
                                     int width, int tile_size, int passes, const std::string& aa, float aa_threshold,
-                                    bool indirect_illuminance, const std::string& sampler) {
+                                    bool indirect_illuminance, const std::string& sampler,
+                                    const std::string& stage_clock) {
     SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
     check_materials(h);
     patina::prepare_light_selection(h.scene);
@@ -420,6 +421,10 @@ std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth
         st.sampler = patina::SamplerKind::Independent;
     else if (sampler != "sobol")
         throw std::invalid_argument("sampler: '" + sampler + "' is not one of 'sobol', 'independent'");
+    if (stage_clock == "cpu")
+        st.stage_cpu_time = true;
+    else if (stage_clock != "wall")
+        throw std::invalid_argument("stage_clock: '" + stage_clock + "' is not one of 'wall', 'cpu'");
     auto j = std::make_unique<JobHandle>();
     j->scene_ref = scene_obj;
     j->job = std::make_unique<patina::RenderJob>(h.scene, st);
@@ -652,7 +657,8 @@ void bind_render(nb::module_& m) {
         .def(nb::new_(&make_job), nb::arg("scene"), nb::arg("spp"), nb::arg("max_depth"), nb::arg("seed") = 0,
              nb::arg("threads") = 0, nb::arg("width") = 0, nb::arg("tile_size") = 16, nb::arg("passes") = 8,
              nb::arg("aa") = "uniform", nb::arg("aa_threshold") = patina::kDefaultAaThreshold,
-             nb::arg("indirect_illuminance") = false, nb::arg("sampler") = "sobol")
+             nb::arg("indirect_illuminance") = false, nb::arg("sampler") = "sobol",
+             nb::arg("stage_clock") = "wall")
         .def("start", [](JobHandle& j) { j.job->start(); })
         .def("cancel", [](JobHandle& j) { j.job->cancel(); })
         .def("wait",

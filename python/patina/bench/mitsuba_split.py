@@ -131,16 +131,21 @@ def mitsuba_split_records(repeat: int, quick: bool, threads: int) -> list[Record
     ratio = the baseline configuration's median time / the candidate's; value = the candidate's
     seconds per render."""
     size, spp = ((32, 24), 16) if quick else ((128, 96), 128)
-    base = {"size": size, "spp": spp, "threads": threads, "repeat": max(repeat // 2, 1),
+    base = {"size": size, "spp": spp, "threads": threads, "repeat": 2,
             "vector_width": 0, "wavefront": False, "mesh": False}  # fmt: skip
     cases = [("conductor-sphere", name, what, vs, b, c) for name, what, vs, b, c in SWITCHES]
     cases.append(("preview-mitsuba", *SWITCHES[1]))
     records = []
     for scene, name, what, vs, base_change, cand_change in cases:
         spec = {**base, "scene": scene, "spp": spp if scene == "conductor-sphere" else spp // 4}
-        b = run_child({**spec, **base_change})
-        c = run_child({**spec, **cand_change})
-        tb, tc = statistics.median(b["seconds"]), statistics.median(c["seconds"])
+        # children alternated, so a change in the machine's load hits both configurations
+        runs: dict[str, list[dict[str, Any]]] = {"b": [], "c": []}
+        for _ in range(max(repeat // 3, 1)):
+            runs["b"].append(run_child({**spec, **base_change}))
+            runs["c"].append(run_child({**spec, **cand_change}))
+        b, c = runs["b"][0], runs["c"][0]
+        tb = statistics.median(t for r in runs["b"] for t in r["seconds"])
+        tc = statistics.median(t for r in runs["c"] for t in r["seconds"])
         records.append(
             Record(
                 f"render.profile.mitsuba.{scene}.{name}",

@@ -47,10 +47,16 @@ KINDS: dict[str, tuple[str, ...]] = {
 
 
 def stage_seconds(prep: PreparedScene, scene: Scene, simd: int) -> dict[str, float]:
-    """One single-thread render's seconds per stage, plus sampler_film (the pixel sampler and
+    """One single-thread render's CPU seconds per stage, plus sampler_film (the pixel sampler and
     film between batches: the work items' time not in a stage) and total (the items' time)."""
     job = _core.RenderJob(
-        prep.core, spp=scene.render.spp, max_depth=core_depth(scene), seed=scene.render.seed, threads=1, width=simd
+        prep.core,
+        spp=scene.render.spp,
+        max_depth=core_depth(scene),
+        seed=scene.render.seed,
+        threads=1,
+        width=simd,
+        stage_clock="cpu",  # the thread's CPU time: a shared machine's waits for a core left out
     )
     job.start()
     job.wait()

@@ -19,9 +19,10 @@ def tiny_preview():
     return scene, PreparedScene(scene)
 
 
-def test_stage_times_count_the_work_and_fit_in_the_render_time(tiny_preview):
+@pytest.mark.parametrize("clock", ["wall", "cpu"])
+def test_stage_times_count_the_work_and_fit_in_the_render_time(tiny_preview, clock):
     scene, prep = tiny_preview
-    job = _core.RenderJob(prep.core, spp=4, max_depth=core_depth(scene), seed=0, threads=1, width=1)
+    job = _core.RenderJob(prep.core, spp=4, max_depth=core_depth(scene), seed=0, threads=1, width=1, stage_clock=clock)
     job.start()
     job.wait()
     t = job.stage_times()
@@ -52,3 +53,9 @@ def test_medians_and_table_cover_every_stage(tiny_preview):
             assert s in table
     assert all(f"= {k}" in table for k in KINDS)
     assert GROUPS["profile"].__name__ == "bench_profile"
+
+
+def test_an_unknown_stage_clock_is_refused(tiny_preview):
+    _, prep = tiny_preview
+    with pytest.raises(ValueError, match="stage_clock: 'gpu' is not one of 'wall', 'cpu'"):
+        _core.RenderJob(prep.core, spp=1, max_depth=1, stage_clock="gpu")
