@@ -22,7 +22,10 @@ def test_quick_group_records():
     by_name = {r.name: r for r in records}
     expected = {f"render.preview.w{w}" for w in (4, 8) if _core.width_supported(w)}
     expected |= {"render.threads", "render.vs_mitsuba", "render.preview.ld_vs_independent"}
-    assert expected <= set(by_name) <= expected | {"render.vs_mitsuba_llvm"}
+    # the llvm records only where Mitsuba's llvm_ad_rgb runs
+    assert expected <= set(by_name) <= expected | {"render.vs_mitsuba_llvm", "render.preview.vs_mitsuba_llvm"}
+    if "render.vs_mitsuba_llvm" in by_name:
+        assert by_name["render.preview.vs_mitsuba_llvm"].unit == "s"
     for r in records:
         assert math.isfinite(r.ratio) and r.ratio > 0, r
         assert math.isfinite(r.value) and r.value > 0, r
