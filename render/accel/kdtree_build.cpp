@@ -31,19 +31,94 @@ float Box3::area() const {
 
 namespace {
 
-enum EventType : uint8_t { kEnd = 0, kPlanar = 1, kStart = 2 };
+enum EventType : uint32_t { kEnd = 0, kPlanar = 1, kStart = 2 };
 
-struct Event {
-    float pos;
-    uint32_t tri;
-    uint8_t type;
+// An event packed into 64 bits so that sorting and merging compare plain integers: the
+// position's bits mapped to an unsigned key that sorts as the floats do (high 32 bits),
+// then the type (end < planar < start at one position, as the sweep needs), then the
+// triangle (30 bits; build_kdtree's callers refuse 2^30 triangles or more).
+using Event = uint64_t;
+
+uint32_t float_key(float x) {
+    x += 0.0f;  // -0 -> +0: one position, one key
+    uint32_t u;
+    std::memcpy(&u, &x, 4);
+    return (u & 0x80000000u) ? ~u : (u | 0x80000000u);
+}
+float key_float(uint32_t k) {
+    const uint32_t u = (k & 0x80000000u) ? (k & 0x7fffffffu) : ~k;
+    float x;
+    std::memcpy(&x, &u, 4);
+    return x;
+}
+Event make_event(float pos, uint32_t tri, EventType type) {
+    return (uint64_t(float_key(pos)) << 32) | (uint64_t(type) << 30) | tri;
+}
+uint32_t event_key(Event e) { return static_cast<uint32_t>(e >> 32); }
+uint32_t event_tri(Event e) { return static_cast<uint32_t>(e) & 0x3fffffffu; }
+EventType event_type(Event e) { return static_cast<EventType>((static_cast<uint32_t>(e) >> 30) & 3u); }
+
+// A std::allocator that leaves resized elements uninitialised: event lists are resized
+// to their worst case and then overwritten, and zeroing them first cost a tenth of the build.
+template <class T>
+struct UninitialisedAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = UninitialisedAllocator<U>;
+    };
+    UninitialisedAllocator() = default;
+    template <class U>
+    UninitialisedAllocator(const UninitialisedAllocator<U>&) {}
+    template <class U>
+    void construct(U* p) {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
 };
-
-bool operator<(const Event& a, const Event& b) { return a.pos < b.pos || (a.pos == b.pos && a.type < b.type); }
+using EventList = std::vector<Event, UninitialisedAllocator<Event>>;
 
 struct NodeEvents {
-    std::vector<Event> axis[3];
+    EventList axis[3];
 };
+
+// Sorts a node's events by position, then type (bits 30-63), keeping the given order of
+// equal ones: LSD radix sort over the bits in which the list's keys differ (positions in
+// a small node share their high bits), 11 bits a pass; std::stable_sort for short lists,
+// where the histograms would cost more than the sort.
+void sort_events(EventList& ev, EventList& scratch) {
+    const size_t n = ev.size();
+    if (n < 128) {
+        std::stable_sort(ev.begin(), ev.end(), [](Event a, Event b) { return (a >> 30) < (b >> 30); });
+        return;
+    }
+    uint64_t lo = ~uint64_t(0), hi = 0;
+    for (const Event e : ev) {
+        lo = std::min(lo, e >> 30);
+        hi = std::max(hi, e >> 30);
+    }
+    const int bits = hi == lo ? 0 : 64 - __builtin_clzll(hi ^ lo);  // the differing low bits of (e >> 30)
+    constexpr int kDigit = 11;
+    scratch.resize(n);
+    Event* src = ev.data();
+    Event* dst = scratch.data();
+    for (int shift = 30; shift < 30 + bits; shift += kDigit) {
+        constexpr uint64_t mask = (uint64_t(1) << kDigit) - 1;
+        uint32_t count[1 << kDigit] = {};
+        for (size_t i = 0; i < n; ++i) ++count[(src[i] >> shift) & mask];
+        uint32_t sum = 0;
+        for (uint64_t b = 0; b <= mask; ++b) {
+            const uint32_t c = count[b];
+            count[b] = sum;
+            sum += c;
+        }
+        for (size_t i = 0; i < n; ++i) dst[count[(src[i] >> shift) & mask]++] = src[i];
+        std::swap(src, dst);
+    }
+    if (src != ev.data()) ev.swap(scratch);  // an odd number of passes left the result in scratch
+}
 
 enum Side : uint8_t { kBoth = 0, kLeftOnly = 1, kRightOnly = 2 };
 
@@ -75,15 +150,23 @@ float next_down(float x) {
 float next_up(float x) { return -next_down(-x); }
 
 // Bounds of the part of triangle t inside `box` (Sutherland-Hodgman in double);
-// false if nothing of it is inside.
+// false if nothing of it is inside. Only the planes that some vertex lies beyond are
+// clipped against (a plane with every vertex inside leaves the polygon as it is), which
+// for a triangle straddling one split plane is one plane of six.
 bool clipped_bounds(const float* t, const Box3& box, Box3& out) {
     double poly[2][16][3];
     int n = 3;
+    float tlo[3], thi[3];
+    for (int a = 0; a < 3; ++a) {
+        tlo[a] = std::min({t[a], t[3 + a], t[6 + a]});
+        thi[a] = std::max({t[a], t[3 + a], t[6 + a]});
+    }
     for (int v = 0; v < 3; ++v)
         for (int a = 0; a < 3; ++a) poly[0][v][a] = t[3 * v + a];
     int cur = 0;
     for (int a = 0; a < 3 && n > 0; ++a) {
         for (int upper = 0; upper < 2 && n > 0; ++upper) {
+            if (upper ? !(thi[a] > box.hi[a]) : !(tlo[a] < box.lo[a])) continue;
             const double plane = upper ? box.hi[a] : box.lo[a];
             auto inside = [&](const double* p) { return upper ? p[a] <= plane : p[a] >= plane; };
             double(*src)[3] = poly[cur];
@@ -126,10 +209,10 @@ bool clipped_bounds(const float* t, const Box3& box, Box3& out) {
 void add_events(uint32_t tri, const Box3& b, NodeEvents& ev) {
     for (int a = 0; a < 3; ++a) {
         if (b.lo[a] == b.hi[a]) {
-            ev.axis[a].push_back({b.lo[a], tri, kPlanar});
+            ev.axis[a].push_back(make_event(b.lo[a], tri, kPlanar));
         } else {
-            ev.axis[a].push_back({b.lo[a], tri, kStart});
-            ev.axis[a].push_back({b.hi[a], tri, kEnd});
+            ev.axis[a].push_back(make_event(b.lo[a], tri, kStart));
+            ev.axis[a].push_back(make_event(b.hi[a], tri, kEnd));
         }
     }
 }
@@ -143,8 +226,9 @@ public:
     std::vector<uint32_t> leaf_prims;
     KdTreeStats stats;
 
-    // Builds the subtree of a node into `nodes` and returns its index. `parallel_depth`
-    // > 0 builds the two children in parallel (each in its own Builder), then splices.
+    // Builds the subtree of a node into `nodes` and returns its index; consumes `ev`
+    // (its lists go back to the pool). `parallel_depth` > 0 builds the two children in
+    // parallel (each in its own Builder), then splices.
     uint32_t build(const Box3& box, NodeEvents& ev, size_t n, int depth, int parallel_depth) {
         stats.depth = std::max(stats.depth, depth);
         const uint32_t index = static_cast<uint32_t>(nodes.size());
@@ -154,6 +238,7 @@ public:
                                 : find_split(ev, box, n);
         if (split.axis < 0 || !(split.cost < m_opt.intersection_cost * static_cast<float>(n))) {
             make_leaf(index, ev, n);
+            release(ev);
             return index;
         }
         Box3 left_box = box, right_box = box;
@@ -162,7 +247,7 @@ public:
         NodeEvents left_ev, right_ev;
         size_t nl = 0, nr = 0;
         distribute(ev, split, left_box, right_box, left_ev, right_ev, nl, nr);
-        ev = NodeEvents{};  // free the parent's lists before going deeper
+        release(ev);  // the parent's lists serve the children's children
         nodes[index].split = split.pos;
         ++stats.nodes;
 
@@ -188,10 +273,15 @@ public:
         const size_t n = refs.size();
         if (n <= kSweepBelow || depth >= m_max_depth) {
             NodeEvents ev;
-            for (int a = 0; a < 3; ++a) ev.axis[a].reserve(2 * n);
+            for (int a = 0; a < 3; ++a) {
+                ev.axis[a] = take();
+                ev.axis[a].reserve(2 * n);
+            }
             for (const Ref& r : refs) add_events(r.tri, r.b, ev);
             refs = std::vector<Ref>{};
-            for (int a = 0; a < 3; ++a) std::sort(ev.axis[a].begin(), ev.axis[a].end());
+            EventList scratch = take();
+            for (int a = 0; a < 3; ++a) sort_events(ev.axis[a], scratch);
+            m_pool.push_back(std::move(scratch));
             return build(box, ev, n, depth, parallel_depth);
         }
         stats.depth = std::max(stats.depth, depth);
@@ -250,6 +340,22 @@ private:
     const KdBuildOptions& m_opt;
     int m_max_depth;
     std::vector<uint8_t> m_side;  // scratch, per triangle
+    // Event lists no longer needed, kept with their capacity: the sweep phase builds
+    // millions of small nodes, and allocating their lists anew cost a fifth of the build.
+    std::vector<EventList> m_pool;
+    NodeEvents m_scratch[2];  // the clipped triangles' new events, per child
+
+    EventList take() {
+        if (m_pool.empty()) return {};
+        EventList v = std::move(m_pool.back());
+        m_pool.pop_back();
+        v.clear();
+        return v;
+    }
+    void release(NodeEvents& ev) {
+        for (EventList& v : ev.axis)
+            if (v.capacity()) m_pool.push_back(std::move(v));
+    }
 
     Split find_split(const NodeEvents& ev, const Box3& box, size_t n) const {
         Split best;
@@ -273,14 +379,17 @@ private:
             size_t nl = 0, nr = n;
             for (size_t i = 0; i < count;) {
                 // all events at this position: ends, then planars, then starts (the sort order)
-                const float p = e[i].pos;
-                size_t by_type[3] = {0, 0, 0};
+                const uint32_t key = event_key(e[i]);
+                size_t ends = 0, planars = 0, starts = 0;
                 do {
-                    ++by_type[e[i].type];
+                    const EventType type = event_type(e[i]);
+                    ends += type == kEnd;
+                    planars += type == kPlanar;
+                    starts += type == kStart;
                     ++i;
-                } while (i < count && e[i].pos == p);
-                const size_t planars = by_type[kPlanar];
-                nr -= planars + by_type[kEnd];
+                } while (i < count && event_key(e[i]) == key);
+                const float p = key_float(key);
+                nr -= planars + ends;
                 if (p > lo && p < hi) {
                     const float with_left = cost(p, nl + planars, nr);
                     if (with_left < best.cost) best = Split{a, p, true, with_left};
@@ -289,7 +398,7 @@ private:
                         if (with_right < best.cost) best = Split{a, p, false, with_right};
                     }
                 }
-                nl += by_type[kStart] + planars;
+                nl += starts + planars;
             }
         }
         return best;
@@ -297,36 +406,42 @@ private:
 
     // SAH at kBins - 1 evenly spaced planes per axis, from per-bin counts of where the
     // references start and end (a reference is on a plane's left if it starts in a bin
-    // below it, on its right if it ends in a bin at or above it).
+    // below it, on its right if it ends in a bin at or above it). One pass over the
+    // references fills the bins of all three axes.
     Split find_binned_split(const std::vector<Ref>& refs, const Box3& box, size_t n) const {
         Split best;
         const float area = box.area();
         if (!(area > 0.0f)) return best;
         const float scale = m_opt.intersection_cost * 2.0f / area;
         const float bonus = 1.0f - m_opt.empty_bonus;
+        float lo[3], extent[3], to_bin[3];
         for (int a = 0; a < 3; ++a) {
-            const float lo = box.lo[a], hi = box.hi[a], extent = hi - lo;
-            if (!(extent > 0.0f)) continue;
-            const float to_bin = kBins / extent;
-            uint32_t starts[kBins] = {}, ends[kBins] = {};
-            for (const Ref& r : refs) {
-                const int s = std::clamp(static_cast<int>((r.b.lo[a] - lo) * to_bin), 0, kBins - 1);
-                const int e = std::clamp(static_cast<int>((r.b.hi[a] - lo) * to_bin), 0, kBins - 1);
-                ++starts[s];
-                ++ends[e];
+            lo[a] = box.lo[a];
+            extent[a] = box.hi[a] - box.lo[a];
+            to_bin[a] = extent[a] > 0.0f ? kBins / extent[a] : 0.0f;
+        }
+        uint32_t starts[3][kBins] = {}, ends[3][kBins] = {};
+        for (const Ref& r : refs) {
+            for (int a = 0; a < 3; ++a) {
+                ++starts[a][std::clamp(static_cast<int>((r.b.lo[a] - lo[a]) * to_bin[a]), 0, kBins - 1)];
+                ++ends[a][std::clamp(static_cast<int>((r.b.hi[a] - lo[a]) * to_bin[a]), 0, kBins - 1)];
             }
+        }
+        for (int a = 0; a < 3; ++a) {
+            if (!(extent[a] > 0.0f)) continue;
+            const float hi = box.hi[a];
             const int b = (a + 1) % 3, c = (a + 2) % 3;
             const float eb = box.hi[b] - box.lo[b], ec = box.hi[c] - box.lo[c];
             const float cap = eb * ec, girth = eb + ec;
             size_t nl = 0, nr = n;
             for (int k = 1; k < kBins; ++k) {
-                nl += starts[k - 1];
-                nr -= ends[k - 1];
-                const float p = lo + extent * static_cast<float>(k) / kBins;
-                const float al = cap + (p - lo) * girth, ar = cap + (hi - p) * girth;
+                nl += starts[a][k - 1];
+                nr -= ends[a][k - 1];
+                const float p = lo[a] + extent[a] * static_cast<float>(k) / kBins;
+                const float al = cap + (p - lo[a]) * girth, ar = cap + (hi - p) * girth;
                 float cost = m_opt.traversal_cost + scale * (al * static_cast<float>(nl) + ar * static_cast<float>(nr));
                 if (nl == 0 || nr == 0) cost *= bonus;
-                if (cost < best.cost && p > lo && p < hi) best = Split{a, p, true, cost};
+                if (cost < best.cost && p > lo[a] && p < hi) best = Split{a, p, true, cost};
             }
         }
         return best;
@@ -336,8 +451,8 @@ private:
         KdNode& node = nodes[index];
         node.first = static_cast<uint32_t>(leaf_prims.size());
         node.bits = (static_cast<uint32_t>(n) << 2) | 3u;
-        for (const Event& e : ev.axis[0])
-            if (e.type != kEnd) leaf_prims.push_back(e.tri);
+        for (const Event e : ev.axis[0])
+            if (event_type(e) != kEnd) leaf_prims.push_back(event_tri(e));
         ++stats.leaves;
         if (n == 0) ++stats.empty_leaves;
         stats.leaf_refs += n;
@@ -345,50 +460,59 @@ private:
 
     void distribute(const NodeEvents& ev, const Split& s, const Box3& left_box, const Box3& right_box,
                     NodeEvents& left, NodeEvents& right, size_t& nl, size_t& nr) {
-        const std::vector<Event>& e = ev.axis[s.axis];
-        for (const Event& x : e) m_side[x.tri] = kBoth;
-        for (const Event& x : e) {
-            if (x.type == kEnd && x.pos <= s.pos) m_side[x.tri] = kLeftOnly;
-            else if (x.type == kStart && x.pos >= s.pos) m_side[x.tri] = kRightOnly;
-            else if (x.type == kPlanar) {
-                if (x.pos < s.pos || (x.pos == s.pos && s.planar_left)) m_side[x.tri] = kLeftOnly;
-                else m_side[x.tri] = kRightOnly;
+        const EventList& e = ev.axis[s.axis];
+        const uint32_t split_key = float_key(s.pos);
+        for (const Event x : e) m_side[event_tri(x)] = kBoth;
+        for (const Event x : e) {
+            const uint32_t key = event_key(x);
+            const EventType type = event_type(x);
+            if (type == kEnd && key <= split_key) m_side[event_tri(x)] = kLeftOnly;
+            else if (type == kStart && key >= split_key) m_side[event_tri(x)] = kRightOnly;
+            else if (type == kPlanar) {
+                if (key < split_key || (key == split_key && s.planar_left)) m_side[event_tri(x)] = kLeftOnly;
+                else m_side[event_tri(x)] = kRightOnly;
             }
         }
-        // straddling triangles, clipped to each side
-        NodeEvents left_new, right_new;
+        // straddling triangles, clipped to each side, get new events
+        NodeEvents& left_new = m_scratch[0];
+        NodeEvents& right_new = m_scratch[1];
+        for (int a = 0; a < 3; ++a) {
+            left_new.axis[a].clear();
+            right_new.axis[a].clear();
+        }
         nl = nr = 0;
-        for (const Event& x : e) {
-            if (x.type == kEnd) continue;  // one visit per triangle
-            const uint8_t side = m_side[x.tri];
+        for (const Event x : e) {
+            if (event_type(x) == kEnd) continue;  // one visit per triangle
+            const uint32_t tri = event_tri(x);
+            const uint8_t side = m_side[tri];
             if (side == kLeftOnly) ++nl;
             else if (side == kRightOnly) ++nr;
             else {
                 Box3 b;
-                const float* t = &m_tris[9 * size_t(x.tri)];
+                const float* t = &m_tris[9 * size_t(tri)];
                 if (clipped_bounds(t, left_box, b)) {
-                    add_events(x.tri, b, left_new);
+                    add_events(tri, b, left_new);
                     ++nl;
                 }
                 if (clipped_bounds(t, right_box, b)) {
-                    add_events(x.tri, b, right_new);
+                    add_events(tri, b, right_new);
                     ++nr;
                 }
             }
         }
         for (int a = 0; a < 3; ++a) {
-            std::vector<Event>& l = left.axis[a];
-            std::vector<Event>& r = right.axis[a];
-            const std::vector<Event>& src = ev.axis[a];
-            // sized for the worst case without initialising: every event written is kept or overwritten
-            l.reserve(src.size() + left_new.axis[a].size());
-            r.reserve(src.size() + right_new.axis[a].size());
+            left.axis[a] = take();
+            right.axis[a] = take();
+            EventList& l = left.axis[a];
+            EventList& r = right.axis[a];
+            const EventList& src = ev.axis[a];
+            // sized for the worst case: every event written is kept or overwritten
             l.resize(src.size());
             r.resize(src.size());
             size_t nl_events = 0, nr_events = 0;
-            for (const Event& x : src) {
+            for (const Event x : src) {
                 // write both, advance the one that keeps it: no unpredictable branch
-                const uint8_t side = m_side[x.tri];
+                const uint8_t side = m_side[event_tri(x)];
                 l[nl_events] = x;
                 r[nr_events] = x;
                 nl_events += side == kLeftOnly;
@@ -401,12 +525,15 @@ private:
         }
     }
 
-    static void merge_in(std::vector<Event>& sorted, std::vector<Event>& extra) {
+    // Merges the (few, unsorted) events of clipped triangles into a sorted list.
+    void merge_in(EventList& sorted, EventList& extra) {
         if (extra.empty()) return;
         std::sort(extra.begin(), extra.end());
-        const size_t mid = sorted.size();
-        sorted.insert(sorted.end(), extra.begin(), extra.end());
-        std::inplace_merge(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(mid), sorted.end());
+        EventList merged = take();
+        merged.resize(sorted.size() + extra.size());
+        std::merge(sorted.begin(), sorted.end(), extra.begin(), extra.end(), merged.begin());
+        sorted.swap(merged);
+        m_pool.push_back(std::move(merged));
     }
 
     // Appends another builder's subtree; returns the index of its root here.
