@@ -4,13 +4,16 @@
 #include <nanobind/stl/unique_ptr.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "bindings.h"
 #include "render/accel/kdtree.h"
+#include "render/accel/ray_recorder.h"
 #include "render/accel/trace_kernels.h"
 
 namespace nb = nanobind;
@@ -136,9 +139,48 @@ nb::object occluded(const Accel& a, Rays3 origins, Rays3 directions, nb::object 
     return nb::cast(result);
 }
 
+// (n, 3) float32 rows copied out of a flat vector.
+nb::object rows3(const std::vector<float>& v) {
+    float* out;
+    const size_t shape[2] = {v.size() / 3, 3};
+    auto a = new_array<float, 2>(shape, &out);
+    if (!v.empty()) std::memcpy(out, v.data(), v.size() * sizeof(float));
+    return nb::cast(a);
+}
+
+nb::dict stop_recording() {
+    patina::RecordedRays r;
+    {
+        nb::gil_scoped_release release;
+        r = patina::stop_ray_recording();
+    }
+    nb::dict d;
+    d["origins"] = rows3(r.origins);
+    d["directions"] = rows3(r.directions);
+    d["tmin"] = copy_vector(r.tmin.data(), r.tmin.size());
+    d["tmax"] = copy_vector(r.tmax.data(), r.tmax.size());
+    d["any_hit"] = copy_vector(r.any_hit.data(), r.any_hit.size());
+    d["truncated"] = r.truncated;
+    return d;
+}
+
+nb::object triangles_of(const Accel& a) {
+    float* out;
+    const size_t n = a.tree.triangle_count();
+    const size_t shape[3] = {n, 3, 3};
+    auto arr = new_array<float, 3>(shape, &out);
+    if (n) std::memcpy(out, a.tree.triangles.data(), 9 * n * sizeof(float));
+    return nb::cast(arr);
+}
+
 }  // namespace
 
 void bind_accel(nb::module_& m) {
+    m.def("start_ray_recording", &patina::start_ray_recording, nb::arg("limit"),
+          "Records every ray the tracing kernels see from now on (at most `limit`), for the benchmark's replays.");
+    m.def("stop_ray_recording", &stop_recording,
+          "Stops recording: dict of origins (n, 3), directions (n, 3), tmin, tmax, any_hit (uint8, 1 for an "
+          "occlusion query) and truncated (the limit was reached).");
     nb::class_<Accel>(m, "Accel", "A SAH kd-tree over triangles with single-ray and 4/8-ray packet traversal.")
         .def(nb::new_(&make_accel), nb::arg("vertices"), nb::arg("indices"), nb::arg("max_leaf") = 0,
              nb::arg("max_depth") = 0, nb::arg("threads") = 0,
@@ -150,6 +192,7 @@ void bind_accel(nb::module_& m) {
         .def_prop_ro("leaf_references", [](const Accel& a) { return a.tree.stats.leaf_refs; })
         .def_prop_ro("depth", [](const Accel& a) { return a.tree.stats.depth; })
         .def_prop_ro("build_seconds", [](const Accel& a) { return a.tree.stats.build_seconds; })
+        .def_prop_ro("triangles", &triangles_of, "(T, 3, 3) float32 corners, in the order of the indices given")
         .def("intersect", &intersect, nb::arg("origins"), nb::arg("directions"), nb::arg("tmin") = 0.0f,
              nb::arg("tmax") = nb::none(), nb::arg("width") = 0, nb::arg("threads") = 0, nb::arg("out") = nb::none(),
              "Closest hits: (t, prim, u, v, normal); t = inf and prim = -1 on a miss. Rays [i, i + width) "

@@ -525,15 +525,19 @@ private:
         }
     }
 
-    // Merges the (few, unsorted) events of clipped triangles into a sorted list.
-    void merge_in(EventList& sorted, EventList& extra) {
+    // Merges the (few, unsorted) events of clipped triangles into a sorted list, in
+    // place from the back: only the events above the lowest new one move, each once.
+    static void merge_in(EventList& sorted, EventList& extra) {
         if (extra.empty()) return;
         std::sort(extra.begin(), extra.end());
-        EventList merged = take();
-        merged.resize(sorted.size() + extra.size());
-        std::merge(sorted.begin(), sorted.end(), extra.begin(), extra.end(), merged.begin());
-        sorted.swap(merged);
-        m_pool.push_back(std::move(merged));
+        const size_t n = sorted.size(), m = extra.size();
+        sorted.resize(n + m);
+        Event* e = sorted.data();
+        size_t i = n, j = m, k = n + m;
+        while (j > 0) {
+            if (i > 0 && e[i - 1] > extra[j - 1]) e[--k] = e[--i];
+            else e[--k] = extra[--j];
+        }
     }
 
     // Appends another builder's subtree; returns the index of its root here.

@@ -5,6 +5,7 @@
 
 #include "core/constants.h"
 #include "core/simd/kernel_width.h"
+#include "render/accel/ray_recorder.h"
 #include "render/accel/trace_kernels.h"
 #include "render/accel/traverse.h"
 
@@ -46,6 +47,7 @@ RayPacket<N> load_packet(const RayBatch& rays, size_t i, int lanes) {
 
 void intersect_kernel(const KdTree& tree, const RayBatch& rays, const HitBatch& hits, size_t begin, size_t end) {
     enter_kernel();
+    if (ray_recording_on()) record_rays(rays, begin, end, false);
     const TreeView view = view_of(tree);
     for (size_t i = begin; i < end; i += N) {
         const int lanes = static_cast<int>(std::min<size_t>(N, end - i));
@@ -69,6 +71,7 @@ void intersect_kernel(const KdTree& tree, const RayBatch& rays, const HitBatch& 
 
 void occluded_kernel(const KdTree& tree, const RayBatch& rays, uint8_t* blocked, size_t begin, size_t end) {
     enter_kernel();
+    if (ray_recording_on()) record_rays(rays, begin, end, true);
     const TreeView view = view_of(tree);
     for (size_t i = begin; i < end; i += N) {
         const int lanes = static_cast<int>(std::min<size_t>(N, end - i));

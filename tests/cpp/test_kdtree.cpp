@@ -1,5 +1,6 @@
 // The kd-tree: single rays against brute force, packets against single rays, a closed
-// mesh that must not leak, degenerate input, empty scenes, rays in splitting planes.
+// mesh that must not leak, degenerate input, empty scenes, rays in splitting planes, the
+// same tree for any thread count; the ray recorder.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 
 #include "core/cpu.h"
 #include "render/accel/kdtree.h"
+#include "render/accel/ray_recorder.h"
 #include "render/accel/trace_kernels.h"
 
 using namespace patina;
@@ -338,3 +340,69 @@ TEST(KdTree, EveryTriangleIsInALeafAndLimitsHold) {
     EXPECT_GT(tree.stats.leaves, 100u);
 }
 
+
+TEST(KdTree, SameTreeForAnyThreadCount) {
+    // large enough that the top levels are built in parallel subtrees (and binned)
+    const Mesh m = soup(30000, 14);
+    KdBuildOptions opt;
+    opt.threads = 1;
+    const KdTree one = build_kdtree(m.v.data(), m.v.size() / 3, m.f.data(), m.triangles(), opt);
+    for (int threads : {2, 3, 8}) {
+        opt.threads = threads;
+        const KdTree many = build_kdtree(m.v.data(), m.v.size() / 3, m.f.data(), m.triangles(), opt);
+        ASSERT_EQ(one.nodes.size(), many.nodes.size()) << threads << " threads";
+        for (size_t i = 0; i < one.nodes.size(); ++i) {
+            ASSERT_EQ(one.nodes[i].bits, many.nodes[i].bits) << threads << " threads, node " << i;
+            ASSERT_EQ(one.nodes[i].first, many.nodes[i].first) << threads << " threads, node " << i;
+        }
+        ASSERT_EQ(one.leaf_prims, many.leaf_prims) << threads << " threads";
+    }
+}
+
+TEST(KdTree, LargeSoupMatchesBruteForce) {
+    // thousands of overlapping triangles: the binned upper levels, the sorted events below
+    // and many triangles clipped to both sides of a plane
+    const Mesh m = soup(3000, 15);
+    const KdTree tree = build(m);
+    EXPECT_GT(tree.stats.leaf_refs, m.triangles()) << "no triangle was clipped into two leaves";
+    const Rays rays = random_rays(1500, 16);
+    for (int w : {1, 8}) {
+        if (!width_supported(w)) continue;
+        const Result r = trace(tree, rays, w);
+        for (size_t i = 0; i < rays.size(); ++i) {
+            const auto [t, prim] = brute_force(m, &rays.o[3 * i], &rays.d[3 * i]);
+            ASSERT_EQ(r.prim[i] >= 0, prim >= 0) << "width " << w << " ray " << i;
+            if (prim >= 0) {
+                EXPECT_NEAR(r.t[i], t, 1e-5 * t) << "width " << w << " ray " << i;
+            }
+        }
+    }
+}
+
+TEST(RayRecorder, KeepsWhatTheKernelsTraceWhileOn) {
+    const Mesh m = soup(200, 17);
+    const KdTree tree = build(m);
+    const Rays rays = random_rays(100, 18);
+    trace(tree, rays, 1);  // not recorded: recording is off
+    start_ray_recording(150);
+    trace(tree, rays, 1);
+    std::vector<uint8_t> blocked(rays.size());
+    const RayBatch batch{rays.o.data(), rays.d.data(), 0.0f, nullptr, 2.0f};
+    trace_occluded(tree, batch, blocked.data(), rays.size(), 1, 1);
+    const RecordedRays rec = stop_ray_recording();
+    trace(tree, rays, 1);  // off again
+    ASSERT_EQ(rec.tmax.size(), 150u);
+    EXPECT_TRUE(rec.truncated);
+    ASSERT_EQ(rec.origins.size(), 450u);
+    for (size_t i = 0; i < 150; ++i) {
+        const size_t k = i % 100;
+        for (int a = 0; a < 3; ++a) {
+            ASSERT_EQ(rec.origins[3 * i + a], rays.o[3 * k + a]) << "ray " << i;
+            ASSERT_EQ(rec.directions[3 * i + a], rays.d[3 * k + a]) << "ray " << i;
+        }
+        EXPECT_EQ(rec.any_hit[i], i < 100 ? 0 : 1) << "ray " << i;
+        EXPECT_EQ(rec.tmax[i], i < 100 ? kInf : 2.0f) << "ray " << i;
+        EXPECT_EQ(rec.tmin[i], 0.0f);
+    }
+    EXPECT_TRUE(stop_ray_recording().tmax.empty());
+}

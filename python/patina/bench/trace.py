@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from patina.bench.ray_replay import recorded_preview
 from patina.bench.records import Record, median_times, simd_widths
 from patina.geometry import benchmark_geometry as scenes
 from patina.geometry.accel import Accel
@@ -173,6 +174,17 @@ def _trace_records(repeat: int, quick: bool) -> list[Record]:
     return records
 
 
+def _replay_records(repeat: int, quick: bool) -> list[Record]:
+    """The preview ball's recorded rays (bench/ray_replay.py), closest hit and shadow, replayed."""
+    rec = recorded_preview(quick)
+    accel = Accel(rec.mesh)
+    embree = _embree_scene(rec.mesh)
+    o, d = rec.closest
+    records = _closest_records("trace.replay.preview.path", accel, embree, scenes.Rays(o, d), repeat, "_vs_scalar")
+    so, sd, tmax = rec.shadow
+    return records + _shadow_records("trace.replay.preview.shadow", accel, embree, scenes.Rays(so, sd), tmax, repeat)
+
+
 def _size_label(n: int) -> str:
     return f"{n // 1_000_000}m" if n >= 1_000_000 else f"{n // 1000}k"
 
@@ -201,9 +213,30 @@ def _build_records(repeat: int, quick: bool) -> list[Record]:
                 "s",
             )
         )
+        if size == sizes[-1] and (embree_seconds := _embree_build_seconds(mesh, runs)) is not None:
+            records.append(
+                Record(
+                    f"trace.build.{_size_label(size)}_vs_embree",
+                    f"kd-tree build, 1 thread, {n} triangles",
+                    "Embree 4's BVH build via embreex (its default quality, all cores through TBB)",
+                    embree_seconds / seconds,
+                    seconds,
+                    "s",
+                )
+            )
     return records
+
+
+def _embree_build_seconds(mesh: Mesh, runs: int) -> float | None:
+    """Median seconds to build and commit an Embree scene of the mesh, or None without embreex."""
+    try:
+        import embreex  # noqa: F401
+    except ImportError:
+        return None
+    (seconds,) = median_times([functools.partial(_embree_scene, mesh)], runs)
+    return seconds
 
 
 def bench_trace(repeat: int, quick: bool) -> list[Record]:
     """The `trace` group: traversal records, then build records."""
-    return _trace_records(repeat, quick) + _build_records(repeat, quick)
+    return _trace_records(repeat, quick) + _replay_records(repeat, quick) + _build_records(repeat, quick)
