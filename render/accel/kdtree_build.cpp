@@ -278,7 +278,7 @@ public:
                 ev.axis[a].reserve(2 * n);
             }
             for (const Ref& r : refs) add_events(r.tri, r.b, ev);
-            refs = std::vector<Ref>{};
+            give_refs(refs);
             EventList scratch = take();
             for (int a = 0; a < 3; ++a) sort_events(ev.axis[a], scratch);
             m_pool.push_back(std::move(scratch));
@@ -300,7 +300,7 @@ public:
         Box3 left_box = box, right_box = box;
         left_box.hi[split.axis] = split.pos;
         right_box.lo[split.axis] = split.pos;
-        std::vector<Ref> left, right;
+        std::vector<Ref> left = take_refs(), right = take_refs();
         left.reserve(n / 2 + n / 8);
         right.reserve(n / 2 + n / 8);
         const int a = split.axis;
@@ -316,7 +316,7 @@ public:
                 if (clipped_bounds(t, right_box, c.b)) right.push_back(c);
             }
         }
-        refs = std::vector<Ref>{};
+        give_refs(refs);
         nodes[index].split = p;
         uint32_t above;
         if (parallel_depth > 0) {
@@ -344,6 +344,22 @@ private:
     // millions of small nodes, and allocating their lists anew cost a fifth of the build.
     std::vector<EventList> m_pool;
     NodeEvents m_scratch[2];  // the clipped triangles' new events, per child
+
+    // Reference lists of the binned phase, likewise: a level's lists are megabytes, and fresh
+    // ones are fresh pages the kernel must zero.
+    std::vector<std::vector<Ref>> m_ref_pool;
+
+    std::vector<Ref> take_refs() {
+        if (m_ref_pool.empty()) return {};
+        std::vector<Ref> v = std::move(m_ref_pool.back());
+        m_ref_pool.pop_back();
+        v.clear();
+        return v;
+    }
+    void give_refs(std::vector<Ref>& v) {
+        if (v.capacity() && m_ref_pool.size() < 8) m_ref_pool.push_back(std::move(v));
+        v = std::vector<Ref>{};
+    }
 
     EventList take() {
         if (m_pool.empty()) return {};

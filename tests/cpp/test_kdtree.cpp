@@ -343,7 +343,7 @@ TEST(KdTree, EveryTriangleIsInALeafAndLimitsHold) {
 
 TEST(KdTree, SameTreeForAnyThreadCount) {
     // large enough that the top levels are built in parallel subtrees (and binned)
-    const Mesh m = soup(30000, 14);
+    const Mesh m = soup(8000, 14);
     KdBuildOptions opt;
     opt.threads = 1;
     const KdTree one = build_kdtree(m.v.data(), m.v.size() / 3, m.f.data(), m.triangles(), opt);
@@ -373,7 +373,8 @@ TEST(KdTree, LargeSoupMatchesBruteForce) {
             const auto [t, prim] = brute_force(m, &rays.o[3 * i], &rays.d[3 * i]);
             ASSERT_EQ(r.prim[i] >= 0, prim >= 0) << "width " << w << " ray " << i;
             if (prim >= 0) {
-                EXPECT_NEAR(r.t[i], t, 1e-5 * t) << "width " << w << " ray " << i;
+                // relative, plus float rounding at the origins' scale (1) for hits very near them
+                EXPECT_NEAR(r.t[i], t, 1e-5 * t + 1e-6) << "width " << w << " ray " << i;
             }
         }
     }
