@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import os
 import threading
-import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,7 +26,7 @@ from patina.scene.types import Scene
 from patina.widths import core_width
 
 UNBOUNDED_DEPTH = 64  # a Mitsuba-style max_depth of -1 ("unbounded"); Russian roulette ends paths long before
-POLL_S = 0.1  # how often the progress display and Ctrl-C are looked at
+POLL_S = 0.1  # how often the progress display and Ctrl-C are looked at while a render runs
 
 
 class RenderAborted(KeyboardInterrupt):
@@ -75,17 +74,18 @@ class _Waiter(threading.Thread):
         super().__init__(name="patina-render-wait", daemon=True)
         self.job = job
         self.error: BaseException | None = None
-        # set last; polled with sleep, not join(): a KeyboardInterrupt inside Thread.join can
-        # mark a running thread stopped (CPython 3.11, bpo-45274's fix), and resolving a job
-        # whose workers still run reads a half-written film
-        self.done = False
+        # set last; waited on with a timeout, not join(): a KeyboardInterrupt inside Thread.join
+        # can mark a running thread stopped (CPython 3.11, bpo-45274's fix), and resolving a job
+        # whose workers still run reads a half-written film. An event, not a flag polled with
+        # sleep, so a short render returns when it ends, not up to a poll period later.
+        self.finished = threading.Event()
 
     def run(self) -> None:
         try:
             self.job.wait()
         except BaseException as e:  # a worker's exception, re-raised in the caller's thread
             self.error = e
-        self.done = True
+        self.finished.set()
 
 
 def _run_job(job: _core.RenderJob, pixels: int, spp: int, progress: bool, by_items: bool = False) -> bool:
@@ -106,7 +106,7 @@ def _run_job(job: _core.RenderJob, pixels: int, spp: int, progress: bool, by_ite
         told = 0
         # the loop leaves only when the workers have stopped (a Python exit with C++ workers
         # still running can crash); the handler is two steps, the messages come from the loop
-        while not waiter.done:
+        while not waiter.finished.is_set():
             try:
                 if told < min(interrupts, 2):
                     told += 1
@@ -116,7 +116,7 @@ def _run_job(job: _core.RenderJob, pixels: int, spp: int, progress: bool, by_ite
                         if told == 1
                         else "  interrupted again: aborting, nothing is kept"
                     )
-                time.sleep(POLL_S)
+                waiter.finished.wait(POLL_S)
                 show()
             except KeyboardInterrupt:
                 interrupts += 1
