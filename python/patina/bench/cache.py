@@ -116,7 +116,8 @@ def _threads_record(sizes: Sizes, repeat: int, integrator: str, out: CacheBench)
         out.skipped.append(("cache.threads", why))
         return
     cores = os.cpu_count() or 1
-    candidate = with_overrides(scene, integrator=integrator, spp=sizes.candidate_spp)
+    # a quarter of the candidates' samples: the one-thread renders are the group's longest
+    candidate = with_overrides(scene, integrator=integrator, spp=max(1, sizes.candidate_spp // 4))
     prep = PreparedScene(candidate)
     times, _ = timed_renders([Run(candidate, prep, n) for n in (1, cores)], repeat)
     speedup = times[0] / times[1]
