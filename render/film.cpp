@@ -48,4 +48,35 @@ void Film::resolve(float* rgb, float* albedo, float* normal, float* depth, float
     }
 }
 
+namespace {
+
+// Both directions walk the same channel order, so read() then write() restores a pixel exactly.
+template <class F>
+void for_each_channel(int width, int x0, int y0, int x1, int y1, F&& f) {
+    size_t k = 0;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            const size_t i = static_cast<size_t>(y) * width + x;
+            for (int c = 0; c < 3; ++c) f(k++, 0, 3 * i + c);
+            for (int c = 0; c < 3; ++c) f(k++, 1, 3 * i + c);
+            for (int c = 0; c < 3; ++c) f(k++, 2, 3 * i + c);
+            f(k++, 3, i);
+            f(k++, 4, i);
+            f(k++, 5, i);
+            f(k++, 6, i);
+        }
+}
+
+}  // namespace
+
+void Film::read(int x0, int y0, int x1, int y1, double* out) const {
+    const std::vector<double>* ch[7] = {&m_rgb, &m_albedo, &m_normal, &m_lux, &m_depth, &m_weight, &m_depth_weight};
+    for_each_channel(m_width, x0, y0, x1, y1, [&](size_t k, int c, size_t i) { out[k] = (*ch[c])[i]; });
+}
+
+void Film::write(int x0, int y0, int x1, int y1, const double* in) {
+    std::vector<double>* ch[7] = {&m_rgb, &m_albedo, &m_normal, &m_lux, &m_depth, &m_weight, &m_depth_weight};
+    for_each_channel(m_width, x0, y0, x1, y1, [&](size_t k, int c, size_t i) { (*ch[c])[i] = in[k]; });
+}
+
 }  // namespace patina

@@ -19,6 +19,13 @@ public:
     // Each pixel the weighted mean of its samples (H x W x 3 etc.); samples: the weight sum.
     void resolve(float* rgb, float* albedo, float* normal, float* depth, float* lux, float* samples) const;
 
+    // The raw sums of the pixels [x0, x1) x [y0, y1), kChannels doubles a pixel, row by row:
+    // a tile's accumulation handed to another process, which continues adding to it (a
+    // distributed render, render_job.h), and taken back.
+    static constexpr int kChannels = 13;  // rgb 3, albedo 3, normal 3, lux, depth, weight, depth weight
+    void read(int x0, int y0, int x1, int y1, double* out) const;
+    void write(int x0, int y0, int x1, int y1, const double* in);
+
 private:
     int m_width, m_height;
     std::vector<double> m_rgb, m_albedo, m_normal, m_lux, m_depth, m_weight, m_depth_weight;

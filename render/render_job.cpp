@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "core/parallel.h"
 
@@ -91,6 +92,19 @@ RenderProgress RenderJob::progress() const {
     return p;
 }
 
+// One thread's pixel samplers, the settings' one in use.
+struct RenderJob::Samplers {
+    UniformSampler uniform;
+    AdaptiveSampler adaptive;
+    PixelSampler& active;
+    explicit Samplers(RenderJob& j)
+        : uniform(j.m_film, j.m_settings.seed, j.m_settings.sampler, j.m_pass_begin, kMaxBatch),
+          adaptive(j.m_film, j.m_scene, *j.m_kernels, j.m_integrator, j.m_settings.seed, j.m_settings.aa_threshold,
+                   j.m_aa_stats, &j.m_aa_hints),
+          active(j.m_settings.aa == RenderSettings::Aa::Adaptive ? static_cast<PixelSampler&>(adaptive)
+                                                                 : static_cast<PixelSampler&>(uniform)) {}
+};
+
 void RenderJob::worker() {
     PathScratch scratch;
     // however the worker ends, its stage times join the job's
@@ -103,11 +117,8 @@ void RenderJob::worker() {
         }
     } add_stage_times{*this, scratch};
     scratch.timer.use_cpu_time(m_settings.stage_cpu_time);
-    UniformSampler uniform(m_film, m_settings.seed, m_settings.sampler, m_pass_begin, kMaxBatch);
-    AdaptiveSampler adaptive(m_film, m_scene, *m_kernels, m_integrator, m_settings.seed, m_settings.aa_threshold,
-                             m_aa_stats, &m_aa_hints);
-    PixelSampler& sampler = m_settings.aa == RenderSettings::Aa::Adaptive ? static_cast<PixelSampler&>(adaptive)
-                                                                          : static_cast<PixelSampler&>(uniform);
+    Samplers samplers(*this);
+    PixelSampler& sampler = samplers.active;
     std::vector<CameraSample> cs;
     std::vector<PathResult> out;
     try {
@@ -148,18 +159,69 @@ StageTimes RenderJob::stage_times() const {
     return m_stage_times;
 }
 
-void RenderJob::run_item(const Item& item, PixelSampler& sampler, PathScratch& scratch, std::vector<CameraSample>& cs,
-                         std::vector<PathResult>& out) {
+TileRect RenderJob::tile_rect(int tile) const {
+    if (tile < 0 || tile >= tile_count()) throw std::out_of_range("tile " + std::to_string(tile) + " is not in the image");
     const Camera& cam = m_scene.camera;
     const int ts = m_settings.tile_size;
-    const int x0 = (item.tile % m_tiles_x) * ts, y0 = (item.tile / m_tiles_x) * ts;
-    sampler.begin(TileRect{x0, y0, std::min(x0 + ts, cam.width), std::min(y0 + ts, cam.height)}, item.pass);
+    const int x0 = (tile % m_tiles_x) * ts, y0 = (tile / m_tiles_x) * ts;
+    return TileRect{x0, y0, std::min(x0 + ts, cam.width), std::min(y0 + ts, cam.height)};
+}
+
+size_t RenderJob::run_item(const Item& item, PixelSampler& sampler, PathScratch& scratch,
+                           std::vector<CameraSample>& cs, std::vector<PathResult>& out) {
+    sampler.begin(tile_rect(item.tile), item.pass);
+    size_t samples = 0;
     while (sampler.next_batch(cs)) {
         out.resize(cs.size());
         m_kernels->trace_paths(m_scene, m_integrator, cs.data(), cs.size(), out.data(), scratch);
         sampler.take_results(cs.data(), out.data(), cs.size());
         m_samples_done.fetch_add(cs.size());
+        samples += cs.size();
     }
+    return samples;
+}
+
+RenderJob::TileWork RenderJob::render_tile(int tile, int first, int end) {
+    if (m_started) throw std::logic_error("render_tile is for a job that is not started");
+    tile_rect(tile);  // checks the tile
+    if (first < 0 || first > end || end > pass_count())
+        throw std::out_of_range("passes [" + std::to_string(first) + ", " + std::to_string(end) + ") are not in [0, " +
+                                std::to_string(pass_count()) + ")");
+    PathScratch scratch;
+    Samplers samplers(*this);
+    std::vector<CameraSample> cs;
+    std::vector<PathResult> out;
+    TileWork work;
+    for (int pass = first; pass < end; ++pass) work.samples += run_item(Item{tile, pass}, samplers.active, scratch, cs, out);
+    work.rays = scratch.rays_traced + samplers.active.rays_traced();
+    return work;
+}
+
+void RenderJob::read_tile(int tile, double* sums, uint8_t* aa_level, uint8_t* aa_rays) const {
+    const TileRect r = tile_rect(tile);
+    m_film.read(r.x0, r.y0, r.x1, r.y1, sums);
+    if (m_aa_stats.level.empty()) return;
+    size_t k = 0;
+    for (int y = r.y0; y < r.y1; ++y)
+        for (int x = r.x0; x < r.x1; ++x, ++k) {
+            const size_t i = static_cast<size_t>(y) * m_film.width() + x;
+            aa_level[k] = m_aa_stats.level[i];
+            aa_rays[k] = m_aa_stats.rays[i];
+        }
+}
+
+void RenderJob::write_tile(int tile, const double* sums, const uint8_t* aa_level, const uint8_t* aa_rays) {
+    if (m_started) throw std::logic_error("write_tile is for a job that is not started");
+    const TileRect r = tile_rect(tile);
+    m_film.write(r.x0, r.y0, r.x1, r.y1, sums);
+    if (m_aa_stats.level.empty()) return;
+    size_t k = 0;
+    for (int y = r.y0; y < r.y1; ++y)
+        for (int x = r.x0; x < r.x1; ++x, ++k) {
+            const size_t i = static_cast<size_t>(y) * m_film.width() + x;
+            m_aa_stats.level[i] = aa_level[k];
+            m_aa_stats.rays[i] = aa_rays[k];
+        }
 }
 
 void RenderJob::resolve(float* rgb, float* albedo, float* normal, float* depth, float* lux, float* samples) const {

@@ -75,13 +75,33 @@ public:
     // (render/stage_timer.h). Call after wait().
     StageTimes stage_times() const;
 
+    // A distributed render (python/patina/batch/render_tiles.py): processes render chosen
+    // tiles' passes on their own job of the same scene and settings and hand each tile's
+    // sums on (read_tile); the next pass continues from them (write_tile), so each tile's
+    // passes are still added in order and the image is the same bit for bit. Not with start().
+    int tile_count() const { return static_cast<int>(m_tile_passes.size()); }
+    int pass_count() const { return static_cast<int>(m_pass_begin.size()) - 1; }
+    TileRect tile_rect(int tile) const;
+    // Passes [first, end) of `tile` on the calling thread, added to what the film holds for
+    // it (passes [0, first) by write_tile); other tiles may render on other threads at once.
+    struct TileWork {
+        size_t rays = 0, samples = 0;  // rays traced, camera samples taken
+    };
+    TileWork render_tile(int tile, int first, int end);
+    // The tile's sums (Film::kChannels doubles a pixel, row by row) and, for the adaptive
+    // sampler, its pixels' aa_stats (nullptr for the uniform sampler).
+    void read_tile(int tile, double* sums, uint8_t* aa_level, uint8_t* aa_rays) const;
+    void write_tile(int tile, const double* sums, const uint8_t* aa_level, const uint8_t* aa_rays);
+
 private:
     struct Item {
         int tile, pass;
     };
+    struct Samplers;
     void worker();
-    void run_item(const Item& item, PixelSampler& sampler, PathScratch& scratch, std::vector<CameraSample>& cs,
-                  std::vector<PathResult>& out);
+    // returns the camera samples it took
+    size_t run_item(const Item& item, PixelSampler& sampler, PathScratch& scratch, std::vector<CameraSample>& cs,
+                    std::vector<PathResult>& out);
 
     const RenderScene& m_scene;
     RenderSettings m_settings;

@@ -2,6 +2,7 @@
 // (python/patina/render/prepare.py) checks the scene file, computes what follows from it
 // (light geometry, sampling proxies) and builds these; here values are only converted and
 // checked, with std::invalid_argument (ValueError) naming the material, light or key.
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/unique_ptr.h>
 #include <nanobind/stl/vector.h>
@@ -10,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -499,6 +501,61 @@ nb::dict resolve(const JobHandle& j) {
     return d;
 }
 
+// A distributed render's tile (python/patina/batch/render_tiles.py): its sums (rows x
+// columns x Film::kChannels doubles) and the adaptive sampler's per-pixel level and rays.
+using TileSums = nb::ndarray<const double, nb::ndim<3>, nb::c_contig, nb::device::cpu>;
+using TileStats = nb::ndarray<const uint8_t, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+
+nb::dict read_tile(const JobHandle& j, int tile) {
+    const patina::TileRect r = j.job->tile_rect(tile);
+    const size_t rows = r.y1 - r.y0, cols = r.x1 - r.x0;
+    const size_t s3[3] = {rows, cols, patina::Film::kChannels}, s2[2] = {rows, cols};
+    double* sums;
+    auto a_sums = new_array<double, 3>(s3, &sums);
+    nb::dict d;
+    if (j.job->aa_stats().level.empty()) {
+        j.job->read_tile(tile, sums, nullptr, nullptr);
+    } else {
+        uint8_t *level, *rays;
+        auto a_level = new_array<uint8_t, 2>(s2, &level);
+        auto a_rays = new_array<uint8_t, 2>(s2, &rays);
+        j.job->read_tile(tile, sums, level, rays);
+        d["aa_level"] = a_level;
+        d["aa_rays"] = a_rays;
+    }
+    d["sums"] = a_sums;
+    return d;
+}
+
+void write_tile(JobHandle& j, int tile, TileSums sums, std::optional<TileStats> level, std::optional<TileStats> rays) {
+    const patina::TileRect r = j.job->tile_rect(tile);
+    const size_t rows = r.y1 - r.y0, cols = r.x1 - r.x0;
+    const auto name = "tile " + std::to_string(tile) + ": ";
+    if (sums.shape(0) != rows || sums.shape(1) != cols || sums.shape(2) != patina::Film::kChannels)
+        throw std::invalid_argument(name + "sums must have shape (" + std::to_string(rows) + ", " + std::to_string(cols) +
+                                    ", " + std::to_string(patina::Film::kChannels) + ")");
+    const bool adaptive = !j.job->aa_stats().level.empty();
+    if (adaptive != (level.has_value() && rays.has_value()))
+        throw std::invalid_argument(name + (adaptive ? "the adaptive sampler's tile needs aa_level and aa_rays"
+                                                     : "aa_level and aa_rays are the adaptive sampler's"));
+    for (const auto* a : {level ? &*level : nullptr, rays ? &*rays : nullptr})
+        if (a && (a->shape(0) != rows || a->shape(1) != cols))
+            throw std::invalid_argument(name + "aa_level and aa_rays must have the tile's rows and columns");
+    j.job->write_tile(tile, sums.data(), level ? level->data() : nullptr, rays ? rays->data() : nullptr);
+}
+
+nb::dict render_tile(JobHandle& j, int tile, int first, int end) {
+    patina::RenderJob::TileWork w;
+    {
+        nb::gil_scoped_release release;  // other threads render other tiles of the job meanwhile
+        w = j.job->render_tile(tile, first, end);
+    }
+    nb::dict d;
+    d["rays"] = w.rays;
+    d["samples"] = w.samples;
+    return d;
+}
+
 void check_axis(const FloatVector& a, const char* name) {
     if (a.shape(0) < 1) throw std::invalid_argument(std::string(name) + ": needs at least one knot");
     for (size_t i = 0; i < a.shape(0); ++i) {
@@ -668,7 +725,22 @@ void bind_render(nb::module_& m) {
              })
         .def("progress", &progress)
         .def("stage_times", &stage_times, "After wait(): seconds per integrator stage, summed over the threads.")
-        .def("resolve", &resolve);
+        .def("resolve", &resolve)
+        // a distributed render's tiles (render/render_job.h); on a job that is not started
+        .def_prop_ro("tile_count", [](const JobHandle& j) { return j.job->tile_count(); })
+        .def_prop_ro("pass_count", [](const JobHandle& j) { return j.job->pass_count(); })
+        .def(
+            "tile_rect",
+            [](const JobHandle& j, int tile) {
+                const patina::TileRect r = j.job->tile_rect(tile);
+                return nb::make_tuple(r.x0, r.y0, r.x1, r.y1);
+            },
+            nb::arg("tile"), "(x0, y0, x1, y1): the tile's pixels [x0, x1) x [y0, y1)")
+        .def("render_tile", &render_tile, nb::arg("tile"), nb::arg("first"), nb::arg("end"),
+             "passes [first, end) of the tile on this thread, added to its sums; {rays, samples}")
+        .def("read_tile", &read_tile, nb::arg("tile"), "the tile's sums (and the adaptive sampler's aa_level, aa_rays)")
+        .def("write_tile", &write_tile, nb::arg("tile"), nb::arg("sums"), nb::arg("aa_level").none() = nb::none(),
+             nb::arg("aa_rays").none() = nb::none(), "sets the tile's sums (as read_tile gave them)");
 }
 
 }  // namespace patina_py
