@@ -129,6 +129,80 @@ def _run_job(job: _core.RenderJob, pixels: int, spp: int, progress: bool, by_ite
     return interrupts > 0
 
 
+def job_settings(
+    scene: Scene,
+    simd: int | None = None,
+    aa: str | None = None,
+    aa_threshold: float | None = None,
+    sampler: str | None = None,
+) -> dict:
+    """The `_core.RenderJob` settings of `scene` (all but the thread count): what makes its
+    image, so a distributed render (patina.batch.render_tiles) gives the same. simd, aa,
+    aa_threshold, sampler: as `render`. ValueError for a sampler or threshold out of range."""
+    aa = scene.render.aa if aa is None else aa
+    threshold = scene.render.aa_threshold if aa_threshold is None else aa_threshold
+    if aa not in AA_SAMPLERS:
+        raise ValueError(f"aa: {aa!r} is not one of {', '.join(repr(a) for a in AA_SAMPLERS)}")
+    sampler = scene.render.sampler if sampler is None else sampler
+    if sampler not in SAMPLERS:
+        raise ValueError(f"sampler: {sampler!r} is not one of {', '.join(repr(s) for s in SAMPLERS)}")
+    if isinstance(threshold, bool) or not isinstance(threshold, (int, float)) or not 0.0 <= threshold <= 1.0:
+        raise ValueError(f"aa_threshold: must be a number in [0, 1], got {threshold!r}")
+    return {
+        "spp": scene.render.spp,
+        "max_depth": core_depth(scene),
+        "seed": scene.render.seed,
+        "width": core_width(simd),
+        "aa": aa,
+        "aa_threshold": float(threshold),
+        "indirect_illuminance": scene.render.indirect_illuminance,
+        "sampler": sampler,
+    }
+
+
+def check_prepared(scene: Scene, prepared: PreparedScene | None) -> PreparedScene:
+    """`prepared` (or `scene` prepared now), refused when it was prepared at another size."""
+    prep = prepared or PreparedScene(scene)
+    if (prep.scene.camera.width, prep.scene.camera.height) != (scene.camera.width, scene.camera.height):
+        raise ValueError(
+            f"the prepared scene renders {prep.scene.camera.width}x{prep.scene.camera.height}, this scene "
+            f"{scene.camera.width}x{scene.camera.height}: prepare the scene as it is rendered"
+        )
+    return prep
+
+
+def render_result(
+    scene: Scene, images: dict, settings: dict, *, seconds: float, rays: int, camera_rays: int, complete: bool,
+    threads: int, simd_width: int, interrupted: bool,
+) -> RenderResult:  # fmt: skip
+    """A RenderResult from a job's resolved `images` and its `settings` (job_settings)."""
+    # the adaptive sampler's weights sum to 1 a pass up to float rounding
+    if float(images["samples"].min()) < 1 - 1e-4:
+        # cannot happen (a cancel finishes the first pass); never hand out unsampled pixels
+        raise RuntimeError("the render stopped with pixels that have no sample")
+    return RenderResult(
+        rgb=images["rgb"],
+        albedo=images["albedo"],
+        normal=images["normal"],
+        depth=images["depth"],
+        illuminance=images["illuminance"],
+        samples=images["samples"],
+        spp=scene.render.spp,
+        seconds=seconds,
+        rays=rays,
+        complete=complete,
+        simd_width=simd_width,
+        threads=threads,
+        interrupted=interrupted,
+        aa=settings["aa"],
+        aa_threshold=settings["aa_threshold"],
+        sampler=settings["sampler"],
+        camera_rays=camera_rays,
+        aa_level=images.get("aa_level"),
+        aa_rays=images.get("aa_rays"),
+    )
+
+
 def render(
     scene: Scene,
     threads: int = 0,
@@ -147,62 +221,21 @@ def render(
     paths' numbers, "sobol" (Owen-scrambled Sobol) or "independent" (None: the scene's
     render.sampler; docs/render.md).
     Ctrl-C: see the module docstring (a second one raises `RenderAborted`)."""
-    aa = scene.render.aa if aa is None else aa
-    threshold = scene.render.aa_threshold if aa_threshold is None else aa_threshold
-    if aa not in AA_SAMPLERS:
-        raise ValueError(f"aa: {aa!r} is not one of {', '.join(repr(a) for a in AA_SAMPLERS)}")
-    sampler = scene.render.sampler if sampler is None else sampler
-    if sampler not in SAMPLERS:
-        raise ValueError(f"sampler: {sampler!r} is not one of {', '.join(repr(s) for s in SAMPLERS)}")
-    if isinstance(threshold, bool) or not isinstance(threshold, (int, float)) or not 0.0 <= threshold <= 1.0:
-        raise ValueError(f"aa_threshold: must be a number in [0, 1], got {threshold!r}")
-    prep = prepared or PreparedScene(scene)
-    if (prep.scene.camera.width, prep.scene.camera.height) != (scene.camera.width, scene.camera.height):
-        raise ValueError(
-            f"the prepared scene renders {prep.scene.camera.width}x{prep.scene.camera.height}, this scene "
-            f"{scene.camera.width}x{scene.camera.height}: prepare the scene as it is rendered"
-        )
-    core_simd = core_width(simd)
-    job = _core.RenderJob(
-        prep.core,
-        spp=scene.render.spp,
-        max_depth=core_depth(scene),
-        seed=scene.render.seed,
-        threads=threads,
-        width=core_simd,
-        aa=aa,
-        aa_threshold=float(threshold),
-        indirect_illuminance=scene.render.indirect_illuminance,
-        sampler=sampler,
-    )
+    settings = job_settings(scene, simd, aa, aa_threshold, sampler)
+    prep = check_prepared(scene, prepared)
+    job = _core.RenderJob(prep.core, threads=threads, **settings)
     pixels = scene.camera.width * scene.camera.height
-    interrupted = _run_job(job, pixels, scene.render.spp, progress, by_items=aa == "adaptive")
+    interrupted = _run_job(job, pixels, scene.render.spp, progress, by_items=settings["aa"] == "adaptive")
     p = job.progress()
-    images = job.resolve()
-    # the adaptive sampler's weights sum to 1 a pass up to float rounding
-    if float(images["samples"].min()) < 1 - 1e-4:
-        # cannot happen (a cancel finishes the first pass); never hand out unsampled pixels
-        raise RuntimeError("the render stopped with pixels that have no sample")
-    resolved_threads = threads if threads > 0 else (os.cpu_count() or 1)
-    complete = bool(p["finished"])  # an interrupt after the last item still leaves a whole image
-    return RenderResult(
-        rgb=images["rgb"],
-        albedo=images["albedo"],
-        normal=images["normal"],
-        depth=images["depth"],
-        illuminance=images["illuminance"],
-        samples=images["samples"],
-        spp=scene.render.spp,
+    return render_result(
+        scene,
+        job.resolve(),
+        settings,
         seconds=float(p["seconds"]),
         rays=int(p["rays"]),
-        complete=complete,
-        simd_width=core_simd if core_simd else _core.default_width(),
-        threads=resolved_threads,
-        interrupted=interrupted,
-        aa=aa,
-        aa_threshold=float(threshold),
-        sampler=sampler,
         camera_rays=int(p["samples_done"]),
-        aa_level=images.get("aa_level"),
-        aa_rays=images.get("aa_rays"),
+        complete=bool(p["finished"]),  # an interrupt after the last item still leaves a whole image
+        threads=threads if threads > 0 else (os.cpu_count() or 1),
+        simd_width=settings["width"] or _core.default_width(),
+        interrupted=interrupted,
     )
