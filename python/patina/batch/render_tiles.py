@@ -57,11 +57,14 @@ CACHED_SCENES = 2  # prepared scenes a worker process keeps (the newest)
 @dataclass(frozen=True)
 class SceneBundle:
     """A scene as a worker needs it without seeing this machine's files: the parsed scene, the
-    bytes of every file it reads, the job settings; `checksum` names all of it."""
+    bytes of every file it reads, the job settings. `scene_checksum` names what the prepared
+    scene depends on (all but the render settings: another spp or seed reuses it), `checksum`
+    all of it."""
 
     scene: Scene
     files: dict[str, bytes]  # path in `scene` -> content
     settings: dict[str, Any]  # job_settings
+    scene_checksum: str
     checksum: str
 
 
@@ -105,29 +108,31 @@ def bundle_scene(scene: Scene, settings: dict[str, Any]) -> SceneBundle:
     for path in scene_files(scene):
         with open(path, "rb") as f:
             files[path] = f.read()
-    digest = hashlib.sha256(pickle.dumps((scene, sorted(settings.items())), protocol=4))
+    digest = hashlib.sha256(pickle.dumps(dataclasses.replace(scene, render=None), protocol=4))
     for path, data in files.items():
         digest.update(path.encode())
         digest.update(hashlib.sha256(data).digest())
-    return SceneBundle(scene, files, settings, digest.hexdigest())
+    scene_checksum = digest.hexdigest()
+    digest.update(pickle.dumps(sorted(settings.items()), protocol=4))
+    return SceneBundle(scene, files, settings, scene_checksum, digest.hexdigest())
 
 
 # ---------------------------------------------------------------- on a worker
 
 
 @dataclass
-class _WorkerScene:
-    prepared: PreparedScene
+class _WorkerJob:
     job: Any  # a _core.RenderJob never started: its film holds the tiles being rendered
     tile_locks: list[threading.Lock]  # a tile's sums are written, rendered and read whole
 
 
-_cache: OrderedDict[str, _WorkerScene] = OrderedDict()
+_scenes: OrderedDict[str, PreparedScene] = OrderedDict()  # by scene_checksum, the newest last
+_jobs: OrderedDict[str, _WorkerJob] = OrderedDict()  # by checksum
 _cache_lock = threading.Lock()
-prepared_here: list[str] = []  # the checksums of the scenes this process prepared (tests: once a worker)
+prepared_here: list[str] = []  # the scene_checksums of the scenes this process prepared (tests: once a worker)
 
 
-def _prepare(bundle: SceneBundle) -> _WorkerScene:
+def _prepare(bundle: SceneBundle) -> PreparedScene:
     """The bundle's files written to a temporary folder (the scene pointed at them), prepared,
     and the folder removed: a prepared scene holds everything it read."""
     folder = tempfile.mkdtemp(prefix="patina-scene-")
@@ -141,20 +146,30 @@ def _prepare(bundle: SceneBundle) -> _WorkerScene:
         prepared = PreparedScene(_map_files(bundle.scene, lambda p: local.get(p, p)))
     finally:
         shutil.rmtree(folder, ignore_errors=True)
-    job = _core.RenderJob(prepared.core, threads=1, **bundle.settings)
-    prepared_here.append(bundle.checksum)
-    return _WorkerScene(prepared, job, [threading.Lock() for _ in range(job.tile_count)])
+    prepared_here.append(bundle.scene_checksum)
+    return prepared
 
 
-def _worker_scene(bundle: SceneBundle) -> _WorkerScene:
+def _cached(cache: OrderedDict, key: str, make: Any) -> Any:
+    if key in cache:
+        cache.move_to_end(key)
+    else:
+        cache[key] = make()
+        while len(cache) > CACHED_SCENES:
+            cache.popitem(last=False)
+    return cache[key]
+
+
+def _worker_job(bundle: SceneBundle) -> _WorkerJob:
+    """This process's job for the bundle: its scene prepared once, kept for the next renders."""
     with _cache_lock:
-        if bundle.checksum in _cache:
-            _cache.move_to_end(bundle.checksum)
-        else:
-            _cache[bundle.checksum] = _prepare(bundle)
-            while len(_cache) > CACHED_SCENES:
-                _cache.popitem(last=False)
-        return _cache[bundle.checksum]
+        prepared = _cached(_scenes, bundle.scene_checksum, lambda: _prepare(bundle))
+
+        def make() -> _WorkerJob:
+            job = _core.RenderJob(prepared.core, threads=1, **bundle.settings)
+            return _WorkerJob(job, [threading.Lock() for _ in range(job.tile_count)])
+
+        return _cached(_jobs, bundle.checksum, make)
 
 
 def _zeros(job: Any, tile: int) -> dict[str, np.ndarray]:
@@ -168,7 +183,7 @@ def render_passes(
     """The Dask task: passes [first, end) of `tiles`, continuing from `before` (the same tiles
     after the earlier passes, None for the first); their sums after them, with the rays and
     camera samples of the passes so far."""
-    here = _worker_scene(bundle)
+    here = _worker_job(bundle)
     job = here.job
     out: dict[str, Any] = {
         "tiles": {},

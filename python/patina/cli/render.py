@@ -25,6 +25,8 @@ from typing import Any
 import numpy as np
 
 from patina.atomic import check_writable
+from patina.batch.render_tiles import render_on_dask
+from patina.batch.scheduling import IN_PROCESS, check_scheduler, connect, dashboard, dask_available
 from patina.bundled import studio_environment
 from patina.cli.common import HelpFormat, add_simd_option
 from patina.colour_constants import luminance
@@ -120,6 +122,41 @@ def _with_options(scene: Scene, args: argparse.Namespace) -> Scene:
     )
 
 
+def _on_dask(args: argparse.Namespace) -> bool:
+    """--scheduler ADDRESS or --workers N: the render's tiles as Dask tasks (patina.batch.render_tiles)."""
+    return args.workers is not None or args.scheduler not in (None, IN_PROCESS)
+
+
+def _check_cluster_options(args: argparse.Namespace) -> None:
+    """--scheduler and --workers, before the scene is read; the address is tried later (connect)."""
+    check_scheduler(args.scheduler)
+    if args.workers is not None:
+        if not 1 <= args.workers <= 1024:
+            raise _command_line("--workers", f"{args.workers} is not in 1 .. 1024")
+        if args.scheduler is not None:
+            raise _command_line("--workers", "sets the size of the local cluster; a --scheduler has its own workers")
+    if _on_dask(args):
+        if args.threads:
+            raise _command_line("--threads", "a distributed render runs a task a worker thread; the workers set them")
+        if not dask_available():
+            raise _command_line(
+                "--scheduler" if args.scheduler else "--workers",
+                "Dask distributed is not installed (pip install .[cluster])",
+            )
+
+
+@contextlib.contextmanager
+def _dask_client(args: argparse.Namespace) -> Iterator[Any]:
+    """None for a render on this machine's threads; else a Dask client, connected before the
+    scene is prepared, so an unreachable scheduler is told within seconds."""
+    if not _on_dask(args):
+        yield None
+        return
+    with connect(args.scheduler, args.workers) as (client, what):
+        print(f"rendering on {what}; dashboard: {dashboard(client)}", flush=True)
+        yield client
+
+
 # ---------------------------------------------------------------- signals
 
 
@@ -191,18 +228,23 @@ def _render_and_write(scene: Any, args: argparse.Namespace, exposure_choice: str
     exr, image = _outputs(args)
     check_outputs([exr, image], args.force)
     check_render_memory(scene)
-    prepared = PreparedScene(scene)
-    print(
-        f"rendering {scene.camera.width}x{scene.camera.height}, {scene.render.spp} spp, "
-        f"{scene.render.integrator}, {prepared.triangles} triangles "
-        "(Ctrl-C stops after the first pass keeping the passes done; twice aborts)",
-        flush=True,
-    )
-    try:
-        result = render(scene, threads=args.threads, simd=args.simd, progress=not args.quiet, prepared=prepared)
-    except RenderAborted:
-        print("patina: interrupted twice: the render was aborted, nothing written", file=sys.stderr)
-        return 130
+    with _dask_client(args) as client:
+        prepared = PreparedScene(scene)
+        print(
+            f"rendering {scene.camera.width}x{scene.camera.height}, {scene.render.spp} spp, "
+            f"{scene.render.integrator}, {prepared.triangles} triangles "
+            "(Ctrl-C stops after the first pass keeping the passes done; twice aborts)",
+            flush=True,
+        )
+        progress = not args.quiet
+        try:
+            if client is None:
+                result = render(scene, threads=args.threads, simd=args.simd, progress=progress, prepared=prepared)
+            else:
+                result = render_on_dask(scene, client, simd=args.simd, progress=progress, prepared=prepared)
+        except RenderAborted:
+            print("patina: interrupted twice: the render was aborted, nothing written", file=sys.stderr)
+            return 130
     exposure = auto_exposure(result.rgb) if exposure_choice == "auto" else float(exposure_choice)
     with deferred_interrupts() as came:
         for path in (exr, image):
@@ -213,7 +255,8 @@ def _render_and_write(scene: Any, args: argparse.Namespace, exposure_choice: str
     state = "complete" if result.complete else f"PARTIAL (at least {int(result.samples.min())} of {result.spp} spp)"
     print(
         f"rendered {scene.camera.width}x{scene.camera.height}, {result.spp} spp, {state}: "
-        f"{result.seconds:.2f} s, {rate:.2f} Mrays/s, SIMD width {result.simd_width}, {result.threads} threads"
+        f"{result.seconds:.2f} s, {rate:.2f} Mrays/s, SIMD width {result.simd_width}, {result.threads} "
+        + ("Dask worker threads" if _on_dask(args) else "threads")
     )
     if result.aa_level is not None:
         meta = metadata(scene, result)
@@ -237,6 +280,7 @@ def _render_and_write(scene: Any, args: argparse.Namespace, exposure_choice: str
 def cmd_render(args: argparse.Namespace) -> int:
     with terminate_as_interrupt():
         _outputs(args)  # option errors before the scene is read
+        _check_cluster_options(args)
         scene = _with_options(load_scene(args.scene), args)
         return _render_and_write(scene, args, args.exposure or "0")
 
@@ -244,6 +288,7 @@ def cmd_render(args: argparse.Namespace) -> int:
 def cmd_preview(args: argparse.Namespace) -> int:
     with terminate_as_interrupt():
         _outputs(args)
+        _check_cluster_options(args)
         for what, path in (("the material to preview", args.material), ("the --env map", args.env)):
             if path is not None and not os.path.isfile(path):
                 raise FormatError(path, "", f"no such file ({what})")
@@ -346,6 +391,16 @@ def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help:
         "render.indirect_illuminance; slower: one more path per sample)",
     )
     s.add_argument("--threads", type=int, default=0, help="worker threads (default: 0, all cores)")
+    s.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="render the tiles on a running Dask scheduler's workers (tcp://host:8786); the same image bit "
+        f"for bit ({IN_PROCESS}: on this machine's threads, as without it)",
+    )
+    s.add_argument(
+        "--workers", type=int, default=None, metavar="N", help="render the tiles on a local Dask cluster of N processes"
+    )
     add_simd_option(s)
     s.add_argument("--quiet", action="store_true", help="no progress display")
 

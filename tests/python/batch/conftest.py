@@ -1,4 +1,5 @@
-"""The batch tests' library fixture (the helpers are in batch_library.py, beside this file)."""
+"""The batch tests' fixtures: the library (its helpers are in batch_library.py, beside this
+file) and one LocalCluster of 2 worker processes that the Dask tests share."""
 
 from __future__ import annotations
 
@@ -46,3 +47,14 @@ def finished(finished_once, tmp_path) -> Finished:
     library = shutil.copytree(finished_once.library, tmp_path / "library")
     out = shutil.copytree(finished_once.out, tmp_path / "out")
     return Finished(str(library), str(out), finished_once.summary, finished_once.lines)
+
+
+@pytest.fixture(scope="session")
+def client():
+    """A Dask client of a LocalCluster of 2 worker processes, one thread each (skipped without Dask)."""
+    distributed = pytest.importorskip("distributed")
+    with (
+        distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster,
+        distributed.Client(cluster) as c,
+    ):
+        yield c

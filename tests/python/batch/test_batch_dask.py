@@ -20,15 +20,6 @@ from patina.cli import main
 distributed = pytest.importorskip("distributed")
 
 
-@pytest.fixture(scope="module")
-def client():
-    with (
-        distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster,
-        distributed.Client(cluster) as c,
-    ):
-        yield c
-
-
 def on_dask(library: str, out: str, client, settings=QUICK) -> dict:
     return run_batch(library, out, settings, client=client, progress=False, say=lambda line: None)
 

@@ -1,0 +1,212 @@
+"""A render's tiles as Dask tasks (patina.batch.render_tiles): the files a scene reads shipped
+with it; the tasks' chain of tile sums merged into the very image the local render makes (in
+this process, then on a LocalCluster of 2 worker processes); each worker prepares the scene
+once; Ctrl-C keeps whole passes; the command, and a scheduler that does not answer."""
+
+from __future__ import annotations
+
+import functools
+import os
+import time
+
+import numpy as np
+import pytest
+
+from patina.batch import render_tiles
+from patina.bundled import materials_path
+from patina.cli import main
+from patina.native import _core
+from patina.render.images import read_image
+from patina.render.prepare import PreparedScene
+from patina.render.run import RenderAborted, job_settings, render
+from patina.scene.reading import load_scene, with_overrides
+
+IMAGES = ("rgb", "albedo", "normal", "depth", "illuminance", "samples", "aa_level", "aa_rays")
+
+
+def _scene(**overrides):
+    """The preview ball (a table under the clear coat, the studio map: files to ship), 32 x 24."""
+    return with_overrides(load_scene(materials_path("scenes", "preview-ball.json")), width=32, height=24, **overrides)
+
+
+@functools.cache
+def _prepared() -> PreparedScene:
+    """_scene() prepared once (its spp, seed and sampler are the job's, not the prepared scene's)."""
+    return PreparedScene(_scene())
+
+
+def _local(scene):
+    return render(scene, threads=2, prepared=_prepared())
+
+
+def assert_same_image(a, b) -> None:
+    for name in IMAGES:
+        x, y = getattr(a, name), getattr(b, name)
+        assert (x is None) == (y is None), name
+        if x is not None:
+            assert np.array_equal(x, y), f"{name} differs"
+    assert (a.rays, a.camera_rays, a.spp, a.aa) == (b.rays, b.camera_rays, b.spp, b.aa)
+
+
+# ---------------------------------------------------------------- in this process
+
+
+def test_the_bundle_holds_every_file_the_scene_reads():
+    ball = _scene()
+    assert [os.path.basename(p) for p in render_tiles.scene_files(ball)] == ["carpaint-base.ptab", "studio.exr"]
+    mesh = render_tiles.scene_files(load_scene(materials_path("scenes", "aa-checkerboard.json")))
+    assert [os.path.splitext(p)[1] for p in mesh] == [".obj"]
+    luminaire = render_tiles.scene_files(load_scene(materials_path("scenes", "street-luminaire.json")))
+    assert luminaire and all(os.path.isfile(p) for p in luminaire)
+    bundle = render_tiles.bundle_scene(ball, job_settings(ball))
+    for path in render_tiles.scene_files(ball):
+        with open(path, "rb") as f:
+            assert bundle.files[path] == f.read()
+    # the checksum names the settings too: another seed is another job of the same prepared scene
+    other = render_tiles.bundle_scene(ball, job_settings(with_overrides(ball, seed=1)))
+    assert other.checksum != bundle.checksum and other.scene_checksum == bundle.scene_checksum
+
+
+@pytest.mark.parametrize("tiles, groups", [(1, 8), (12, 8), (12, 5), (300, 8)])
+def test_tile_groups_cover_the_tiles_in_order(tiles, groups):
+    plan = render_tiles.tile_groups(tiles, groups)
+    assert len(plan) == min(tiles, groups) and all(plan)
+    assert [t for g in plan for t in g] == list(range(tiles))
+
+
+@pytest.mark.parametrize("passes", [1, 2, 8, 9, 1000])
+def test_pass_runs_start_with_the_first_pass_alone_and_cover_the_passes(passes):
+    runs = render_tiles.pass_runs(passes)
+    assert runs[0] == (0, 1) and len(runs) <= render_tiles.PASS_RUNS
+    assert [p for first, end in runs for p in range(first, end)] == list(range(passes))
+
+
+def _tasks_in_process(scene, groups: int):
+    """The Dask tasks' work run here, one after the other, merged as render_on_dask merges it."""
+    settings = job_settings(scene)
+    bundle = render_tiles.bundle_scene(scene, settings)
+    merged = _core.RenderJob(_prepared().core, threads=1, **settings)
+    for tiles in render_tiles.tile_groups(merged.tile_count, groups):
+        before = None
+        for passes in render_tiles.pass_runs(merged.pass_count):
+            before = render_tiles.render_passes(bundle, tiles, passes, before)
+        for tile in tiles:
+            merged.write_tile(tile, **before["tiles"][tile])
+    return merged.resolve(), before
+
+
+@pytest.mark.parametrize("aa", ["uniform", "adaptive"])
+def test_tiles_rendered_in_chained_tasks_give_the_local_image_bit_for_bit(aa):
+    scene = _scene(aa=aa, spp=3)
+    images, _ = _tasks_in_process(scene, groups=3)
+    local = _local(scene)
+    for name in IMAGES:
+        if getattr(local, name) is not None:
+            assert np.array_equal(images[name], getattr(local, name)), name
+    assert ("aa_level" in images) == (aa == "adaptive")
+
+
+def test_a_worker_job_with_another_renders_sums_starts_its_first_pass_from_zero():
+    scene = _scene(spp=2)
+    first, _ = _tasks_in_process(scene, groups=2)
+    again, _ = _tasks_in_process(scene, groups=3)  # the cached worker job still holds the first run's sums
+    assert np.array_equal(first["rgb"], again["rgb"])
+
+
+def test_write_tile_checks_what_it_is_given():
+    scene = _scene(spp=1)
+    job = _core.RenderJob(_prepared().core, **job_settings(scene))
+    sums = job.read_tile(0)["sums"]
+    with pytest.raises(ValueError, match="tile 0: sums must have shape"):
+        job.write_tile(0, sums[:, :-1])
+    with pytest.raises(ValueError, match="aa_level and aa_rays are the adaptive sampler's"):
+        job.write_tile(0, sums, np.zeros(sums.shape[:2], np.uint8), np.zeros(sums.shape[:2], np.uint8))
+    with pytest.raises(IndexError):
+        job.render_tile(job.tile_count, 0, 1)
+    with pytest.raises(IndexError):
+        job.render_tile(0, 0, job.pass_count + 1)
+
+
+# ---------------------------------------------------------------- on a LocalCluster of 2 worker processes
+
+
+@pytest.fixture
+def cluster(client):
+    client.wait_for_workers(2, timeout=60)  # another test may have killed one; its nanny restarts it
+    return client
+
+
+@pytest.mark.parametrize("aa", ["uniform", "adaptive"])
+def test_the_distributed_render_is_the_local_one_bit_for_bit(cluster, aa):
+    scene = _scene(aa=aa, spp=4)  # 4 spp: 4 passes, each group's tasks a chain of 4
+    there = render_tiles.render_on_dask(scene, cluster, prepared=_prepared())
+    here = _local(scene)
+    assert there.complete and not there.interrupted and there.threads == 2
+    assert_same_image(there, here)
+
+
+def test_each_worker_prepares_the_scene_once(cluster):
+    scene = _scene(spp=2, seed=7)
+    checksum = render_tiles.bundle_scene(scene, job_settings(scene)).scene_checksum
+    for seed in (7, 8):  # another seed: another job, the same prepared scene
+        render_tiles.render_on_dask(with_overrides(scene, seed=seed), cluster, prepared=_prepared(), groups=8)
+    prepared = cluster.run(lambda: render_tiles.prepared_here.count(checksum))
+    assert 1 <= sum(prepared.values()) and all(n <= 1 for n in prepared.values()), prepared
+
+
+def _interrupt_at(monkeypatch, calls: set[int]) -> None:
+    """Ctrl-C while render_on_dask waits for its tasks, at the given waits (1: the first)."""
+    count = [0]
+    wait = render_tiles._wait
+
+    def interrupted(futures, seconds):
+        count[0] += 1
+        if count[0] in calls:
+            raise KeyboardInterrupt
+        wait(futures, seconds)
+
+    monkeypatch.setattr(render_tiles, "_wait", interrupted)
+
+
+def test_ctrl_c_keeps_the_finished_passes_of_every_tile(cluster, monkeypatch):
+    scene = _scene(spp=16)  # 8 passes of 2 samples
+    _interrupt_at(monkeypatch, {1})  # right after the tasks are submitted
+    result = render_tiles.render_on_dask(scene, cluster, prepared=_prepared())
+    assert result.interrupted and not result.complete
+    # every pixel got whole passes (2 samples each); with the uniform sampler a pixel's first n
+    # samples are those of the render at n spp, added in the same order: bit for bit
+    counts = np.unique(result.samples)
+    assert counts.min() >= 2 and all(n % 2 == 0 for n in counts) and counts.min() < 16
+    for n in counts:
+        local = _local(with_overrides(scene, spp=int(n)))
+        where = result.samples == n
+        assert np.array_equal(result.rgb[where], local.rgb[where]), n
+
+
+def test_a_second_ctrl_c_aborts(cluster, monkeypatch):
+    _interrupt_at(monkeypatch, {1, 2})
+    with pytest.raises(RenderAborted):
+        render_tiles.render_on_dask(_scene(spp=16), cluster, prepared=_prepared())
+
+
+def test_the_command_on_a_running_scheduler_writes_the_local_render(cluster, tmp_path, capsys):
+    scene = materials_path("scenes", "preview-ball.json")
+    common = ["render", scene, "--width", "32", "--spp", "2", "--png", "none", "--quiet"]
+    there, here = str(tmp_path / "there.exr"), str(tmp_path / "here.exr")
+    assert main([*common, "--out", there, "--scheduler", cluster.scheduler.address]) == 0
+    assert main([*common, "--out", here]) == 0
+    assert np.array_equal(read_image(there), read_image(here))
+    assert main([*common, "--out", here, "--force", "--scheduler", cluster.scheduler.address, "--threads", "2"]) == 2
+    err = capsys.readouterr().err
+    assert "--threads" in err and len(err.strip().splitlines()) == 1
+
+
+def test_an_unreachable_scheduler_fails_within_seconds_with_one_line(tmp_path, capsys):
+    pytest.importorskip("distributed")
+    started = time.monotonic()
+    scene = materials_path("scenes", "preview-ball.json")
+    code = main(["render", scene, "--out", str(tmp_path / "a.exr"), "--scheduler", "tcp://127.0.0.1:9"])
+    err = capsys.readouterr().err
+    assert code == 2 and "tcp://127.0.0.1:9" in err and len(err.strip().splitlines()) == 1, err
+    assert time.monotonic() - started < 30
+    assert not os.path.exists(tmp_path / "a.exr")
