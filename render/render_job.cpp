@@ -181,19 +181,25 @@ size_t RenderJob::run_item(const Item& item, PixelSampler& sampler, PathScratch&
     return samples;
 }
 
-RenderJob::TileWork RenderJob::render_tile(int tile, int first, int end) {
-    if (m_started) throw std::logic_error("render_tile is for a job that is not started");
-    tile_rect(tile);  // checks the tile
+RenderJob::TileWork RenderJob::render_tiles(const std::vector<int>& tiles, int first, int end) {
+    if (m_started) throw std::logic_error("render_tiles is for a job that is not started");
+    for (const int tile : tiles) tile_rect(tile);  // checks the tiles
     if (first < 0 || first > end || end > pass_count())
         throw std::out_of_range("passes [" + std::to_string(first) + ", " + std::to_string(end) + ") are not in [0, " +
                                 std::to_string(pass_count()) + ")");
-    PathScratch scratch;
+    // The calling thread's buffers, kept from call to call as a local worker keeps them from
+    // item to item: made anew each call, their megabytes are page-faulted in again each time
+    // (a Dask worker's allocator returns freed memory to the system at once).
+    thread_local PathScratch scratch;
+    thread_local std::vector<CameraSample> cs;
+    thread_local std::vector<PathResult> out;
     Samplers samplers(*this);
-    std::vector<CameraSample> cs;
-    std::vector<PathResult> out;
+    const size_t rays_before = scratch.rays_traced;
     TileWork work;
-    for (int pass = first; pass < end; ++pass) work.samples += run_item(Item{tile, pass}, samplers.active, scratch, cs, out);
-    work.rays = scratch.rays_traced + samplers.active.rays_traced();
+    for (const int tile : tiles)
+        for (int pass = first; pass < end; ++pass)
+            work.samples += run_item(Item{tile, pass}, samplers.active, scratch, cs, out);
+    work.rays = scratch.rays_traced - rays_before + samplers.active.rays_traced();
     return work;
 }
 

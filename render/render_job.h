@@ -82,12 +82,14 @@ public:
     int tile_count() const { return static_cast<int>(m_tile_passes.size()); }
     int pass_count() const { return static_cast<int>(m_pass_begin.size()) - 1; }
     TileRect tile_rect(int tile) const;
-    // Passes [first, end) of `tile` on the calling thread, added to what the film holds for
-    // it (passes [0, first) by write_tile); other tiles may render on other threads at once.
+    // Passes [first, end) of each of `tiles`, one after the other on the calling thread,
+    // added to what the film holds for them (passes [0, first) by write_tile); other tiles
+    // may render on other threads at once. One call takes many tiles: a thread's scratch
+    // buffers are made once a call, as a local worker makes them once a render.
     struct TileWork {
         size_t rays = 0, samples = 0;  // rays traced, camera samples taken
     };
-    TileWork render_tile(int tile, int first, int end);
+    TileWork render_tiles(const std::vector<int>& tiles, int first, int end);
     // The tile's sums (Film::kChannels doubles a pixel, row by row) and, for the adaptive
     // sampler, its pixels' aa_stats (nullptr for the uniform sampler).
     void read_tile(int tile, double* sums, uint8_t* aa_level, uint8_t* aa_rays) const;

@@ -544,11 +544,11 @@ void write_tile(JobHandle& j, int tile, TileSums sums, std::optional<TileStats> 
     j.job->write_tile(tile, sums.data(), level ? level->data() : nullptr, rays ? rays->data() : nullptr);
 }
 
-nb::dict render_tile(JobHandle& j, int tile, int first, int end) {
+nb::dict render_tiles(JobHandle& j, const std::vector<int>& tiles, int first, int end) {
     patina::RenderJob::TileWork w;
     {
         nb::gil_scoped_release release;  // other threads render other tiles of the job meanwhile
-        w = j.job->render_tile(tile, first, end);
+        w = j.job->render_tiles(tiles, first, end);
     }
     nb::dict d;
     d["rays"] = w.rays;
@@ -736,8 +736,8 @@ void bind_render(nb::module_& m) {
                 return nb::make_tuple(r.x0, r.y0, r.x1, r.y1);
             },
             nb::arg("tile"), "(x0, y0, x1, y1): the tile's pixels [x0, x1) x [y0, y1)")
-        .def("render_tile", &render_tile, nb::arg("tile"), nb::arg("first"), nb::arg("end"),
-             "passes [first, end) of the tile on this thread, added to its sums; {rays, samples}")
+        .def("render_tiles", &render_tiles, nb::arg("tiles"), nb::arg("first"), nb::arg("end"),
+             "passes [first, end) of each tile on this thread, added to their sums; {rays, samples}")
         .def("read_tile", &read_tile, nb::arg("tile"), "the tile's sums (and the adaptive sampler's aa_level, aa_rays)")
         .def("write_tile", &write_tile, nb::arg("tile"), nb::arg("sums"), nb::arg("aa_level").none() = nb::none(),
              nb::arg("aa_rays").none() = nb::none(), "sets the tile's sums (as read_tile gave them)");

@@ -3,7 +3,7 @@
 
 The C++ job (render/render_job.h) adds each tile's passes in order, with counter-based random
 numbers, so a pixel's sum depends on the seed only. Here the tiles are split into groups (a
-few per worker thread, to spread the cost of the busy tiles) and the passes into runs (the
+few per worker thread, each of tiles from all over the image so that they cost alike) and the passes into runs (the
 first pass alone, the others in a few runs: pass_runs); each (group, run) is a task that
 takes the group's sums after the earlier passes, renders its passes into them and returns
 them. A group's task depends on its task of the passes before, so every addition happens in
@@ -45,8 +45,12 @@ from patina.render.prepare import PreparedScene
 from patina.render.run import POLL_S, RenderAborted, RenderResult, check_prepared, job_settings, render_result
 from patina.scene.types import Scene
 
-GROUPS_PER_THREAD = 4  # tile groups a worker thread: enough to even out busy and empty tiles
+GROUPS_PER_THREAD = 2  # tile groups a worker thread (each spread over the image: tile_groups)
 PASS_RUNS = 8  # a group's passes in at most this many tasks: the first pass alone, the rest in runs
+# ... and no more tasks than make this many camera samples each: a task costs Dask some
+# milliseconds of CPU on the scheduler and the worker (measured on this project's machine), so
+# it should trace for a tenth of a second or more
+MIN_TASK_SAMPLES = 1 << 18
 RETRIES = 2  # a task that raised is run up to this many times more (a dead worker's are rerun anyway)
 CACHED_SCENES = 2  # prepared scenes a worker process keeps (the newest)
 
@@ -123,7 +127,7 @@ def bundle_scene(scene: Scene, settings: dict[str, Any]) -> SceneBundle:
 @dataclass
 class _WorkerJob:
     job: Any  # a _core.RenderJob never started: its film holds the tiles being rendered
-    tile_locks: list[threading.Lock]  # a tile's sums are written, rendered and read whole
+    tile_locks: list[threading.Lock]  # a tile's sums are written, rendered and read whole by one task
 
 
 _scenes: OrderedDict[str, PreparedScene] = OrderedDict()  # by scene_checksum, the newest last
@@ -191,13 +195,15 @@ def render_passes(
         "samples": before["samples"] if before is not None else 0,
         "simd_width": bundle.settings["width"],
     }
-    for tile in tiles:
-        with here.tile_locks[tile]:
+    with contextlib.ExitStack() as locked:
+        for tile in tiles:  # in increasing order, as every task takes them: no deadlock
+            locked.enter_context(here.tile_locks[tile])
+        for tile in tiles:
             job.write_tile(tile, **(before["tiles"][tile] if before is not None else _zeros(job, tile)))
-            work = job.render_tile(tile, *passes)
-            out["tiles"][tile] = job.read_tile(tile)
-        out["rays"] += work["rays"]
-        out["samples"] += work["samples"]
+        work = job.render_tiles(list(tiles), *passes)
+        out["tiles"] = {tile: job.read_tile(tile) for tile in tiles}
+    out["rays"] += work["rays"]
+    out["samples"] += work["samples"]
     out["simd_width"] = out["simd_width"] or _core.default_width()
     return out
 
@@ -206,9 +212,24 @@ def render_passes(
 
 
 def tile_groups(tiles: int, groups: int) -> list[tuple[int, ...]]:
-    """Tiles 0 .. tiles-1 in `groups` runs of consecutive tiles (rows of tiles, mostly)."""
+    """Tiles 0 .. tiles-1 dealt into `groups` (tile t to group t mod groups): each group
+    takes tiles from all over the image, sky and object alike, so the groups cost about the
+    same and a few of them keep the workers evenly busy."""
     groups = max(1, min(groups, tiles))
-    return [tuple(range(tiles * g // groups, tiles * (g + 1) // groups)) for g in range(groups)]
+    return [tuple(range(g, tiles, groups)) for g in range(groups)]
+
+
+def task_shape(tiles: int, passes: int, threads: int, samples: int) -> tuple[int, int]:
+    """(tile groups, pass runs) for a render of `samples` camera samples on `threads` worker
+    threads: GROUPS_PER_THREAD x PASS_RUNS tasks when the render is big enough, fewer runs and
+    then fewer groups (not under one a thread, nor under two runs: the first pass alone) when
+    that would make tasks of under MIN_TASK_SAMPLES."""
+    most = max(1, samples // MIN_TASK_SAMPLES)
+    groups = min(tiles, GROUPS_PER_THREAD * max(threads, 1))
+    runs = max(min(PASS_RUNS, passes, most // groups), min(2, passes))
+    while groups * runs > most and groups > min(tiles, max(threads, 1)):
+        groups -= 1
+    return groups, runs
 
 
 def pass_runs(passes: int, runs: int = PASS_RUNS) -> list[tuple[int, int]]:
@@ -220,12 +241,11 @@ def pass_runs(passes: int, runs: int = PASS_RUNS) -> list[tuple[int, int]]:
     return [(0, 1)] + [(1 + rest * k // n, 1 + rest * (k + 1) // n) for k in range(n)]
 
 
-def _wait(futures: list[Any], seconds: float) -> None:
-    """Until one of `futures` is done, or `seconds` (a test replaces it to interrupt the render)."""
-    from distributed import wait
-
-    with contextlib.suppress(TimeoutError):
-        wait(futures, timeout=seconds, return_when="FIRST_COMPLETED")
+def _wait(news: threading.Event, seconds: float) -> None:
+    """Until a task is done (`news` is set by the futures' callbacks), or `seconds`; a test
+    replaces it to interrupt the render. A lock's wait: Ctrl-C interrupts it."""
+    news.wait(seconds)
+    news.clear()
 
 
 def render_on_dask(
@@ -239,17 +259,19 @@ def render_on_dask(
     groups: int | None = None,
 ) -> RenderResult:
     """Renders `scene` as `patina.render.run.render` does, on the workers of a Dask `client`:
-    the same image bit for bit. groups: tile groups (default GROUPS_PER_THREAD a worker
-    thread). The prepared scene here only merges the tiles (and checks the scene before
-    anything is sent); the workers prepare their own. Ctrl-C: see the module docstring."""
+    the same image bit for bit. groups: tile groups (default: task_shape's). The prepared
+    scene here only merges the tiles (and checks the scene before anything is sent); the
+    workers prepare their own. Ctrl-C: see the module docstring."""
     from distributed import Future
 
     settings = job_settings(scene, simd, aa, aa_threshold)
     prep = check_prepared(scene, prepared)
     merged = _core.RenderJob(prep.core, threads=1, **settings)
     threads = sum(client.nthreads().values())
-    plan = tile_groups(merged.tile_count, groups or GROUPS_PER_THREAD * max(threads, 1))
-    runs = pass_runs(merged.pass_count)
+    pixels = scene.camera.width * scene.camera.height
+    shape = task_shape(merged.tile_count, merged.pass_count, threads, pixels * scene.render.spp)
+    plan = tile_groups(merged.tile_count, groups or shape[0])
+    runs = pass_runs(merged.pass_count, shape[1])
     start = time.perf_counter()
     run_id = uuid.uuid4().hex[:12]
     # pending[(g, r)]: group g's run r, not yet seen done; last[g]: its last finished run
@@ -265,6 +287,7 @@ def render_on_dask(
             if future.status == "finished" and key[1] > last.get(key[0], (-1, None))[0]:
                 last[key[0]] = (key[1], future)  # the earlier run's sums are released
 
+    news = threading.Event()  # set when a task is done: the loop below looks then, not by polling
     interrupts = 0
     try:
         bundle = client.scatter(bundle_scene(scene, settings), broadcast=True, hash=False)
@@ -275,11 +298,12 @@ def render_on_dask(
                     key=f"patina-render-{run_id}-passes{passes[0]}-{passes[1]}-group{g}", pure=False,
                     retries=RETRIES, priority=len(runs) - r,  # pass by pass, as the local job takes them
                 )  # fmt: skip
+                pending[(g, r)].add_done_callback(lambda _: news.set())
         total = len(pending)
         with Progress(total, "rendering", unit="task", enabled=progress) as bar:
             while pending:
                 try:
-                    _wait(list(pending.values()), POLL_S)
+                    _wait(news, POLL_S)
                     harvest()
                     if pending:
                         passes = runs[min(k[1] for k in pending)]

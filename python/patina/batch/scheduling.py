@@ -32,6 +32,16 @@ RETRIES = 2  # a task whose worker died (or that raised) is run up to this many 
 CONNECT_TIMEOUT_S = 5  # an unreachable scheduler is reported within seconds
 WORKERS_TIMEOUT_S = 20  # a scheduler with no worker: waited for this long, then reported
 IN_PROCESS = "in-process"  # --scheduler value: no Dask, the tasks one after the other here
+# The local cluster's housekeeping at a slower beat than Dask's defaults (a 10 ms profiler,
+# a 100 ms memory monitor, a 20 ms event-loop tick): idle, its 2 workers and scheduler took
+# 0.13 s of CPU a second on this project's 2-core machine, with these 0.03 s; every
+# task still runs the same, the dashboard's profile tab stays empty.
+QUIET_CLUSTER = {
+    "distributed.worker.profile.enabled": False,
+    "distributed.worker.memory.monitor-interval": "1s",
+    "distributed.admin.system-monitor.interval": "2s",
+    "distributed.admin.tick.interval": "100ms",
+}
 
 
 @dataclass(frozen=True)
@@ -153,11 +163,12 @@ def connect(scheduler: str | None, workers: int | None) -> Iterator[tuple[Any, s
     """(a Dask client, what it is) for a scheduler address, or a LocalCluster of `workers`
     processes (default: one per core). ValueError, within seconds, for an address that does
     not answer or a scheduler with no workers."""
+    import dask
     from distributed import Client, LocalCluster
 
     if scheduler is None:
         n = workers or os.cpu_count() or 1
-        with warnings.catch_warnings(), _children_ignore_interrupts():
+        with warnings.catch_warnings(), _children_ignore_interrupts(), dask.config.set(QUIET_CLUSTER):
             # 8787 taken (another batch, another user): Dask takes a free port, and we print it
             warnings.filterwarnings("ignore", message="Port .* is already in use")
             cluster = LocalCluster(

@@ -19,6 +19,7 @@ from dataclasses import asdict
 
 from patina.atomic import check_writable, write_text
 from patina.bench.aa import bench_aa
+from patina.bench.batch import bench_batch
 from patina.bench.cache import bench_cache
 from patina.bench.fit import bench_fit
 from patina.bench.kernels import bench_brdf, bench_math
@@ -41,6 +42,7 @@ GROUPS: dict[str, Callable[[int, bool], list[Record]]] = {
     "lights": bench_lights,
     "aa": bench_aa,
     "cache": bench_cache,
+    "batch": bench_batch,
 }
 
 
@@ -73,7 +75,7 @@ def run_bench(
     if json_path:
         check_writable(json_path)  # an OSError naming it now (exit 2), not after minutes of timing
     groups = [only] if only else list(GROUPS)
-    if {"render", "profile", "lights", "aa", "cache"} & set(groups):
+    if {"render", "profile", "lights", "aa", "cache", "batch"} & set(groups):
         materials_path("scenes")  # their scenes are the checkout's: FileNotFoundError now, not minutes in
     # brdf includes the math kernels it relies on, as the record list asks
     steps = [("math", bench_math), ("brdf", bench_brdf)] if only == "brdf" else [(g, GROUPS[g]) for g in groups]

@@ -71,7 +71,8 @@ def test_the_bundle_holds_every_file_the_scene_reads():
 def test_tile_groups_cover_the_tiles_in_order(tiles, groups):
     plan = render_tiles.tile_groups(tiles, groups)
     assert len(plan) == min(tiles, groups) and all(plan)
-    assert [t for g in plan for t in g] == list(range(tiles))
+    assert sorted(t for g in plan for t in g) == list(range(tiles))
+    assert all(list(g) == sorted(g) for g in plan)  # a task locks its tiles in increasing order
 
 
 @pytest.mark.parametrize("passes", [1, 2, 8, 9, 1000])
@@ -79,6 +80,16 @@ def test_pass_runs_start_with_the_first_pass_alone_and_cover_the_passes(passes):
     runs = render_tiles.pass_runs(passes)
     assert runs[0] == (0, 1) and len(runs) <= render_tiles.PASS_RUNS
     assert [p for first, end in runs for p in range(first, end)] == list(range(passes))
+
+
+def test_a_small_render_is_few_tasks_and_a_big_one_many():
+    # 2 threads; tiles, passes, samples
+    assert render_tiles.task_shape(4, 4, 2, 32 * 24 * 4) == (2, 2)  # one group a thread, the first pass alone
+    assert render_tiles.task_shape(1, 1, 2, 16 * 16) == (1, 1)
+    big = render_tiles.task_shape(2040, 64, 2, 3840 * 2160 * 1024)
+    assert big == (render_tiles.GROUPS_PER_THREAD * 2, render_tiles.PASS_RUNS)
+    groups, runs = render_tiles.task_shape(108, 8, 2, 192 * 144 * 64)
+    assert 2 <= groups and 2 <= runs and groups * runs <= 192 * 144 * 64 // render_tiles.MIN_TASK_SAMPLES
 
 
 def _tasks_in_process(scene, groups: int):
@@ -122,9 +133,9 @@ def test_write_tile_checks_what_it_is_given():
     with pytest.raises(ValueError, match="aa_level and aa_rays are the adaptive sampler's"):
         job.write_tile(0, sums, np.zeros(sums.shape[:2], np.uint8), np.zeros(sums.shape[:2], np.uint8))
     with pytest.raises(IndexError):
-        job.render_tile(job.tile_count, 0, 1)
+        job.render_tiles([0, job.tile_count], 0, 1)
     with pytest.raises(IndexError):
-        job.render_tile(0, 0, job.pass_count + 1)
+        job.render_tiles([0], 0, job.pass_count + 1)
 
 
 # ---------------------------------------------------------------- on a LocalCluster of 2 worker processes
@@ -138,7 +149,7 @@ def cluster(client):
 
 @pytest.mark.parametrize("aa", ["uniform", "adaptive"])
 def test_the_distributed_render_is_the_local_one_bit_for_bit(cluster, aa):
-    scene = _scene(aa=aa, spp=4)  # 4 spp: 4 passes, each group's tasks a chain of 4
+    scene = _scene(aa=aa, spp=4)  # 4 passes: a group's tasks, the first pass then the other three
     there = render_tiles.render_on_dask(scene, cluster, prepared=_prepared())
     here = _local(scene)
     assert there.complete and not there.interrupted and there.threads == 2
@@ -159,11 +170,11 @@ def _interrupt_at(monkeypatch, calls: set[int]) -> None:
     count = [0]
     wait = render_tiles._wait
 
-    def interrupted(futures, seconds):
+    def interrupted(news, seconds):
         count[0] += 1
         if count[0] in calls:
             raise KeyboardInterrupt
-        wait(futures, seconds)
+        wait(news, seconds)
 
     monkeypatch.setattr(render_tiles, "_wait", interrupted)
 
