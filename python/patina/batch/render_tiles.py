@@ -12,7 +12,8 @@ very same floats. (Adding per-pass sums together afterwards would not: floating-
 addition is not associative.) Dask runs a group's next run where its sums already are.
 
 The scene reaches each worker once: the parsed scene and the bytes of every file it reads
-(meshes, tables, maps, luminaires) are scattered to every worker as one `SceneBundle`, and
+(meshes, tables, maps, luminaires) travel as one `SceneBundle`, scattered to one worker and
+fetched from there by every other worker its first task lands on (once: it stays), and
 each worker process prepares it once (kd-tree, materials) and keeps the prepared scene and a
 job, keyed by the bundle's checksum, for all its tasks.
 
@@ -34,6 +35,7 @@ import threading
 import time
 import uuid
 from collections import OrderedDict
+from concurrent.futures import CancelledError
 from dataclasses import dataclass
 from typing import Any
 
@@ -52,6 +54,7 @@ PASS_RUNS = 8  # a group's passes in at most this many tasks: the first pass alo
 # it should trace for a tenth of a second or more
 MIN_TASK_SAMPLES = 1 << 18
 RETRIES = 2  # a task that raised is run up to this many times more (a dead worker's are rerun anyway)
+RESTARTS = 3  # chains broken by dead workers, submitted again from their first pass, in one render
 CACHED_SCENES = 2  # prepared scenes a worker process keeps (the newest)
 
 
@@ -248,6 +251,97 @@ def _wait(news: threading.Event, seconds: float) -> None:
     news.clear()
 
 
+class _Chains:
+    """A distributed render's tasks: for each tile group a chain of runs of passes, each task
+    taking the one before it. A group's last run is fetched here as soon as it is done, so a
+    worker that dies later loses nothing; a chain a dead worker broke (Dask cannot recompute
+    it: the earlier runs' sums were released) is submitted again from its first pass, which
+    gives the same sums (RESTARTS at most, then RuntimeError)."""
+
+    def __init__(
+        self, client: Any, bundle: SceneBundle, plan: list[tuple[int, ...]], runs: list[tuple[int, int]]
+    ) -> None:
+        self.client, self.scene_bundle, self.plan, self.runs = client, bundle, plan, runs
+        # not broadcast: a worker fetches it with its first task (a worker that joins later too),
+        # and a broadcast's replication waited forever on a worker just restarted after a crash
+        self.bundle = client.scatter(bundle, hash=False)
+        self.run_id = uuid.uuid4().hex[:12]  # keys unique to this render, on a scheduler others share
+        self.news = threading.Event()  # set when a task is done: the loop looks then, not by polling
+        self.pending: dict[tuple[int, int], Any] = {}  # (group, run) -> its future, not yet seen done
+        self.last: dict[int, tuple[int, Any]] = {}  # group -> its last finished run and future
+        self.kept: dict[int, tuple[int, dict]] = {}  # group -> the run whose sums came back, and them
+        self.end = len(runs)  # the runs each group renders: all, or the first alone after an interrupt
+        self.total = self.done = self.restarts = 0
+        for g in range(len(plan)):
+            self._submit(g)
+
+    def _submit(self, g: int) -> None:
+        before = None
+        for r in range(self.end):
+            first, end = self.runs[r]
+            before = self.pending[(g, r)] = self.client.submit(
+                render_passes, self.bundle, self.plan[g], (first, end), before,
+                key=f"patina-render-{self.run_id}-group{g}-passes{first}-{end}-try{self.restarts}", pure=False,
+                retries=RETRIES, priority=len(self.runs) - r,  # pass by pass, as the local job takes them
+            )  # fmt: skip
+            before.add_done_callback(lambda _: self.news.set())
+            self.total += 1
+
+    def _restart(self, g: int) -> None:
+        self.restarts += 1
+        if self.restarts > RESTARTS:
+            raise RuntimeError(f"the render lost its workers' results {RESTARTS} times; giving up")
+        self.client.cancel([self.pending.pop(k) for k in [k for k in self.pending if k[0] == g]])
+        self.last.pop(g, None)
+        if self.bundle.status != "finished":  # the scene was lost with the worker that held it
+            self.bundle = self.client.scatter(self.scene_bundle, hash=False)
+        self._submit(g)
+
+    def _fetch(self, g: int) -> None:
+        run, future = self.last.pop(g)
+        try:
+            self.kept[g] = (run, future.result())
+        except CancelledError:  # lost with its worker between finishing and this
+            self._restart(g)
+
+    def harvest(self) -> None:
+        for key in [k for k, f in self.pending.items() if f.done()]:
+            future = self.pending.pop(key, None)
+            if future is None:  # its chain was restarted by an earlier key of this look
+                continue
+            g, r = key
+            if future.status == "error":  # the task raised (after its retries), or killed its workers
+                raise future.exception()
+            if future.status != "finished":  # cancelled, not by us: its chain broke with a dead worker
+                self._restart(g)
+                continue
+            self.done += 1
+            if r > self.last.get(g, (-1, None))[0]:
+                self.last[g] = (r, future)  # the earlier run's future goes: its sums are released
+            if r == self.end - 1:
+                self._fetch(g)
+
+    def interrupt(self) -> None:
+        """Ctrl-C: the later passes' tasks cancelled, the finished runs kept, the first pass awaited."""
+        self.harvest()
+        self.end = 1
+        later = [k for k in self.pending if k[1] > 0]
+        self.client.cancel([self.pending.pop(k) for k in later])
+        self.total -= len(later)
+        for g in list(self.last):
+            if g not in self.kept:
+                self._fetch(g)
+
+    def finished(self) -> bool:
+        return len(self.kept) == len(self.plan)
+
+    def passes_in_flight(self) -> str:
+        if not self.pending:
+            return ""
+        first, end = self.runs[min(r for _, r in self.pending)]
+        return f"passes {first + 1}-{end} of {self.runs[-1][1]}"
+
+
 def render_on_dask(
     scene: Scene,
     client: Any,
@@ -262,8 +356,6 @@ def render_on_dask(
     the same image bit for bit. groups: tile groups (default: task_shape's). The prepared
     scene here only merges the tiles (and checks the scene before anything is sent); the
     workers prepare their own. Ctrl-C: see the module docstring."""
-    from distributed import Future
-
     settings = job_settings(scene, simd, aa, aa_threshold)
     prep = check_prepared(scene, prepared)
     merged = _core.RenderJob(prep.core, threads=1, **settings)
@@ -273,41 +365,17 @@ def render_on_dask(
     plan = tile_groups(merged.tile_count, groups or shape[0])
     runs = pass_runs(merged.pass_count, shape[1])
     start = time.perf_counter()
-    run_id = uuid.uuid4().hex[:12]
-    # pending[(g, r)]: group g's run r, not yet seen done; last[g]: its last finished run
-    pending: dict[tuple[int, int], Future] = {}
-    last: dict[int, tuple[int, Future]] = {}
-    bundle = None
-
-    def harvest() -> None:
-        for key in [k for k, f in pending.items() if f.done()]:
-            future = pending.pop(key)
-            if future.status == "error":
-                raise future.exception()
-            if future.status == "finished" and key[1] > last.get(key[0], (-1, None))[0]:
-                last[key[0]] = (key[1], future)  # the earlier run's sums are released
-
-    news = threading.Event()  # set when a task is done: the loop below looks then, not by polling
+    chains = None
     interrupts = 0
     try:
-        bundle = client.scatter(bundle_scene(scene, settings), broadcast=True, hash=False)
-        for r, passes in enumerate(runs):
-            for g, tiles in enumerate(plan):
-                pending[(g, r)] = client.submit(
-                    render_passes, bundle, tiles, passes, pending[(g, r - 1)] if r > 0 else None,
-                    key=f"patina-render-{run_id}-passes{passes[0]}-{passes[1]}-group{g}", pure=False,
-                    retries=RETRIES, priority=len(runs) - r,  # pass by pass, as the local job takes them
-                )  # fmt: skip
-                pending[(g, r)].add_done_callback(lambda _: news.set())
-        total = len(pending)
-        with Progress(total, "rendering", unit="task", enabled=progress) as bar:
-            while pending:
+        chains = _Chains(client, bundle_scene(scene, settings), plan, runs)
+        with Progress(chains.total, "rendering", unit="task", enabled=progress) as bar:
+            while not chains.finished():
                 try:
-                    _wait(news, POLL_S)
-                    harvest()
-                    if pending:
-                        passes = runs[min(k[1] for k in pending)]
-                        bar.update(total - len(pending), postfix=f"passes {passes[0] + 1}-{passes[1]} of {runs[-1][1]}")
+                    _wait(chains.news, POLL_S)
+                    chains.harvest()
+                    bar.total = chains.total
+                    bar.update(chains.done, postfix=chains.passes_in_flight())
                 except KeyboardInterrupt:
                     interrupts += 1
                     if interrupts >= 2:
@@ -316,21 +384,20 @@ def render_on_dask(
                         "  interrupted: finishing the first pass, keeping every finished pass "
                         "(Ctrl-C again aborts, keeping nothing)"
                     )
-                    harvest()
-                    later = [k for k in pending if k[1] > 0]
-                    client.cancel([pending.pop(k) for k in later])
-            bar.update(total)
-            results = client.gather([last[g][1] for g in range(len(plan))])
+                    chains.interrupt()
+            bar.update(chains.done)
     except BaseException:
-        client.cancel(list(pending.values()))
+        if chains is not None:
+            client.cancel(list(chains.pending.values()))
         raise
     finally:
-        if bundle is not None:
-            bundle.release()
+        if chains is not None:
+            chains.bundle.release()
+    results = [chains.kept[g][1] for g in range(len(plan))]
     for tiles, result in zip(plan, results):
         for tile in tiles:
             merged.write_tile(tile, **result["tiles"][tile])
-    complete = all(last[g][0] == len(runs) - 1 for g in range(len(plan)))
+    complete = all(chains.kept[g][0] == len(runs) - 1 for g in range(len(plan)))
     return render_result(
         scene,
         merged.resolve(),

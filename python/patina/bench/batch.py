@@ -50,31 +50,31 @@ def write_library(folder: str, tables: int) -> None:
         Brdf(table_from_data(data), "synthetic").save(os.path.join(folder, f"plastic{i:02d}.ptab"))
 
 
-def _library_record(repeat: int, quick: bool) -> Record:
-    tables = 4 if quick else 8
+def _library_record(one: Any, two: Any, repeat: int, quick: bool) -> Record:
+    tables = 2 if quick else 8
     settings = Settings(
-        steps=("validate", "fit", "preview"),
+        steps=("validate", "fit") if quick else ("validate", "fit", "preview"),
         models=("ggx+lambert",),
         starts=1,
-        width=48 if quick else 96,
-        height=36 if quick else 72,
-        spp=2 if quick else 8,
+        width=96,
+        height=72,
+        spp=8,
     )
     with tempfile.TemporaryDirectory(prefix="patina-bench-batch-") as root:
         library = os.path.join(root, "library")
         write_library(library, tables)
-        with connect(None, 1) as (one, _), connect(None, WORKERS) as (two, _):
 
-            def run(client: Any) -> None:
-                out = tempfile.mkdtemp(dir=root)  # a fresh folder: a rerun would skip the work
-                run_batch(library, out, settings, client=client, progress=False, say=lambda line: None)
+        def run(client: Any) -> None:
+            out = tempfile.mkdtemp(dir=root)  # a fresh folder: a rerun would skip the work
+            run_batch(library, out, settings, client=client, progress=False, say=lambda line: None)
 
-            t_one, t_two = median_times([lambda: run(one), lambda: run(two)], repeat)
+        t_one, t_two = median_times([lambda: run(one), lambda: run(two)], repeat)
     speedup = t_one / t_two
+    preview = f", preview {settings.width}x{settings.height} {settings.spp} spp" if "preview" in settings.steps else ""
     return Record(
         "batch.library.workers2",
-        f"patina batch of {tables} tables (validate, fit ggx+lambert, preview {settings.width}x{settings.height} "
-        f"{settings.spp} spp) on {WORKERS} worker processes; value = speedup / {WORKERS}",
+        f"patina batch of {tables} tables (validate, fit ggx+lambert{preview}) on {WORKERS} worker processes; "
+        f"value = speedup / {WORKERS}",
         "the same batch on 1 worker process",
         speedup,
         speedup / WORKERS,
@@ -82,21 +82,20 @@ def _library_record(repeat: int, quick: bool) -> Record:
     )
 
 
-def _render_record(repeat: int, quick: bool) -> Record:
-    w, h, spp = (64, 48, 4) if quick else (192, 144, 16)
+def _render_record(client: Any, repeat: int, quick: bool) -> Record:
+    w, h, spp = (64, 48, 4) if quick else (320, 240, 32)
     scene = with_overrides(load_scene(materials_path("scenes", "preview-ball.json")), width=w, height=h, spp=spp)
     prepared = PreparedScene(scene)
-    with connect(None, WORKERS) as (client, _):
-        t0 = time.perf_counter()
-        render_on_dask(scene, client, prepared=prepared)  # ships the scene, prepares it on every worker
-        cold = time.perf_counter() - t0
-        local, tiles = median_times(
-            [
-                lambda: render(scene, threads=WORKERS, prepared=prepared),
-                lambda: render_on_dask(scene, client, prepared=prepared),
-            ],
-            repeat,
-        )
+    t0 = time.perf_counter()
+    render_on_dask(scene, client, prepared=prepared)  # ships the scene, prepares it on every worker
+    cold = time.perf_counter() - t0
+    local, tiles = median_times(
+        [
+            lambda: render(scene, threads=WORKERS, prepared=prepared),
+            lambda: render_on_dask(scene, client, prepared=prepared),
+        ],
+        repeat,
+    )
     return Record(
         "batch.render.tiles",
         f"preview-ball {w}x{h}, {spp} spp, path, as tiles on {WORKERS} worker processes (the first render, "
@@ -115,4 +114,7 @@ def bench_batch(repeat: int, quick: bool) -> list[Record]:
     except ImportError:
         print("patina bench: Dask distributed is not installed (pip install .[cluster]): no batch records")
         return []
-    return [_library_record(repeat, quick), _render_record(repeat, quick)]
+    if quick:
+        repeat = min(repeat, 3)  # a smoke test: whole batches and renders, each run counts
+    with connect(None, 1) as (one, _), connect(None, WORKERS) as (two, _):
+        return [_library_record(one, two, repeat, quick), _render_record(two, repeat, quick)]

@@ -6,12 +6,11 @@ from __future__ import annotations
 
 import glob
 import os
-import signal
 import threading
-import time
 
 import pytest
 from batch_library import BAD, GOOD, QUICK
+from dask_workers import kill_a_busy_worker
 
 from patina.batch import run_batch
 from patina.batch.manifest import checksum
@@ -41,24 +40,11 @@ def test_the_cluster_gives_the_in_process_results_and_a_rerun_skips(finished_onc
     assert again["counts"]["tasks_run"] == 0
 
 
-def _kill_a_busy_worker(client, killed: list[str], stop: threading.Event) -> None:
-    """SIGKILL the process of the first worker seen running a task (as a crash or the OOM killer would)."""
-    pids = client.run(os.getpid)
-    while not stop.is_set():
-        for worker, keys in client.processing().items():
-            if keys and worker in pids:
-                time.sleep(0.2)  # into the task, past its start
-                os.kill(pids[worker], signal.SIGKILL)
-                killed.append(worker)
-                return
-        time.sleep(0.02)
-
-
 def test_a_worker_killed_mid_task_loses_nothing(library, tmp_path, client):
     out = str(tmp_path / "out")
     killed: list[str] = []
     stop = threading.Event()
-    killer = threading.Thread(target=_kill_a_busy_worker, args=(client, killed, stop), daemon=True)
+    killer = threading.Thread(target=kill_a_busy_worker, args=(client, killed, stop), daemon=True)
     killer.start()
     try:
         summary = on_dask(library, out, client)

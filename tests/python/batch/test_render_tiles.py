@@ -7,10 +7,12 @@ from __future__ import annotations
 
 import functools
 import os
+import threading
 import time
 
 import numpy as np
 import pytest
+from dask_workers import kill_a_busy_worker
 
 from patina.batch import render_tiles
 from patina.bundled import materials_path
@@ -163,6 +165,22 @@ def test_each_worker_prepares_the_scene_once(cluster):
         render_tiles.render_on_dask(with_overrides(scene, seed=seed), cluster, prepared=_prepared(), groups=8)
     prepared = cluster.run(lambda: render_tiles.prepared_here.count(checksum))
     assert 1 <= sum(prepared.values()) and all(n <= 1 for n in prepared.values()), prepared
+
+
+def test_a_worker_killed_mid_render_loses_nothing(cluster):
+    scene = _scene(spp=32)
+    killed: list[str] = []
+    stop = threading.Event()
+    killer = threading.Thread(target=kill_a_busy_worker, args=(cluster, killed, stop), daemon=True)
+    killer.start()
+    try:
+        there = render_tiles.render_on_dask(scene, cluster, prepared=_prepared())
+    finally:
+        stop.set()
+        killer.join()
+    assert killed, "no worker was seen running a task"
+    assert there.complete
+    assert_same_image(there, _local(scene))  # the dead worker's chains were computed again elsewhere
 
 
 def _interrupt_at(monkeypatch, calls: set[int]) -> None:
