@@ -46,7 +46,7 @@ def write_library(folder: str, tables: int) -> None:
     for i in range(tables):
         hue = i / tables
         diffuse = (0.1 + 0.4 * hue, 0.4 - 0.3 * hue, 0.1 + 0.2 * (1 - hue))
-        data = sample_isotropic(plastic(diffuse=diffuse, roughness=0.1 + 0.3 * hue), theta, theta, phi, "bench")
+        data = sample_isotropic(plastic(diffuse=diffuse, roughness=0.3 + 0.2 * hue), theta, theta, phi, "bench")
         Brdf(table_from_data(data), "synthetic").save(os.path.join(folder, f"plastic{i:02d}.ptab"))
 
 
