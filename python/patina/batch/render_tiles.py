@@ -55,6 +55,9 @@ PASS_RUNS = 8  # a group's passes in at most this many tasks: the first pass alo
 MIN_TASK_SAMPLES = 1 << 18
 RETRIES = 2  # a task that raised is run up to this many times more (a dead worker's are rerun anyway)
 RESTARTS = 3  # chains broken by dead workers, submitted again from their first pass, in one render
+# integrators whose tiles are independent (each pixel a function of the seed only), so that a
+# tile rendered in another process is the same; one that builds a cache across tiles is not
+TILE_INDEPENDENT = ("direct", "path")
 CACHED_SCENES = 2  # prepared scenes a worker process keeps (the newest)
 
 
@@ -356,6 +359,11 @@ def render_on_dask(
     the same image bit for bit. groups: tile groups (default: task_shape's). The prepared
     scene here only merges the tiles (and checks the scene before anything is sent); the
     workers prepare their own. Ctrl-C: see the module docstring."""
+    if scene.render.integrator not in TILE_INDEPENDENT:
+        raise ValueError(
+            f"integrator {scene.render.integrator!r}: its tiles share what they learn, so a distributed render "
+            f"could not be bit-identical; render it on this machine (distributed: {', '.join(TILE_INDEPENDENT)})"
+        )
     settings = job_settings(scene, simd, aa, aa_threshold)
     prep = check_prepared(scene, prepared)
     merged = _core.RenderJob(prep.core, threads=1, **settings)
