@@ -13,6 +13,14 @@ namespace {
 
 constexpr size_t kMaxBatch = 4096;  // camera samples traced as one wavefront
 
+// f(k, i) for the tile's pixels row by row: k counts them, i is the pixel's index in the image.
+template <class F>
+void for_each_pixel(const TileRect& r, int width, F&& f) {
+    size_t k = 0;
+    for (int y = r.y0; y < r.y1; ++y)
+        for (int x = r.x0; x < r.x1; ++x) f(k++, static_cast<size_t>(y) * width + x);
+}
+
 }  // namespace
 
 RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
@@ -207,13 +215,10 @@ void RenderJob::read_tile(int tile, double* sums, uint8_t* aa_level, uint8_t* aa
     const TileRect r = tile_rect(tile);
     m_film.read(r.x0, r.y0, r.x1, r.y1, sums);
     if (m_aa_stats.level.empty()) return;
-    size_t k = 0;
-    for (int y = r.y0; y < r.y1; ++y)
-        for (int x = r.x0; x < r.x1; ++x, ++k) {
-            const size_t i = static_cast<size_t>(y) * m_film.width() + x;
-            aa_level[k] = m_aa_stats.level[i];
-            aa_rays[k] = m_aa_stats.rays[i];
-        }
+    for_each_pixel(r, m_film.width(), [&](size_t k, size_t i) {
+        aa_level[k] = m_aa_stats.level[i];
+        aa_rays[k] = m_aa_stats.rays[i];
+    });
 }
 
 void RenderJob::write_tile(int tile, const double* sums, const uint8_t* aa_level, const uint8_t* aa_rays) {
@@ -221,13 +226,10 @@ void RenderJob::write_tile(int tile, const double* sums, const uint8_t* aa_level
     const TileRect r = tile_rect(tile);
     m_film.write(r.x0, r.y0, r.x1, r.y1, sums);
     if (m_aa_stats.level.empty()) return;
-    size_t k = 0;
-    for (int y = r.y0; y < r.y1; ++y)
-        for (int x = r.x0; x < r.x1; ++x, ++k) {
-            const size_t i = static_cast<size_t>(y) * m_film.width() + x;
-            m_aa_stats.level[i] = aa_level[k];
-            m_aa_stats.rays[i] = aa_rays[k];
-        }
+    for_each_pixel(r, m_film.width(), [&](size_t k, size_t i) {
+        m_aa_stats.level[i] = aa_level[k];
+        m_aa_stats.rays[i] = aa_rays[k];
+    });
 }
 
 void RenderJob::resolve(float* rgb, float* albedo, float* normal, float* depth, float* lux, float* samples) const {

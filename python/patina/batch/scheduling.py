@@ -16,7 +16,6 @@ import contextlib
 import logging
 import os
 import signal
-import threading
 import uuid
 import warnings
 from collections.abc import Callable, Iterator
@@ -27,6 +26,7 @@ from patina.batch.gallery import summarise, write_gallery
 from patina.batch.library import Material, Settings, find_tables
 from patina.batch.tasks import NEEDS, one_line, result, run_task
 from patina.progress import Progress
+from patina.signals import handling
 
 RETRIES = 2  # a task whose worker died (or that raised) is run up to this many times more
 CONNECT_TIMEOUT_S = 5  # an unreachable scheduler is reported within seconds
@@ -143,22 +143,6 @@ def dashboard(client: Any) -> str:
 
 
 @contextlib.contextmanager
-def _children_ignore_interrupts() -> Iterator[None]:
-    """Processes started meanwhile ignore SIGINT (an ignored signal stays ignored across exec,
-    and Python keeps it so): Ctrl-C at a terminal reaches the whole process group, and it is
-    this command, not a LocalCluster's workers, that decides what stops (a render finishes
-    its first pass). This process ignores it too for that while: seconds, at the start."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
-
-
-@contextlib.contextmanager
 def connect(scheduler: str | None, workers: int | None) -> Iterator[tuple[Any, str]]:
     """(a Dask client, what it is) for a scheduler address, or a LocalCluster of `workers`
     processes (default: one per core). ValueError, within seconds, for an address that does
@@ -168,7 +152,11 @@ def connect(scheduler: str | None, workers: int | None) -> Iterator[tuple[Any, s
 
     if scheduler is None:
         n = workers or os.cpu_count() or 1
-        with warnings.catch_warnings(), _children_ignore_interrupts(), dask.config.set(QUIET_CLUSTER):
+        # the worker processes started meanwhile ignore SIGINT (an ignored signal stays ignored
+        # across exec, and Python keeps it so): Ctrl-C at a terminal reaches the whole process
+        # group, and it is this command, not the workers, that decides what stops (a render
+        # finishes its first pass); this process ignores it too for those seconds
+        with warnings.catch_warnings(), handling(signal.SIGINT, signal.SIG_IGN), dask.config.set(QUIET_CLUSTER):
             # 8787 taken (another batch, another user): Dask takes a free port, and we print it
             warnings.filterwarnings("ignore", message="Port .* is already in use")
             cluster = LocalCluster(

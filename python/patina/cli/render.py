@@ -39,6 +39,7 @@ from patina.render.run import RenderAborted, render
 from patina.scene.preview import preview_scene_dict
 from patina.scene.reading import check_run_options, load_scene, parse_scene, with_overrides
 from patina.scene.types import Scene
+from patina.signals import handling
 
 IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg")  # tone-mapped 8-bit sRGB
 PREVIEW_SHAPES = ("ball", "sphere", "panel")
@@ -163,14 +164,8 @@ def _dask_client(args: argparse.Namespace) -> Iterator[Any]:
 @contextlib.contextmanager
 def terminate_as_interrupt() -> Iterator[None]:
     """SIGTERM (kill, a CI timeout, a service manager) is handled as Ctrl-C while a command runs."""
-    if threading.current_thread() is not threading.main_thread():
+    with handling(signal.SIGTERM, signal.default_int_handler):
         yield
-        return
-    previous = signal.signal(signal.SIGTERM, signal.default_int_handler)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
 
 
 @contextlib.contextmanager
