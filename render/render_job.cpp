@@ -195,6 +195,11 @@ RenderJob::TileWork RenderJob::render_tiles(const std::vector<int>& tiles, int f
     if (first < 0 || first > end || end > pass_count())
         throw std::out_of_range("passes [" + std::to_string(first) + ", " + std::to_string(end) + ") are not in [0, " +
                                 std::to_string(pass_count()) + ")");
+    // the adaptive sampler's geometric pre-pass, as start() makes it: the same for every tile
+    std::call_once(m_aa_hints_once, [this] {
+        if (m_settings.aa == RenderSettings::Aa::Adaptive)
+            m_aa_hints = project_feature_edges(m_scene, m_settings.aa_threshold);
+    });
     // The calling thread's buffers, kept from call to call as a local worker keeps them from
     // item to item: made anew each call, their megabytes are page-faulted in again each time
     // (a Dask worker's allocator returns freed memory to the system at once).

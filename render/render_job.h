@@ -116,6 +116,7 @@ private:
     Film m_film;
     AaStats m_aa_stats;
     AaEdgeHints m_aa_hints;  // the adaptive sampler's geometric pre-pass, computed once
+    std::once_flag m_aa_hints_once;  // render_tiles: computed by the first call, whichever thread
     std::atomic<size_t> m_next{0}, m_done{0}, m_rays{0}, m_samples_done{0};
     std::atomic<int> m_cancels{0};  // cancel() calls: 1 = after the first pass, 2 = now
     std::vector<std::thread> m_threads;
