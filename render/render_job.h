@@ -84,8 +84,8 @@ public:
     TileRect tile_rect(int tile) const;
     // Passes [first, end) of each of `tiles`, one after the other on the calling thread,
     // added to what the film holds for them (passes [0, first) by write_tile); other tiles
-    // may render on other threads at once. One call takes many tiles: a thread's scratch
-    // buffers are made once a call, as a local worker makes them once a render.
+    // may render on other threads at once. A calling thread keeps its scratch buffers from
+    // call to call, as a local worker keeps them from item to item.
     struct TileWork {
         size_t rays = 0, samples = 0;  // rays traced, camera samples taken
     };
