@@ -10,9 +10,12 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/vec3.h"
+#include "render/cache/cache_probe.h"
+#include "render/cache/cache_settings.h"
 #include "render/grid2.h"
 #include "render/scene.h"
 #include "render/stage_timer.h"
@@ -38,6 +41,13 @@ struct PathResult {
                         // the light reflected by the scene with IntegratorSettings::indirect_illuminance
 };
 
+// path: the unidirectional path tracer. cache: direct light as the path tracer takes it, the
+// indirect light at the first hit from the radiance cache's reconstructed incident radiance
+// integrated against the BRDF (biased; docs/radiance-cache.md). cache-guided: the path
+// tracer with the first bounce drawn from the cache's radiance x BRDF and from the BRDF,
+// combined by MIS (unbiased).
+enum class IntegratorMode : int { Path = 0, Cache = 1, CacheGuided = 2 };
+
 struct IntegratorSettings {
     int max_depth = 8;  // 1: direct lighting only
     int rr_depth = 3;   // Russian roulette from this bounce on
@@ -47,6 +57,8 @@ struct IntegratorSettings {
     // the image is the same bits either way (the sensor paths draw their own numbers).
     bool indirect_illuminance = false;
     SamplerKind sampler = SamplerKind::Sobol;
+    IntegratorMode mode = IntegratorMode::Path;
+    CacheSettings cache;
 };
 
 // A shading point of the current bounce.
@@ -92,6 +104,18 @@ struct PathScratch {
     std::vector<PathResult> sensor_results;
     size_t rays_traced = 0;  // primary, secondary and shadow rays since construction
     StageTimer timer;        // time per integrator stage since construction (stage_timer.h)
+    // the radiance cache (render/cache/radiance_cache_impl.h): per path, whether its first
+    // hit's indirect light came from the cache (it then only looks for emission); per
+    // first-hit point the guide of cache-guided (an R^2 cdf, or -1) and its cdfs
+    std::vector<uint8_t> cached;
+    std::vector<int32_t> guide_of;
+    std::vector<float> guide_cdf;
+    // the cache's work memory, made by the kernels of width cache_width (no make_shared: its
+    // tag object is one the width-16 units may not define, see CMakeLists.txt)
+    std::unique_ptr<void, void (*)(void*)> cache{nullptr, nullptr};
+    int cache_width = 0;
+    // the cache's statistics since construction
+    size_t cache_points = 0, cache_queries = 0, cache_texels_reprojected = 0, cache_texels_traced = 0;
 };
 
 struct RenderKernels {
@@ -112,6 +136,10 @@ struct RenderKernels {
                                         int samples, uint32_t seed, float* lux, PathScratch& scratch);
     // out[i] = the 2-D table at (x[i], y[i]), bilinear, clamped to the axes
     void (*grid2_eval)(const Grid2View& grid, const float* x, const float* y, float* out, size_t n);
+    // The radiance cache at point a (unit normal na) reprojected into point b (normal nb),
+    // with the settings' cache parameters and depth (render/cache/cache_probe.h)
+    void (*cache_probe)(const RenderScene& scene, const IntegratorSettings& settings, const float* a, const float* na,
+                        const float* b, const float* nb, uint32_t seed, bool unknown_masks, CacheProbe& out);
 };
 
 const RenderKernels& render_kernels_w1();

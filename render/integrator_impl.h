@@ -23,6 +23,7 @@
 #include "core/constants.h"
 #include "core/simd/kernel_width.h"
 #include "core/vec3.h"
+#include "render/cache/cache_stages_impl.h"
 #include "render/camera.h"
 #include "render/env_impl.h"
 #include "render/integrator.h"
@@ -119,6 +120,8 @@ inline void start_paths(const Wavefront& w, size_t n) {
     grow(sc.prev_pdf, n);
     grow(sc.prev_pos, 3 * n);
     sc.active.clear();
+    sc.cached.clear();  // none served by the radiance cache (start_camera_paths says otherwise)
+    sc.guide_of.clear();
     for (size_t i = 0; i < n; ++i) {
         PathResult& r = w.out[i];
         std::fill(r.rgb, r.rgb + 3, 0.0f);
@@ -141,6 +144,13 @@ inline void start_camera_paths(const Wavefront& w, size_t n) {
         camera_ray(w.s.camera, c.fx, c.fy, lu, lv, o, d);
         start_path(w, i, o, d);
     }
+    if (w.st.mode == IntegratorMode::Cache) w.sc.cached.assign(n, 0);
+}
+
+// Paths along given rays (the radiance cache's: n origins and directions, row by row).
+inline void start_given_paths(const Wavefront& w, const float* org, const float* dir, size_t n) {
+    start_paths(w, n);
+    for (size_t i = 0; i < n; ++i) start_path(w, i, load_vec3(org + 3 * i), load_vec3(dir + 3 * i));
 }
 
 // 1. The active paths' rays, N per packet; hit j belongs to path sc.active[j].
@@ -241,8 +251,10 @@ inline void add_emission_and_environment(const Wavefront& w, const HitBatch& hit
 // still bounce (make_shading_point may still end the path there).
 inline bool may_shade(const Wavefront& w, const HitBatch& hits, size_t j, int depth) {
     const int32_t prim = hits.prim[j];
+    // (a path whose first hit's indirect light the cache gave only looks for emission)
+    const bool cached = depth > 0 && !w.sc.cached.empty() && w.sc.cached[w.sc.active[j]];
     return prim >= 0 && w.s.materials[w.s.tri_material[prim]].kind != MaterialKind::Emitter &&
-           depth < w.st.max_depth;
+           depth < w.st.max_depth && !cached;
 }
 
 // 3. Grouping by material before the points exist: the hits that may become shading points
@@ -360,6 +372,7 @@ inline void queue_light_samples(const Wavefront& w, int depth) {
         material_eval(m, ll + 3 * a, vl + 3 * a, eta + a, fv + 3 * a, count);
         material_pdf(m, ll + 3 * a, vl + 3 * a, eta + a, pdf + a, count);
     });
+    if (depth == 0 && w.st.mode == IntegratorMode::CacheGuided) cache::mix_light_pdfs(sc, w.st.cache, ll, pdf, np);
     sc.timer.lap(Stage::ShadeLight);
     for (size_t q = 0; q < np; ++q) {
         if (!sc.ls_ok[q]) continue;
@@ -397,10 +410,13 @@ inline void sample_bsdf(const Wavefront& w, int depth) {
     fill_uniforms(sc, np, depth, kDimBsdfU, u1);
     fill_uniforms(sc, np, depth, kDimBsdfV, u2);
     sc.timer.lap(Stage::BsdfUniforms);
+    const bool guided = depth == 0 && w.st.mode == IntegratorMode::CacheGuided;
+    if (guided) cache::guided_picks(w);
     for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
         material_sample(m, vl + 3 * a, eta + a, upick + a, u1 + a, u2 + a, ll + 3 * a, pdf + a, count);
         material_eval(m, ll + 3 * a, vl + 3 * a, eta + a, fv + 3 * a, count);
     });
+    if (guided) cache::guided_directions(w);
     sc.timer.lap(Stage::ShadeSample);
     sc.next_active.clear();
     for (size_t q = 0; q < np; ++q) {
@@ -443,6 +459,35 @@ inline void resolve_shadow_rays(const Wavefront& w) {
     sc.timer.lap(Stage::ShadowResolve);
 }
 
+// The radiance cache's rays (origins, directions, stream keys and indices; n of them)
+// traced by the path tracer with `st` (mode path), leaving out the emission they see
+// directly: out[i].rgb is the indirect radiance arriving along ray i, depth and normal
+// what it hit first.
+void trace_given_rays(const RenderScene& s, const IntegratorSettings& st, const float* org, const float* dir,
+                      const uint32_t* keys, const uint32_t* indices, size_t n, PathResult* out, PathScratch& sc,
+                      std::vector<CameraSample>& samples);
+
+// At the first hit, the radiance cache's stage of the cache integrators (render/cache/).
+inline void run_cache_stage(const Wavefront& w) {
+    // the cache's rays start at the first hit: one bounce fewer, roulette one sooner
+    IntegratorSettings inner = w.st;
+    inner.mode = IntegratorMode::Path;
+    inner.indirect_illuminance = false;
+    inner.max_depth = w.st.max_depth - 1;
+    inner.rr_depth = std::max(1, w.st.rr_depth - 1);
+    // a guide needs the shape of the indirect light, not its value: the direct light at the
+    // hits (one bounce) is that shape at a fraction of the full paths' cost
+    if (w.st.mode == IntegratorMode::CacheGuided) inner.max_depth = 1;
+    cache::CacheState& cs = cache::cache_state(w.sc);
+    auto tracer = [&](const float* o, const float* d, const uint32_t* k, const uint32_t* idx, size_t m, PathResult* r) {
+        trace_given_rays(w.s, inner, o, d, k, idx, m, r, cs.inner, cs.inner_samples);
+    };
+    if (w.st.mode == IntegratorMode::Cache)
+        cache::add_cached_indirect(w, tracer);
+    else
+        cache::build_guides(w, tracer);
+}
+
 // The stages, bounce after bounce, until every path of the batch has ended.
 inline void run_paths(const Wavefront& w) {
     PathScratch& sc = w.sc;
@@ -456,6 +501,7 @@ inline void run_paths(const Wavefront& w) {
         make_shading_points(w, hits, depth);
         sc.timer.times.shading_points += sc.sorted.size();
         sc.timer.lap(Stage::ShadingPoints);
+        if (depth == 0 && w.st.mode != IntegratorMode::Path && w.st.max_depth > 1) run_cache_stage(w);
         queue_light_samples(w, depth);
         sample_bsdf(w, depth);
         resolve_shadow_rays(w);
@@ -530,9 +576,99 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
     }
     IntegratorSettings inner = st;
     inner.max_depth = st.max_depth - 1;
+    inner.mode = IntegratorMode::Path;  // the sensors' paths are plain paths
     trace_sensor_paths(s, inner, sc);
     for (size_t q = 0; q < sc.sensors.size(); ++q)
         out[sc.sensors[q].path].illuminance += sensor_path_lux(sc.sensor_results[q]);
+}
+
+void trace_given_rays(const RenderScene& s, const IntegratorSettings& st, const float* org, const float* dir,
+                      const uint32_t* keys, const uint32_t* indices, size_t n, PathResult* out, PathScratch& sc,
+                      std::vector<CameraSample>& samples) {
+    samples.resize(n);
+    for (size_t i = 0; i < n; ++i) samples[i] = CameraSample{0.0f, 0.0f, keys[i], indices[i]};
+    Wavefront w{s, st, samples.data(), out, sc, lights_emit(s), scene_has_sun(s), s.ray_offset};
+    w.first_emission = false;
+    start_given_paths(w, org, dir, n);
+    run_paths(w);
+}
+
+// The radiance cache at one point reprojected into another (integrator.h, cache_probe).
+void cache_probe(const RenderScene& s, const IntegratorSettings& st, const float* pa, const float* na, const float* pb,
+                 const float* nb, uint32_t seed, bool unknown_masks, CacheProbe& out) {
+    enter_kernel();
+    const CacheSettings& cfg = st.cache;
+    check_cache_settings(cfg);
+    const int R = cfg.resolution;
+    const size_t T = static_cast<size_t>(R) * R;
+    PathScratch sc;
+    cache::CacheState& cs = cache::cache_state(sc);
+    IntegratorSettings inner = st;
+    inner.mode = IntegratorMode::Path;
+    inner.indirect_illuminance = false;
+    inner.max_depth = std::max(1, st.max_depth - 1);
+    inner.rr_depth = std::max(1, st.rr_depth - 1);
+    auto tracer = [&](const float* o, const float* d, const uint32_t* k, const uint32_t* idx, size_t m, PathResult* r) {
+        trace_given_rays(s, inner, o, d, k, idx, m, r, cs.inner, cs.inner_samples);
+    };
+    auto query = [&](const float* p, const float* n, uint32_t key) {
+        cache::Query q;
+        q.p = load_vec3(p);
+        q.n = q.ng = normalize(load_vec3(n));
+        orthonormal_frame(q.n, q.t, q.b);
+        q.key = key;
+        return q;
+    };
+    const cache::Query q[2] = {query(pa, na, hash_u32(seed)), query(pb, nb, hash_u32(seed + 1))};
+    cs.dirs.prepare(R);
+    // A, then B's own hemisphere in full (the reference)
+    cs.used = 0;
+    cs.pending = {0, 1};
+    cache::build_cache_points(cfg, s.ray_offset, q, cs, tracer);
+    const CachePoint& a = cs.points[0];
+    out = CacheProbe{};
+    out.resolution = R;
+    out.a_radiance = a.radiance;
+    out.a_dist = a.dist;
+    out.a_kind = a.kind;
+    out.a_layer.assign(T, -1);
+    out.a_surfel.assign(T, -1);
+    for (size_t k = 0; k < a.surfels.size(); ++k) {
+        const Surfel& sf = a.surfels[k];
+        for (int j = sf.j0; j < sf.j1; ++j)
+            for (int i = sf.i0; i < sf.i1; ++i) {
+                out.a_layer[static_cast<size_t>(j) * R + i] = sf.layer;
+                out.a_surfel[static_cast<size_t>(j) * R + i] = static_cast<int32_t>(k);
+            }
+    }
+    out.surfels = a.surfels.size();
+    out.silhouettes = a.silhouettes.size();
+    out.b_reference = cs.points[1].radiance;
+    // B by reprojection, its holes traced
+    out.b_reprojected.assign(3 * T, -1.0f);
+    cache::reproject(a, cache::Receiver{q[1].p, q[1].t, q[1].b, q[1].n}, cs.dirs, out.b_reprojected.data(), cs.rep,
+                     cs.rs, unknown_masks);
+    out.filled.assign(T, 0);
+    out.unknown.assign(T, 0);
+    out.to_trace.assign(T, 0);
+    out.b_radiance = out.b_reprojected;
+    cs.rays.clear();
+    const uint32_t key = cache::hole_key(q[1].key);
+    for (size_t t = 0; t < T; ++t) {
+        const int x = static_cast<int>(t % R), y = static_cast<int>(t / R);
+        out.filled[t] = cs.rep.filled.test(x, y);
+        out.unknown[t] = cs.rep.unknown.test(x, y);
+        out.to_trace[t] = cs.rep.to_trace.test(x, y);
+        if (!out.to_trace[t]) continue;
+        std::fill(out.b_reprojected.begin() + 3 * t, out.b_reprojected.begin() + 3 * t + 3, -1.0f);
+        std::fill(out.b_radiance.begin() + 3 * t, out.b_radiance.begin() + 3 * t + 3, 0.0f);
+        const Vec3f d = cache::jittered_direction(q[1], R, static_cast<int32_t>(t), key);
+        if (dot(d, q[1].ng) > 0)
+            cs.rays.push(q[1].p + s.ray_offset * q[1].ng, d, key, static_cast<uint32_t>(t), static_cast<int32_t>(t));
+    }
+    cache::trace_queue(cs, tracer);
+    for (size_t r = 0; r < cs.rays.size(); ++r)
+        std::copy(cs.results[r].rgb, cs.results[r].rgb + 3, out.b_radiance.data() + 3 * cs.rays.where[r]);
 }
 
 // Sensor i (point and normal from the arrays) as shading point q: its frame about the normal.

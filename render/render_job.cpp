@@ -36,13 +36,17 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
         throw std::invalid_argument("aa_threshold must be a finite number >= 0");
     const Camera& c = scene.camera;
     if (c.width < 1 || c.height < 1) throw std::invalid_argument("the image must be at least 1 x 1 pixels");
+    check_cache_settings(settings.cache);
     m_integrator.max_depth = settings.max_depth;
     m_integrator.indirect_illuminance = settings.indirect_illuminance;
     m_integrator.sampler = settings.sampler;
+    m_integrator.mode = settings.mode;
+    m_integrator.cache = settings.cache;
     m_tiles_x = (c.width + settings.tile_size - 1) / settings.tile_size;
     m_tiles_y = (c.height + settings.tile_size - 1) / settings.tile_size;
-    // at least `passes` passes, each of at most max_pass_spp samples
-    const int min_passes = std::max(settings.passes, 1);
+    // at least `passes` passes, each of at most max_pass_spp samples; the radiance cache's
+    // integrators as few as that allows: a pass's cache points serve its samples only
+    const int min_passes = settings.mode == IntegratorMode::Path ? std::max(settings.passes, 1) : 1;
     // the adaptive sampler: one pattern a pass (its rounds are the levels)
     const int per_pass = settings.aa == RenderSettings::Aa::Adaptive
                              ? 1
@@ -92,6 +96,10 @@ RenderProgress RenderJob::progress() const {
     p.items_total = m_item_count;
     p.rays = m_rays.load();
     p.samples_done = m_samples_done.load();
+    p.cache_points = m_cache_points.load();
+    p.cache_queries = m_cache_queries.load();
+    p.cache_texels_reprojected = m_cache_reprojected.load();
+    p.cache_texels_traced = m_cache_traced.load();
     p.cancelled = m_cancels.load() > 0;
     p.finished = p.items_done == p.items_total;
     // a finished job's time is when its last item finished, not when someone asked
@@ -144,9 +152,15 @@ void RenderJob::worker() {
             }
             const size_t before = scratch.rays_traced + sampler.rays_traced();
             const int64_t item_start = scratch.timer.now();
+            const size_t points = scratch.cache_points, queries = scratch.cache_queries,
+                         reprojected = scratch.cache_texels_reprojected, traced = scratch.cache_texels_traced;
             run_item(item, sampler, scratch, cs, out);
             scratch.timer.times.item_ns += scratch.timer.now() - item_start;
             m_rays.fetch_add(scratch.rays_traced + sampler.rays_traced() - before);
+            m_cache_points.fetch_add(scratch.cache_points - points);
+            m_cache_queries.fetch_add(scratch.cache_queries - queries);
+            m_cache_reprojected.fetch_add(scratch.cache_texels_reprojected - reprojected);
+            m_cache_traced.fetch_add(scratch.cache_texels_traced - traced);
             m_tile_passes[item.tile].store(item.pass + 1, std::memory_order_release);
             const int64_t ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
                                    std::chrono::steady_clock::now() - m_start).count();

@@ -39,12 +39,17 @@ struct RenderSettings {
     // The paths' numbers (render/sample_numbers.h): Owen-scrambled Sobol or independent.
     SamplerKind sampler = SamplerKind::Sobol;
     bool stage_cpu_time = false;  // stage timers on each thread's CPU time, not wall time (stage_timer.h)
+    IntegratorMode mode = IntegratorMode::Path;  // path, or the radiance cache's (docs/radiance-cache.md)
+    CacheSettings cache;
 };
 
 struct RenderProgress {
     size_t items_done = 0, items_total = 0;
     size_t rays = 0;         // rays traced so far (camera, bounce and shadow)
     size_t samples_done = 0; // camera samples finished
+    // the radiance cache: cache points built, first-hit points served, and of their
+    // hemispheres' texels those reprojected (or known empty) and those traced
+    size_t cache_points = 0, cache_queries = 0, cache_texels_reprojected = 0, cache_texels_traced = 0;
     double seconds = 0;
     bool finished = false, cancelled = false;
 };
@@ -118,6 +123,7 @@ private:
     AaEdgeHints m_aa_hints;  // the adaptive sampler's geometric pre-pass, computed once
     std::once_flag m_aa_hints_once;  // render_tiles: computed by the first call, whichever thread
     std::atomic<size_t> m_next{0}, m_done{0}, m_rays{0}, m_samples_done{0};
+    std::atomic<size_t> m_cache_points{0}, m_cache_queries{0}, m_cache_reprojected{0}, m_cache_traced{0};
     std::atomic<int> m_cancels{0};  // cancel() calls: 1 = after the first pass, 2 = now
     std::vector<std::thread> m_threads;
     mutable std::mutex m_error_lock;

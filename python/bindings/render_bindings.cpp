@@ -401,7 +401,8 @@ uint32_t stream_seed(uint64_t seed) {
 std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth, uint64_t seed, int threads,
                                     int width, int tile_size, int passes, const std::string& aa, float aa_threshold,
                                     bool indirect_illuminance, const std::string& sampler,
-                                    const std::string& stage_clock) {
+                                    const std::string& stage_clock, const std::string& integrator, int cache_resolution, float cache_error,
+                                    float cache_guide) {
     SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
     check_materials(h);
     patina::prepare_light_selection(h.scene);
@@ -427,6 +428,16 @@ std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth
         st.stage_cpu_time = true;
     else if (stage_clock != "wall")
         throw std::invalid_argument("stage_clock: '" + stage_clock + "' is not one of 'wall', 'cpu'");
+    if (integrator == "cache")
+        st.mode = patina::IntegratorMode::Cache;
+    else if (integrator == "cache-guided")
+        st.mode = patina::IntegratorMode::CacheGuided;
+    else if (integrator != "path")
+        throw std::invalid_argument("integrator: '" + integrator + "' is not one of 'path', 'cache', 'cache-guided'");
+    st.cache.resolution = cache_resolution;
+    st.cache.error = cache_error;
+    st.cache.guide = cache_guide;
+    patina::check_cache_settings(st.cache);
     auto j = std::make_unique<JobHandle>();
     j->scene_ref = scene_obj;
     j->job = std::make_unique<patina::RenderJob>(h.scene, st);
@@ -443,6 +454,10 @@ nb::dict progress(const JobHandle& j) {
     d["seconds"] = p.seconds;
     d["finished"] = p.finished;
     d["cancelled"] = p.cancelled;
+    d["cache_points"] = p.cache_points;
+    d["cache_queries"] = p.cache_queries;
+    d["cache_texels_reprojected"] = p.cache_texels_reprojected;
+    d["cache_texels_traced"] = p.cache_texels_traced;
     return d;
 }
 
@@ -686,6 +701,60 @@ nb::object sensor_illuminance(nb::object scene_obj, Rows3 points, Rows3 normals,
     return nb::cast(result);
 }
 
+// The radiance cache at point a reprojected into point b (render/cache/cache_probe.h), for
+// tools/draw_radiance_cache.py and the tests: arrays of R x R texels (texel j * R + i at [j, i]).
+nb::dict cache_probe(nb::object scene_obj, const std::vector<float>& a, const std::vector<float>& na,
+                     const std::vector<float>& b, const std::vector<float>& nb_, int resolution, float error,
+                     int max_depth, uint64_t seed, int width, bool unknown_masks) {
+    SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
+    for (const auto* v : {&a, &na, &b, &nb_})
+        if (v->size() != 3) throw std::invalid_argument("points and normals must be 3 numbers");
+    if (max_depth < 2) throw std::invalid_argument("max_depth must be at least 2 (the cache holds indirect light)");
+    check_materials(h);
+    patina::prepare_light_selection(h.scene);
+    patina::IntegratorSettings st;
+    st.max_depth = max_depth;
+    st.cache.resolution = resolution;
+    st.cache.error = error;
+    patina::check_cache_settings(st.cache);
+    const patina::RenderKernels& k = patina::render_kernels_for(width);
+    patina::CacheProbe p;
+    {
+        nb::gil_scoped_release release;
+        k.cache_probe(h.scene, st, a.data(), na.data(), b.data(), nb_.data(), stream_seed(seed), unknown_masks, p);
+    }
+    const size_t R = static_cast<size_t>(p.resolution);
+    const size_t s3[3] = {R, R, 3}, s2[2] = {R, R};
+    auto rgb = [&](const std::vector<float>& v) {
+        float* out;
+        auto arr = new_array<float, 3>(s3, &out);
+        std::copy(v.begin(), v.end(), out);
+        return arr;
+    };
+    auto plane = [&](const auto& v) {
+        float* out;
+        auto arr = new_array<float, 2>(s2, &out);
+        for (size_t i = 0; i < R * R; ++i) out[i] = static_cast<float>(v[i]);
+        return arr;
+    };
+    nb::dict d;
+    d["resolution"] = p.resolution;
+    d["a_radiance"] = rgb(p.a_radiance);
+    d["a_dist"] = plane(p.a_dist);
+    d["a_kind"] = plane(p.a_kind);
+    d["a_layer"] = plane(p.a_layer);
+    d["a_surfel"] = plane(p.a_surfel);
+    d["surfels"] = p.surfels;
+    d["silhouettes"] = p.silhouettes;
+    d["filled"] = plane(p.filled);
+    d["unknown"] = plane(p.unknown);
+    d["to_trace"] = plane(p.to_trace);
+    d["b_reprojected"] = rgb(p.b_reprojected);
+    d["b_radiance"] = rgb(p.b_radiance);
+    d["b_reference"] = rgb(p.b_reference);
+    return d;
+}
+
 }  // namespace
 
 void bind_render(nb::module_& m) {
@@ -704,6 +773,11 @@ void bind_render(nb::module_& m) {
     m.def("sample_points", &sample_points, nb::arg("sampler"), nb::arg("n"), nb::arg("dims"), nb::arg("seed") = 0,
           nb::arg("first") = 0, nb::arg("scramble") = true,
           "The sampler's numbers of one stream: samples [first, first + n) x dimensions [0, dims).");
+    m.def("cache_probe", &cache_probe, nb::arg("scene"), nb::arg("a"), nb::arg("a_normal"), nb::arg("b"),
+          nb::arg("b_normal"), nb::arg("resolution") = patina::CacheSettings{}.resolution,
+          nb::arg("error") = patina::CacheSettings{}.error, nb::arg("max_depth") = 2, nb::arg("seed") = 0,
+          nb::arg("width") = 0, nb::arg("unknown_masks") = true,
+          "The radiance cache at point a reprojected into point b: textures and masks (docs/radiance-cache.md).");
     m.def("aa_pattern", &aa_pattern, "The adaptive antialiasing's positions, comparisons, zone tables, weights.");
     m.def("sensor_illuminance", &sensor_illuminance, nb::arg("scene"), nb::arg("points"), nb::arg("normals"),
           nb::arg("samples") = 64, nb::arg("seed") = 0, nb::arg("width") = 0, nb::arg("threads") = 0,
@@ -715,7 +789,9 @@ void bind_render(nb::module_& m) {
              nb::arg("threads") = 0, nb::arg("width") = 0, nb::arg("tile_size") = 16, nb::arg("passes") = 8,
              nb::arg("aa") = "uniform", nb::arg("aa_threshold") = patina::kDefaultAaThreshold,
              nb::arg("indirect_illuminance") = false, nb::arg("sampler") = "sobol",
-             nb::arg("stage_clock") = "wall")
+             nb::arg("stage_clock") = "wall", nb::arg("integrator") = "path", nb::arg("cache_resolution") = patina::CacheSettings{}.resolution,
+             nb::arg("cache_error") = patina::CacheSettings{}.error,
+             nb::arg("cache_guide") = patina::CacheSettings{}.guide)
         .def("start", [](JobHandle& j) { j.job->start(); })
         .def("cancel", [](JobHandle& j) { j.job->cancel(); })
         .def("wait",

@@ -37,8 +37,8 @@ from patina.render.outputs import auto_exposure, metadata, write_outputs
 from patina.render.prepare import PreparedScene, check_render_memory
 from patina.render.run import RenderAborted, render
 from patina.scene.preview import preview_scene_dict
-from patina.scene.reading import check_run_options, load_scene, parse_scene, with_overrides
-from patina.scene.types import Scene
+from patina.scene.reading import CACHE_RANGES, INTEGRATORS, check_run_options, load_scene, parse_scene, with_overrides
+from patina.scene.types import CacheParams, Scene
 from patina.signals import handling
 
 IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg")  # tone-mapped 8-bit sRGB
@@ -120,6 +120,9 @@ def _with_options(scene: Scene, args: argparse.Namespace) -> Scene:
         aa_threshold=args.aa_threshold,
         indirect_illuminance=True if args.indirect_illuminance else None,
         sampler=args.sampler,
+        cache_resolution=args.cache_resolution,
+        cache_error=args.cache_error,
+        cache_guide=args.cache_guide,
     )
 
 
@@ -253,6 +256,12 @@ def _render_and_write(scene: Any, args: argparse.Namespace, exposure_choice: str
         f"{result.seconds:.2f} s, {rate:.2f} Mrays/s, SIMD width {result.simd_width}, {result.threads} "
         + ("Dask worker threads" if _on_dask(args) else "threads")
     )
+    if result.cache_queries:
+        texels = max(result.cache_texels_reprojected + result.cache_texels_traced, 1)
+        print(
+            f"radiance cache: {result.cache_points} cache points for {result.cache_queries} first hits, "
+            f"{100 * result.cache_texels_reprojected / texels:.1f} % of their texels reprojected"
+        )
     if result.aa_level is not None:
         meta = metadata(scene, result)
         print(
@@ -351,8 +360,25 @@ def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help:
     s.add_argument("--tonemap", choices=("filmic", "clamp"), default="filmic", help="tone curve of the PNG/JPEG")
     s.add_argument("--spp", type=int, default=None, help="samples per pixel (default: the scene's)")
     s.add_argument(
-        "--integrator", choices=("direct", "path"), default=None, help="the integrator (default: the scene's)"
+        "--integrator",
+        default=None,
+        metavar="|".join(INTEGRATORS),
+        help="the integrator (default: the scene's); cache and cache-guided: docs/radiance-cache.md",
     )
+    defaults = CacheParams()
+    for key, kind, what in (
+        ("resolution", int, "texels per side of a cache point's hemisphere"),
+        ("error", float, "the cache's reuse criterion bound (larger: fewer cache points, more reuse)"),
+        ("guide", float, "cache-guided: probability of drawing the first bounce from the cache"),
+    ):
+        lo, hi = CACHE_RANGES[key]
+        s.add_argument(
+            f"--cache-{key}",
+            type=kind,
+            default=None,
+            metavar="R" if kind is int else "X",
+            help=f"{what}, {lo:g} to {hi:g} (default: the scene's render.cache.{key}, {getattr(defaults, key):g})",
+        )
     s.add_argument("--seed", type=int, default=None, help="random seed, 0 to 2^63-1 (default: the scene's)")
     s.add_argument(
         "--aa", default=None, metavar="uniform|adaptive", help="the pixel sampler (default: the scene's render.aa)"

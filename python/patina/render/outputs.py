@@ -45,6 +45,11 @@ def metadata(scene: Scene, result: RenderResult) -> dict[str, str | float | int]
         "patina:aa": result.aa,
         "patina:sampler": result.sampler,
     }
+    if scene.render.integrator in ("cache", "cache-guided"):
+        meta["patina:cache_points"] = str(int(result.cache_points))
+        meta["patina:cache_queries"] = str(int(result.cache_queries))
+        meta["patina:cache_texels_reprojected"] = str(int(result.cache_texels_reprojected))
+        meta["patina:cache_texels_traced"] = str(int(result.cache_texels_traced))
     if result.aa_level is not None:
         # docs/antialiasing.md: camera rays a pixel a pass (the patterns traced: the weight sums)
         meta["patina:aa_threshold"] = float(result.aa_threshold)

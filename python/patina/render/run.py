@@ -56,6 +56,21 @@ class RenderResult:
     camera_rays: int = 0  # camera rays traced (the adaptive sampler: its positions, each one integrator sample)
     aa_level: np.ndarray | None = None  # (H, W) adaptive: 1, 2 or 3, the level each pixel reached
     aa_rays: np.ndarray | None = None  # (H, W) adaptive: the pixel's own rays a pass (1 = its share of the corners)
+    # the radiance cache (integrators cache, cache-guided; docs/radiance-cache.md): cache points
+    # built, first-hit points served, and of their hemispheres' texels how many were
+    # reprojected (or known empty) and how many traced
+    cache_points: int = 0
+    cache_queries: int = 0
+    cache_texels_reprojected: int = 0
+    cache_texels_traced: int = 0
+
+
+CACHE_COUNTS = ("cache_points", "cache_queries", "cache_texels_reprojected", "cache_texels_traced")
+
+
+def core_integrator(scene: Scene) -> str:
+    """The C++ integrator mode: direct lighting is the path tracer at depth 1."""
+    return scene.render.integrator if scene.render.integrator in ("cache", "cache-guided") else "path"
 
 
 def core_depth(scene: Scene) -> int:
@@ -157,6 +172,10 @@ def job_settings(
         "aa_threshold": float(threshold),
         "indirect_illuminance": scene.render.indirect_illuminance,
         "sampler": sampler,
+        "integrator": core_integrator(scene),
+        "cache_resolution": scene.render.cache.resolution,
+        "cache_error": float(scene.render.cache.error),
+        "cache_guide": float(scene.render.cache.guide),
     }
 
 
@@ -173,9 +192,10 @@ def check_prepared(scene: Scene, prepared: PreparedScene | None) -> PreparedScen
 
 def render_result(
     scene: Scene, images: dict, settings: dict, *, seconds: float, rays: int, camera_rays: int, complete: bool,
-    threads: int, simd_width: int, interrupted: bool,
+    threads: int, simd_width: int, interrupted: bool, cache: dict | None = None,
 ) -> RenderResult:  # fmt: skip
-    """A RenderResult from a job's resolved `images` and its `settings` (job_settings)."""
+    """A RenderResult from a job's resolved `images` and its `settings` (job_settings);
+    `cache`: the job's radiance-cache counts (CACHE_COUNTS of its progress), if any."""
     # the adaptive sampler's weights sum to 1 a pass up to float rounding
     if float(images["samples"].min()) < 1 - 1e-4:
         # cannot happen (a cancel finishes the first pass); never hand out unsampled pixels
@@ -200,6 +220,7 @@ def render_result(
         camera_rays=camera_rays,
         aa_level=images.get("aa_level"),
         aa_rays=images.get("aa_rays"),
+        **{k: int((cache or {}).get(k, 0)) for k in CACHE_COUNTS},
     )
 
 
@@ -238,4 +259,5 @@ def render(
         threads=threads if threads > 0 else (os.cpu_count() or 1),
         simd_width=settings["width"] or _core.default_width(),
         interrupted=interrupted,
+        cache={k: p[k] for k in CACHE_COUNTS},
     )

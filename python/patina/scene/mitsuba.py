@@ -103,6 +103,7 @@ def _sensor(mi: Any, camera: Camera, spp: int, seed: int) -> dict[str, Any]:
 
 
 def _integrator(scene: Scene) -> dict[str, Any]:
+    # the radiance cache integrators (cache, cache-guided) converge to what the path tracer does
     if scene.render.integrator == "direct":
         return {"type": "direct"}
     return {"type": "path", "max_depth": scene.render.max_depth, "hide_emitters": False}

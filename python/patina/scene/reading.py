@@ -36,6 +36,7 @@ from patina.scene.json_reader import vector as _vector
 from patina.scene.metals import METALS
 from patina.scene.types import (
     BallShape,
+    CacheParams,
     Camera,
     CarpaintMaterial,
     Coat,
@@ -183,19 +184,36 @@ AA_THRESHOLD = 0.1  # the adaptive sampler's contrast threshold; contrasts are i
 SAMPLERS = ("sobol", "independent")  # render.sampler, --sampler: the paths' numbers (docs/render.md)
 
 
-def _render(o: Obj) -> Render:
-    o.allow(
-        ("spp", "integrator", "max_depth", "seed", "aa", "aa_threshold", "indirect_illuminance", "sampler"), "render"
+INTEGRATORS = ("direct", "path", "cache", "cache-guided")  # render.integrator, --integrator
+# the radiance cache's parameters (docs/radiance-cache.md): render.cache.<key>, --cache-<key>;
+# the ranges are the C++ side's (render/cache/cache_settings.h)
+CACHE_RANGES: dict[str, tuple[float, float]] = {"resolution": (8, 128), "error": (0.01, 4.0), "guide": (0.05, 0.95)}
+
+
+def _cache_params(o: Obj) -> CacheParams:
+    o.allow(tuple(CACHE_RANGES), "render.cache")
+    d = CacheParams()
+    lo, hi = CACHE_RANGES["resolution"]
+    return CacheParams(
+        resolution=o.read("resolution", integer, d.resolution, lo=int(lo), hi=int(hi)),
+        error=o.read("error", number, d.error, lo=CACHE_RANGES["error"][0], hi=CACHE_RANGES["error"][1]),
+        guide=o.read("guide", number, d.guide, lo=CACHE_RANGES["guide"][0], hi=CACHE_RANGES["guide"][1]),
     )
+
+
+def _render(o: Obj) -> Render:
+    keys = ("spp", "integrator", "max_depth", "seed", "aa", "aa_threshold", "indirect_illuminance", "sampler", "cache")
+    o.allow(keys, "render")
     return Render(
         spp=o.read("spp", integer, 64, lo=1, hi=MAX_SPP),
-        integrator=o.read("integrator", choice, "direct", options=("direct", "path")),
+        integrator=o.read("integrator", choice, "direct", options=INTEGRATORS),
         max_depth=o.read("max_depth", integer, 8, lo=1, hi=MAX_DEPTH),
         seed=o.read("seed", integer, 0, lo=0, hi=MAX_SEED),
         aa=o.read("aa", choice, "uniform", options=AA_SAMPLERS),
         aa_threshold=o.read("aa_threshold", number, AA_THRESHOLD, lo=0.0, hi=1.0),
         indirect_illuminance=o.read("indirect_illuminance", boolean, False),
         sampler=o.read("sampler", choice, "sobol", options=SAMPLERS),
+        cache=_cache_params(o.obj("cache", {})),
     )
 
 
@@ -633,6 +651,9 @@ def with_overrides(
     aa_threshold: float | None = None,
     indirect_illuminance: bool | None = None,
     sampler: str | None = None,
+    cache_resolution: int | None = None,
+    cache_error: float | None = None,
+    cache_guide: float | None = None,
 ) -> Scene:
     """The scene with command-line settings replacing the file's; bad values are FormatErrors
     naming the option (file "command line")."""
@@ -641,7 +662,17 @@ def with_overrides(
     if spp is not None:
         render = dataclasses.replace(render, spp=integer(ctx, "--spp", spp, lo=1, hi=MAX_SPP))
     if integrator is not None:
-        render = dataclasses.replace(render, integrator=choice(ctx, "--integrator", integrator, ("direct", "path")))
+        render = dataclasses.replace(render, integrator=choice(ctx, "--integrator", integrator, INTEGRATORS))
+    cache = render.cache
+    if cache_resolution is not None:
+        lo, hi = CACHE_RANGES["resolution"]
+        value = integer(ctx, "--cache-resolution", cache_resolution, lo=int(lo), hi=int(hi))
+        cache = dataclasses.replace(cache, resolution=value)
+    for option, key, given in (("--cache-error", "error", cache_error), ("--cache-guide", "guide", cache_guide)):
+        if given is not None:
+            lo, hi = CACHE_RANGES[key]
+            cache = dataclasses.replace(cache, **{key: number(ctx, option, given, lo=lo, hi=hi)})
+    render = dataclasses.replace(render, cache=cache)
     if seed is not None:
         render = dataclasses.replace(render, seed=integer(ctx, "--seed", seed, lo=0, hi=MAX_SEED))
     if aa is not None:

@@ -65,17 +65,28 @@ class Camera:
 
 
 @dataclass(frozen=True)
+class CacheParams:
+    """The radiance cache's parameters (docs/radiance-cache.md), for the `cache` and
+    `cache-guided` integrators."""
+
+    resolution: int = 32  # texels per side of a hemisphere, 8 to 128
+    error: float = 0.5  # the reuse criterion's bound, 0.01 to 4
+    guide: float = 0.5  # cache-guided: probability of drawing the first bounce from the cache, 0.05 to 0.95
+
+
+@dataclass(frozen=True)
 class Render:
     """Sampling settings. `max_depth` counts path segments as Mitsuba 3 does (2 = direct light)."""
 
     spp: int
-    integrator: str  # "direct" | "path"
+    integrator: str  # "direct" | "path" | "cache" | "cache-guided"
     max_depth: int
     seed: int
     aa: str = "uniform"  # the pixel sampler: "uniform" | "adaptive" (docs/antialiasing.md)
     aa_threshold: float = 0.1  # the adaptive sampler's contrast threshold, in [0, 1]
     indirect_illuminance: bool = False  # the illuminance AOV also counts light reflected by the scene
     sampler: str = "sobol"  # the paths' numbers: "sobol" | "independent" (docs/render.md)
+    cache: CacheParams = field(default_factory=CacheParams)
 
 
 # --- materials ------------------------------------------------------------------------------

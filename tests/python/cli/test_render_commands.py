@@ -109,6 +109,32 @@ def test_bad_json_and_bad_options(tmp_path, capsys):
     assert "--spp" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("integrator", ["cache", "cache-guided"])
+def test_the_cache_integrators_render_and_record_their_statistics(tmp_path, capsys, integrator):
+    out = tmp_path / "c.exr"
+    box = os.path.join(ROOT, "materials", "scenes", "area-box.json")
+    options = ["--spp", "1", "--width", "24", "--height", "24", "--cache-resolution", "8"]
+    assert main(["render", box, "--integrator", integrator, "--out", str(out), "--png", "none", *options]) == 0
+    assert "radiance cache:" in capsys.readouterr().out
+    layers, meta = read_exr_layers(str(out))
+    assert meta["patina:integrator"] == integrator
+    assert int(meta["patina:cache_points"]) > 0 and int(meta["patina:cache_queries"]) > 0
+    assert np.isfinite(layers["beauty"]).all() and layers["beauty"].mean() > 0
+
+
+@pytest.mark.parametrize(
+    ("options", "named"),
+    [(["--integrator", "photon"], "--integrator"), (["--cache-resolution", "4"], "--cache-resolution"),
+     (["--cache-error", "9"], "--cache-error"), (["--cache-guide", "1"], "--cache-guide")],
+)  # fmt: skip
+def test_bad_cache_options_exit_2_naming_the_option(tmp_path, capsys, options, named):
+    box = os.path.join(ROOT, "materials", "scenes", "area-box.json")
+    assert main(["render", box, "--out", str(tmp_path / "x.exr"), *options, *SMALL]) == 2
+    err = capsys.readouterr().err
+    assert named in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "x.exr").exists()
+
+
 def test_ctrl_c_writes_a_valid_partial_image_and_exits_130(tmp_path):
     scene = write_scene(tmp_path, {**GOOD, "camera": {**GOOD["camera"], "width": 64, "height": 48}})
     out = tmp_path / "partial.exr"

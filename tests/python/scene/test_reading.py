@@ -237,6 +237,22 @@ def test_overrides(folder):
         assert info.value.where == where and info.value.path == "command line"
 
 
+def test_cache_settings_defaults_and_overrides(folder):
+    scene = parse(FULL, folder)
+    assert (scene.render.cache.resolution, scene.render.cache.error, scene.render.cache.guide) == (32, 0.5, 0.5)
+    s = with_overrides(scene, integrator="cache-guided", cache_resolution=16, cache_error=1.5, cache_guide=0.3)
+    assert s.render.integrator == "cache-guided"
+    assert (s.render.cache.resolution, s.render.cache.error, s.render.cache.guide) == (16, 1.5, 0.3)
+    obj = copy.deepcopy(FULL)
+    obj["render"]["cache"] = {"resolution": 24}
+    assert parse(obj, folder).render.cache.resolution == 24
+    for kwargs, where in [({"cache_resolution": 200}, "--cache-resolution"), ({"cache_error": 5.0}, "--cache-error"),
+                          ({"cache_guide": 0.0}, "--cache-guide")]:  # fmt: skip
+        with pytest.raises(FormatError) as info:
+            with_overrides(scene, **kwargs)
+        assert info.value.where == where and info.value.path == "command line"
+
+
 # --- errors name the key path ----------------------------------------------------------------
 
 
@@ -271,6 +287,12 @@ ERRORS = [
     (("render", "integrator"), "paht", "render.integrator", "did you mean 'path'"),
     (("render", "max_depth"), True, "render.max_depth", "integer"),
     (("render", "seed"), -1, "render.seed", "integer"),
+    (("render", "cache"), {"resolution": 4}, "render.cache.resolution", "[8, 128]"),
+    (("render", "cache"), {"resolution": 16.5}, "render.cache.resolution", "integer"),
+    (("render", "cache"), {"error": 0}, "render.cache.error", "[0.01, 4]"),
+    (("render", "cache"), {"guide": 1}, "render.cache.guide", "[0.05, 0.95]"),
+    (("render", "cache"), {"eror": 1}, "render.cache.eror", "did you mean 'error'"),
+    (("render", "cache"), 3, "render.cache", "object"),
     (("materials", "paint", "coat", "eta"), 0.5, "materials.paint.coat.eta", "in [1, 1000]"),
     (("materials", "paint", "coat", "roughnes"), 0.1, "materials.paint.coat.roughnes", "did you mean 'roughness'"),
     (("materials", "paint", "base"), {"type": "dielectric"}, "materials.paint.base.type", "expected one of"),

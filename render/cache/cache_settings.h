@@ -1,0 +1,21 @@
+// The radiance cache's parameters (docs/radiance-cache.md; scene key render.cache, CLI
+// --cache-*), their defaults and allowed ranges. The Python scene reader checks them too
+// (naming the key or option); check_cache_settings is the C++ side's own guard.
+#pragma once
+
+namespace patina {
+
+struct CacheSettings {
+    int resolution = 32;  // texels per side of a hemisphere (R x R texels, equal solid angle each)
+    float error = 0.5f;   // the reuse criterion's bound: B uses A when |B - A| / R_A + sqrt(1 - nA.nB) <= error
+    float guide = 0.5f;   // cache-guided: the probability of drawing the first bounce from the cache
+};
+
+constexpr int kCacheResolutionMin = 8, kCacheResolutionMax = 128;
+constexpr float kCacheErrorMin = 0.01f, kCacheErrorMax = 4.0f;
+constexpr float kCacheGuideMin = 0.05f, kCacheGuideMax = 0.95f;
+
+// Throws std::invalid_argument naming the key (cache.resolution, ...) and its range.
+void check_cache_settings(const CacheSettings& s);
+
+}  // namespace patina

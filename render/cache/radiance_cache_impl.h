@@ -1,0 +1,308 @@
+// The radiance cache at work on one batch of shading points (docs/radiance-cache.md),
+// compiled once per width (included by integrator_impl.h). The cache lives for one call:
+// the batch is one (tile, pass) work item's camera samples, so nothing is shared between
+// threads and the image depends on the seed only.
+//   1. placement, in rounds: each point takes the existing cache point of least error
+//      (render/cache/error_criterion.h) if that is within the bound; the others, in order,
+//      become new cache points unless a new one of this round already lies within the bound
+//      (with the radius of those built so far as the estimate), and the round's new ones are
+//      built together;
+//   2. building: R^2 rays over the point's hemisphere (one per texel, jittered), traced as one
+//      wavefront by the path tracer with the emission seen directly left out: each texel is
+//      one sample of the indirect incident radiance; then layers and surfels (surfels.h);
+//   3. every other point gets its hemisphere by reprojection (reprojection_impl.h) and, where
+//      that leaves holes, by tracing them from the point, all the holes of a chunk of points
+//      in one wavefront (or, for guiding, which needs no exact value, the mean of the rest).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "core/simd/kernel_width.h"
+#include "core/vec3.h"
+#include "render/cache/bit_mask.h"
+#include "render/cache/cache_point.h"
+#include "render/cache/cache_settings.h"
+#include "render/cache/error_criterion.h"
+#include "render/cache/hemisphere.h"
+#include "render/cache/reprojection_impl.h"
+#include "render/cache/surfels.h"
+#include "render/integrator.h"
+#include "render/rng.h"
+
+PATINA_BEGIN_TARGET
+namespace cache {
+
+constexpr int kMaxRounds = 6;
+constexpr size_t kChunk = 32;        // points reprojected, hole-traced and consumed together
+constexpr size_t kMaxWavefront = 16384;  // rays per call of the path tracer
+
+// A point that wants its hemisphere: where, its frame, its geometric normal, its path's key,
+// and the least reuse radius a cache point made here gets (error_criterion.h).
+struct Query {
+    Vec3f p, ng, t, b, n;
+    uint32_t key;
+    float min_radius = 0;
+};
+
+// Rays for the path tracer: origins, directions, the stream key and index of each (a
+// hemisphere's texels are one stream, the texel its index: with the Sobol sampler the paths
+// of a hemisphere are one stratified sequence); their results.
+struct RayQueue {
+    std::vector<float> org, dir;
+    std::vector<uint32_t> keys, indices;
+    std::vector<int32_t> where;  // the caller's index of each ray (a texel)
+    void clear() {
+        org.clear(), dir.clear(), keys.clear(), indices.clear(), where.clear();
+    }
+    void push(const Vec3f& o, const Vec3f& d, uint32_t key, uint32_t index, int32_t at) {
+        org.insert(org.end(), {o.x, o.y, o.z});
+        dir.insert(dir.end(), {d.x, d.y, d.z});
+        keys.push_back(key);
+        indices.push_back(index);
+        where.push_back(at);
+    }
+    size_t size() const { return keys.size(); }
+};
+
+// Everything one worker's cache keeps from call to call (memory only, no results).
+struct CacheState {
+    PathScratch inner;                      // the path tracer's scratch for the cache's own rays
+    std::vector<CameraSample> inner_samples;
+    std::vector<Query> queries;
+    std::vector<int32_t> query_point;       // each query's shading point
+    std::vector<int32_t> query_of;          // each shading point's query (-1: none)
+    std::unordered_map<int64_t, int32_t> pixel_query;  // a pixel's first query (of one material)
+    std::vector<float> sums;                // cache: each query's indirect light (RGB)
+    std::vector<float> l, v, eta, f, pdf, u0, u1, u2, rgb;  // integrating one hemisphere
+    std::vector<uint8_t> chose_guide;  // cache-guided: per first-hit point, drawn from the guide
+    std::vector<float> guide_pick;     // ...and the uniform that picks its texel
+    std::vector<CachePoint> points;
+    size_t used = 0;
+    TexelDirections dirs;
+    ReprojectScratch rs;
+    Reprojection rep;
+    RayQueue rays;
+    std::vector<PathResult> results;
+    std::vector<int32_t> assigned;
+    std::vector<uint8_t> own;
+    std::vector<float> textures;  // kChunk x R^2 x 3
+    std::vector<int32_t> pending;
+};
+
+inline uint32_t cache_point_key(uint32_t point_key) { return hash_u32(point_key ^ 0x5bd1e995u); }
+inline uint32_t hole_key(uint32_t point_key) { return hash_u32(point_key ^ 0x68e31da4u); }
+
+// The world direction of a jittered sample in texel t of the hemisphere of q.
+inline Vec3f jittered_direction(const Query& q, int R, int32_t t, uint32_t key) {
+    const float u = (static_cast<float>(t % R) + uniform(key, 2u * t)) / R;
+    const float v = (static_cast<float>(t / R) + uniform(key, 2u * t + 1)) / R;
+    float x, y, z;
+    square_to_hemisphere(u, v, x, y, z);
+    return normalize(x * q.t + y * q.b + z * q.n);
+}
+
+// Traces the queue in wavefronts of at most kMaxWavefront rays; results in st.results.
+template <class Tracer>
+inline void trace_queue(CacheState& st, Tracer& trace) {
+    const size_t n = st.rays.size();
+    st.results.resize(n);
+    for (size_t a = 0; a < n; a += kMaxWavefront) {
+        const size_t m = std::min(kMaxWavefront, n - a);
+        trace(st.rays.org.data() + 3 * a, st.rays.dir.data() + 3 * a, st.rays.keys.data() + a,
+              st.rays.indices.data() + a, m, st.results.data() + a);
+    }
+}
+
+// Builds cache points at the queries st.pending (appended to st.points), tracing their
+// hemispheres together.
+template <class Tracer>
+inline void build_cache_points(const CacheSettings& cfg, float eps, const Query* queries, CacheState& st,
+                               Tracer& trace) {
+    const int R = cfg.resolution;
+    const size_t T = static_cast<size_t>(R) * R;
+    const size_t first = st.used;
+    if (st.points.size() < first + st.pending.size()) st.points.resize(first + st.pending.size());
+    st.rays.clear();
+    for (size_t k = 0; k < st.pending.size(); ++k) {
+        const Query& q = queries[st.pending[k]];
+        CachePoint& a = st.points[first + k];
+        a.p = q.p, a.ng = q.ng, a.t = q.t, a.b = q.b, a.n = q.n;
+        a.resolution = R;
+        a.radiance.assign(3 * T, 0.0f);
+        a.dist.assign(T, INFINITY);
+        a.kind.assign(T, kTexelBelow);
+        a.hit_point.assign(3 * T, 0.0f);
+        a.hit_normal.assign(3 * T, 0.0f);
+        const uint32_t key = cache_point_key(q.key);
+        const Vec3f o = q.p + eps * q.ng;
+        for (size_t t = 0; t < T; ++t) {
+            const Vec3f d = jittered_direction(q, R, static_cast<int32_t>(t), key);
+            if (!(dot(d, q.ng) > 0)) continue;  // under the geometric surface: no light from there
+            st.rays.push(o, d, key, static_cast<uint32_t>(t), static_cast<int32_t>(k * T + t));
+        }
+    }
+    trace_queue(st, trace);
+    for (size_t r = 0; r < st.rays.size(); ++r) {
+        const size_t k = st.rays.where[r] / T, t = st.rays.where[r] % T;
+        CachePoint& a = st.points[first + k];
+        const PathResult& res = st.results[r];
+        std::copy(res.rgb, res.rgb + 3, a.radiance.data() + 3 * t);
+        if (!(res.depth < INFINITY)) {
+            a.kind[t] = kTexelMiss;
+            continue;
+        }
+        const Vec3f d = load_vec3(st.rays.dir.data() + 3 * r);
+        a.kind[t] = kTexelHit;
+        a.dist[t] = res.depth;
+        store_vec3(a.p + res.depth * d, a.hit_point.data() + 3 * t);
+        Vec3f m = load_vec3(res.normal);
+        // lights and backs of one-sided surfaces leave no normal: a surfel facing A
+        if (!(dot(m, m) > 0.5f) || dot(m, d) > 0) m = -d;
+        store_vec3(m, a.hit_normal.data() + 3 * t);
+    }
+    for (size_t k = 0; k < st.pending.size(); ++k) {
+        CachePoint& a = st.points[first + k];
+        build_surfels(a);
+        a.reuse_radius = std::max(a.reuse_radius, queries[st.pending[k]].min_radius);
+    }
+    st.used = first + st.pending.size();
+}
+
+// Assigns every query a cache point (st.assigned, st.own: the query is that point), building
+// the cache points it needs.
+template <class Tracer>
+inline void place_cache_points(const CacheSettings& cfg, float eps, const Query* queries, size_t n,
+                               CacheState& st, Tracer& trace) {
+    st.used = 0;
+    st.assigned.assign(n, -1);
+    st.own.assign(n, 0);
+    for (int round = 0; round < kMaxRounds; ++round) {
+        // the best existing cache point within the bound
+        for (size_t q = 0; q < n; ++q) {
+            if (st.assigned[q] >= 0) continue;
+            float best = cfg.error;
+            for (size_t a = 0; a < st.used; ++a) {
+                const float e = reuse_error(st.points[a], queries[q].p, queries[q].n);
+                if (e <= best) best = e, st.assigned[q] = static_cast<int32_t>(a);
+            }
+        }
+        // the radius new cache points are expected to have: the median of those built
+        float radius = INFINITY;
+        if (st.used > 0) {
+            std::vector<float> radii;
+            for (size_t a = 0; a < st.used; ++a) radii.push_back(st.points[a].reuse_radius);
+            std::nth_element(radii.begin(), radii.begin() + radii.size() / 2, radii.end());
+            radius = radii[radii.size() / 2];
+        }
+        st.pending.clear();
+        for (size_t q = 0; q < n; ++q) {
+            if (st.assigned[q] >= 0) continue;
+            bool near = false;
+            if (round + 1 < kMaxRounds)
+                for (const int32_t p : st.pending)
+                    if (reuse_error(queries[p].p, queries[p].n, radius, queries[q].p, queries[q].n) <= cfg.error) {
+                        near = true;
+                        break;
+                    }
+            if (!near) st.pending.push_back(static_cast<int32_t>(q));
+        }
+        if (st.pending.empty()) break;
+        const size_t first = st.used;
+        build_cache_points(cfg, eps, queries, st, trace);
+        for (size_t k = 0; k < st.pending.size(); ++k) {
+            st.assigned[st.pending[k]] = static_cast<int32_t>(first + k);
+            st.own[st.pending[k]] = 1;
+        }
+    }
+}
+
+// Counts of one call, for the statistics.
+struct CacheCounts {
+    size_t points = 0, queries = 0, reprojected = 0, from_misses = 0, traced = 0, own = 0;
+};
+
+// Each query's incident indirect radiance over its hemisphere (R^2 texels x RGB, texel
+// j * R + i of its own frame), handed to consume(q, radiance) chunk by chunk. exact: holes
+// and unknown texels are traced from the query; otherwise they take the mean of the rest.
+template <class Tracer, class Consume>
+inline CacheCounts reconstruct_hemispheres(const CacheSettings& cfg, float eps, const Query* queries, size_t n,
+                                           bool exact, CacheState& st, Tracer& trace, Consume consume) {
+    CacheCounts counts;
+    counts.queries = n;
+    if (n == 0) return counts;
+    const int R = cfg.resolution;
+    const size_t T = static_cast<size_t>(R) * R;
+    st.dirs.prepare(R);
+    place_cache_points(cfg, eps, queries, n, st, trace);
+    counts.points = st.used;
+    float* tex = grow(st.textures, kChunk * 3 * T);
+    for (size_t c0 = 0; c0 < n; c0 += kChunk) {
+        const size_t c1 = std::min(n, c0 + kChunk);
+        st.rays.clear();
+        for (size_t q = c0; q < c1; ++q) {
+            float* out = tex + (q - c0) * 3 * T;
+            const CachePoint& a = st.points[st.assigned[q]];
+            if (st.own[q]) {
+                std::copy(a.radiance.begin(), a.radiance.end(), out);
+                ++counts.own;
+                continue;
+            }
+            const Query& b = queries[q];
+            reproject(a, Receiver{b.p, b.t, b.b, b.n}, st.dirs, out, st.rep, st.rs);
+            counts.reprojected += st.rep.reprojected;
+            counts.from_misses += st.rep.from_misses + st.rep.cracks;
+            if (!exact) {
+                // guiding: the holes take the mean of what was reprojected
+                double sum[3] = {0, 0, 0};
+                int known = 0;
+                for (int y = 0; y < R; ++y)
+                    for_each_bit(st.rep.filled.rows[y] & ~st.rep.to_trace.rows[y], [&](int x) {
+                        for (int k = 0; k < 3; ++k) sum[k] += out[3 * (y * R + x) + k];
+                        ++known;
+                    });
+                for (int y = 0; y < R; ++y)
+                    for_each_bit(st.rep.to_trace.rows[y], [&](int x) {
+                        for (int k = 0; k < 3; ++k)
+                            out[3 * (y * R + x) + k] = known > 0 ? static_cast<float>(sum[k] / known) : 0.0f;
+                    });
+                continue;
+            }
+            const uint32_t key = hole_key(b.key);
+            const Vec3f o = b.p + eps * b.ng;
+            for (int y = 0; y < R; ++y)
+                for_each_bit(st.rep.to_trace.rows[y], [&](int x) {
+                    const int32_t t = y * R + x;
+                    const Vec3f d = jittered_direction(b, R, t, key);
+                    std::fill(out + 3 * t, out + 3 * t + 3, 0.0f);
+                    if (!(dot(d, b.ng) > 0)) return;
+                    st.rays.push(o, d, key, static_cast<uint32_t>(t), static_cast<int32_t>((q - c0) * T + t));
+                });
+        }
+        if (exact && st.rays.size() > 0) {
+            trace_queue(st, trace);
+            counts.traced += st.rays.size();
+            for (size_t r = 0; r < st.rays.size(); ++r)
+                std::copy(st.results[r].rgb, st.results[r].rgb + 3, tex + 3 * static_cast<size_t>(st.rays.where[r]));
+        }
+        for (size_t q = c0; q < c1; ++q) consume(q, tex + (q - c0) * 3 * T);
+    }
+    return counts;
+}
+
+// The worker's cache state kept in its PathScratch (made at first use, at this width).
+inline CacheState& cache_state(PathScratch& sc) {
+    if (!sc.cache || sc.cache_width != N) {
+        sc.cache = std::unique_ptr<void, void (*)(void*)>(new CacheState(),
+                                                          [](void* p) { delete static_cast<CacheState*>(p); });
+        sc.cache_width = N;
+    }
+    return *static_cast<CacheState*>(sc.cache.get());
+}
+
+}  // namespace cache
+PATINA_END_TARGET

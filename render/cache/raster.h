@@ -1,0 +1,86 @@
+// Rasterizing a projected surfel (or a silhouette's shadow) into mask rows: the convex hull
+// of its points in texel coordinates (u R, v R), then, row by row, the span of texels whose
+// centre is inside, as one 128-bit word. The hull makes any corner order and any slightly
+// bent projection one convex region; its edges are straight in the square, the projection's
+// are slightly curved, which is why a surfel is projected by its corners and edge midpoints.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/simd/target.h"
+#include "render/cache/bit_mask.h"
+
+PATINA_BEGIN_TARGET
+namespace cache {
+
+constexpr int kMaxHullPoints = 8;
+
+// The convex hull of n <= kMaxHullPoints points, counter-clockwise (Andrew's monotone chain)
+// into hx, hy; returns its size (0 when a point is not finite).
+PATINA_INLINE int convex_hull(const float* px, const float* py, int n, float* hx, float* hy) {
+    int order[kMaxHullPoints];
+    for (int i = 0; i < n; ++i) {
+        if (!std::isfinite(px[i]) || !std::isfinite(py[i])) return 0;
+        order[i] = i;
+    }
+    std::sort(order, order + n, [&](int a, int b) { return px[a] < px[b] || (px[a] == px[b] && py[a] < py[b]); });
+    auto turn = [&](int o, int a, int b) {
+        return (px[a] - px[o]) * (py[b] - py[o]) - (py[a] - py[o]) * (px[b] - px[o]);
+    };
+    int h[2 * kMaxHullPoints];
+    int k = 0;
+    for (int i = 0; i < n; ++i) {  // lower chain
+        while (k >= 2 && turn(h[k - 2], h[k - 1], order[i]) <= 0) --k;
+        h[k++] = order[i];
+    }
+    for (int i = n - 2, t = k + 1; i >= 0; --i) {  // upper chain
+        while (k >= t && turn(h[k - 2], h[k - 1], order[i]) <= 0) --k;
+        h[k++] = order[i];
+    }
+    const int m = std::max(k - 1, 0);
+    for (int i = 0; i < m; ++i) {
+        hx[i] = px[h[i]];
+        hy[i] = py[h[i]];
+    }
+    return m;
+}
+
+// row(y, span) for each row y of an R x R grid that the convex hull of the n points (texel
+// coordinates) covers, span holding the texels whose centres are inside it.
+template <class RowFn>
+PATINA_INLINE void raster_convex(const float* px, const float* py, int n, int resolution, RowFn row) {
+    float hx[kMaxHullPoints], hy[kMaxHullPoints];
+    const int m = convex_hull(px, py, n, hx, hy);
+    if (m < 3) return;
+    float ylo = hy[0], yhi = hy[0];
+    for (int i = 1; i < m; ++i) ylo = std::min(ylo, hy[i]), yhi = std::max(yhi, hy[i]);
+    const int y0 = std::max(0, static_cast<int>(std::ceil(ylo - 0.5f)));
+    const int y1 = std::min(resolution, static_cast<int>(std::floor(yhi - 0.5f)) + 1);
+    for (int y = y0; y < y1; ++y) {
+        const float yc = static_cast<float>(y) + 0.5f;
+        float xlo = -1e30f, xhi = 1e30f;
+        bool empty = false;
+        for (int i = 0; i < m && !empty; ++i) {
+            const int j = i + 1 == m ? 0 : i + 1;
+            const float ex = hx[j] - hx[i], ey = hy[j] - hy[i];
+            // inside (counter-clockwise): ex (yc - y_i) - ey (x - x_i) >= 0
+            const float k = ex * (yc - hy[i]) + ey * hx[i];
+            if (ey > 0) {
+                xhi = std::min(xhi, k / ey);
+            } else if (ey < 0) {
+                xlo = std::max(xlo, k / ey);
+            } else if (ex * (yc - hy[i]) < 0) {
+                empty = true;
+            }
+        }
+        if (empty || !(xlo <= xhi)) continue;
+        const float a = std::max(xlo - 0.5f, -1.0f), b = std::min(xhi - 0.5f, static_cast<float>(resolution));
+        const int x0 = std::max(0, static_cast<int>(std::ceil(a)));
+        const int x1 = std::min(resolution, static_cast<int>(std::floor(b)) + 1);
+        if (x0 < x1) row(y, span_bits(x0, x1));
+    }
+}
+
+}  // namespace cache
+PATINA_END_TARGET

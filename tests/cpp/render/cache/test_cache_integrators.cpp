@@ -1,0 +1,209 @@
+// The cache integrators on a small closed box lit by a quad light (docs/radiance-cache.md):
+// the same bits at widths 1, 4 and 8 and for any thread count, finite non-negative
+// radiance, reuse of the cache points, and images whose mean agrees with the path tracer's.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "core/cpu.h"
+#include "render/accel/kdtree.h"
+#include "render/integrator.h"
+#include "render/render_job.h"
+#include "render/rng.h"
+#include "render/scene.h"
+
+using namespace patina;
+
+namespace {
+
+struct BoxScene {
+    std::vector<float> vertices, normals;
+    std::vector<int32_t> indices, materials;
+    KdTree tree;
+    RenderScene scene;
+
+    // a parallelogram corner + a e1 + b e2 (a, b in [0, 1]), two triangles
+    void quad(Vec3f c, Vec3f e1, Vec3f e2, int material) {
+        const Vec3f n = normalize(cross(e1, e2));
+        const int32_t base = static_cast<int32_t>(vertices.size() / 3);
+        const Vec3f p[4] = {c, c + e1, c + e1 + e2, c + e2};
+        for (const Vec3f& q : p) {
+            vertices.insert(vertices.end(), {q.x, q.y, q.z});
+            normals.insert(normals.end(), {n.x, n.y, n.z});
+        }
+        indices.insert(indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+        materials.insert(materials.end(), {material, material});
+    }
+
+    BoxScene(int width, int height) {
+        const float s = 2.0f;
+        quad({-1, 0, -1}, {0, 0, s}, {s, 0, 0}, 0);   // floor
+        quad({-1, 2, -1}, {s, 0, 0}, {0, 0, s}, 0);   // ceiling
+        quad({-1, 0, -1}, {s, 0, 0}, {0, s, 0}, 0);   // back
+        quad({-1, 0, -1}, {0, s, 0}, {0, 0, s}, 1);   // left, red
+        quad({1, 0, -1}, {0, 0, s}, {0, s, 0}, 2);    // right, green
+        quad({-1, 0, 1}, {0, s, 0}, {s, 0, 0}, 0);    // front (closed: a furnace-like box)
+        // an occluder in the middle, and the light under the ceiling
+        quad({-0.3f, 0.6f, -0.3f}, {0.6f, 0, 0}, {0, 0, 0.6f}, 4);
+        quad({-0.25f, 1.98f, -0.25f}, {0.5f, 0, 0}, {0, 0, 0.5f}, 3);
+        tree = build_kdtree(vertices.data(), vertices.size() / 3, indices.data(), indices.size() / 3, KdBuildOptions{});
+        scene.tree = &tree;
+        scene.vertices = vertices.data();
+        scene.indices = indices.data();
+        scene.normals = normals.data();
+        scene.tri_material = materials.data();
+        scene.triangle_count = indices.size() / 3;
+        Material white, red, green, emitter, glossy;
+        white.albedo[0] = white.albedo[1] = white.albedo[2] = 0.7f;
+        red.albedo[0] = 0.6f, red.albedo[1] = red.albedo[2] = 0.06f;
+        green.albedo[1] = 0.5f, green.albedo[0] = green.albedo[2] = 0.1f;
+        glossy.kind = MaterialKind::Conductor;  // a rough metal: integrated over the texels
+        glossy.alpha_x = glossy.alpha_y = 0.4f;
+        glossy.eta[0] = glossy.eta[1] = glossy.eta[2] = 0.2f;
+        glossy.k[0] = glossy.k[1] = glossy.k[2] = 3.0f;
+        emitter.kind = MaterialKind::Emitter;
+        emitter.light = 0;
+        for (Material* m : {&white, &red, &green, &emitter, &glossy}) m->two_sided = true;
+        scene.materials = {white, red, green, emitter, glossy};
+        Light l;
+        l.kind = LightKind::Quad;
+        const float c[3] = {0, 1.98f, 0}, u[3] = {0.25f, 0, 0}, v[3] = {0, 0, 0.25f};
+        for (int k = 0; k < 3; ++k) l.position[k] = c[k], l.u[k] = u[k], l.v[k] = v[k], l.power[k] = 15.0f;
+        l.normal[0] = 0, l.normal[1] = -1, l.normal[2] = 0;  // cross(u, v) = (0, -1/16, 0)
+        l.area = 4 * 0.25f * 0.25f;
+        l.two_sided = true;
+        scene.lights = {l};
+        Camera& cam = scene.camera;
+        cam.position[0] = 0, cam.position[1] = 1, cam.position[2] = 0.95f;
+        cam.forward[0] = 0, cam.forward[1] = 0, cam.forward[2] = -1;
+        cam.tan_half_fov = 0.9f;
+        cam.width = width, cam.height = height;
+        prepare_scale(scene);
+        prepare_light_selection(scene);
+    }
+};
+
+std::vector<CameraSample> pixel_samples(int width, int height, int spp, uint32_t seed) {
+    std::vector<CameraSample> cs;
+    for (int s = 0; s < spp; ++s)
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                const uint32_t key = path_key(seed, static_cast<uint32_t>(y * width + x), static_cast<uint32_t>(s));
+                cs.push_back(CameraSample{x + uniform(key, 0), y + uniform(key, 1), stream_key(seed, static_cast<uint32_t>(y * width + x)), static_cast<uint32_t>(s)});
+            }
+    return cs;
+}
+
+std::vector<PathResult> trace(const BoxScene& b, int width, IntegratorMode mode, const std::vector<CameraSample>& cs,
+                              PathScratch& sc) {
+    IntegratorSettings st;
+    st.max_depth = 4;
+    st.mode = mode;
+    st.cache.resolution = 16;
+    std::vector<PathResult> out(cs.size());
+    render_kernels_for(width).trace_paths(b.scene, st, cs.data(), cs.size(), out.data(), sc);
+    return out;
+}
+
+double mean_radiance(const std::vector<PathResult>& r) {
+    double s = 0;
+    for (const PathResult& p : r) s += p.rgb[0] + p.rgb[1] + p.rgb[2];
+    return s / (3.0 * static_cast<double>(r.size()));
+}
+
+std::vector<float> render_job(const BoxScene& b, IntegratorMode mode, int threads, int spp) {
+    RenderSettings st;
+    st.spp = spp;
+    st.max_depth = 4;
+    st.seed = 5;
+    st.threads = threads;
+    st.tile_size = 8;
+    st.mode = mode;
+    st.cache.resolution = 16;
+    RenderJob job(b.scene, st);
+    job.start();
+    job.wait();
+    const size_t n = static_cast<size_t>(b.scene.camera.width) * b.scene.camera.height;
+    std::vector<float> rgb(3 * n), albedo(3 * n), normal(3 * n), depth(n), lux(n), samples(n);
+    job.resolve(rgb.data(), albedo.data(), normal.data(), depth.data(), lux.data(), samples.data());
+    return rgb;
+}
+
+}  // namespace
+
+TEST(CacheIntegrators, WidthsFourAndEightGiveTheBitsOfWidthOne) {
+    const BoxScene b(12, 12);
+    const std::vector<CameraSample> cs = pixel_samples(12, 12, 2, 3);
+    for (IntegratorMode mode : {IntegratorMode::Cache, IntegratorMode::CacheGuided}) {
+        PathScratch s1;
+        const std::vector<PathResult> ref = trace(b, 1, mode, cs, s1);
+        for (int width : {4, 8}) {
+            if (!width_supported(width)) continue;
+            PathScratch sw;
+            const std::vector<PathResult> got = trace(b, width, mode, cs, sw);
+            for (size_t i = 0; i < cs.size(); ++i)
+                for (int k = 0; k < 3; ++k)
+                    ASSERT_EQ(got[i].rgb[k], ref[i].rgb[k]) << "width " << width << " sample " << i;
+            EXPECT_EQ(sw.cache_points, s1.cache_points);
+            EXPECT_EQ(sw.rays_traced, s1.rays_traced);
+        }
+    }
+}
+
+TEST(CacheIntegrators, AnyThreadCountGivesTheSameImage) {
+    const BoxScene b(16, 16);
+    for (IntegratorMode mode : {IntegratorMode::Cache, IntegratorMode::CacheGuided}) {
+        const std::vector<float> one = render_job(b, mode, 1, 2);
+        const std::vector<float> three = render_job(b, mode, 3, 2);
+        ASSERT_EQ(one.size(), three.size());
+        for (size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], three[i]) << i;
+    }
+}
+
+TEST(CacheIntegrators, RadianceIsFiniteAndCachePointsAreReused) {
+    const BoxScene b(16, 16);
+    const std::vector<CameraSample> cs = pixel_samples(16, 16, 2, 9);
+    for (IntegratorMode mode : {IntegratorMode::Cache, IntegratorMode::CacheGuided}) {
+        PathScratch sc;
+        const std::vector<PathResult> r = trace(b, 0, mode, cs, sc);
+        for (const PathResult& p : r)
+            for (int k = 0; k < 3; ++k) {
+                ASSERT_TRUE(std::isfinite(p.rgb[k]));
+                ASSERT_GE(p.rgb[k], 0.0f);
+            }
+        EXPECT_GT(sc.cache_queries, 0.9 * cs.size());  // every first hit but the light's (inside the box)
+        EXPECT_LT(sc.cache_points, sc.cache_queries / 2);
+        if (mode == IntegratorMode::Cache) {
+            EXPECT_GT(sc.cache_texels_reprojected, sc.cache_texels_traced);
+        }
+    }
+}
+
+// Direct light alone (max_depth 1): the cache has nothing to do, the image is the path
+// tracer's bit for bit.
+TEST(CacheIntegrators, DirectLightingIsThePathTracers) {
+    const BoxScene b(8, 8);
+    const std::vector<CameraSample> cs = pixel_samples(8, 8, 1, 1);
+    IntegratorSettings st;
+    st.max_depth = 1;
+    std::vector<PathResult> path(cs.size()), cached(cs.size());
+    PathScratch s1, s2;
+    render_kernels_for(0).trace_paths(b.scene, st, cs.data(), cs.size(), path.data(), s1);
+    st.mode = IntegratorMode::Cache;
+    render_kernels_for(0).trace_paths(b.scene, st, cs.data(), cs.size(), cached.data(), s2);
+    for (size_t i = 0; i < cs.size(); ++i)
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(path[i].rgb[k], cached[i].rgb[k]);
+}
+
+// The image's mean (the box's light, bounced up to three times) against the path tracer's
+// with many samples: cache-guided is unbiased, cache within its reprojection's bias.
+TEST(CacheIntegrators, TheMeanRadianceAgreesWithThePathTracers) {
+    const BoxScene b(16, 16);
+    PathScratch sp, sc, sg;
+    const double path = mean_radiance(trace(b, 0, IntegratorMode::Path, pixel_samples(16, 16, 256, 11), sp));
+    const double cache = mean_radiance(trace(b, 0, IntegratorMode::Cache, pixel_samples(16, 16, 4, 12), sc));
+    const double guided = mean_radiance(trace(b, 0, IntegratorMode::CacheGuided, pixel_samples(16, 16, 64, 13), sg));
+    EXPECT_NEAR(cache / path, 1.0, 0.05);
+    EXPECT_NEAR(guided / path, 1.0, 0.03);
+}
