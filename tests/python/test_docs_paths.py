@@ -73,7 +73,7 @@ def test_every_named_path_exists(doc):
 
 def test_the_checker_sees_missing_planned_and_braced_paths():
     text = (
-        "`core/simd/fastmath.h` `core/no_such.h` `render/cache/` *(planned)* `brdf/search.h` (planned)\n"
+        "`core/simd/fastmath.h` `core/no_such.h` `render/photons/` *(planned)* `brdf/search.h` (planned)\n"
         "`brdf/kernels_w{1,4,9}.cpp` `../shared/x.txt` `patina.scene.types` [x](no-such.md)\n"
         "```\ncore/simd/gone.h, render/accel/traverse.h\n```\n"
     )
