@@ -83,10 +83,11 @@ inline void guide_sample(const float* cdf, int R, float pick, float u1, float u2
 }
 
 // Points of one pixel share a query (a reconstructed hemisphere and its integral) when
-// they have the same material, normals within this cosine and positions within this share
-// of their distance from the camera: the pixel's samples then cost the cache once, not
-// once each, while its direct light is sampled at every one.
-constexpr float kShareCos = 0.95f, kShareDistance = 0.02f;
+// they have the same material, normals within this cosine and the one within this many
+// pixel footprints (at its distance from the camera) of the other's tangent plane (so a
+// slanted wall's samples share, a parallel surface behind does not): the pixel's samples
+// then cost the cache once, not once each, while its direct light is sampled at every one.
+constexpr float kShareCos = 0.95f, kSharePixels = 2.0f;
 
 // The first-hit points the cache serves, as queries: one per pixel and surface
 // (st.query_point: the point whose hemisphere it is; st.query_of: each point's query or -1).
@@ -106,19 +107,18 @@ inline size_t collect_queries(const W& w, CacheState& st, Accept accept) {
             const ShadingPoint& sp = sc.sorted[q];
             const CameraSample& c = w.cs[sp.path];
             const int64_t pixel = static_cast<int64_t>(std::floor(c.fy)) * w.s.camera.width + static_cast<int64_t>(std::floor(c.fx));
+            const Camera& cam = w.s.camera;
+            const float footprint = w.out[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
             auto found = st.pixel_query.find(pixel);
             if (found != st.pixel_query.end()) {
                 const ShadingPoint& rep = sc.sorted[st.query_point[found->second]];
-                const Vec3f d = sp.p - rep.p;
-                const float reach = kShareDistance * w.out[sp.path].depth;
-                if (dot(sp.n, rep.n) >= kShareCos && dot(d, d) <= reach * reach) {
+                const float off_plane = std::abs(dot(rep.n, sp.p - rep.p));
+                if (dot(sp.n, rep.n) >= kShareCos && off_plane <= kSharePixels * footprint) {
                     st.query_of[q] = found->second;
                     continue;
                 }
             }
             const int32_t qi = static_cast<int32_t>(st.queries.size());
-            const Camera& cam = w.s.camera;
-            const float footprint = w.out[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
             // the sample's own key (the stream key is the pixel's, shared by its samples)
             const uint32_t key = sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q]));
             st.queries.push_back(Query{sp.p, sp.ng, sp.t, sp.b, sp.n, key,

@@ -172,7 +172,9 @@ TEST(CacheIntegrators, RadianceIsFiniteAndCachePointsAreReused) {
                 ASSERT_TRUE(std::isfinite(p.rgb[k]));
                 ASSERT_GE(p.rgb[k], 0.0f);
             }
-        EXPECT_GT(sc.cache_queries, 0.9 * cs.size());  // every first hit but the light's (inside the box)
+        // a pixel's two samples share one query where they hit the same surface (most pixels)
+        EXPECT_GT(sc.cache_queries, 0.45 * cs.size());
+        EXPECT_LT(sc.cache_queries, 0.75 * cs.size());
         EXPECT_LT(sc.cache_points, sc.cache_queries / 2);
         if (mode == IntegratorMode::Cache) {
             EXPECT_GT(sc.cache_texels_reprojected, sc.cache_texels_traced);
