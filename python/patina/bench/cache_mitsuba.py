@@ -17,7 +17,7 @@ error is relMSE as in bench/cache.py, against time through a ladder of spp on lo
 axes. The target is the relMSE Patina's `path` reaches at the ladder's middle level; each
 renderer's time for it is read off its own curve; the ratio is Mitsuba's time over the
 fastest Patina integrator's (`path`, and `cache` / `cache-guided` where this build has
-them, each through its error at the two ends of the ladder).
+them, each through its error at a quarter of and at the cache integrators' spp).
 """
 
 from __future__ import annotations
@@ -169,14 +169,16 @@ def vs_mitsuba_record(name: str, sizes: Sizes, repeat: int, threads: int, integr
         return f"no Mitsuba 3 equivalent: {e}"
     renderer = _Mitsuba(scene, threads)
     ref = reference(scene_file, scene, sizes.reference_spp, threads)
-    ends = (sizes.ladder[0], sizes.ladder[-1])
+    # the cache integrators at a quarter of and at their own spp: at path's top level (128)
+    # one render of `cache` took minutes
+    cache_levels = (max(1, sizes.candidate_spp // 4), sizes.candidate_spp)
     patina: dict[str, ErrorCurve] = {}
     for integrator in ["path", *(i for i in integrators if integrator_missing(scene, i) is None)]:
         if integrator in patina:
             continue
         s = with_overrides(scene, integrator=integrator)
         prep = PreparedScene(s)
-        levels = sizes.ladder if integrator == "path" else ends
+        levels = sizes.ladder if integrator == "path" else cache_levels
         times, images = timed_renders([Run(with_overrides(s, spp=n), prep, threads) for n in levels], repeat)
         patina[integrator] = ErrorCurve(times, [relmse(img, ref.image, ref.error) for img in images])
     target = _error_at_spp(patina["path"], sizes.ladder, sizes.ladder[len(sizes.ladder) // 2])
