@@ -3,6 +3,9 @@
 - `batch.library.workers2`: `patina batch` of a generated library (plastic tables sampled
   from an analytic BRDF: validated, fitted, previewed) on a LocalCluster of 2 worker
   processes against the same on 1; value = efficiency per worker (speedup / 2).
+- `batch.machine.processes2`: the same CPU-bound loop in 2 processes against one after the
+  other: what the machine gives 2 workers at all (a machine shared between sessions may give
+  one session a core, however many processes it runs), to read the first record by.
 - `batch.render.tiles`: the preview ball rendered as tiles on 2 worker processes
   (patina.batch.render_tiles) against the local render on 2 threads; value = the time
   overhead (distributed time / local time - 1).
@@ -16,6 +19,7 @@ interleave and times are medians, as in every group.
 
 from __future__ import annotations
 
+import multiprocessing
 import os
 import tempfile
 import time
@@ -82,6 +86,37 @@ def _library_record(one: Any, two: Any, repeat: int, quick: bool) -> Record:
     )
 
 
+def _spin(n: int) -> int:
+    """CPU work and nothing else (no memory traffic, no I/O): the machine's share of cores."""
+    x = 0
+    for i in range(n):
+        x += i
+    return x
+
+
+def _ceiling_record(repeat: int, quick: bool) -> Record:
+    """What 2 processes get from this machine at all: the same CPU-bound loop twice, in 2
+    processes against one after the other. A shared machine that splits its cores between
+    sessions (Linux's autogroup) gives one session's processes about a core in all, however
+    many it runs: then no batch can reach 2x, and this record says so beside it."""
+    n = 2_000_000 if quick else 20_000_000
+    with multiprocessing.get_context("spawn").Pool(WORKERS) as pool:
+        pool.map(_spin, [1] * WORKERS)  # the processes started before the timing
+        serial, parallel = median_times(
+            [lambda: [_spin(n) for _ in range(WORKERS)], lambda: pool.map(_spin, [n] * WORKERS)], repeat
+        )
+    speedup = serial / parallel
+    return Record(
+        "batch.machine.processes2",
+        f"a CPU-bound loop in each of {WORKERS} processes (the ceiling this machine gives {WORKERS} workers); "
+        f"value = speedup / {WORKERS}",
+        "the same loops one after the other in one process",
+        speedup,
+        speedup / WORKERS,
+        "per worker",
+    )
+
+
 def _render_record(client: Any, repeat: int, quick: bool) -> Record:
     w, h, spp = (64, 48, 4) if quick else (320, 240, 32)
     scene = with_overrides(load_scene(materials_path("scenes", "preview-ball.json")), width=w, height=h, spp=spp)
@@ -116,5 +151,6 @@ def bench_batch(repeat: int, quick: bool) -> list[Record]:
         return []
     if quick:
         repeat = min(repeat, 3)  # a smoke test: whole batches and renders, each run counts
+    ceiling = _ceiling_record(repeat, quick)
     with connect(None, 1) as (one, _), connect(None, WORKERS) as (two, _):
-        return [_library_record(one, two, repeat, quick), _render_record(two, repeat, quick)]
+        return [_library_record(one, two, repeat, quick), ceiling, _render_record(two, repeat, quick)]

@@ -24,8 +24,9 @@ def test_the_generated_library_is_of_valid_tables(tmp_path):
 def test_quick_group_records():
     pytest.importorskip("distributed")
     records = bench_batch(1, quick=True)
-    assert [r.name for r in records] == ["batch.library.workers2", "batch.render.tiles"]
-    library, tiles = records
+    assert [r.name for r in records] == ["batch.library.workers2", "batch.machine.processes2", "batch.render.tiles"]
+    library, ceiling, tiles = records
+    assert math.isfinite(ceiling.ratio) and ceiling.ratio > 0 and ceiling.value == pytest.approx(ceiling.ratio / 2)
     assert math.isfinite(library.ratio) and library.ratio > 0 and library.value == pytest.approx(library.ratio / 2)
     assert math.isfinite(tiles.ratio) and tiles.ratio > 0 and tiles.value == pytest.approx(1 / tiles.ratio - 1)
     assert "batch" in GROUPS
