@@ -17,13 +17,19 @@ reference is 8 x 8 strata of 16 samples each (1024). Per scene:
   of `repeat` interleaved runs on the scene prepared once (the tree is built once, as a
   preview re-rendering a scene does), each the render job's own time.
 
-`--quick` renders the scenes at a quarter of their size, the full run at half (the
-reference costs 1024 rays a pixel)."""
+The full run renders the scenes at their own size (256 x 192: a preview's size, where an edge
+crosses as few pixels as it does in the images the thesis measured), `--quick` at half that.
+The reference costs 1024 rays a pixel (a minute or two a scene at 256 x 192 on a loaded
+machine), so it is kept on disk outside the repository (`reference_dir()`), under a key of
+the scene, the size and a checksum of a small uniform render of it: a change to the scene or
+to what the renderer computes makes a new one."""
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import glob
+import hashlib
 import math
 import os
 import statistics
@@ -42,6 +48,7 @@ from patina.scene.types import Scene
 
 REFERENCE_STRATA = 8  # 8 x 8 strata ...
 REFERENCE_PER_STRATUM = 16  # ... of 16 random samples: 1024 a pixel
+FULL_DIVISOR, QUICK_DIVISOR = 1, 2  # the scenes at their own size; --quick at half
 
 
 def _scenes() -> list[str]:
@@ -54,6 +61,42 @@ def _stratified(scene: Scene, k: int, per_stratum: int = 1) -> np.ndarray:
     fine = with_overrides(scene, spp=per_stratum, width=k * w, height=k * h)
     rgb = render(fine, aa="uniform").rgb.astype(np.float64)
     return rgb.reshape(h, k, w, k, 3).mean(axis=(1, 3))
+
+
+def reference_dir() -> str:
+    """Where the references are kept: $PATINA_BENCH_CACHE, else $XDG_CACHE_HOME/patina/aa-reference
+    (~/.cache/patina/aa-reference)."""
+    root = os.environ.get("PATINA_BENCH_CACHE")
+    if not root:
+        root = os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "patina")
+    return os.path.join(root, "aa-reference")
+
+
+def _reference(scene: Scene) -> np.ndarray:
+    """The 1024-sample reference, from the disk cache when its key matches."""
+    w, h = scene.camera.width, scene.camera.height
+    # what the renderer makes of this scene: a small uniform render, so a changed renderer
+    # (or a changed mesh file, which the scene's repr does not show) makes a new reference
+    probe = render(with_overrides(scene, spp=2, width=32, height=24), aa="uniform").rgb
+    key = hashlib.sha256()
+    key.update(repr(dataclasses.replace(scene, path=os.path.basename(scene.path))).encode())
+    key.update(f"{REFERENCE_STRATA}x{REFERENCE_PER_STRATUM}".encode())
+    key.update(np.ascontiguousarray(probe, np.float32).tobytes())
+    path = os.path.join(reference_dir(), f"{os.path.basename(scene.path)}-{w}x{h}-{key.hexdigest()[:16]}.npy")
+    try:
+        return np.load(path)
+    except (OSError, ValueError):
+        pass
+    ref = _stratified(scene, REFERENCE_STRATA, REFERENCE_PER_STRATUM)
+    try:
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        tmp = f"{path}.{os.getpid()}.tmp"
+        with open(tmp, "wb") as f:
+            np.save(f, ref)
+        os.replace(tmp, path)
+    except OSError as e:
+        print(f"patina bench: cannot keep the aa reference in {path}: {e}", file=sys.stderr)
+    return ref
 
 
 def _rmse(a: np.ndarray, ref: np.ndarray) -> float:
@@ -81,14 +124,14 @@ def bench_aa(repeat: int, quick: bool) -> list[Record]:
     for path in files:
         name = os.path.splitext(os.path.basename(path))[0].removeprefix("aa-")
         scene = load_scene(path)
-        div = 4 if quick else 2
+        div = QUICK_DIVISOR if quick else FULL_DIVISOR
         scene = with_overrides(
             scene,
             spp=1,
             width=max(8, scene.camera.width // div),
             height=max(8, scene.camera.height // div),
         )
-        ref = _stratified(scene, REFERENCE_STRATA, REFERENCE_PER_STRATUM)
+        ref = _reference(scene)
         prep = PreparedScene(scene)
         scene25 = with_overrides(scene, spp=25)
         runs = [functools.partial(render, scene, aa="adaptive", prepared=prep)]
@@ -109,7 +152,9 @@ def bench_aa(repeat: int, quick: bool) -> list[Record]:
         err = _rmse(adaptive.rgb, ref)
         err_random25 = _rmse(random25.rgb, ref)
         err_strat16 = _rmse(_stratified(scene, 4), ref)
-        err_equal = _rmse(_stratified(scene, k_equal), ref) if k_equal > 1 else _rmse(render(scene).rgb, ref)
+        err_equal = (
+            _rmse(_stratified(scene, k_equal), ref) if k_equal > 1 else _rmse(render(scene, aa="uniform").rgb, ref)
+        )
         tiny = 1e-12  # a perfect adaptive image would divide by zero
         base = f"aa.{name}"
         records += [

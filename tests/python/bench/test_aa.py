@@ -1,5 +1,6 @@
 """The `aa` benchmark group: every record per bundled aa-*.json scene, finite and positive,
-in quick mode."""
+in quick mode (at a quarter of the scenes' size, to keep the references cheap); the
+references kept on disk are found again and not recomputed."""
 
 from __future__ import annotations
 
@@ -7,12 +8,17 @@ import glob
 import math
 import os
 
-from patina.bench import GROUPS
+import numpy as np
+
+from patina.bench import GROUPS, aa
 from patina.bench.aa import bench_aa
 from patina.bundled import materials_path
+from patina.scene.reading import load_scene, with_overrides
 
 
-def test_quick_group_records():
+def test_quick_group_records(tmp_path, monkeypatch):
+    monkeypatch.setenv("PATINA_BENCH_CACHE", str(tmp_path))
+    monkeypatch.setattr(aa, "QUICK_DIVISOR", 4)
     records = bench_aa(1, quick=True)
     scenes = [os.path.basename(p)[3:-5] for p in glob.glob(os.path.join(materials_path("scenes"), "aa-*.json"))]
     assert scenes
@@ -22,3 +28,22 @@ def test_quick_group_records():
         assert {f"aa.{s}.{k}" for k in kinds} <= names
     assert all(math.isfinite(r.ratio) and r.ratio > 0 and r.value > 0 for r in records)
     assert "aa" in GROUPS
+
+
+def test_the_reference_is_kept_and_found_again(tmp_path, monkeypatch):
+    monkeypatch.setenv("PATINA_BENCH_CACHE", str(tmp_path))
+    scene = with_overrides(load_scene(os.path.join(materials_path("scenes"), "aa-wires.json")), width=16, height=12)
+    first = aa._reference(scene)
+    assert first.shape == (12, 16, 3)
+    assert len(os.listdir(aa.reference_dir())) == 1
+
+    def no_render(*args, **kwargs):
+        raise AssertionError("the kept reference was rendered again")
+
+    monkeypatch.setattr(aa, "_stratified", no_render)
+    assert np.array_equal(aa._reference(scene), first)
+    # another size is another reference
+    monkeypatch.undo()
+    monkeypatch.setenv("PATINA_BENCH_CACHE", str(tmp_path))
+    aa._reference(with_overrides(scene, width=8, height=8))
+    assert len(os.listdir(aa.reference_dir())) == 2
