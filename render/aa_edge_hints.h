@@ -9,6 +9,13 @@
 // other does not). A wire thinner than a pixel, which falls between the corner rays of
 // level 1, is found this way. Hidden edges are kept here; the sampler drops a pixel's hint
 // when all four of its corners see a surface nearer than the nearest edge crossing it.
+//
+// Shadow edges: for each point-like light (point, spot, goniometric) and the sun, the edges
+// that are silhouettes seen from the light (or boundaries) are cast along the light's rays
+// onto what lies behind them (rays traced through the tree at width 1, so every SIMD width
+// sees the same), and the cast shadow is projected like a feature edge: a wire's shadow
+// thinner than the gaps between the corner rays is found too. Area lights and environments
+// cast soft shadows, left to the signal.
 #pragma once
 
 #include <cstdint>
@@ -26,6 +33,7 @@ struct AaEdgeHints {
     std::vector<uint8_t> zones[2];
     std::vector<float> nearest;  // per pixel: the distance from the camera of the nearest edge crossing it
     bool empty() const { return width == 0; }
+    void resize(int w, int h);  // w x h pixels, no edge
 };
 
 // The scene's feature edges (crease and contrast as in aa_contrast: (1 - n1 . n2) / 2 above

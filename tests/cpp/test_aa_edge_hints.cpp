@@ -1,6 +1,7 @@
 // The adaptive antialiasing's geometric pre-pass (render/aa_edge_hints.h): a segment marks
-// the pixels it crosses with the zones it crosses in each orientation, and of a mesh only
-// the feature edges are projected.
+// the pixels it crosses with the zones it crosses in each orientation, of a mesh only the
+// feature edges are projected, and a point light's shadow of an edge is projected where it
+// falls.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,11 +14,7 @@ namespace {
 
 patina::AaEdgeHints empty_hints(int w, int h) {
     patina::AaEdgeHints hints;
-    hints.width = w;
-    hints.height = h;
-    hints.zones[0].assign(static_cast<size_t>(w) * h, 0);
-    hints.zones[1].assign(static_cast<size_t>(w) * h, 0);
-    hints.nearest.assign(static_cast<size_t>(w) * h, INFINITY);
+    hints.resize(w, h);
     return hints;
 }
 
@@ -41,10 +38,12 @@ TEST(AaEdgeHints, AVerticalSegmentMarksItsColumnWithTheZoneItCrosses) {
 
 TEST(AaEdgeHints, AnObliqueSegmentMarksTheZonesOfItsPartInEachPixel) {
     patina::AaEdgeHints h = empty_hints(4, 4);
-    // from (1.1, 1.0) to (1.5, 2.0): inside pixel (1, 1), u from 0.1 to 0.5
-    patina::rasterise_edge(h, 1.1f, 1.0f, 1.5f, 2.0f, 1.0f, 1.0f, 0.5f, 0.5f);
-    EXPECT_EQ(h.zones[0][1 * 4 + 1], 0x07u);  // zones 0, 1, 2
-    EXPECT_EQ(h.zones[1][1 * 4 + 1], 0x1Fu);
+    // from (1.15, 1.0) to (1.55, 2.0): inside pixel (1, 1), u from 0.15 to 0.55, of which
+    // between the zigzags' rows v = 1/4 and 3/4 u from 0.25 to 0.45: zones 1 and 2 (not 0)
+    patina::rasterise_edge(h, 1.15f, 1.0f, 1.55f, 2.0f, 1.0f, 1.0f, 0.5f, 0.5f);
+    EXPECT_EQ(h.zones[0][1 * 4 + 1], 0x06u);
+    // turned, (u, v) = (1 - y, x): v = x in [1/4, 3/4] from y = 0.25 to 1, u from 0.75 to 0
+    EXPECT_EQ(h.zones[1][1 * 4 + 1], 0x0Fu);
     int marked = 0;
     for (const uint8_t z : h.zones[0]) marked += z != 0;
     EXPECT_EQ(marked, 1);
@@ -104,4 +103,54 @@ TEST(AaEdgeHints, OfAMeshOnlyTheFeatureEdgesAreProjected) {
     const patina::AaEdgeHints folded = patina::project_feature_edges(s, 0.1f);
     EXPECT_NE(folded.zones[0][15 * 32 + 16], 0u);
     EXPECT_EQ(folded.zones[0][20 * 32 + 12], 0u);  // away from the diagonal and the sides
+}
+
+TEST(AaEdgeHints, APointLightsShadowOfAStripIsMarkedWhereItFalls) {
+    // a floor (z = 0, 4 x 4 m) and above it a strip x in [-0.06, 0.04], y in [-0.3, 0.3] at
+    // z = 0.5, both facing a camera 2 m above the floor (32 x 32, 16 pixels a metre on the
+    // floor); a point light at (0.5, 0, 1) casts the strip's shadow at twice its size, x in
+    // [-0.62, -0.42], y in [-0.6, 0.6]: its long sides on film x = 6.08 and 9.28, from film
+    // y = 6.4 to 25.6 (the strip itself is at film x 14.7 .. 16.9)
+    const std::vector<float> v = {-2, -2, 0, 2, -2, 0, 2, 2, 0, -2, 2, 0,
+                                  -0.06f, -0.3f, 0.5f, 0.04f, -0.3f, 0.5f, 0.04f, 0.3f, 0.5f, -0.06f, 0.3f, 0.5f};
+    const std::vector<int32_t> idx = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+    const std::vector<int32_t> mat = {0, 0, 1, 1};
+    std::vector<float> n;
+    for (int k = 0; k < 8; ++k) n.insert(n.end(), {0, 0, 1});
+    const patina::KdTree tree = patina::build_kdtree(v.data(), 8, idx.data(), 4, patina::KdBuildOptions{});
+    patina::RenderScene s;
+    s.tree = &tree;
+    s.indices = idx.data();
+    s.normals = n.data();
+    s.tri_material = mat.data();
+    s.triangle_count = 4;
+    s.camera.position[2] = 2;
+    s.camera.tan_half_fov = 0.5f;
+    s.camera.width = s.camera.height = 32;
+    const auto marked = [](const patina::AaEdgeHints& h, int x, int y) {
+        const size_t i = static_cast<size_t>(y) * 32 + x;
+        return h.zones[0][i] != 0 || h.zones[1][i] != 0;
+    };
+    const patina::AaEdgeHints dark = patina::project_feature_edges(s, 0.1f);
+    EXPECT_TRUE(marked(dark, 15, 16) || marked(dark, 14, 16));  // the strip's side
+    EXPECT_FALSE(marked(dark, 6, 16));
+    EXPECT_FALSE(marked(dark, 9, 16));
+    patina::Light light;
+    light.kind = patina::LightKind::Point;
+    light.position[0] = 0.5f;
+    light.position[2] = 1;
+    s.lights.push_back(light);
+    const patina::AaEdgeHints lit = patina::project_feature_edges(s, 0.1f);
+    for (int y = 8; y < 25; ++y) {
+        EXPECT_TRUE(marked(lit, 6, y)) << y;  // the shadow's sides
+        EXPECT_TRUE(marked(lit, 9, y)) << y;
+        EXPECT_FALSE(marked(lit, 7, y)) << y;  // inside the shadow
+        EXPECT_FALSE(marked(lit, 8, y)) << y;
+        EXPECT_FALSE(marked(lit, 3, y)) << y;  // outside it
+        EXPECT_FALSE(marked(lit, 12, y)) << y;
+    }
+    EXPECT_EQ(lit.zones[0][16 * 32 + 6], 1u << 0);  // x = 6.08: zone 0 (u in [0, 0.2])
+    EXPECT_EQ(lit.zones[0][16 * 32 + 9], 1u << 1);  // x = 9.28: zone 1
+    EXPECT_NEAR(lit.nearest[16 * 32 + 6], 2.0f * std::sqrt(1 + 0.62f * 0.62f / 4), 0.03f);  // on the floor
+    EXPECT_TRUE(marked(lit, 15, 16) || marked(lit, 14, 16));  // the strip is still there
 }

@@ -300,9 +300,7 @@ TEST(AdaptiveSampler, AThinLineBetweenTheRaysIsFoundThroughTheGeometricPrePass) 
     const auto on = [](float x, float) { return x >= 3.45f && x <= 3.55f ? 1.0f : 0.0f; };
     const auto hit = [](float, float) { return true; };
     patina::AaEdgeHints hints;
-    hints.width = hints.height = 8;
-    for (auto& z : hints.zones) z.assign(64, 0);
-    hints.nearest.assign(64, INFINITY);
+    hints.resize(8, 8);
     for (const float x : {3.45f, 3.55f}) patina::rasterise_edge(hints, x, 0.0f, x, 8.0f, 2.0f, 2.0f, 0.5f, 0.5f);
     TileRun blind, seen;
     run_tile(blind, hit, on);
