@@ -66,7 +66,7 @@ struct EdgeUse {
 // whose casts are farther apart is halved, down to kShadowDepth halvings: a shadow that
 // jumps from one surface to another, or falls off the geometry, ends there. The halvings
 // follow the shadow's own size on the film, however near the light is to the edge.
-constexpr int kShadowStart = 8, kShadowDepth = 12;
+constexpr int kShadowStart = 1, kShadowDepth = 12;
 constexpr double kShadowStep = 1.5;
 
 struct Cast {
