@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <thread>
 
 #include "render/accel/trace_kernels.h"
 #include "render/adaptive_pattern.h"
@@ -176,10 +177,11 @@ void rasterise_edge(AaEdgeHints& h, float x0f, float y0f, float x1f, float y1f, 
     }
 }
 
-AaEdgeHints project_feature_edges(const RenderScene& s, float threshold) {
+AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int threads) {
     AaEdgeHints h;
     const Camera& c = s.camera;
     h.resize(c.width, c.height);
+    const size_t pixels = static_cast<size_t>(c.width) * c.height;
     if (s.tree == nullptr || s.indices == nullptr || s.triangle_count == 0 ||
         s.tree->triangle_count() != s.triangle_count)
         return h;
@@ -276,7 +278,7 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold) {
     };
     // a world-space segment into the hints: camera space, clipped to the near plane, then the
     // pinhole projection
-    const auto project = [&](V3 pa, V3 pb) {
+    const auto project = [&](AaEdgeHints& out, V3 pa, V3 pb) {
         const V3 da = sub(pa, eye), db = sub(pb, eye);
         double za = dot(da, fwd), zb = dot(db, fwd), xa = dot(da, right), xb = dot(db, right), ya = dot(da, up),
                yb = dot(db, up);
@@ -292,7 +294,7 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold) {
         }
         const auto fx = [&](double x, double z) { return static_cast<float>((x / z / tan_x + 1) * 0.5 * c.width); };
         const auto fy = [&](double y, double z) { return static_cast<float>((1 - y / z / tan_y) * 0.5 * c.height); };
-        rasterise_edge(h, fx(xa, za), fy(ya, za), fx(xb, zb), fy(yb, zb), static_cast<float>(za),
+        rasterise_edge(out, fx(xa, za), fy(ya, za), fx(xb, zb), fy(yb, zb), static_cast<float>(za),
                        static_cast<float>(zb), static_cast<float>(tan_x), static_cast<float>(tan_y));
     };
     const auto film = [&](V3 p, double& x, double& y) {  // film position of a point in front of the camera
@@ -303,54 +305,78 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold) {
         y = (1 - dot(d, up) / z / tan_y) * 0.5 * c.height;
         return true;
     };
-    for (const EdgeUse& u : edges) {
-        const V3 pa = load(tri + 3 * static_cast<size_t>(u.ends[0][0]));
-        const V3 pb = load(tri + 3 * static_cast<size_t>(u.ends[0][1]));
-        bool feature = u.count != 2;
-        if (!feature) {
-            const int32_t t0 = u.tri[0], t1 = u.tri[1];
-            feature = s.tri_material != nullptr && s.tri_material[t0] != s.tri_material[t1];
-            feature = feature || front(t0, pa) != front(t1, pa);
-            feature = feature || crease(u.ends[0][0], u.ends[1][0]) || crease(u.ends[0][1], u.ends[1][1]);
-        }
-        if (feature) project(pa, pb);
-    }
-    // shadow edges: the edges that are silhouettes seen from a light (or boundaries), cast
-    // along the light's rays onto what lies behind them; the pieces of the cast shadow are
-    // projected into the image like the feature edges
-    const TraceKernels& kernels = trace_kernels_w1();  // one width: the same hits for every SIMD width
-    for (const Light& light : s.lights) {
-        const bool local = light.kind == LightKind::Point || light.kind == LightKind::Spot ||
-                           light.kind == LightKind::Goniometric;
-        if (!local && light.kind != LightKind::Sun) continue;  // area lights and environments: soft shadows
-        const V3 lp = load(light.position), sun = load(light.direction);
-        const auto towards_light = [&](V3 p) { return local ? sub(lp, p) : sun; };
-        // where the light's ray past p lands: the receiver, or false when nothing is behind p
-        const auto receiver = [&](V3 p, V3& q) {
-            const V3 d = towards_light(p);
-            const double len = std::sqrt(dot(d, d));
-            if (!(len > 0)) return false;
-            const float o[3] = {float(p.x), float(p.y), float(p.z)};
-            const float dir[3] = {float(-d.x / len), float(-d.y / len), float(-d.z / len)};
-            // past the edge's own triangles (a ray grazing a smooth mesh's silhouette would
-            // find the next facet at once)
-            const float tmin = s.ray_offset + 1e-3f * static_cast<float>(local ? len : s.scene_radius);
-            float t = std::numeric_limits<float>::infinity(), bu = 0, bv = 0;
-            int32_t prim = -1;
-            kernels.intersect(*s.tree, RayBatch{o, dir, tmin, nullptr, std::numeric_limits<float>::infinity()},
-                              HitBatch{&t, &prim, &bu, &bv}, 0, 1);
-            if (prim < 0) return false;
-            q = {p.x + t * dir[0], p.y + t * dir[1], p.z + t * dir[2]};
-            return true;
-        };
-        const auto lit_front = [&](int32_t t, V3 p) { return dot(load(ng + 3 * static_cast<size_t>(t)), towards_light(p)) > 0; };
-        for (const EdgeUse& u : edges) {
+    // the edges [begin, end) into `out`: the feature edges, then the shadows
+    const auto walk = [&](size_t begin, size_t end, AaEdgeHints& out) {
+        for (size_t e = begin; e < end; ++e) {
+            const EdgeUse& u = edges[e];
             const V3 pa = load(tri + 3 * static_cast<size_t>(u.ends[0][0]));
             const V3 pb = load(tri + 3 * static_cast<size_t>(u.ends[0][1]));
-            if (u.count == 2 && lit_front(u.tri[0], pa) == lit_front(u.tri[1], pa)) continue;
-            cast_shadow(pa, pb, receiver, film, project, c.width, c.height);
+            bool feature = u.count != 2;
+            if (!feature) {
+                const int32_t t0 = u.tri[0], t1 = u.tri[1];
+                feature = s.tri_material != nullptr && s.tri_material[t0] != s.tri_material[t1];
+                feature = feature || front(t0, pa) != front(t1, pa);
+                feature = feature || crease(u.ends[0][0], u.ends[1][0]) || crease(u.ends[0][1], u.ends[1][1]);
+            }
+            if (feature) project(out, pa, pb);
         }
+        // shadow edges: the edges that are silhouettes seen from a light (or boundaries), cast
+        // along the light's rays onto what lies behind them; the pieces of the cast shadow are
+        // projected into the image like the feature edges
+        const TraceKernels& kernels = trace_kernels_w1();  // one width: the same hits for every SIMD width
+        for (const Light& light : s.lights) {
+            const bool local = light.kind == LightKind::Point || light.kind == LightKind::Spot ||
+                               light.kind == LightKind::Goniometric;
+            if (!local && light.kind != LightKind::Sun) continue;  // area lights and environments: soft shadows
+            const V3 lp = load(light.position), sun = load(light.direction);
+            const auto towards_light = [&](V3 p) { return local ? sub(lp, p) : sun; };
+            // where the light's ray past p lands: the receiver, or false when nothing is behind p
+            const auto receiver = [&](V3 p, V3& q) {
+                const V3 d = towards_light(p);
+                const double len = std::sqrt(dot(d, d));
+                if (!(len > 0)) return false;
+                const float o[3] = {float(p.x), float(p.y), float(p.z)};
+                const float dir[3] = {float(-d.x / len), float(-d.y / len), float(-d.z / len)};
+                // past the edge's own triangles (a ray grazing a smooth mesh's silhouette would
+                // find the next facet at once)
+                const float tmin = s.ray_offset + 1e-3f * static_cast<float>(local ? len : s.scene_radius);
+                float t = std::numeric_limits<float>::infinity(), bu = 0, bv = 0;
+                int32_t prim = -1;
+                kernels.intersect(*s.tree, RayBatch{o, dir, tmin, nullptr, std::numeric_limits<float>::infinity()},
+                                  HitBatch{&t, &prim, &bu, &bv}, 0, 1);
+                if (prim < 0) return false;
+                q = {p.x + t * dir[0], p.y + t * dir[1], p.z + t * dir[2]};
+                return true;
+            };
+            const auto lit_front = [&](int32_t t, V3 p) { return dot(load(ng + 3 * static_cast<size_t>(t)), towards_light(p)) > 0; };
+            for (size_t e = begin; e < end; ++e) {
+                const EdgeUse& u = edges[e];
+                const V3 pa = load(tri + 3 * static_cast<size_t>(u.ends[0][0]));
+                const V3 pb = load(tri + 3 * static_cast<size_t>(u.ends[0][1]));
+                if (u.count == 2 && lit_front(u.tri[0], pa) == lit_front(u.tri[1], pa)) continue;
+                cast_shadow(pa, pb, receiver, film, [&](V3 a, V3 b) { project(out, a, b); }, c.width, c.height);
+            }
+        }
+    };
+    // the edges split among threads, each into hints of its own, then merged: zones by OR,
+    // distances by min, so the hints are the same for any thread count
+    const size_t parts = std::clamp<size_t>(static_cast<size_t>(std::max(threads, 1)), 1,
+                                            std::max<size_t>(1, edges.size() / 1024));
+    std::vector<AaEdgeHints> part(parts - 1);
+    std::vector<std::thread> workers;
+    const auto bound = [&](size_t k) { return edges.size() * k / parts; };
+    for (size_t k = 1; k < parts; ++k) {
+        part[k - 1].resize(c.width, c.height);
+        workers.emplace_back([&, k] { walk(bound(k), bound(k + 1), part[k - 1]); });
     }
+    walk(0, bound(1), h);
+    for (auto& w : workers) w.join();
+    for (const AaEdgeHints& o : part)
+        for (size_t i = 0; i < pixels; ++i) {
+            h.zones[0][i] |= o.zones[0][i];
+            h.zones[1][i] |= o.zones[1][i];
+            h.nearest[i] = std::min(h.nearest[i], o.nearest[i]);
+        }
     return h;
 }
 

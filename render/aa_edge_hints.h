@@ -38,7 +38,8 @@ struct AaEdgeHints {
 
 // The scene's feature edges (crease and contrast as in aa_contrast: (1 - n1 . n2) / 2 above
 // `threshold`) projected through the camera's pinhole (the centre of a thin lens).
-AaEdgeHints project_feature_edges(const RenderScene& scene, float threshold);
+// The edges are walked by `threads` threads (the same hints for any count).
+AaEdgeHints project_feature_edges(const RenderScene& scene, float threshold, int threads = 1);
 
 // The pixel crossings of one film-space segment (pixels, x right, y down) into `hints`; z0,
 // z1: the camera-space depths (along the view axis) of its ends, tan_x, tan_y the camera's

@@ -75,9 +75,9 @@ void RenderJob::start() {
     m_started = true;
     m_start = std::chrono::steady_clock::now();
     // the adaptive sampler's geometric pre-pass: part of the render's time
-    if (m_settings.aa == RenderSettings::Aa::Adaptive)
-        m_aa_hints = project_feature_edges(m_scene, m_settings.aa_threshold);
     const int threads = m_settings.threads > 0 ? m_settings.threads : default_thread_count();
+    if (m_settings.aa == RenderSettings::Aa::Adaptive)
+        m_aa_hints = project_feature_edges(m_scene, m_settings.aa_threshold, threads);
     for (int i = 0; i < threads; ++i) m_threads.emplace_back([this] { worker(); });
 }
 

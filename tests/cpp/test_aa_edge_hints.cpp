@@ -1,10 +1,11 @@
 // The adaptive antialiasing's geometric pre-pass (render/aa_edge_hints.h): a segment marks
 // the pixels it crosses with the zones it crosses in each orientation, of a mesh only the
 // feature edges are projected, and a point light's shadow of an edge is projected where it
-// falls.
+// falls; any thread count gives the same hints.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include "render/aa_edge_hints.h"
@@ -153,4 +154,56 @@ TEST(AaEdgeHints, APointLightsShadowOfAStripIsMarkedWhereItFalls) {
     EXPECT_EQ(lit.zones[0][16 * 32 + 9], 1u << 1);  // x = 9.28: zone 1
     EXPECT_NEAR(lit.nearest[16 * 32 + 6], 2.0f * std::sqrt(1 + 0.62f * 0.62f / 4), 0.03f);  // on the floor
     EXPECT_TRUE(marked(lit, 15, 16) || marked(lit, 14, 16));  // the strip is still there
+}
+
+TEST(AaEdgeHints, AnyThreadCountGivesTheSameHints) {
+    // a folded floor of 48 x 48 quads (creases where the fold changes, 7000 edges) under a
+    // strip and a point light: feature edges and shadows from every part of the edge list
+    constexpr int n = 48;
+    std::vector<float> v;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            const float x = -2 + 4.0f * i / n, y = -2 + 4.0f * j / n;
+            v.insert(v.end(), {x, y, 0.1f * std::fabs(std::sin(3.0f * x)) * ((i / 4 + j / 5) % 2)});
+        }
+    std::vector<int32_t> idx;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const int32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+            idx.insert(idx.end(), {a, b, d, a, d, c});
+        }
+    const int32_t base = static_cast<int32_t>(v.size() / 3);
+    v.insert(v.end(), {-0.06f, -0.3f, 0.5f, 0.04f, -0.3f, 0.5f, 0.04f, 0.3f, 0.5f, -0.06f, 0.3f, 0.5f});
+    idx.insert(idx.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+    const size_t tris = idx.size() / 3;
+    std::vector<float> normals;
+    for (size_t k = 0; k < v.size() / 3; ++k) normals.insert(normals.end(), {0, 0, 1});
+    const std::vector<int32_t> mat(tris, 0);
+    const patina::KdTree tree =
+        patina::build_kdtree(v.data(), v.size() / 3, idx.data(), tris, patina::KdBuildOptions{});
+    patina::RenderScene s;
+    s.tree = &tree;
+    s.indices = idx.data();
+    s.normals = normals.data();
+    s.tri_material = mat.data();
+    s.triangle_count = tris;
+    s.camera.position[2] = 2;
+    s.camera.tan_half_fov = 0.5f;
+    s.camera.width = 64;
+    s.camera.height = 48;
+    patina::Light light;
+    light.position[0] = 0.5f;
+    light.position[2] = 1;
+    s.lights.push_back(light);
+    const patina::AaEdgeHints one = patina::project_feature_edges(s, 0.001f, 1);
+    int marked = 0;
+    for (const uint8_t z : one.zones[0]) marked += z != 0;
+    EXPECT_GT(marked, 100);
+    for (const int threads : {2, 3, 8}) {
+        const patina::AaEdgeHints more = patina::project_feature_edges(s, 0.001f, threads);
+        EXPECT_EQ(more.zones[0], one.zones[0]) << threads;
+        EXPECT_EQ(more.zones[1], one.zones[1]) << threads;
+        EXPECT_EQ(0, std::memcmp(more.nearest.data(), one.nearest.data(), one.nearest.size() * sizeof(float)))
+            << threads;
+    }
 }
