@@ -67,7 +67,7 @@ struct EdgeUse {
 // whose casts are farther apart is halved, down to kShadowDepth halvings: a shadow that
 // jumps from one surface to another, or falls off the geometry, ends there. The halvings
 // follow the shadow's own size on the film, however near the light is to the edge.
-constexpr int kShadowStart = 1, kShadowDepth = 12;
+constexpr int kShadowDepth = 12;
 constexpr double kShadowStep = 1.5;
 
 struct Cast {
@@ -101,22 +101,15 @@ void cast_piece(V3 pa, V3 pb, double t0, const Cast& c0, double t1, const Cast& 
     cast_piece(pa, pb, tm, cm, t1, c1, depth + 1, receiver, film, project, width, height);
 }
 
+// From the edge's two ends: an edge whose shadow is short on the film costs two rays (the
+// ball's pre-pass took 250 ms starting from eight pieces an edge, 45 ms from one).
 template <class Receiver, class Film, class Project>
 void cast_shadow(V3 pa, V3 pb, const Receiver& receiver, const Film& film, const Project& project, int width,
                  int height) {
-    const auto cast = [&](double t) {
-        Cast k;
-        const V3 p{pa.x + t * (pb.x - pa.x), pa.y + t * (pb.y - pa.y), pa.z + t * (pb.z - pa.z)};
-        k.seen = receiver(p, k.q) && film(k.q, k.x, k.y);
-        return k;
-    };
-    Cast prev = cast(0);
-    for (int i = 1; i <= kShadowStart; ++i) {
-        const double t0 = double(i - 1) / kShadowStart, t1 = double(i) / kShadowStart;
-        const Cast next = cast(t1);
-        cast_piece(pa, pb, t0, prev, t1, next, 0, receiver, film, project, width, height);
-        prev = next;
-    }
+    Cast a, b;
+    a.seen = receiver(pa, a.q) && film(a.q, a.x, a.y);
+    b.seen = receiver(pb, b.q) && film(b.q, b.x, b.y);
+    cast_piece(pa, pb, 0.0, a, 1.0, b, 0, receiver, film, project, width, height);
 }
 
 }  // namespace
@@ -348,7 +341,9 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
                 q = {p.x + t * dir[0], p.y + t * dir[1], p.z + t * dir[2]};
                 return true;
             };
-            const auto lit_front = [&](int32_t t, V3 p) { return dot(load(ng + 3 * static_cast<size_t>(t)), towards_light(p)) > 0; };
+            const auto lit_front = [&](int32_t t, V3 p) {
+                return dot(load(ng + 3 * static_cast<size_t>(t)), towards_light(p)) > 0;
+            };
             for (size_t e = begin; e < end; ++e) {
                 const EdgeUse& u = edges[e];
                 const V3 pa = load(tri + 3 * static_cast<size_t>(u.ends[0][0]));
