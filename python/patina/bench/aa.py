@@ -18,7 +18,8 @@ reference is 8 x 8 strata of 16 samples each (1024). Per scene:
   preview re-rendering a scene does), each the render job's own time.
 
 The full run renders the scenes at their own size (256 x 192: a preview's size, where an edge
-crosses as few pixels as it does in the images the thesis measured), `--quick` at half that.
+crosses as few pixels as it does in the images the thesis measured), `--quick` at half that;
+$PATINA_BENCH_AA_SCALE multiplies both (2: 512 x 384).
 The reference costs 1024 rays a pixel (a minute or two a scene at 256 x 192 on a loaded
 machine), so it is kept on disk outside the repository (`reference_dir()`), under a key of
 the scene, the size and a checksum of a small uniform render of it: a change to the scene or
@@ -49,6 +50,19 @@ from patina.scene.types import Scene
 REFERENCE_STRATA = 8  # 8 x 8 strata ...
 REFERENCE_PER_STRATUM = 16  # ... of 16 random samples: 1024 a pixel
 FULL_DIVISOR, QUICK_DIVISOR = 1, 2  # the scenes at their own size; --quick at half
+SCALE_VARIABLE = "PATINA_BENCH_AA_SCALE"  # times the scenes' size (2: 512 x 384), for a larger run
+
+
+def _scale() -> float:
+    text = os.environ.get(SCALE_VARIABLE, "1")
+    try:
+        scale = float(text)
+    except ValueError:
+        scale = float("nan")
+    if not (math.isfinite(scale) and scale > 0):
+        print(f"patina bench: {SCALE_VARIABLE} must be a number > 0, got {text!r}", file=sys.stderr)
+        sys.exit(2)
+    return scale
 
 
 def _scenes() -> list[str]:
@@ -124,12 +138,12 @@ def bench_aa(repeat: int, quick: bool) -> list[Record]:
     for path in files:
         name = os.path.splitext(os.path.basename(path))[0].removeprefix("aa-")
         scene = load_scene(path)
-        div = QUICK_DIVISOR if quick else FULL_DIVISOR
+        factor = _scale() / (QUICK_DIVISOR if quick else FULL_DIVISOR)
         scene = with_overrides(
             scene,
             spp=1,
-            width=max(8, scene.camera.width // div),
-            height=max(8, scene.camera.height // div),
+            width=max(8, round(scene.camera.width * factor)),
+            height=max(8, round(scene.camera.height * factor)),
         )
         ref = _reference(scene)
         prep = PreparedScene(scene)

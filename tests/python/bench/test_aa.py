@@ -9,6 +9,7 @@ import math
 import os
 
 import numpy as np
+import pytest
 
 from patina.bench import GROUPS, aa
 from patina.bench.aa import bench_aa
@@ -47,3 +48,12 @@ def test_the_reference_is_kept_and_found_again(tmp_path, monkeypatch):
     monkeypatch.setenv("PATINA_BENCH_CACHE", str(tmp_path))
     aa._reference(with_overrides(scene, width=8, height=8))
     assert len(os.listdir(aa.reference_dir())) == 2
+
+
+def test_a_bad_scale_is_one_line_and_exit_2(monkeypatch, capsys):
+    monkeypatch.setenv(aa.SCALE_VARIABLE, "-1")
+    with pytest.raises(SystemExit) as e:
+        bench_aa(1, quick=True)
+    assert e.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and aa.SCALE_VARIABLE in err
