@@ -99,7 +99,7 @@ def _reference(scene: Scene) -> np.ndarray:
     path = os.path.join(reference_dir(), f"{os.path.basename(scene.path)}-{w}x{h}-{key.hexdigest()[:16]}.npy")
     try:
         return np.load(path)
-    except (OSError, ValueError):
+    except (OSError, ValueError, EOFError):  # none yet (or unreadable): made anew
         pass
     ref = _stratified(scene, REFERENCE_STRATA, REFERENCE_PER_STRATUM)
     try:
