@@ -62,6 +62,26 @@ def plan(materials: list[Material], settings: Settings) -> list[Task]:
     return tasks
 
 
+# A step's cost relative to the others, what the Dask priorities go by (on the bench library,
+# docs/bench.md: validate 0.25 s, fit 0.2 s, preview 1.8 s a table; a report's figures some seconds)
+STEP_COST = {"validate": 1, "fit": 1, "preview": 8, "report": 8}
+
+
+def priorities(tasks: list[Task]) -> list[int]:
+    """Each task's Dask priority (higher runs first): the cost of the longest chain of tasks
+    that starts with it. The fits go first (each unlocks a preview and a report), then the
+    previews and reports, and the validations, short and needed by none, last: they fill the
+    workers while the last long tasks finish, instead of a worker idle through a lone preview."""
+    dependents: list[list[int]] = [[] for _ in tasks]
+    for j, task in enumerate(tasks):
+        for i in task.needs:
+            dependents[i].append(j)
+    chain = [0] * len(tasks)
+    for i in reversed(range(len(tasks))):  # a task's dependents come after it (plan)
+        chain[i] = STEP_COST[tasks[i].step] + max((chain[j] for j in dependents[i]), default=0)
+    return chain
+
+
 def _raised(task: Task, e: BaseException) -> dict[str, Any]:
     """The result of a task that raised (after its retries): failed, with one line."""
     return result(task.material, task.step, "failed", f"{type(e).__name__}: {one_line(e)}")
@@ -82,37 +102,45 @@ def run_in_process(tasks: list[Task], settings: Settings, out_dir: str, progress
 def run_on_dask(
     tasks: list[Task], settings: Settings, out_dir: str, client: Any, progress: Progress
 ) -> list[dict[str, Any]]:
+    import dask
     from distributed import as_completed
 
     run_id = uuid.uuid4().hex[:12]  # keys unique to this run, on a scheduler other batches share
-    futures: list[Any] = []
-    for i, task in enumerate(tasks):
-        futures.append(
-            client.submit(
-                run_task,
-                task.step,
-                task.material,
-                settings,
-                out_dir,
-                1,  # one thread a task: the workers fill the cores
-                *(futures[j] for j in task.needs),
-                key=f"patina-batch-{run_id}-{i}-{task.step}",
-                pure=False,
-                retries=RETRIES,
+    # One graph, submitted at once: the scheduler sees every task and its priority before it
+    # places any (tasks submitted one by one, the first few of each step went to the workers
+    # at once and ran before fits of higher priority that came later)
+    delayed: list[Any] = []
+    for i, (task, priority) in enumerate(zip(tasks, priorities(tasks))):
+        with dask.annotate(priority=priority):
+            delayed.append(
+                dask.delayed(run_task, pure=False)(
+                    task.step,
+                    task.material,
+                    settings,
+                    out_dir,
+                    1,  # one thread a task: the workers fill the cores
+                    *(delayed[j] for j in task.needs),
+                    # the step in the key's prefix: Dask learns each step's duration on its own
+                    # (for where to run and what to steal), not one average of long and short tasks
+                    dask_key_name=f"patina-batch-{task.step}-{run_id}-{i}",
+                )
             )
-        )
+    futures: list[Any] = client.compute(delayed, optimize_graph=False, retries=RETRIES)
     position = {f.key: i for i, f in enumerate(futures)}
+    # each result fetched as its task ends, not one round trip a task after the last
+    returned: dict[int, Any] = {}
     try:
-        for done, future in enumerate(as_completed(futures), start=1):
+        for done, (future, value) in enumerate(as_completed(futures, with_results=True, raise_errors=False), 1):
+            returned[position[future.key]] = value
             task = tasks[position[future.key]]
             progress.update(done, postfix=f"{task.material.name} {task.step}")
     except BaseException:
         client.cancel(futures)  # Ctrl-C: the finished tasks' outputs and manifests stay
         raise
     results: list[dict[str, Any]] = []
-    for task, future in zip(tasks, futures):
+    for i, (task, future) in enumerate(zip(tasks, futures)):
         if future.status == "finished":
-            results.append(future.result())
+            results.append(returned[i])
         elif any(results[j]["status"] != "ok" for j in task.needs):
             # Dask fails a task whose input failed with the same error: say which it was
             results.append(result(task.material, task.step, "blocked", "not run: an earlier step failed"))

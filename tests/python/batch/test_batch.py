@@ -108,6 +108,15 @@ def test_a_corrupt_table_fails_alone_with_its_one_line_message(finished_once):
     assert all(by_name(summary)[n]["status"] == "ok" for n in GOOD)
 
 
+def test_the_longest_chains_start_first_and_the_validations_fill_the_end():
+    materials = [batch_scheduling.Material(f"m{i}", f"/m{i}") for i in range(2)]
+    tasks = batch_scheduling.plan(materials, dataclasses.replace(QUICK, steps=("validate", "fit", "preview", "report")))
+    priority = {(t.material.name, t.step): p for t, p in zip(tasks, batch_scheduling.priorities(tasks))}
+    for m in ("m0", "m1"):
+        assert priority[m, "fit"] > max(priority[m, "preview"], priority[m, "report"]) > priority[m, "validate"]
+    assert priority["m0", "fit"] == priority["m1", "fit"]  # a tie: Dask keeps the order of the plan
+
+
 def test_a_rerun_skips_everything(finished):
     library, out = finished.library, finished.out
     before = mtimes(os.path.join(out, "materials"))
