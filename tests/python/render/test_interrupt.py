@@ -10,6 +10,7 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 
 import numpy as np
@@ -31,6 +32,33 @@ def start(out, *options: str) -> subprocess.Popen:
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     assert proc.stdout is not None and proc.stdout.readline().startswith("rendering")
     return proc
+
+
+def interrupt_twice(proc: subprocess.Popen, second: signal.Signals, timeout: float = 60) -> str:
+    """SIGINT, then `second` once the render has said it took the first (two signals sent
+    together can be one: Python keeps one pending flag per signal, and a loaded machine may
+    run the handler only after both arrived); what it wrote on stderr meanwhile."""
+    assert proc.stderr is not None
+    stderr = proc.stderr
+    lines: list[str] = []
+    took = threading.Event()
+
+    def read() -> None:
+        for line in stderr:
+            lines.append(line)
+            if "interrupted: finishing the first pass" in line:
+                took.set()
+                return
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    proc.send_signal(signal.SIGINT)
+    if not took.wait(timeout):
+        proc.kill()
+        raise AssertionError(f"no word of the first interrupt within {timeout} s: {''.join(lines)!r}")
+    reader.join()  # it read up to that line: communicate() reads the rest
+    proc.send_signal(second)
+    return "".join(lines)
 
 
 def finish(proc: subprocess.Popen) -> tuple[str, str]:
@@ -62,10 +90,9 @@ def test_a_second_interrupt_aborts_and_writes_nothing(tmp_path):
     out = tmp_path / "x.exr"
     proc = start(out)
     time.sleep(0.1)
-    proc.send_signal(signal.SIGINT)
-    time.sleep(0.1)
-    proc.send_signal(signal.SIGTERM)  # the second interrupt may be either signal
-    _, stderr = finish(proc)
+    first = interrupt_twice(proc, signal.SIGTERM)  # the second interrupt may be either signal
+    _, rest = finish(proc)
+    stderr = first + rest
     assert proc.returncode == 130, stderr
     assert "Traceback" not in stderr
     assert "aborted, nothing written" in stderr.strip().splitlines()[-1]
@@ -77,10 +104,9 @@ def test_an_existing_output_survives_an_aborted_render(tmp_path):
     out.write_bytes(b"an earlier render")
     proc = start(out, "--force")
     time.sleep(0.1)
-    proc.send_signal(signal.SIGINT)
-    time.sleep(0.1)  # two signals at once are one for Python (one pending flag per signal)
-    proc.send_signal(signal.SIGINT)
-    _, stderr = finish(proc)
+    first = interrupt_twice(proc, signal.SIGINT)
+    _, rest = finish(proc)
+    stderr = first + rest
     assert proc.returncode == 130, stderr
     assert out.read_bytes() == b"an earlier render" and sorted(os.listdir(tmp_path)) == ["x.exr"]
 
