@@ -221,12 +221,17 @@ RenderJob::TileWork RenderJob::render_tiles(const std::vector<int>& tiles, int f
     thread_local std::vector<CameraSample> cs;
     thread_local std::vector<PathResult> out;
     Samplers samplers(*this);
-    const size_t rays_before = scratch.rays_traced;
+    const size_t rays = scratch.rays_traced, points = scratch.cache_points, queries = scratch.cache_queries,
+                 reprojected = scratch.cache_texels_reprojected, traced = scratch.cache_texels_traced;
     TileWork work;
     for (const int tile : tiles)
         for (int pass = first; pass < end; ++pass)
             work.samples += run_item(Item{tile, pass}, samplers.active, scratch, cs, out);
-    work.rays = scratch.rays_traced - rays_before + samplers.active.rays_traced();
+    work.rays = scratch.rays_traced - rays + samplers.active.rays_traced();
+    work.cache_points = scratch.cache_points - points;
+    work.cache_queries = scratch.cache_queries - queries;
+    work.cache_texels_reprojected = scratch.cache_texels_reprojected - reprojected;
+    work.cache_texels_traced = scratch.cache_texels_traced - traced;
     return work;
 }
 

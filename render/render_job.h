@@ -93,6 +93,8 @@ public:
     // call to call, as a local worker keeps them from item to item.
     struct TileWork {
         size_t rays = 0, samples = 0;  // rays traced, camera samples taken
+        // the radiance cache's counts (as progress() gives them for a started job)
+        size_t cache_points = 0, cache_queries = 0, cache_texels_reprojected = 0, cache_texels_traced = 0;
     };
     TileWork render_tiles(const std::vector<int>& tiles, int first, int end);
     // The tile's sums (Film::kChannels doubles a pixel, row by row) and, for the adaptive

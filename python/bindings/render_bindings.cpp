@@ -568,6 +568,10 @@ nb::dict render_tiles(JobHandle& j, const std::vector<int>& tiles, int first, in
     nb::dict d;
     d["rays"] = w.rays;
     d["samples"] = w.samples;
+    d["cache_points"] = w.cache_points;
+    d["cache_queries"] = w.cache_queries;
+    d["cache_texels_reprojected"] = w.cache_texels_reprojected;
+    d["cache_texels_traced"] = w.cache_texels_traced;
     return d;
 }
 
@@ -813,7 +817,7 @@ void bind_render(nb::module_& m) {
             },
             nb::arg("tile"), "(x0, y0, x1, y1): the tile's pixels [x0, x1) x [y0, y1)")
         .def("render_tiles", &render_tiles, nb::arg("tiles"), nb::arg("first"), nb::arg("end"),
-             "passes [first, end) of each tile on this thread, added to their sums; {rays, samples}")
+             "passes [first, end) of each tile on this thread, added to their sums; {rays, samples, cache counts}")
         .def("read_tile", &read_tile, nb::arg("tile"), "the tile's sums (and the adaptive sampler's aa_level, aa_rays)")
         .def("write_tile", &write_tile, nb::arg("tile"), nb::arg("sums"), nb::arg("aa_level").none() = nb::none(),
              nb::arg("aa_rays").none() = nb::none(), "sets the tile's sums (as read_tile gave them)");

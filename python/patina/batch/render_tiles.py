@@ -44,7 +44,15 @@ import numpy as np
 from patina.native import _core
 from patina.progress import Progress
 from patina.render.prepare import PreparedScene
-from patina.render.run import POLL_S, RenderAborted, RenderResult, check_prepared, job_settings, render_result
+from patina.render.run import (
+    CACHE_COUNTS,
+    POLL_S,
+    RenderAborted,
+    RenderResult,
+    check_prepared,
+    job_settings,
+    render_result,
+)
 from patina.scene.types import Scene
 
 GROUPS_PER_THREAD = 2  # tile groups a worker thread (each spread over the image: tile_groups)
@@ -56,9 +64,12 @@ MIN_TASK_SAMPLES = 1 << 18
 RETRIES = 2  # a task that raised is run up to this many times more (a dead worker's are rerun anyway)
 RESTARTS = 3  # chains broken by dead workers, submitted again from their first pass, in one render
 # integrators whose tiles are independent (each pixel a function of the seed only), so that a
-# tile rendered in another process is the same; one that builds a cache across tiles is not
-TILE_INDEPENDENT = ("direct", "path")
+# tile rendered in another process is the same: the radiance cache's too, whose cache lives
+# for one batch of one (tile, pass) work item (render/cache/radiance_cache_impl.h), nothing
+# carried from item to item; an integrator that kept a cache across tiles would not be
+TILE_INDEPENDENT = ("direct", "path", "cache", "cache-guided")
 CACHED_SCENES = 2  # prepared scenes a worker process keeps (the newest)
+COUNTS = ("rays", "samples", *CACHE_COUNTS)  # what a task counts, added up along its chain
 
 
 # ---------------------------------------------------------------- the scene, shipped once
@@ -197,8 +208,7 @@ def render_passes(
     job = here.job
     out: dict[str, Any] = {
         "tiles": {},
-        "rays": before["rays"] if before is not None else 0,
-        "samples": before["samples"] if before is not None else 0,
+        **{k: before[k] if before is not None else 0 for k in COUNTS},
         "simd_width": bundle.settings["width"],
     }
     with contextlib.ExitStack() as locked:
@@ -208,8 +218,8 @@ def render_passes(
             job.write_tile(tile, **(before["tiles"][tile] if before is not None else _zeros(job, tile)))
         work = job.render_tiles(list(tiles), *passes)
         out["tiles"] = {tile: job.read_tile(tile) for tile in tiles}
-    out["rays"] += work["rays"]
-    out["samples"] += work["samples"]
+    for k in COUNTS:
+        out[k] += work[k]
     out["simd_width"] = out["simd_width"] or _core.default_width()
     return out
 
@@ -275,6 +285,8 @@ class _Chains:
         self.kept: dict[int, tuple[int, dict]] = {}  # group -> the run whose sums came back, and them
         self.end = len(runs)  # the runs each group renders: all, or the first alone after an interrupt
         self.total = self.done = self.restarts = 0
+        # the workers' threads, one entry each, dealt the groups in turn
+        self.slots = [w for w, n in sorted(client.nthreads().items()) for _ in range(n)]
         for g in range(len(plan)):
             self._submit(g)
 
@@ -282,10 +294,15 @@ class _Chains:
         before = None
         for r in range(self.end):
             first, end = self.runs[r]
+            # a chain's first task where its group is dealt (a hint: another worker may take it).
+            # Left to itself Dask put every first task where the scene was scattered, the worker
+            # that held their one input, and the others idled until it stole some (0.3 to 0.8 s a
+            # render); the later runs go where their sums are
+            where = {"workers": [self.slots[g % len(self.slots)]], "allow_other_workers": True} if r == 0 else {}
             before = self.pending[(g, r)] = self.client.submit(
                 render_passes, self.bundle, self.plan[g], (first, end), before,
                 key=f"patina-render-{self.run_id}-group{g}-passes{first}-{end}-try{self.restarts}", pure=False,
-                retries=RETRIES, priority=len(self.runs) - r,  # pass by pass, as the local job takes them
+                retries=RETRIES, priority=len(self.runs) - r, **where,  # pass by pass, as the local job takes them
             )  # fmt: skip
             before.add_done_callback(lambda _: self.news.set())
             self.total += 1
@@ -414,6 +431,7 @@ def render_on_dask(
         rays=sum(r["rays"] for r in results),  # of the passes kept (a cancelled task's rays are lost with it)
         camera_rays=sum(r["samples"] for r in results),
         complete=complete,
+        cache={k: sum(r[k] for r in results) for k in CACHE_COUNTS},
         threads=threads,
         simd_width=results[0]["simd_width"],
         interrupted=interrupts > 0,

@@ -158,6 +158,18 @@ def test_the_distributed_render_is_the_local_one_bit_for_bit(cluster, aa):
     assert_same_image(there, here)
 
 
+@pytest.mark.parametrize("integrator", ["cache", "cache-guided"])
+def test_the_radiance_cache_renders_on_the_cluster_as_here_bit_for_bit(cluster, integrator):
+    # its cache lives for one (tile, pass) work item, so a tile is the same in any process
+    scene = _scene(integrator=integrator, spp=2)
+    there = render_tiles.render_on_dask(scene, cluster, prepared=_prepared(), groups=4)
+    here = _local(scene)
+    assert there.complete
+    assert_same_image(there, here)
+    counts = ("cache_points", "cache_queries", "cache_texels_reprojected", "cache_texels_traced")
+    assert [getattr(there, k) for k in counts] == [getattr(here, k) for k in counts] and here.cache_points > 0
+
+
 def test_each_worker_prepares_the_scene_once(cluster):
     scene = _scene(spp=2, seed=7)
     checksum = render_tiles.bundle_scene(scene, job_settings(scene)).scene_checksum
