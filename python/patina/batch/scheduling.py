@@ -127,10 +127,13 @@ def run_on_dask(
             )
     futures: list[Any] = client.compute(delayed, optimize_graph=False, retries=RETRIES)
     position = {f.key: i for i, f in enumerate(futures)}
-    # each result fetched as its task ends, not one round trip a task after the last
+    # each result fetched as its task ends, not one round trip a task after the last; on this
+    # client's loop (left to itself, as_completed takes the newest client's: with two clients,
+    # as the bench has, fetching another client's results there waited forever)
     returned: dict[int, Any] = {}
+    finished = as_completed(futures, loop=client.loop, with_results=True, raise_errors=False)
     try:
-        for done, (future, value) in enumerate(as_completed(futures, with_results=True, raise_errors=False), 1):
+        for done, (future, value) in enumerate(finished, 1):
             returned[position[future.key]] = value
             task = tasks[position[future.key]]
             progress.update(done, postfix=f"{task.material.name} {task.step}")
