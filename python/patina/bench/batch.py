@@ -54,7 +54,8 @@ def write_library(folder: str, tables: int) -> None:
         Brdf(table_from_data(data), "synthetic").save(os.path.join(folder, f"plastic{i:02d}.ptab"))
 
 
-def _library_record(one: Any, two: Any, repeat: int, quick: bool) -> Record:
+def _library_record(one: Any, two: Any, repeat: int, quick: bool, ceiling: float) -> Record:
+    """`ceiling`: the speedup of batch.machine.processes2, what 2 processes get here at all."""
     tables = 2 if quick else 8
     settings = Settings(
         steps=("validate", "fit") if quick else ("validate", "fit", "preview"),
@@ -77,8 +78,8 @@ def _library_record(one: Any, two: Any, repeat: int, quick: bool) -> Record:
     preview = f", preview {settings.width}x{settings.height} {settings.spp} spp" if "preview" in settings.steps else ""
     return Record(
         "batch.library.workers2",
-        f"patina batch of {tables} tables (validate, fit ggx+lambert{preview}) on {WORKERS} worker processes; "
-        f"value = speedup / {WORKERS}",
+        f"patina batch of {tables} tables (validate, fit ggx+lambert{preview}) on {WORKERS} worker processes "
+        f"({speedup / ceiling:.2f} of the {ceiling:.2f}x {WORKERS} processes get here); value = speedup / {WORKERS}",
         "the same batch on 1 worker process",
         speedup,
         speedup / WORKERS,
@@ -153,4 +154,4 @@ def bench_batch(repeat: int, quick: bool) -> list[Record]:
         repeat = min(repeat, 3)  # a smoke test: whole batches and renders, each run counts
     ceiling = _ceiling_record(repeat, quick)
     with connect(None, 1) as (one, _), connect(None, WORKERS) as (two, _):
-        return [_library_record(one, two, repeat, quick), ceiling, _render_record(two, repeat, quick)]
+        return [_library_record(one, two, repeat, quick, ceiling.ratio), ceiling, _render_record(two, repeat, quick)]
