@@ -33,8 +33,23 @@ if [ ! -x .venv/bin/python ]; then
   python3 -m venv .venv
 fi
 PIP=".venv/bin/python -m pip"
-$PIP install -q --upgrade pip==25.1.1 >/dev/null 2>&1 || true
-# Build requirements installed once, so rebuilds need no isolated environment.
-$PIP install -q -r tools/requirements-build.txt
+# The pinned packages are resolved when their lists change (or the venv is new), not on every
+# rebuild: pip's resolver asks the index about pip itself and walks every requirement each time.
+deps_stamp=.venv/.patina-deps
+deps_key=$(cat pyproject.toml tools/requirements-build.txt | sha256sum | cut -d' ' -f1)
+no_deps=--no-deps
+if [ "$(cat "$deps_stamp" 2>/dev/null)" != "$deps_key" ]; then
+  $PIP install -q --upgrade pip==25.1.1 >/dev/null 2>&1 || true
+  # Build requirements installed once, so rebuilds need no isolated environment.
+  $PIP install -q -r tools/requirements-build.txt
+  no_deps=""
+fi
+# Built in build/cpp, the tree `make test-cpp` tests, with the C++ tests: the Release C++ is
+# compiled once for the module and the tests. -Werror only when make test asks
+# (PATINA_SETUP_WERROR=ON, as test-cpp configures), else what build/cpp already has, else off
+# (a newer compiler's new warning must not stop `make demo`).
+werror=${PATINA_SETUP_WERROR:-$(sed -n 's/^PATINA_WERROR:BOOL=//p' build/cpp/CMakeCache.txt 2>/dev/null || true)}
 echo "setup: building and installing Patina into .venv"
-$PIP install -q --no-build-isolation ".[test,cluster]"
+$PIP install -q --no-build-isolation $no_deps -C build-dir=build/cpp -C cmake.define.PATINA_BUILD_TESTS=ON \
+  -C cmake.define.PATINA_WERROR="${werror:-OFF}" ".[test,cluster]"
+echo "$deps_key" > "$deps_stamp"
