@@ -100,13 +100,16 @@ void sort_events(EventList& ev, EventList& scratch) {
         hi = std::max(hi, e >> 30);
     }
     const int bits = hi == lo ? 0 : 64 - __builtin_clzll(hi ^ lo);  // the differing low bits of (e >> 30)
-    constexpr int kDigit = 11;
+    // digits of 11 bits for long lists, of 8 for short ones, whose histograms would
+    // otherwise cost more than the pass itself
+    const int digit = n < 4096 ? 8 : 11;
     scratch.resize(n);
     Event* src = ev.data();
     Event* dst = scratch.data();
-    for (int shift = 30; shift < 30 + bits; shift += kDigit) {
-        constexpr uint64_t mask = (uint64_t(1) << kDigit) - 1;
-        uint32_t count[1 << kDigit] = {};
+    for (int shift = 30; shift < 30 + bits; shift += digit) {
+        const uint64_t mask = (uint64_t(1) << digit) - 1;
+        uint32_t count[1 << 11];
+        std::fill(count, count + mask + 1, 0u);
         for (size_t i = 0; i < n; ++i) ++count[(src[i] >> shift) & mask];
         uint32_t sum = 0;
         for (uint64_t b = 0; b <= mask; ++b) {
@@ -206,16 +209,39 @@ bool clipped_bounds(const float* t, const Box3& box, Box3& out) {
     return true;
 }
 
-void add_events(uint32_t tri, const Box3& b, NodeEvents& ev) {
-    for (int a = 0; a < 3; ++a) {
-        if (b.lo[a] == b.hi[a]) {
-            ev.axis[a].push_back(make_event(b.lo[a], tri, kPlanar));
-        } else {
-            ev.axis[a].push_back(make_event(b.lo[a], tri, kStart));
-            ev.axis[a].push_back(make_event(b.hi[a], tri, kEnd));
+// Appends triangles' bound events to a node's three lists through raw pointers, the lists
+// sized beforehand for the worst case (two events an axis a triangle) and cut to what was
+// written at the end: no capacity check per event.
+class EventWriter {
+public:
+    EventWriter(NodeEvents& ev, size_t max_triangles) : m_ev(ev) {
+        for (int a = 0; a < 3; ++a) {
+            const size_t size = ev.axis[a].size();
+            ev.axis[a].resize(size + 2 * max_triangles);
+            m_at[a] = ev.axis[a].data() + size;
         }
     }
-}
+    ~EventWriter() {
+        for (int a = 0; a < 3; ++a) m_ev.axis[a].resize(static_cast<size_t>(m_at[a] - m_ev.axis[a].data()));
+    }
+    EventWriter(const EventWriter&) = delete;
+    EventWriter& operator=(const EventWriter&) = delete;
+
+    void add(uint32_t tri, const Box3& b) {
+        for (int a = 0; a < 3; ++a) {
+            if (b.lo[a] == b.hi[a]) {
+                *m_at[a]++ = make_event(b.lo[a], tri, kPlanar);
+            } else {
+                *m_at[a]++ = make_event(b.lo[a], tri, kStart);
+                *m_at[a]++ = make_event(b.hi[a], tri, kEnd);
+            }
+        }
+    }
+
+private:
+    NodeEvents& m_ev;
+    Event* m_at[3];
+};
 
 class Builder {
 public:
@@ -273,11 +299,11 @@ public:
         const size_t n = refs.size();
         if (n <= kSweepBelow || depth >= m_max_depth) {
             NodeEvents ev;
-            for (int a = 0; a < 3; ++a) {
-                ev.axis[a] = take();
-                ev.axis[a].reserve(2 * n);
+            for (int a = 0; a < 3; ++a) ev.axis[a] = take();
+            {
+                EventWriter out(ev, n);
+                for (const Ref& r : refs) out.add(r.tri, r.b);
             }
-            for (const Ref& r : refs) add_events(r.tri, r.b, ev);
             give_refs(refs);
             EventList scratch = take();
             for (int a = 0; a < 3; ++a) sort_events(ev.axis[a], scratch);
@@ -385,25 +411,28 @@ private:
             const float eb = box.hi[b] - box.lo[b], ec = box.hi[c] - box.lo[c];
             const float cap = eb * ec, girth = eb + ec;
             const float lo = box.lo[a], hi = box.hi[a];
-            auto cost = [&](float p, size_t nl, size_t nr) {
+            // signed counts: converting them to float is one instruction
+            auto cost = [&](float p, int64_t nl, int64_t nr) {
                 const float al = cap + (p - lo) * girth, ar = cap + (hi - p) * girth;
                 const float c = m_opt.traversal_cost + scale * (al * static_cast<float>(nl) + ar * static_cast<float>(nr));
                 return c * ((nl == 0) | (nr == 0) ? bonus : 1.0f);
             };
             const Event* e = ev.axis[a].data();
             const size_t count = ev.axis[a].size();
-            size_t nl = 0, nr = n;
+            int64_t nl = 0, nr = static_cast<int64_t>(n);
             for (size_t i = 0; i < count;) {
-                // all events at this position: ends, then planars, then starts (the sort order)
+                // all events at this position: ends, then planars, then starts (the sort order),
+                // counted as 21-bit fields of one integer indexed by the type
                 const uint32_t key = event_key(e[i]);
-                size_t ends = 0, planars = 0, starts = 0;
+                uint64_t counts = 0;
                 do {
-                    const EventType type = event_type(e[i]);
-                    ends += type == kEnd;
-                    planars += type == kPlanar;
-                    starts += type == kStart;
+                    counts += uint64_t(1) << (21 * event_type(e[i]));
                     ++i;
                 } while (i < count && event_key(e[i]) == key);
+                constexpr uint64_t kField = (uint64_t(1) << 21) - 1;
+                const int64_t ends = static_cast<int64_t>(counts & kField);
+                const int64_t planars = static_cast<int64_t>((counts >> 21) & kField);
+                const int64_t starts = static_cast<int64_t>(counts >> 42);
                 const float p = key_float(key);
                 nr -= planars + ends;
                 if (p > lo && p < hi) {
@@ -497,22 +526,27 @@ private:
             right_new.axis[a].clear();
         }
         nl = nr = 0;
-        for (const Event x : e) {
-            if (event_type(x) == kEnd) continue;  // one visit per triangle
-            const uint32_t tri = event_tri(x);
-            const uint8_t side = m_side[tri];
-            if (side == kLeftOnly) ++nl;
-            else if (side == kRightOnly) ++nr;
-            else {
-                Box3 b;
-                const float* t = &m_tris[9 * size_t(tri)];
-                if (clipped_bounds(t, left_box, b)) {
-                    add_events(tri, b, left_new);
-                    ++nl;
-                }
-                if (clipped_bounds(t, right_box, b)) {
-                    add_events(tri, b, right_new);
-                    ++nr;
+        {
+            EventWriter left_out(left_new, e.size()), right_out(right_new, e.size());
+            for (const Event x : e) {
+                // one visit per triangle, at its start or planar event; counted without a
+                // branch, which only the straddling triangles take
+                const bool first = event_type(x) != kEnd;
+                const uint32_t tri = event_tri(x);
+                const uint8_t side = m_side[tri];
+                nl += first & (side == kLeftOnly);
+                nr += first & (side == kRightOnly);
+                if (first && side == kBoth) {
+                    Box3 b;
+                    const float* t = &m_tris[9 * size_t(tri)];
+                    if (clipped_bounds(t, left_box, b)) {
+                        left_out.add(tri, b);
+                        ++nl;
+                    }
+                    if (clipped_bounds(t, right_box, b)) {
+                        right_out.add(tri, b);
+                        ++nr;
+                    }
                 }
             }
         }
