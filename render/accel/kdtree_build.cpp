@@ -505,18 +505,29 @@ private:
 
     void distribute(const NodeEvents& ev, const Split& s, const Box3& left_box, const Box3& right_box,
                     NodeEvents& left, NodeEvents& right, size_t& nl, size_t& nr) {
+        // One pass over the split axis sides every triangle. Its start comes before its end
+        // (a flat bound is one planar event instead), so a start at or above the plane says
+        // right and one below it says both; an end at or below the plane, seen later, says
+        // left; a planar event says left or right. A table indexed by the type, the
+        // comparison that type needs and the side so far replaces the branches: the event
+        // types come in no predictable order.
         const EventList& e = ev.axis[s.axis];
         const uint32_t split_key = float_key(s.pos);
-        for (const Event x : e) m_side[event_tri(x)] = kBoth;
+        const uint32_t planar_key = s.planar_left ? split_key + 1 : split_key;  // planar events below it go left
+        static constexpr uint8_t kNext[3][2][4] = {
+            // kEnd: key <= split ? left : as it was
+            {{kBoth, kLeftOnly, kRightOnly, kBoth}, {kLeftOnly, kLeftOnly, kLeftOnly, kLeftOnly}},
+            // kPlanar: key < planar_key ? left : right
+            {{kRightOnly, kRightOnly, kRightOnly, kRightOnly}, {kLeftOnly, kLeftOnly, kLeftOnly, kLeftOnly}},
+            // kStart: key >= split ? right : both
+            {{kBoth, kBoth, kBoth, kBoth}, {kRightOnly, kRightOnly, kRightOnly, kRightOnly}},
+        };
         for (const Event x : e) {
             const uint32_t key = event_key(x);
             const EventType type = event_type(x);
-            if (type == kEnd && key <= split_key) m_side[event_tri(x)] = kLeftOnly;
-            else if (type == kStart && key >= split_key) m_side[event_tri(x)] = kRightOnly;
-            else if (type == kPlanar) {
-                if (key < split_key || (key == split_key && s.planar_left)) m_side[event_tri(x)] = kLeftOnly;
-                else m_side[event_tri(x)] = kRightOnly;
-            }
+            const bool test = type == kEnd ? key <= split_key : type == kPlanar ? key < planar_key : key >= split_key;
+            uint8_t& side = m_side[event_tri(x)];
+            side = kNext[type][test][side];
         }
         // straddling triangles, clipped to each side, get new events
         NodeEvents& left_new = m_scratch[0];
