@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import functools
 import math
+import statistics
+import time
 from dataclasses import dataclass
 from typing import Any
 
@@ -198,15 +200,15 @@ def _build_records(repeat: int, quick: bool) -> list[Record]:
     for size in sizes:
         mesh = scenes.sphere_of(size)
         n = mesh.triangle_count
-        build = functools.partial(_core.Accel, mesh.vertices, mesh.indices, threads=1)
         runs = min(repeat, 3) if size >= 300_000 else repeat  # a 1M build takes seconds
-        (seconds,) = median_times([build], runs)
+        seconds, cpu_seconds = _build_seconds(mesh, runs)
         n0, t0 = base = base or (n, seconds)
         predicted = t0 * (n * math.log(n)) / (n0 * math.log(n0))
         records.append(
             Record(
                 f"trace.build.{_size_label(size)}",
-                f"kd-tree build, 1 thread, {n} triangles; time/(N log N) = {seconds / predicted:.2f} x {first}'s",
+                f"kd-tree build, 1 thread, {n} triangles, {cpu_seconds:.2f} s CPU; "
+                f"time/(N log N) = {seconds / predicted:.2f} x {first}'s",
                 f"the {first} build time scaled by N log N",
                 predicted / seconds,
                 seconds,
@@ -225,6 +227,22 @@ def _build_records(repeat: int, quick: bool) -> list[Record]:
                 )
             )
     return records
+
+
+def _build_seconds(mesh: Mesh, runs: int) -> tuple[float, float]:
+    """Median wall and CPU seconds of a one-thread kd-tree build of the mesh, after a warm-up
+    build. The CPU time is what the target "1 s on one core" means: on a shared machine
+    the wall time also holds the waits for a core."""
+    build = functools.partial(_core.Accel, mesh.vertices, mesh.indices, threads=1)
+    build()
+    wall: list[float] = []
+    cpu: list[float] = []
+    for _ in range(runs):
+        t0, c0 = time.perf_counter(), time.process_time()
+        build()
+        wall.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
+    return statistics.median(wall), statistics.median(cpu)
 
 
 def _embree_build_seconds(mesh: Mesh, runs: int) -> float | None:
