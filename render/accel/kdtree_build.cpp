@@ -132,6 +132,7 @@ struct Ref {
 };
 
 constexpr size_t kSweepBelow = 256;  // nodes with fewer references use the exact sweep
+static_assert(2 * kSweepBelow < (size_t(1) << 21), "the sweep counts a position's events in 21-bit fields");
 constexpr int kBins = 128;
 
 struct Split {
@@ -422,7 +423,8 @@ private:
             int64_t nl = 0, nr = static_cast<int64_t>(n);
             for (size_t i = 0; i < count;) {
                 // all events at this position: ends, then planars, then starts (the sort order),
-                // counted as 21-bit fields of one integer indexed by the type
+                // counted as 21-bit fields of one integer indexed by the type (the sweep's
+                // nodes hold at most kSweepBelow triangles, two events each)
                 const uint32_t key = event_key(e[i]);
                 uint64_t counts = 0;
                 do {
