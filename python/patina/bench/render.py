@@ -14,6 +14,7 @@ Renders are timed from job start to resolved image, calling the C++ job directly
 
 from __future__ import annotations
 
+import math
 import os
 import statistics
 import subprocess
@@ -33,6 +34,9 @@ from patina.scene.reading import load_scene, with_overrides
 from patina.scene.types import Scene
 
 TARGET_RMSE = 0.02  # per-pixel RMSE relative to the reference's image mean: a clean preview
+# Mitsuba 3's sampler in render.vs_mitsuba*: of independent, multijitter and ldsampler (its
+# (0,2)-sequence), the least error at equal time on the gold sphere (docs/bench.md)
+MITSUBA_SAMPLER = "multijitter"
 
 
 def _scene_path(name: str) -> str:
@@ -179,6 +183,18 @@ def _ld_vs_independent_record(quick: bool) -> Record:
 # --- against Mitsuba 3 -----------------------------------------------------------------------
 
 
+def _error_curve(render_at: Callable[[int], np.ndarray], levels: list[int], reference: np.ndarray,
+                 reference_mse: float, repeat: int) -> list[tuple[float, float]]:  # fmt: skip
+    """(median render seconds, MSE relative to the reference's image mean and net of the
+    reference's own MSE) at each spp level."""
+    times, images = median_times_and_values([lambda n=n: render_at(n) for n in levels], repeat)
+    mean = float(reference.mean())
+    return [
+        (t, max(float(((img - reference) ** 2).mean()) - reference_mse, 1e-30) / mean**2)
+        for t, img in zip(times, images)
+    ]
+
+
 @dataclass
 class _Convergence:
     """A renderer's noise and speed on one scene: RMSE^2 = c2 / spp, render time = t0 + per_spp * spp."""
@@ -203,27 +219,45 @@ def _convergence(render_at: Callable[[int], np.ndarray], levels: list[int], refe
     Time is fitted as t0 + per_spp * spp through the lowest and highest level (a fixed cost
     per render, then a cost per sample).
     """
-    times, images = median_times_and_values([lambda n=n: render_at(n) for n in levels], repeat)
-    mean = float(reference.mean())
-    c2 = statistics.fmean(
-        n * max(float(((img - reference) ** 2).mean()) - reference_mse, 0.0) / mean**2 for n, img in zip(levels, images)
-    )
+    curve = _error_curve(render_at, levels, reference, reference_mse, repeat)
+    times = [t for t, _ in curve]
+    c2 = statistics.fmean(n * mse for n, (_, mse) in zip(levels, curve))
     per_spp = (times[-1] - times[0]) / (levels[-1] - levels[0])
     if per_spp <= 0:  # timing noise swamped the growth (tiny quick-mode renders): all time counts as per sample
         return _Convergence(c2, 0.0, times[-1] / levels[-1])
     return _Convergence(c2, times[0] - per_spp * levels[0], per_spp)
 
 
-def _mitsuba_renderer(scene: Scene, variant: str, threads: int, stand_ins: bool = False) -> Callable[..., np.ndarray]:
+def _seconds_to_error(curve: list[tuple[float, float]], mse: float) -> float:
+    """The render time at which a measured (seconds, MSE) curve reaches `mse`: the power law
+    through the two measured points around it (through the last two, if it is below all of
+    them; through the first two, if above). Measured, not assumed: a low-discrepancy
+    sampler's error falls faster than 1 / spp, by how much depends on the scene."""
+    points = sorted(curve)
+    i = next((k for k in range(len(points) - 2) if points[k + 1][1] <= mse), len(points) - 2)
+    (t0, e0), (t1, e1) = points[i], points[i + 1]
+    slope = math.log(e1 / e0) / math.log(t1 / t0) if t1 > t0 else 0.0
+    if not slope < 0:  # noise swamped the decrease: the later point's time
+        return t1
+    return t0 * (mse / e0) ** (1.0 / slope)
+
+
+def _mitsuba_renderer(
+    scene: Scene, variant: str, threads: int, stand_ins: bool = False, sampler: str | None = None
+) -> Callable[..., np.ndarray]:
     """Renders of the scene by Mitsuba's `variant` on `threads` threads: spp (and seed) -> image.
     stand_ins: Patina's triangles for every shape and Mitsuba's nearest BSDFs for car paints
-    (bench/mitsuba_scenes.py); else the exact conversion (analytic spheres and planes)."""
+    (bench/mitsuba_scenes.py); else the exact conversion (analytic spheres and planes).
+    sampler: a Mitsuba sampler plugin instead of the conversion's independent one."""
     import drjit as dr
     import mitsuba as mi
 
     dr.set_thread_count(threads)
     # both set the variant
-    loaded = mi.load_dict(mitsuba_scene_dict(scene, variant) if stand_ins else to_mitsuba(scene, variant=variant))
+    scene_dict = mitsuba_scene_dict(scene, variant) if stand_ins else to_mitsuba(scene, variant=variant)
+    if sampler is not None:
+        scene_dict["sensor"]["sampler"]["type"] = sampler
+    loaded = mi.load_dict(scene_dict)
 
     def render_at(spp: int, seed: int = 0) -> np.ndarray:
         mi.set_variant(variant)
@@ -248,50 +282,58 @@ def llvm_variant_works(timeout: float = 300.0) -> bool:
 
 
 def _vs_mitsuba_records(repeat: int, quick: bool, llvm: bool) -> list[Record]:
-    """Time to the same RMSE, Patina against Mitsuba 3, same scene and thread count.
+    """Time to the same error, Patina against Mitsuba 3, same scene and thread count, each with
+    its best sampler.
 
     Scene: the rough gold sphere under the studio map (`conductor-sphere.json`, direct
     lighting with MIS on both sides), 128 x 96 (quick: 32 x 24). Method:
 
     1. Reference: Mitsuba at a high spp (llvm_ad_rgb if it works here, it is faster; else
-       scalar_rgb), rendered as two halves with different seeds: their mean is the
-       reference and a quarter of their mean squared difference its own MSE, subtracted
-       from every measured MSE.
-    2. Each renderer at two spp levels: median render time over `repeat` runs, and the MSE
-       against the reference; c^2 = mean of spp * MSE (relative to the image mean), since
-       RMSE = c / sqrt(spp); time = t0 + per_spp * spp through the two levels.
-    3. The spp each needs for a relative RMSE of TARGET_RMSE (c^2 / target^2), and the time
-       that takes; ratio = Mitsuba's time / Patina's time, value = Patina's time.
+       scalar_rgb, both with the independent sampler: unbiased and uncorrelated), rendered
+       as two halves with different seeds: their mean is the reference and a quarter of
+       their mean squared difference its own MSE, subtracted from every measured MSE.
+    2. Patina with its default sampler (Owen-scrambled Sobol) and Mitsuba with MITSUBA_SAMPLER
+       (the one of its samplers with the least error at equal time here, docs/bench.md), each
+       at three spp levels: median render time over `repeat` runs and the MSE against the
+       reference (relative to the image mean).
+    3. The error to reach is Patina's at its highest level, so Patina's time is measured;
+       Mitsuba's time to that error comes from the power law through its two measured
+       points around it (_seconds_to_error). No 1 / spp law is assumed: a low-discrepancy
+       sampler converges faster, by an amount that depends on the scene.
+       ratio = Mitsuba's time / Patina's time, value = Patina's time.
 
     Patina's GGX uses the height-correlated Smith term and Mitsuba's the separable one
     (0.2 % brighter image mean on this scene, tests/python/render/test_against_mitsuba.py): that
-    bias counts as Patina's error, but its square is under 0.1 % of the MSE at the levels
+    bias counts as Patina's error, but its square is under 1 % of the MSE at the levels
     measured.
     """
     import mitsuba  # noqa: F401  (ImportError: no records)
 
     threads = os.cpu_count() or 1
-    w, h, levels, ref_spp = (32, 24, [4, 16], 1024) if quick else (128, 96, [32, 128], 8192)
+    w, h, levels, ref_spp = (32, 24, [4, 16, 64], 1024) if quick else (128, 96, [32, 128, 512], 8192)
     scene = with_overrides(load_scene(_scene_path("conductor-sphere")), width=w, height=h, seed=0)
     prep = PreparedScene(scene)
 
     ref_render = _mitsuba_renderer(scene, "llvm_ad_rgb" if llvm else "scalar_rgb", threads)
     reference, reference_mse = _own_reference(ref_render, ref_spp)
 
-    patina = _convergence(lambda n: _render(prep, scene, 0, threads, n), levels, reference, reference_mse, repeat)
+    patina = _error_curve(lambda n: _render(prep, scene, 0, threads, n), levels, reference, reference_mse, repeat)
+    tp, target = patina[-1]
     variants = ["scalar_rgb"] + (["llvm_ad_rgb"] if llvm else [])
     records = []
     for variant in variants:
-        other = _convergence(_mitsuba_renderer(scene, variant, threads), levels, reference, reference_mse, repeat)
-        tp, tm = patina.seconds_for(TARGET_RMSE), other.seconds_for(TARGET_RMSE)
+        render_at = _mitsuba_renderer(scene, variant, threads, sampler=MITSUBA_SAMPLER)
+        other = _error_curve(render_at, levels, reference, reference_mse, repeat)
+        tm = _seconds_to_error(other, target)
         name = "render.vs_mitsuba" + ("_llvm" if variant == "llvm_ad_rgb" else "")
         records.append(
             Record(
                 name,
-                f"Patina, conductor-sphere {w}x{h}, {threads} threads: {patina.spp_for(TARGET_RMSE):.0f} spp "
-                f"for RMSE {TARGET_RMSE:g} x mean ({patina.per_spp * 1e3:.2f} ms/spp)",
-                f"Mitsuba 3 {variant}, same scene and threads: {other.spp_for(TARGET_RMSE):.0f} spp "
-                f"({other.per_spp * 1e3:.2f} ms/spp)",
+                f"Patina (Owen-scrambled Sobol), conductor-sphere {w}x{h}, {threads} threads: {tp:.2f} s for "
+                f"RMSE {math.sqrt(target):.3f} x mean at {levels[-1]} spp (MSE at {', '.join(map(str, levels))} spp: "
+                f"{', '.join(f'{e:.2e}' for _, e in patina)})",
+                f"Mitsuba 3 {variant} ({MITSUBA_SAMPLER} sampler), same scene and threads: {tm:.2f} s (MSE: "
+                f"{', '.join(f'{e:.2e} in {t:.2f} s' for t, e in other)})",
                 tm / tp,
                 tp,
                 "s",

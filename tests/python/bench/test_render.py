@@ -1,5 +1,6 @@
-"""The `render` benchmark group: its records in quick mode, and the error-versus-samples fit
-behind render.vs_mitsuba recovering a known noise level."""
+"""The `render` benchmark group: its records in quick mode, the error-versus-samples fit
+behind render.preview.vs_mitsuba_llvm recovering a known noise level, and the error-versus-time
+interpolation behind render.vs_mitsuba."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ import numpy as np
 import pytest
 
 from patina.bench import GROUPS, Record, records
-from patina.bench.render import _convergence, _spp_to_target, bench_render
+from patina.bench.render import _convergence, _seconds_to_error, _spp_to_target, bench_render
 from patina.native import _core
 
 
@@ -62,6 +63,17 @@ def test_convergence_recovers_the_noise_level(monkeypatch):
     assert fit.spp_for(0.02) == pytest.approx(expected / 0.02**2, rel=0.03)
     assert fit.per_spp == pytest.approx(1e-3, rel=1e-9)
     assert fit.seconds_for(0.02) >= fit.per_spp * fit.spp_for(0.02) > 0
+
+
+@pytest.mark.parametrize("exponent", [1.0, 1.3])
+def test_seconds_to_error_follows_the_measured_power_law(exponent):
+    """MSE = 0.5 t^-exponent measured at 1, 4 and 16 s: the time for an error between two of
+    them, or beyond them, is the power law's (exact here), whichever way the points are given."""
+    curve = [(t, 0.5 * t**-exponent) for t in (16.0, 1.0, 4.0)]
+    for t in (2.0, 9.0, 40.0, 0.5):
+        assert _seconds_to_error(curve, 0.5 * t**-exponent) == pytest.approx(t, rel=1e-9)
+    # an error that does not fall (noise): the later point's time
+    assert _seconds_to_error([(1.0, 0.1), (2.0, 0.1), (4.0, 0.2)], 0.01) == 4.0
 
 
 @pytest.mark.parametrize("exponent", [1.0, 1.5])
