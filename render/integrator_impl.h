@@ -166,7 +166,10 @@ inline HitBatch trace_bounce(const Wavefront& w, int depth) {
     }
     HitBatch hits{grow(sc.hit_t, m), grow(sc.hit_prim, m), grow(sc.hit_u, m), grow(sc.hit_v, m)};
     sc.timer.lap(Stage::RayGather);
-    trace_kernels().intersect(*w.s.tree, RayBatch{ro, rd, 0.0f, nullptr, kInfinity}, hits, 0, m);
+    const RayBatch rays{ro, rd, 0.0f, nullptr, kInfinity};
+    // camera rays are coherent: kd-tree packets; the rest one at a time through the BVH
+    if (depth > 0 && w.s.bvh) trace_kernels().intersect_bvh(*w.s.bvh, rays, hits, 0, m);
+    else trace_kernels().intersect(*w.s.tree, rays, hits, 0, m);
     sc.rays_traced += m;
     (depth == 0 ? sc.timer.times.camera_rays : sc.timer.times.secondary_rays) += m;
     sc.timer.lap(depth == 0 ? Stage::TraceCamera : Stage::TraceSecondary);

@@ -10,6 +10,7 @@
 #include "brdf/table.h"
 #include "core/vec3.h"
 #include "fit/lobe_kernels.h"
+#include "render/accel/bvh.h"
 #include "render/accel/kdtree.h"
 #include "render/camera.h"
 #include "render/grid2.h"
@@ -100,6 +101,7 @@ void prepare_environment(Environment& env);
 
 struct RenderScene {
     const KdTree* tree = nullptr;
+    const Bvh* bvh = nullptr;  // when set: secondary and shadow rays through it, camera rays through the tree
     const float* vertices = nullptr;     // V x 3 (world space)
     const int32_t* indices = nullptr;    // T x 3, in the tree's triangle order
     const float* normals = nullptr;      // V x 3 unit shading normals

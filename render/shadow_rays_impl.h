@@ -56,15 +56,15 @@ inline void clear_shadow_rays(PathScratch& sc) {
     sc.shadow_lux.clear();
 }
 
-// Traces the queued shadow rays, N per packet; returns sc.blocked (one byte per ray).
+// Traces the queued shadow rays (through the BVH if the scene has one, else N per kd-tree
+// packet); returns sc.blocked (one byte per ray).
 inline const uint8_t* trace_shadow_rays(const RenderScene& s, PathScratch& sc) {
     const size_t ns = sc.shadow_path.size();
     uint8_t* blocked = grow(sc.blocked, ns);
     if (ns > 0) {
-        trace_kernels().occluded(*s.tree,
-                                 RayBatch{sc.shadow_org.data(), sc.shadow_dir.data(), 0.0f, sc.shadow_tmax.data(),
-                                          kInfinity},
-                                 blocked, 0, ns);
+        const RayBatch rays{sc.shadow_org.data(), sc.shadow_dir.data(), 0.0f, sc.shadow_tmax.data(), kInfinity};
+        if (s.bvh) trace_kernels().occluded_bvh(*s.bvh, rays, blocked, 0, ns);
+        else trace_kernels().occluded(*s.tree, rays, blocked, 0, ns);
         sc.rays_traced += ns;
     }
     return blocked;

@@ -50,6 +50,19 @@ std::unique_ptr<Accel> make_accel(Vertices vertices, Indices indices, int max_le
     return accel;
 }
 
+}  // namespace
+
+const patina::Bvh& bvh_of(Accel& a) {
+    // without the GIL while waiting too: a thread holding it must not block the one building
+    nb::gil_scoped_release release;
+    std::call_once(a.bvh_once, [&] {
+        a.bvh = std::make_unique<patina::Bvh>(patina::build_bvh(a.tree.triangles.data(), a.tree.triangle_count()));
+    });
+    return *a.bvh;
+}
+
+namespace {
+
 patina::RayBatch ray_batch(Rays3 origins, Rays3 directions, float tmin, nb::object tmax) {
     const size_t n = origins.shape(0);
     if (directions.shape(0) != n)
@@ -78,8 +91,8 @@ using FloatOut = nb::ndarray<float, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using IntOut = nb::ndarray<int32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using NormalOut = nb::ndarray<float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
 
-nb::tuple intersect(const Accel& a, Rays3 origins, Rays3 directions, float tmin, nb::object tmax, int width,
-                    int threads, nb::object out) {
+nb::tuple intersect(Accel& a, Rays3 origins, Rays3 directions, float tmin, nb::object tmax, int width,
+                    int threads, nb::object out, bool bvh) {
     // keep a converted tmax array alive for the duration of the call
     nb::object tmax_arr = tmax;
     if (!tmax.is_none() && !nb::isinstance<nb::float_>(tmax) && !nb::isinstance<nb::int_>(tmax))
@@ -114,16 +127,19 @@ nb::tuple intersect(const Accel& a, Rays3 origins, Rays3 directions, float tmin,
         v = ov.data();
         normal = on.data();
     }
+    const patina::Bvh* wide = bvh ? &bvh_of(a) : nullptr;
     {
         nb::gil_scoped_release release;
-        patina::trace_intersect(a.tree, rays, patina::HitBatch{t, prim, u, v}, n, width, threads);
+        const patina::HitBatch hits{t, prim, u, v};
+        if (wide) patina::trace_intersect(*wide, rays, hits, n, width, threads);
+        else patina::trace_intersect(a.tree, rays, hits, n, width, threads);
         patina::hit_normals(a.tree, prim, normal, n);
     }
     return result;
 }
 
-nb::object occluded(const Accel& a, Rays3 origins, Rays3 directions, nb::object tmax, float tmin, int width,
-                    int threads) {
+nb::object occluded(Accel& a, Rays3 origins, Rays3 directions, nb::object tmax, float tmin, int width,
+                    int threads, bool bvh) {
     nb::object tmax_arr = tmax;
     if (!tmax.is_none() && !nb::isinstance<nb::float_>(tmax) && !nb::isinstance<nb::int_>(tmax))
         tmax_arr = nb::cast(nb::cast<FloatVector>(tmax));
@@ -132,9 +148,12 @@ nb::object occluded(const Accel& a, Rays3 origins, Rays3 directions, nb::object 
     bool* out;
     auto result = new_array<bool, 1>({n}, &out);
     static_assert(sizeof(bool) == sizeof(uint8_t), "bool arrays are written as bytes");
+    const patina::Bvh* wide = bvh ? &bvh_of(a) : nullptr;
     {
         nb::gil_scoped_release release;
-        patina::trace_occluded(a.tree, rays, reinterpret_cast<uint8_t*>(out), n, width, threads);
+        uint8_t* blocked = reinterpret_cast<uint8_t*>(out);
+        if (wide) patina::trace_occluded(*wide, rays, blocked, n, width, threads);
+        else patina::trace_occluded(a.tree, rays, blocked, n, width, threads);
     }
     return nb::cast(result);
 }
@@ -181,7 +200,9 @@ void bind_accel(nb::module_& m) {
     m.def("stop_ray_recording", &stop_recording,
           "Stops recording: dict of origins (n, 3), directions (n, 3), tmin, tmax, any_hit (uint8, 1 for an "
           "occlusion query) and truncated (the limit was reached).");
-    nb::class_<Accel>(m, "Accel", "A SAH kd-tree over triangles with single-ray and 4/8-ray packet traversal.")
+    nb::class_<Accel>(m, "Accel",
+                      "A SAH kd-tree over triangles with single-ray and 4/8-ray packet traversal, and an 8-wide "
+                      "BVH over the same triangles for incoherent rays (built on first use).")
         .def(nb::new_(&make_accel), nb::arg("vertices"), nb::arg("indices"), nb::arg("max_leaf") = 0,
              nb::arg("max_depth") = 0, nb::arg("threads") = 0,
              "Builds the tree from float32 (V, 3) vertices and int32 (T, 3) indices; 0 means the default.")
@@ -192,14 +213,29 @@ void bind_accel(nb::module_& m) {
         .def_prop_ro("leaf_references", [](const Accel& a) { return a.tree.stats.leaf_refs; })
         .def_prop_ro("depth", [](const Accel& a) { return a.tree.stats.depth; })
         .def_prop_ro("build_seconds", [](const Accel& a) { return a.tree.stats.build_seconds; })
+        .def("build_bvh", [](Accel& a) { return bvh_of(a).stats.build_seconds; },
+             "Builds the BVH now if it is not yet built (one thread); seconds its build took.")
+        .def_prop_ro("bvh_stats", [](Accel& a) {
+            const patina::BvhStats& st = bvh_of(a).stats;
+            nb::dict d;
+            d["nodes"] = st.nodes;
+            d["leaves"] = st.leaves;
+            d["blocks"] = st.blocks;
+            d["depth"] = st.depth;
+            d["build_seconds"] = st.build_seconds;
+            return d;
+        }, "The BVH's nodes, leaves, 4-triangle blocks, depth and build seconds (built if need be).")
         .def_prop_ro("triangles", &triangles_of, "(T, 3, 3) float32 corners, in the order of the indices given")
         .def("intersect", &intersect, nb::arg("origins"), nb::arg("directions"), nb::arg("tmin") = 0.0f,
              nb::arg("tmax") = nb::none(), nb::arg("width") = 0, nb::arg("threads") = 0, nb::arg("out") = nb::none(),
+             nb::arg("bvh") = false,
              "Closest hits: (t, prim, u, v, normal); t = inf and prim = -1 on a miss. Rays [i, i + width) "
-             "form one packet. out: preallocated (t, prim, u, v, normal) arrays to write into.")
+             "form one packet. out: preallocated (t, prim, u, v, normal) arrays to write into. bvh: trace "
+             "one ray at a time through the BVH (the width's lanes over a node's children; ties go to the "
+             "least primitive index).")
         .def("occluded", &occluded, nb::arg("origins"), nb::arg("directions"), nb::arg("tmax") = nb::none(),
-             nb::arg("tmin") = 0.0f, nb::arg("width") = 0, nb::arg("threads") = 0,
-             "True where something is hit with tmin < t < tmax.");
+             nb::arg("tmin") = 0.0f, nb::arg("width") = 0, nb::arg("threads") = 0, nb::arg("bvh") = false,
+             "True where something is hit with tmin < t < tmax. bvh: through the BVH, one ray at a time.");
 }
 
 }  // namespace patina_py

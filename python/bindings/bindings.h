@@ -6,12 +6,15 @@
 
 #include <cstddef>
 #include <cstring>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "brdf/table.h"
 #include "fit/lobe_kernels.h"
+#include "render/accel/bvh.h"
 #include "render/accel/kdtree.h"
 
 namespace patina_py {
@@ -44,10 +47,16 @@ struct TableHandle {
     explicit TableHandle(patina::Table t) : table(std::move(t)), prepared(patina::prepare(table)) {}
 };
 
-// patina._core.Accel: a kd-tree over triangles.
+// patina._core.Accel: a kd-tree over triangles, and the BVH over the same triangles, built
+// when first asked for (renders and `bvh=True` queries), once.
 struct Accel {
     patina::KdTree tree;
+    std::unique_ptr<patina::Bvh> bvh;
+    std::once_flag bvh_once;
 };
+
+// The accel's BVH, built on first use; callers hold the GIL (released while building or waiting).
+const patina::Bvh& bvh_of(Accel& a);
 
 // A mixture's parameters from its kernel name (e.g. "ggx", "ggx+coat") and flat values:
 // rho r g b, then per lobe its shape (r g b when per_channel) and weight r g b; with a

@@ -123,7 +123,7 @@ std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, nb::object indices
     const Tris indices = nb::cast<Tris>(indices_obj);
     const Rows3 normals = nb::cast<Rows3>(normals_obj);
     const IntVector tri_material = nb::cast<IntVector>(tri_material_obj);
-    const Accel& accel = nb::cast<const Accel&>(accel_obj);
+    Accel& accel = nb::cast<Accel&>(accel_obj);
     patina::RenderScene& s = h->scene;
     const size_t nt = indices.shape(0);
     if (accel.tree.triangle_count() != nt)
@@ -135,6 +135,7 @@ std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, nb::object indices
         if (indices.data()[i] < 0 || static_cast<size_t>(indices.data()[i]) >= nv)
             throw std::invalid_argument("triangle " + std::to_string(i / 3) + " refers to a vertex without a normal");
     s.tree = &accel.tree;
+    s.bvh = &bvh_of(accel);  // secondary and shadow rays
     s.indices = indices.data();
     s.normals = normals.data();
     s.tri_material = tri_material.data();

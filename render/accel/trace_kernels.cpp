@@ -45,6 +45,16 @@ void trace_occluded(const KdTree& tree, const RayBatch& rays, uint8_t* blocked, 
     parallel_for(n, 64, threads, [&](size_t b, size_t e) { k.occluded(tree, rays, blocked, b, e); });
 }
 
+void trace_intersect(const Bvh& bvh, const RayBatch& rays, const HitBatch& hits, size_t n, int width, int threads) {
+    const TraceKernels& k = trace_kernels_for(width);
+    parallel_for(n, 64, threads, [&](size_t b, size_t e) { k.intersect_bvh(bvh, rays, hits, b, e); });
+}
+
+void trace_occluded(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked, size_t n, int width, int threads) {
+    const TraceKernels& k = trace_kernels_for(width);
+    parallel_for(n, 64, threads, [&](size_t b, size_t e) { k.occluded_bvh(bvh, rays, blocked, b, e); });
+}
+
 void hit_normals(const KdTree& tree, const int32_t* prim, float* normals, size_t n) {
     for (size_t i = 0; i < n; ++i) {
         float* out = normals + 3 * i;

@@ -1,12 +1,14 @@
 // Run-time dispatch to the ray-tracing kernels compiled for each packet width
 // (trace_kernels_w1.cpp, trace_kernels_w4.cpp with -msse4.1, trace_kernels_w8.cpp with -mavx2 -mfma).
-// Rays [i, i + K) of the input arrays form one packet, so the caller's ray order
-// decides how coherent packets are.
+// kd-tree: rays [i, i + K) of the input arrays form one packet, so the caller's ray order
+// decides how coherent packets are. BVH (bvh.h): one ray at a time, the width's lanes over a
+// node's children; every width gives the same hits.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 
+#include "render/accel/bvh.h"
 #include "render/accel/kdtree.h"
 
 namespace patina {
@@ -30,6 +32,8 @@ struct TraceKernels {
     int width;
     void (*intersect)(const KdTree& tree, const RayBatch& rays, const HitBatch& hits, size_t begin, size_t end);
     void (*occluded)(const KdTree& tree, const RayBatch& rays, uint8_t* blocked, size_t begin, size_t end);
+    void (*intersect_bvh)(const Bvh& bvh, const RayBatch& rays, const HitBatch& hits, size_t begin, size_t end);
+    void (*occluded_bvh)(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked, size_t begin, size_t end);
 };
 
 const TraceKernels& trace_kernels_w1();
@@ -44,6 +48,8 @@ size_t first_invalid_ray(const RayBatch& rays, size_t n);
 // Batches split over threads (0 = all). Unit geometric normals of the hits: n x 3.
 void trace_intersect(const KdTree& tree, const RayBatch& rays, const HitBatch& hits, size_t n, int width, int threads);
 void trace_occluded(const KdTree& tree, const RayBatch& rays, uint8_t* blocked, size_t n, int width, int threads);
+void trace_intersect(const Bvh& bvh, const RayBatch& rays, const HitBatch& hits, size_t n, int width, int threads);
+void trace_occluded(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked, size_t n, int width, int threads);
 void hit_normals(const KdTree& tree, const int32_t* prim, float* normals, size_t n);
 
 }  // namespace patina

@@ -5,6 +5,7 @@
 
 #include "core/constants.h"
 #include "core/simd/kernel_width.h"
+#include "render/accel/bvh_traverse.h"
 #include "render/accel/ray_recorder.h"
 #include "render/accel/trace_kernels.h"
 #include "render/accel/traverse.h"
@@ -78,6 +79,34 @@ void occluded_kernel(const KdTree& tree, const RayBatch& rays, uint8_t* blocked,
         const RayPacket<N> r = load_packet(rays, i, lanes);
         const int mask = movemask(occluded_packet<N>(view, r));
         for (int j = 0; j < lanes; ++j) blocked[i + j] = static_cast<uint8_t>((mask >> j) & 1);
+    }
+}
+
+// The BVH's lanes: its nodes' eight children, a block's eight triangles, at most N at a time.
+constexpr int kNodeLanes = N < kBvhWidth ? N : kBvhWidth;
+constexpr int kBlockLanes = N < kBvhBlock ? N : kBvhBlock;
+
+void intersect_bvh_kernel(const Bvh& bvh, const RayBatch& rays, const HitBatch& hits, size_t begin, size_t end) {
+    enter_kernel();
+    if (ray_recording_on()) record_rays(rays, begin, end, false);
+    for (size_t i = begin; i < end; ++i) {
+        HitPacket<1> h;
+        bvh_intersect<kNodeLanes, kBlockLanes>(bvh, rays.origins + 3 * i, rays.directions + 3 * i, rays.tmin,
+                                               rays.tmax ? rays.tmax[i] : rays.tmax_all, h);
+        hits.t[i] = h.prim >= 0 ? h.t : kInfinity;
+        hits.prim[i] = h.prim;
+        hits.u[i] = h.u;
+        hits.v[i] = h.v;
+    }
+}
+
+void occluded_bvh_kernel(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked, size_t begin, size_t end) {
+    enter_kernel();
+    if (ray_recording_on()) record_rays(rays, begin, end, true);
+    for (size_t i = begin; i < end; ++i) {
+        const bool hit = bvh_occluded<kNodeLanes, kBlockLanes>(bvh, rays.origins + 3 * i, rays.directions + 3 * i,
+                                                               rays.tmin, rays.tmax ? rays.tmax[i] : rays.tmax_all);
+        blocked[i] = static_cast<uint8_t>(hit);
     }
 }
 

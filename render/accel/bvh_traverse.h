@@ -1,0 +1,264 @@
+// One ray through the 8-wide BVH (bvh.h), the SIMD lanes over a node's children: L lanes
+// (8, 4 or 1) test the eight child boxes, the children hit are visited nearest first (the
+// others wait on a small stack with their entry distances), and a leaf's blocks are tested
+// T triangles (8, 4 or 1) at a time with the kd-tree's watertight arithmetic.
+//
+// Every width gives the same result: the triangle test is the same operations per triangle
+// lane as per ray lane in the kd-tree's packets (so the same t, u, v as the kd-tree), the
+// closest hit is the least (t, primitive index) over all triangles the test accepts (so ties
+// and the visiting order do not matter), and the box test is conservative (below).
+//
+// Box test: the slab distances are box * (1/d) - origin * (1/d), widened on each plane by a
+// margin of 32 float ulps of (|coordinate| + |origin|) |1/d|, with the geometry's largest
+// coordinate for |coordinate|: more than the rounding of the distances, fused or not, and
+// of the watertight test's shear. A box the ray grazes is thus entered, and the triangle
+// test decides. Direction components below 2^-64 in magnitude count as +-2^-64 there
+// (as Embree does): no 0 * inf, and a ray lying in a box's face keeps the whole slab.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+
+#include "render/accel/bvh.h"
+#include "render/accel/triangle_test.h"
+
+PATINA_BEGIN_TARGET
+
+namespace bvh_detail {
+constexpr float kBoxMargin = 32.0f / (1 << 23);
+constexpr int kStackSize = (kBvhWidth - 1) * kBvhMaxDepth + 1;
+
+// What the box test precomputes per ray.
+struct BoxRay {
+    float inv[3];
+    // near plane distance = box[near_row[a]] * inv[a] - near_offset[a]; far likewise
+    float near_offset[3], far_offset[3];
+    int near_row[3], far_row[3];
+};
+
+// Ray i of the batch for the triangle test (the fields intersect_triangle reads, with
+// prepare_packet's arithmetic) and for the box test.
+PATINA_INLINE void load_ray(const Bvh& bvh, const float* org, const float* dir, float tmin, float tmax,
+                            RayPacket<1>& r, BoxRay& b) {
+    constexpr float kTiny = 0x1p-64f;
+    for (int a = 0; a < 3; ++a) {
+        r.org[a] = org[a];
+        r.dir[a] = dir[a];
+        const float d = dir[a];
+        const float inv = std::fabs(d) < kTiny ? 1.0f / std::copysign(kTiny, d) : 1.0f / d;
+        const float margin = (bvh.extent[a] + std::fabs(org[a])) * std::fabs(inv) * kBoxMargin;
+        const float o = org[a] * inv;
+        const bool positive = !std::signbit(inv);
+        b.inv[a] = inv;
+        b.near_offset[a] = o + margin;
+        b.far_offset[a] = o - margin;
+        b.near_row[a] = 2 * a + (positive ? 0 : 1);
+        b.far_row[a] = 2 * a + (positive ? 1 : 0);
+    }
+    r.tmin = tmin;
+    r.tmax = tmax;
+    const float ax = std::fabs(dir[0]), ay = std::fabs(dir[1]), az = std::fabs(dir[2]);
+    const int kz = (ax >= ay && ax >= az) ? 0 : (ay >= az ? 1 : 2);
+    int kx = kz == 2 ? 0 : kz + 1;
+    int ky = kx == 2 ? 0 : kx + 1;
+    if (dir[kz] < 0.0f) std::swap(kx, ky);
+    r.kx = r.ukx = kx;
+    r.ky = r.uky = ky;
+    r.kz = r.ukz = kz;
+    r.uniform_axes = true;
+    r.sz = b.inv[kz];  // 1 / dir[kz]: the largest component is never below kTiny
+    r.sx = dir[kx] * r.sz;
+    r.sy = dir[ky] * r.sz;
+}
+
+// Bit i set where the ray enters child i within [tmin, tmax]; entry distances into `near`.
+template <int L>
+PATINA_INLINE int hit_children(const BvhNode& node, const BoxRay& b, float tmin, float tmax, float* near) {
+    using F = vfloat<L>;
+    int mask = 0;
+    for (int c = 0; c < kBvhWidth; c += L) {
+        F t0(tmin), t1(tmax);
+        for (int a = 0; a < 3; ++a) {
+            const F inv(b.inv[a]);
+            const F n = fmadd(load_n<L>(&node.box[b.near_row[a]][c]), inv, F(-b.near_offset[a]));
+            const F f = fmadd(load_n<L>(&node.box[b.far_row[a]][c]), inv, F(-b.far_offset[a]));
+            t0 = max(n, t0);
+            t1 = min(f, t1);
+        }
+        store_n<L>(near + c, t0);
+        mask |= movemask(t0 <= t1) << c;
+    }
+    return mask;
+}
+
+// The triangles [c, c + T) of a block against the ray: sheared vertices, edge functions and
+// the distance test exactly as intersect_triangle does them for a ray lane. Closest hit: the
+// lanes hit in (tmin, tmax] no farther than `best`, with their t, u, v; any hit: the lanes hit
+// in (tmin, tmax).
+template <int T, bool kAnyHit>
+PATINA_INLINE vbool<T> block_lanes(const RayPacket<1>& r, const BvhBlock& blk, int c, float best, vfloat<T>& t,
+                                   vfloat<T>& u, vfloat<T>& v) {
+    using F = vfloat<T>;
+    F x[3], y[3], z[3];
+    for (int k = 0; k < 3; ++k) {
+        z[k] = load_n<T>(&blk.v[k][r.ukz][c]) - F(r.org[r.ukz]);
+        x[k] = (load_n<T>(&blk.v[k][r.ukx][c]) - F(r.org[r.ukx])) - F(r.sx) * z[k];
+        y[k] = (load_n<T>(&blk.v[k][r.uky][c]) - F(r.org[r.uky])) - F(r.sy) * z[k];
+    }
+    const F ax = x[0], ay = y[0], bx = x[1], by = y[1], cx = x[2], cy = y[2];
+    F eu = cx * by - cy * bx;
+    F ev = ax * cy - ay * cx;
+    F ew = bx * ay - by * ax;
+    if (any((eu == F(0.0f)) | (ev == F(0.0f)) | (ew == F(0.0f))))
+        tri_detail::refine_in_double<T>(eu, ev, ew, ax, ay, bx, by, cx, cy);
+    const vbool<T> negative = (eu < F(0.0f)) | (ev < F(0.0f)) | (ew < F(0.0f));
+    const vbool<T> positive = (eu > F(0.0f)) | (ev > F(0.0f)) | (ew > F(0.0f));
+    const F det = eu + ev + ew;
+    vbool<T> valid = andnot(negative & positive, det != F(0.0f));
+    if (none(valid)) return valid;
+    const F t_scaled = (eu * z[0] + ev * z[1] + ew * z[2]) * F(r.sz);
+    const F signed_t = xorsign(t_scaled, det);
+    const F abs_det = abs(det);
+    valid = valid & (signed_t > F(r.tmin) * abs_det);
+    valid = valid & (kAnyHit ? (signed_t < F(r.tmax) * abs_det) : (signed_t <= F(r.tmax) * abs_det));
+    if (kAnyHit || none(valid)) return valid;
+    const F inv_det = F(1.0f) / det;
+    t = t_scaled * inv_det;
+    u = ev * inv_det;
+    v = ew * inv_det;
+    return valid & (t <= F(best));
+}
+
+struct StackEntry {
+    uint32_t child;
+    float tnear;
+};
+
+// A child waiting on the stack is fetched from memory meanwhile.
+PATINA_INLINE void prefetch_child(const Bvh& bvh, uint32_t child) {
+    const char* p = bvh_is_leaf(child) ? reinterpret_cast<const char*>(&bvh.blocks[bvh_leaf_first(child)])
+                                       : reinterpret_cast<const char*>(&bvh.nodes[child]);
+    for (size_t line = 0; line < sizeof(BvhNode); line += 64) __builtin_prefetch(p + line);
+}
+
+// The children hit (mask) onto the stack, farthest first; returns the nearest.
+PATINA_INLINE uint32_t order_children(const Bvh& bvh, const BvhNode& node, int mask, const float* near, StackEntry* stack,
+                                      int& top) {
+    const int first = __builtin_ctz(static_cast<unsigned>(mask));
+    mask &= mask - 1;
+    if (mask == 0) return node.child[first];
+    // few children are hit: insertion-sort them by entry distance, nearest last
+    StackEntry hit[kBvhWidth];
+    int n = 0;
+    hit[n++] = StackEntry{node.child[first], near[first]};
+    for (; mask; mask &= mask - 1) {
+        const int i = __builtin_ctz(static_cast<unsigned>(mask));
+        StackEntry e{node.child[i], near[i]};
+        int j = n++;
+        while (j > 0 && hit[j - 1].tnear < e.tnear) {
+            hit[j] = hit[j - 1];
+            --j;
+        }
+        hit[j] = e;
+    }
+    for (int j = 0; j < n - 1; ++j) {
+        stack[top++] = hit[j];
+        prefetch_child(bvh, hit[j].child);
+    }
+    return hit[n - 1].child;
+}
+}  // namespace bvh_detail
+
+// Closest hit (the least t, then the least primitive index) of the ray in (tmin, tmax], with L lanes over the
+// children and T over a block's triangles. hit.prim = -1 and hit.t = r.tmax on a miss.
+template <int L, int T>
+inline void bvh_intersect(const Bvh& bvh, const float* org, const float* dir, float tmin, float tmax,
+                          HitPacket<1>& hit) {
+    using namespace bvh_detail;
+    hit.t = tmax;
+    hit.u = hit.v = 0.0f;
+    hit.prim = -1;
+    if (bvh.root == kBvhEmpty) return;
+    RayPacket<1> r;
+    BoxRay b;
+    load_ray(bvh, org, dir, tmin, tmax, r, b);
+    StackEntry stack[kStackSize];
+    int top = 0;
+    uint32_t cur = bvh.root;
+    alignas(32) float near[kBvhWidth];
+    for (;;) {
+        while (!bvh_is_leaf(cur)) {
+            const BvhNode& node = bvh.nodes[cur];
+            const int mask = hit_children<L>(node, b, r.tmin, hit.t, near);
+            if (mask == 0) goto pop;
+            cur = order_children(bvh, node, mask, near, stack, top);
+        }
+        {
+            const BvhBlock* blk = &bvh.blocks[bvh_leaf_first(cur)];
+            for (uint32_t k = 0, nb = bvh_leaf_blocks(cur); k < nb; ++k, ++blk) {
+                for (int c = 0; c < kBvhBlock; c += T) {
+                    vfloat<T> t(0.0f), u(0.0f), v(0.0f);
+                    const int valid = movemask(block_lanes<T, false>(r, *blk, c, hit.t, t, u, v));
+                    for (int m = valid; m; m &= m - 1) {
+                        const int j = __builtin_ctz(static_cast<unsigned>(m));
+                        const float tj = lane(t, j);
+                        const int32_t pj = blk->prim[c + j];
+                        if (tj < hit.t || (tj == hit.t && (hit.prim < 0 || pj < hit.prim))) {
+                            hit.t = tj;
+                            hit.u = lane(u, j);
+                            hit.v = lane(v, j);
+                            hit.prim = pj;
+                        }
+                    }
+                }
+            }
+        }
+    pop:
+        for (;;) {
+            if (top == 0) return;
+            const StackEntry& e = stack[--top];
+            if (e.tnear <= hit.t) {
+                cur = e.child;
+                break;
+            }
+        }
+    }
+}
+
+// Whether the ray hits anything in (tmin, tmax).
+template <int L, int T>
+inline bool bvh_occluded(const Bvh& bvh, const float* org, const float* dir, float tmin, float tmax) {
+    using namespace bvh_detail;
+    if (bvh.root == kBvhEmpty) return false;
+    RayPacket<1> r;
+    BoxRay b;
+    load_ray(bvh, org, dir, tmin, tmax, r, b);
+    StackEntry stack[kStackSize];
+    int top = 0;
+    uint32_t cur = bvh.root;
+    alignas(32) float near[kBvhWidth];
+    for (;;) {
+        while (!bvh_is_leaf(cur)) {
+            const BvhNode& node = bvh.nodes[cur];
+            const int mask = hit_children<L>(node, b, r.tmin, r.tmax, near);
+            if (mask == 0) goto pop;
+            cur = order_children(bvh, node, mask, near, stack, top);
+        }
+        {
+            const BvhBlock* blk = &bvh.blocks[bvh_leaf_first(cur)];
+            for (uint32_t k = 0, nb = bvh_leaf_blocks(cur); k < nb; ++k, ++blk) {
+                for (int c = 0; c < kBvhBlock; c += T) {
+                    vfloat<T> t(0.0f), u(0.0f), v(0.0f);
+                    if (any(block_lanes<T, true>(r, *blk, c, r.tmax, t, u, v))) return true;
+                }
+            }
+        }
+    pop:
+        if (top == 0) return false;
+        cur = stack[--top].child;
+    }
+}
+
+PATINA_END_TARGET
