@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -135,7 +136,10 @@ std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, nb::object indices
         if (indices.data()[i] < 0 || static_cast<size_t>(indices.data()[i]) >= nv)
             throw std::invalid_argument("triangle " + std::to_string(i / 3) + " refers to a vertex without a normal");
     s.tree = &accel.tree;
-    s.bvh = &bvh_of(accel);  // secondary and shadow rays
+    // secondary and shadow rays through the BVH; PATINA_TRACER=kdtree keeps every ray on the
+    // kd-tree (to measure one against the other, docs/performance.md)
+    const char* tracer = std::getenv("PATINA_TRACER");
+    s.bvh = tracer && std::string(tracer) == "kdtree" ? nullptr : &bvh_of(accel);
     s.indices = indices.data();
     s.normals = normals.data();
     s.tri_material = tri_material.data();

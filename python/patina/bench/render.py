@@ -97,6 +97,36 @@ def _simd_records(scene: Scene, prep: PreparedScene, label: str, repeat: int) ->
     ]
 
 
+def _kdtree_only(scene: Scene) -> PreparedScene:
+    """The scene prepared with every ray on the kd-tree (PATINA_TRACER=kdtree; docs/trace.md)."""
+    before = os.environ.get("PATINA_TRACER")
+    os.environ["PATINA_TRACER"] = "kdtree"
+    try:
+        return PreparedScene(scene)
+    finally:
+        if before is None:
+            del os.environ["PATINA_TRACER"]
+        else:
+            os.environ["PATINA_TRACER"] = before
+
+
+def _tracer_record(scene: Scene, prep: PreparedScene, label: str, repeat: int) -> Record:
+    """`render.preview.bvh_vs_kdtree`: the render as it is (secondary and shadow rays through the
+    BVH) against every ray on the kd-tree, at the widest width, one thread."""
+    simd = _core.default_width()
+    kd = _kdtree_only(scene)
+    times, _ = median_times_and_values([lambda p=p: _render(p, scene, simd, 1) for p in (kd, prep)], repeat)
+    samples = scene.camera.width * scene.camera.height * scene.render.spp
+    return Record(
+        "render.preview.bvh_vs_kdtree",
+        f"{label}, SIMD width {simd}, 1 thread, secondary and shadow rays through the BVH",
+        "the same render with every ray on the kd-tree",
+        times[0] / times[1],
+        samples / times[1] / 1e6,
+        "Msamples/s",
+    )
+
+
 def _thread_record(scene: Scene, prep: PreparedScene, label: str, repeat: int) -> Record:
     cores = os.cpu_count() or 1
     simd = _core.default_width()
@@ -383,6 +413,7 @@ def bench_render(repeat: int, quick: bool, mitsuba: bool = True) -> list[Record]
     (skipped without Mitsuba, or with mitsuba=False; `_llvm` only where llvm_ad_rgb works)."""
     scene, prep, label = preview_scene(quick)
     records = _simd_records(scene, prep, label, repeat)
+    records.append(_tracer_record(scene, prep, label, repeat))
     records.append(_thread_record(scene, prep, label, repeat))
     records.append(_ld_vs_independent_record(quick))
     if mitsuba:

@@ -1,11 +1,13 @@
-"""`patina bench --only trace`: the kd-tree tracer's speed, as ratios measured in one run.
+"""`patina bench --only trace`: the tracer's speed, as ratios measured in one run.
 
-Primary rays: 4- and 8-ray packet traversal against single-ray traversal of the same
-tree, and against Embree 4 (through embreex) on the same rays. Diffuse-bounce rays: the
-same packets against single rays where packets are incoherent. Shadow rays: any-hit
-queries the same way. Build: seconds to build trees of 10k to 1M triangles, with the
-growth against N log N. Everything on one thread; builds (Patina's and Embree's) are
-outside every traversal timing. docs/trace.md describes the records.
+Primary rays: 4- and 8-ray packet traversal of the kd-tree against single-ray traversal of
+the same tree, and against Embree 4 (through embreex) on the same rays. Diffuse-bounce
+rays: the same packets against single rays where packets are incoherent. Shadow rays:
+any-hit queries the same way. The 8-wide BVH (one ray at a time) against the kd-tree's
+widest packets and against Embree on the same rays. Build: seconds to build trees of 10k
+to 1M triangles, with the growth against N log N, and the BVH's build of 1M. Everything
+on one thread; builds (Patina's and Embree's) are outside every traversal timing.
+docs/trace.md describes the records.
 """
 
 from __future__ import annotations
@@ -144,6 +146,47 @@ def _embree_records(
     ]
 
 
+def _bvh_records(
+    prefix: str, accel: Accel, embree: Any | None, rays: scenes.Rays, repeat: int, tmax: np.ndarray | None = None
+) -> list[Record]:
+    """The BVH at the widest width: `{prefix}.bvh_vs_p{w}` against the kd-tree's widest
+    packets (both into preallocated arrays) and `{prefix}.bvh_vs_embree`; closest hit, or
+    any hit when `tmax` is given. All runs interleaved."""
+    o, d = rays
+    n = len(o)
+    w = max(_packetsimd_widths(), default=1)
+    accel.core.build_bvh()  # not timed
+    if tmax is None:
+        out = (
+            np.empty(n, np.float32),
+            np.empty(n, np.int32),
+            np.empty(n, np.float32),
+            np.empty(n, np.float32),
+            np.empty((n, 3), np.float32),
+        )
+        fns = [functools.partial(accel.core.intersect, o, d, width=w, threads=1, out=out, bvh=b) for b in (False, True)]
+        fns.append(functools.partial(accel.core.intersect, o, d, width=w, threads=1, bvh=True))
+        what, embree_what = "BVH", EMBREE
+        if embree is not None:
+            fns.append(functools.partial(embree.run, o, d, output=1))
+    else:
+        occluded = functools.partial(accel.core.occluded, o, d, tmax=tmax, width=w, threads=1)
+        fns = [functools.partial(occluded, bvh=b) for b in (False, True)]
+        what, embree_what = "BVH any-hit", EMBREE_SHADOW
+        if embree is not None:
+            fns.append(functools.partial(embree.run, o, d, dists=tmax.copy(), query="OCCLUDED"))
+    times = median_times(fns, repeat)
+    cand = f"{what}, one ray at a time, {w} lanes over a node's children"
+    mrays = n / times[1] / 1e6
+    kd = f"kd-tree{' any-hit' if tmax is not None else ''}, {w}-ray packets"
+    records = [Record(f"{prefix}.bvh_vs_p{w}", cand, kd, times[0] / times[1], mrays, "Mrays/s")]
+    if embree is not None:
+        mine = times[1] if tmax is not None else times[2]  # against Embree: both allocate their results
+        ratio = times[-1] / mine
+        records.append(Record(f"{prefix}.bvh_vs_embree", cand, embree_what, ratio, n / mine / 1e6, "Mrays/s"))
+    return records
+
+
 def _shadow_rays(accel: Accel, primary: scenes.Rays, light: np.ndarray) -> tuple[scenes.Rays, np.ndarray]:
     """From each primary hit (lifted off the surface) toward a point light; tmax stops short of it."""
     hits = accel.intersect(*primary)
@@ -167,12 +210,15 @@ def _trace_records(repeat: int, quick: bool) -> list[Record]:
         embree = _embree_scene(sc.mesh)
         primary = scenes.pinhole_rays(sc.side, sc.side, sc.eye, sc.target, sc.fov_deg)
         records += _closest_records(f"trace.primary.{sc.name}", accel, embree, primary, repeat, "")
+        records += _bvh_records(f"trace.primary.{sc.name}", accel, embree, primary, repeat)
         if sc.name in ("icosphere", "boxes"):
             bounce = scenes.diffuse_bounce_rays(accel, primary, seed=4)
             records += _closest_records(f"trace.random.{sc.name}", accel, embree, bounce, repeat, "_vs_scalar")
+            records += _bvh_records(f"trace.random.{sc.name}", accel, embree, bounce, repeat)
         if sc.name == "boxes":
             shadow, tmax = _shadow_rays(accel, primary, np.array([0.6, -0.4, 2.5]))
             records += _shadow_records("trace.shadow.boxes", accel, embree, shadow, tmax, repeat)
+            records += _bvh_records("trace.shadow.boxes", accel, embree, shadow, repeat, tmax)
     return records
 
 
@@ -183,8 +229,11 @@ def _replay_records(repeat: int, quick: bool) -> list[Record]:
     embree = _embree_scene(rec.mesh)
     o, d = rec.closest
     records = _closest_records("trace.replay.preview.path", accel, embree, scenes.Rays(o, d), repeat, "_vs_scalar")
+    records += _bvh_records("trace.replay.preview.path", accel, embree, scenes.Rays(o, d), repeat)
     so, sd, tmax = rec.shadow
-    return records + _shadow_records("trace.replay.preview.shadow", accel, embree, scenes.Rays(so, sd), tmax, repeat)
+    shadow = scenes.Rays(so, sd)
+    records += _shadow_records("trace.replay.preview.shadow", accel, embree, shadow, tmax, repeat)
+    return records + _bvh_records("trace.replay.preview.shadow", accel, embree, shadow, repeat, tmax)
 
 
 def _size_label(n: int) -> str:
@@ -255,6 +304,32 @@ def _embree_build_seconds(mesh: Mesh, runs: int) -> float | None:
     return seconds
 
 
+def _bvh_build_records(repeat: int, quick: bool) -> list[Record]:
+    """`trace.build.bvh.1m`: the BVH's build (one thread) of the 1M-triangle sphere against the
+    kd-tree's (one thread), both from the same triangles; value: the BVH's seconds."""
+    size = 100_000 if quick else 1_000_000
+    mesh = scenes.sphere_of(size)
+    runs = min(repeat, 3)
+    kd_seconds, bvh_seconds = [], []
+    for _ in range(runs):
+        accel = _core.Accel(mesh.vertices, mesh.indices, threads=1)
+        kd_seconds.append(accel.build_seconds)
+        bvh_seconds.append(accel.build_bvh())
+    kd, bvh = sorted(kd_seconds)[runs // 2], sorted(bvh_seconds)[runs // 2]
+    n = mesh.triangle_count
+    return [
+        Record(
+            f"trace.build.bvh.{_size_label(size)}",
+            f"8-wide BVH build (binned SAH), 1 thread, {n} triangles",
+            "kd-tree build, 1 thread, the same triangles",
+            kd / bvh,
+            bvh,
+            "s",
+        )
+    ]
+
+
 def bench_trace(repeat: int, quick: bool) -> list[Record]:
     """The `trace` group: traversal records, then build records."""
-    return _trace_records(repeat, quick) + _replay_records(repeat, quick) + _build_records(repeat, quick)
+    records = _trace_records(repeat, quick) + _replay_records(repeat, quick)
+    return records + _build_records(repeat, quick) + _bvh_build_records(repeat, quick)

@@ -132,7 +132,8 @@ def _concatenate(meshes: Sequence[Mesh]) -> tuple[np.ndarray, np.ndarray, np.nda
 
 
 class Accel:
-    """A kd-tree over one mesh or several (concatenated in the order given), ready to trace.
+    """A kd-tree over one mesh or several (concatenated in the order given), ready to trace;
+    and, built when first asked for, an 8-wide BVH over the same triangles (`bvh=True`).
 
     max_leaf, max_depth: build limits, 0 for the C++ defaults. threads: build threads, 0 = all.
     The tree is static: build a new Accel when the geometry changes.
@@ -231,11 +232,14 @@ class Accel:
         tmin: float = 0.0,
         width: int | None = None,
         threads: int = 0,
+        bvh: bool = False,
     ) -> Hits:
         """Closest hit of each ray with t in (tmin, tmax]; directions need not be unit length.
 
         tmax: None (unbounded), a number, or an (n,) array. width: None (the widest the CPU
-        runs), 1, 4 or 8; results do not depend on it. threads: 0 = all cores.
+        runs), 1, 4 or 8; results do not depend on it. threads: 0 = all cores. bvh: trace
+        one ray at a time through the 8-wide BVH (built on first use; faster for incoherent
+        rays), where a tie goes to the least triangle id.
         """
         o, d = self._rays(origins, directions)
         tmax_arr = None if tmax is None else _tmax_array(tmax, len(o))
@@ -247,6 +251,7 @@ class Accel:
             tmax=tmax_arr,
             width=core_width(width),
             threads=_check_threads(threads),
+            bvh=bool(bvh),
         )
         mesh, local = self.split_prim(prim)
         return Hits(t=t, prim=prim, mesh=mesh, local_prim=local, u=u, v=v, normal=normal)
@@ -259,8 +264,10 @@ class Accel:
         tmin: float = 0.0,
         width: int | None = None,
         threads: int = 0,
+        bvh: bool = False,
     ) -> np.ndarray:
-        """(n,) bool: something lies on the ray with t in (tmin, tmax) (shadow rays; any hit)."""
+        """(n,) bool: something lies on the ray with t in (tmin, tmax) (shadow rays; any hit).
+        bvh: through the 8-wide BVH, one ray at a time."""
         o, d = self._rays(origins, directions)
         return np.asarray(
             self._call(
@@ -271,6 +278,7 @@ class Accel:
                 tmin=_check_tmin(tmin),
                 width=core_width(width),
                 threads=_check_threads(threads),
+                bvh=bool(bvh),
             ),
             dtype=bool,
         )

@@ -44,6 +44,11 @@ def test_replay_records(cache):
         expected |= {f"trace.replay.preview.path.p{w}_vs_scalar", f"trace.replay.preview.shadow.p{w}"}
         if importlib.util.find_spec("embreex"):
             expected |= {f"trace.replay.preview.path.p{w}_vs_embree", f"trace.replay.preview.shadow.p{w}_vs_embree"}
+    if simd_widths():
+        w = max(simd_widths())
+        expected |= {f"trace.replay.preview.path.bvh_vs_p{w}", f"trace.replay.preview.shadow.bvh_vs_p{w}"}
+        if importlib.util.find_spec("embreex"):
+            expected |= {"trace.replay.preview.path.bvh_vs_embree", "trace.replay.preview.shadow.bvh_vs_embree"}
     assert expected <= names
     assert all(math.isfinite(r.ratio) and r.ratio > 0 and r.value > 0 for r in records)
 

@@ -23,6 +23,7 @@ def test_quick_group_records():
     by_name = {r.name: r for r in records}
     expected = {f"render.preview.w{w}" for w in (4, 8) if _core.width_supported(w)}
     expected |= {"render.threads", "render.vs_mitsuba", "render.preview.ld_vs_independent"}
+    expected.add("render.preview.bvh_vs_kdtree")
     # the llvm records only where Mitsuba's llvm_ad_rgb runs
     assert expected <= set(by_name) <= expected | {"render.vs_mitsuba_llvm", "render.preview.vs_mitsuba_llvm"}
     if "render.vs_mitsuba_llvm" in by_name:

@@ -210,22 +210,24 @@ def _aimed_rays(mesh: Mesh, n: int, seed: int) -> scenes.Rays:
 
 @pytest.mark.parametrize("name", sorted(SMALL))
 @pytest.mark.parametrize("width", WIDTHS)
-def test_random_rays_match_brute_force(name, width):
+@pytest.mark.parametrize("bvh", [False, True])
+def test_random_rays_match_brute_force(name, width, bvh):
     mesh = SMALL[name]
     accel = Accel(mesh)
     for rays in (_random_rays_for(mesh, 3001, 11), _aimed_rays(mesh, 1003, 12)):
-        hits = accel.intersect(*rays, width=width)
+        hits = accel.intersect(*rays, width=width, bvh=bvh)
         check_against_reference(mesh, *rays, hits)
 
 
 @pytest.mark.parametrize("width", WIDTHS)
-def test_tmin_and_tmax_match_brute_force(width):
+@pytest.mark.parametrize("bvh", [False, True])
+def test_tmin_and_tmax_match_brute_force(width, bvh):
     mesh = SMALL["icosphere"]
     rays = _aimed_rays(mesh, 2001, 13)
     rng = np.random.default_rng(14)
     tmax = rng.uniform(0.5, 5.0, len(rays.origins)).astype(np.float32)
     for tmin in (0.0, 1.5, 2.5):
-        hits = Accel(mesh).intersect(*rays, tmin=tmin, tmax=tmax, width=width)
+        hits = Accel(mesh).intersect(*rays, tmin=tmin, tmax=tmax, width=width, bvh=bvh)
         assert np.all(hits.t[hits.hit] > tmin)
         check_against_reference(mesh, *rays, hits, tmin=tmin, tmax=tmax)
 
@@ -307,6 +309,29 @@ def test_packets_match_single_rays_incoherent(medium_scenes, name):
     bounce = scenes.diffuse_bounce_rays(accel, primary, seed=18)
     assert len(bounce.origins) > 100
     _assert_widths_agree(mesh, accel, *bounce)
+
+
+@pytest.mark.parametrize("name", ["icosphere", "boxes", "thin"])
+def test_bvh_gives_the_same_hits_at_every_width_and_the_kd_trees_t(medium_scenes, name):
+    """The BVH: bit-identical hits at every width (ties go to the least triangle id); where it
+    reports the kd-tree's triangle, the same t, u, v (the same watertight arithmetic)."""
+    mesh, accel, (eye, target) = medium_scenes[name]
+    primary = scenes.pinhole_rays(48, 40, eye, target, 45.0)
+    for o, d in (_random_rays_for(mesh, 5003, 17), scenes.diffuse_bounce_rays(accel, primary, seed=18), primary):
+        ref = accel.intersect(o, d, width=1, bvh=True)
+        for width in WIDTHS:
+            got = accel.intersect(o, d, width=width, bvh=True)
+            for field in ("t", "prim", "u", "v"):
+                assert np.array_equal(getattr(got, field), getattr(ref, field)), f"width {width}: {field} differs"
+            tmax = np.where(ref.hit, ref.t * np.float32(1.001), np.float32(10.0)).astype(np.float32)
+            assert np.array_equal(accel.occluded(o, d, tmax, width=width, bvh=True), ref.hit)
+            assert not accel.occluded(o, d, ref.t * np.float32(0.999), width=width, bvh=True)[ref.hit].any()
+        kd = accel.intersect(o, d, width=1)
+        assert np.array_equal(kd.hit, ref.hit)
+        same = kd.prim == ref.prim
+        assert same.mean() > 0.99
+        assert np.array_equal(kd.t[same], ref.t[same]) and np.array_equal(kd.u[same], ref.u[same])
+        np.testing.assert_allclose(kd.t[~same], ref.t[~same], rtol=1e-6)  # ties
 
 
 def test_threads_do_not_change_results(medium_scenes):
