@@ -224,7 +224,7 @@ void bind_accel(nb::module_& m) {
             d["depth"] = st.depth;
             d["build_seconds"] = st.build_seconds;
             return d;
-        }, "The BVH's nodes, leaves, 4-triangle blocks, depth and build seconds (built if need be).")
+        }, "The BVH's nodes, leaves, 8-triangle blocks, depth and build seconds (built if need be).")
         .def_prop_ro("triangles", &triangles_of, "(T, 3, 3) float32 corners, in the order of the indices given")
         .def("intersect", &intersect, nb::arg("origins"), nb::arg("directions"), nb::arg("tmin") = 0.0f,
              nb::arg("tmax") = nb::none(), nb::arg("width") = 0, nb::arg("threads") = 0, nb::arg("out") = nb::none(),
