@@ -35,6 +35,14 @@ enum class Stage : int {
     PathUpdate,       // throughput, Russian roulette, the next bounce's rays
     TraceShadow,      // traversal of shadow rays (any hit)
     ShadowResolve,    // unblocked shadow rays' light added to the paths
+    // the radiance cache at the first hit (cache integrators, render/cache/; the cache's own
+    // rays are traced by an inner path tracer whose time counts in the cache stage it serves)
+    CachePlace,       // queries collected, cache points placed by the error criterion
+    CacheBuild,       // cache points' hemispheres traced (R^2 rays each)
+    CacheSurfels,     // layers, surfels, outlines and silhouettes of new cache points
+    CacheReproject,   // cache points reprojected into the points that use them
+    CacheHoles,       // what reprojection left traced from the points
+    CacheIntegrate,   // reconstructed radiance integrated against the BRDF (or made a guide)
     Count
 };
 constexpr int kStageCount = static_cast<int>(Stage::Count);
@@ -44,7 +52,8 @@ inline const char* stage_name(Stage s) {
     static const char* const names[kStageCount] = {
         "camera_rays",   "ray_gather",    "trace_camera",  "trace_secondary", "emission",   "shading_points",
         "group_material", "light_select", "light_sample",  "light_to_local",  "shade_light", "shadow_queue",
-        "bsdf_uniforms", "shade_sample",  "path_update",   "trace_shadow",    "shadow_resolve"};
+        "bsdf_uniforms", "shade_sample",  "path_update",   "trace_shadow",    "shadow_resolve",
+        "cache_place",   "cache_build",   "cache_surfels", "cache_reproject", "cache_holes", "cache_integrate"};
     return names[static_cast<int>(s)];
 }
 

@@ -15,6 +15,9 @@ void check_cache_settings(const CacheSettings& s) {
         throw std::invalid_argument("cache.error: must be a number in [0.01, 4], got " + std::to_string(s.error));
     if (!(s.guide >= kCacheGuideMin && s.guide <= kCacheGuideMax))
         throw std::invalid_argument("cache.guide: must be a number in [0.05, 0.95], got " + std::to_string(s.guide));
+    if (s.block < kCacheBlockMin || s.block > kCacheBlockMax)
+        throw std::invalid_argument("cache.block: must be an integer from " + std::to_string(kCacheBlockMin) + " to " +
+                                    std::to_string(kCacheBlockMax) + ", got " + std::to_string(s.block));
 }
 
 }  // namespace patina

@@ -6,14 +6,16 @@
 namespace patina {
 
 struct CacheSettings {
-    int resolution = 32;  // texels per side of a hemisphere (R x R texels, equal solid angle each)
+    int resolution = 24;  // texels per side of a hemisphere (R x R texels, equal solid angle each)
     float error = 0.5f;   // the reuse criterion's bound: B uses A when |B - A| / R_A + sqrt(1 - nA.nB) <= error
     float guide = 0.5f;   // cache-guided: the probability of drawing the first bounce from the cache
+    int block = 8;        // pixels per side of the blocks whose close points share one reconstruction
 };
 
 constexpr int kCacheResolutionMin = 8, kCacheResolutionMax = 128;
 constexpr float kCacheErrorMin = 0.01f, kCacheErrorMax = 4.0f;
 constexpr float kCacheGuideMin = 0.05f, kCacheGuideMax = 0.95f;
+constexpr int kCacheBlockMin = 1, kCacheBlockMax = 16;
 
 // Throws std::invalid_argument naming the key (cache.resolution, ...) and its range.
 void check_cache_settings(const CacheSettings& s);

@@ -2,11 +2,12 @@
 // the first hit; docs/radiance-cache.md), compiled once per width. Templates over the
 // integrator's Wavefront, whose stages they sit between, and over its path tracer for the
 // cache's own rays.
-//   cache         add_cached_indirect: each first-hit point's hemisphere reconstructed
-//                 (holes traced), integrated against its BRDF N texels at a time -- or, for
-//                 a lobe too narrow for the texels (a clear coat, a near-mirror), by
+//   cache         add_cached_indirect: a hemisphere reconstructed (holes traced) per block
+//                 of close first-hit points, integrated by each pixel against its BRDF N
+//                 texels at a time -- or, for a lobe too narrow for the texels, by
 //                 kLookupSamples BRDF samples looked up in the texture; the path then only
-//                 looks for emission at its next hit (the direct light's BRDF-sampling half)
+//                 looks for emission at its next hit (the direct light's BRDF-sampling half).
+//                 Glass, clear coats and near-mirrors are left to the path tracer.
 //   cache-guided  build_guides: each first-hit point's reconstructed radiance (holes at the
 //                 mean: no rays) times its BRDF and cosine as a distribution over texels; the
 //                 first bounce draws from it with probability cache.guide, else from the
@@ -54,6 +55,26 @@ inline bool texel_resolvable(const Material& m, int resolution) {
     }
 }
 
+// Whether `cache` leaves a material's indirect light to the path tracer (the path goes on
+// from the first hit as in `path`): glass, a clear coat and lobes narrower than half a
+// texel (a near-mirror). Looked up in the texture such a lobe would see one texel -- one
+// path sample, shared by the pixel's samples and its neighbours -- where `path` averages
+// one sample per camera sample: the lookup's error would be many times path's (on the
+// studio's car-paint ball 16x at 16 spp).
+inline bool left_to_path(const Material& m, int resolution) {
+    if (m.kind == MaterialKind::Dielectric || m.coat) return true;
+    const float half_texel = 0.5f * 2.5066283f / static_cast<float>(resolution);
+    switch (m.kind) {
+        case MaterialKind::Conductor:
+            return std::min(m.alpha_x, m.alpha_y) < half_texel;
+        case MaterialKind::Table:
+        case MaterialKind::Mixture:
+            return m.proxy_alpha < half_texel;
+        default:
+            return false;
+    }
+}
+
 // The texel of local direction l (z > 0) in an R x R hemisphere.
 inline int32_t texel_of(float x, float y, float z, int R) {
     float u, v;
@@ -82,53 +103,95 @@ inline void guide_sample(const float* cdf, int R, float pick, float u1, float u2
     square_to_hemisphere(u, v, l[0], l[1], l[2]);
 }
 
-// Points of one pixel share a query (a reconstructed hemisphere and its integral) when
-// they have the same material, normals within this cosine and the one within this many
-// pixel footprints (at its distance from the camera) of the other's tangent plane (so a
-// slanted wall's samples share, a parallel surface behind does not): the pixel's samples
-// then cost the cache once, not once each, while its direct light is sampled at every one.
+// Points share work at two levels when they have the same material, normals within
+// kShareCos and the one within kSharePixels pixel footprints (at its distance from the
+// camera) of the other's tangent plane (so a slanted wall's points share, a parallel
+// surface behind does not):
+//  - the samples of one pixel share a member: one integration of the reconstructed
+//    radiance against the BRDF, for the view of the first (their direct light is sampled at
+//    every one);
+//  - the pixels of a block of cache.block x cache.block share a query: one reconstructed
+//    hemisphere (reprojection and holes), in the frame of its first point; each pixel
+//    integrates it against its own BRDF and view (turned into that frame).
 constexpr float kShareCos = 0.95f, kSharePixels = 2.0f;
 
-// The first-hit points the cache serves, as queries: one per pixel and surface
-// (st.query_point: the point whose hemisphere it is; st.query_of: each point's query or -1).
+inline bool shares_with(const ShadingPoint& rep, const ShadingPoint& sp, float footprint) {
+    return dot(sp.n, rep.n) >= kShareCos && std::abs(dot(rep.n, sp.p - rep.p)) <= kSharePixels * footprint;
+}
+
+// The first-hit points the cache serves, as queries and members (CacheState); returns the
+// number of queries.
 template <class W, class Accept>
 inline size_t collect_queries(const W& w, CacheState& st, Accept accept) {
     const PathScratch& sc = w.sc;
     const size_t np = sc.sorted.size();
+    const Camera& cam = w.s.camera;
+    const int K = w.st.cache.block;
+    const int64_t blocks_x = (cam.width + K - 1) / K;
     st.queries.clear();
     st.query_point.clear();
+    st.member_point.clear();
+    st.member_query.clear();
+    st.member_own.clear();
     st.query_of.assign(np, -1);
-    st.pixel_query.clear();
     for (size_t k = 0; k < w.s.materials.size(); ++k) {
         if (!accept(w.s.materials[k])) continue;
-        st.pixel_query.clear();  // per material
+        st.pixel_member.clear();  // per material
+        st.block_queries.clear();
         const size_t first = sc.material_start[k], last = sc.material_start[k + 1];
         for (size_t q = first; q < last; ++q) {
             const ShadingPoint& sp = sc.sorted[q];
             const CameraSample& c = w.cs[sp.path];
-            const int64_t pixel = static_cast<int64_t>(std::floor(c.fy)) * w.s.camera.width + static_cast<int64_t>(std::floor(c.fx));
-            const Camera& cam = w.s.camera;
+            const int64_t px = static_cast<int64_t>(std::floor(c.fx)), py = static_cast<int64_t>(std::floor(c.fy));
+            const int64_t pixel = py * cam.width + px;
             const float footprint = w.out[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
-            auto found = st.pixel_query.find(pixel);
-            if (found != st.pixel_query.end()) {
-                const ShadingPoint& rep = sc.sorted[st.query_point[found->second]];
-                const float off_plane = std::abs(dot(rep.n, sp.p - rep.p));
-                if (dot(sp.n, rep.n) >= kShareCos && off_plane <= kSharePixels * footprint) {
-                    st.query_of[q] = found->second;
-                    continue;
-                }
+            auto found = st.pixel_member.find(pixel);
+            if (found != st.pixel_member.end() && shares_with(sc.sorted[st.member_point[found->second]], sp, footprint)) {
+                st.query_of[q] = found->second;
+                continue;
             }
-            const int32_t qi = static_cast<int32_t>(st.queries.size());
+            // a new member: of a query of its block, or of a new one
+            std::vector<int32_t>& block = st.block_queries[(py / K) * blocks_x + px / K];
             // the sample's own key (the stream key is the pixel's, shared by its samples)
             const uint32_t key = sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q]));
-            st.queries.push_back(Query{sp.p, sp.ng, sp.t, sp.b, sp.n, key,
-                                       kMinReusePixels * footprint / w.st.cache.error});
-            st.query_point.push_back(static_cast<int32_t>(q));
-            st.query_of[q] = qi;
-            if (found == st.pixel_query.end()) st.pixel_query.emplace(pixel, qi);
+            const Query own{sp.p, sp.ng, sp.t, sp.b, sp.n, key, kMinReusePixels * footprint / w.st.cache.error};
+            int32_t query = -1;
+            for (const int32_t u : block)
+                if (shares_with(sc.sorted[st.query_point[u]], sp, footprint)) {
+                    query = u;
+                    break;
+                }
+            if (query < 0) {
+                query = static_cast<int32_t>(st.queries.size());
+                st.queries.push_back(own);
+                st.query_point.push_back(static_cast<int32_t>(q));
+                block.push_back(query);
+            }
+            const int32_t member = static_cast<int32_t>(st.member_point.size());
+            st.member_own.push_back(own);
+            st.member_point.push_back(static_cast<int32_t>(q));
+            st.member_query.push_back(query);
+            st.query_of[q] = member;
+            if (found == st.pixel_member.end()) st.pixel_member.emplace(pixel, member);
         }
     }
+    index_members(st);
     return st.queries.size();
+}
+
+// A member's view direction in its query's frame (the frames of the two points of a share
+// are within acos kShareCos; a view that would fall under that horizon keeps its own).
+inline void view_in_query_frame(const PathScratch& sc, const CacheState& st, int32_t member, float* v) {
+    const int32_t q = st.member_point[member], r = st.query_point[st.member_query[member]];
+    const float* own = sc.v_local.data() + 3 * q;
+    std::copy(own, own + 3, v);
+    if (q == r) return;
+    const ShadingPoint& a = sc.sorted[q];
+    const ShadingPoint& b = sc.sorted[r];
+    const Vec3f world = own[0] * a.t + own[1] * a.b + own[2] * a.n;
+    const float z = dot(world, b.n);
+    if (!(z > 0.01f)) return;
+    v[0] = dot(world, b.t), v[1] = dot(world, b.b), v[2] = z;
 }
 
 // f(l_t, v) at the texels [0, n) listed in st.l for the point's view v (st.f, RGB).
@@ -148,36 +211,33 @@ inline void add_counts(const W& w, const CacheCounts& c, const CacheState& st, s
     w.sc.rays_traced += st.inner.rays_traced - rays_before;
 }
 
-// cache: the indirect light of every first-hit point but glass, from the cache.
+// cache: the indirect light of every first-hit point but those left to the path tracer
+// (left_to_path), from the cache.
 template <class W, class Tracer>
 inline void add_cached_indirect(const W& w, Tracer& trace) {
     PathScratch& sc = w.sc;
     CacheState& st = cache_state(sc);
+    st.timer = &sc.timer;
     const CacheSettings& cfg = w.st.cache;
     const int R = cfg.resolution;
     const size_t T = static_cast<size_t>(R) * R;
     const float texel = texel_solid_angle(R);
-    const size_t n = collect_queries(w, st, [](const Material& m) { return m.kind != MaterialKind::Dielectric; });
+    collect_queries(w, st, [&](const Material& m) { return !left_to_path(m, R); });
     const size_t rays_before = st.inner.rays_traced;
     st.dirs.prepare(R);
-    auto consume = [&](size_t qi, const float* radiance) {
-        const size_t q = st.query_point[qi];
+    // one member's indirect light from its query's radiance; the texels with light (count of
+    // them in st.l, st.rgb) listed once for all the query's members
+    auto integrate = [&](int32_t member, const float* radiance, size_t count) {
+        const size_t q = st.member_point[member];
         const ShadingPoint& sp = sc.sorted[q];
         const Material& m = w.s.materials[sp.material];
-        const float* v = sc.v_local.data() + 3 * q;
+        float v[3];
+        view_in_query_frame(sc, st, member, v);
         double sum[3] = {0, 0, 0};
         if (texel_resolvable(m, R)) {
             // the texels with light, N at a time through the BRDF
-            float* l = grow(st.l, 3 * T);
-            float* rgb = grow(st.rgb, 3 * T);
-            size_t count = 0;
-            for (size_t t = 0; t < T; ++t) {
-                const float* L = radiance + 3 * t;
-                if (!(L[0] > 0 || L[1] > 0 || L[2] > 0)) continue;
-                l[3 * count] = st.dirs.x[t], l[3 * count + 1] = st.dirs.y[t], l[3 * count + 2] = st.dirs.z[t];
-                std::copy(L, L + 3, rgb + 3 * count);
-                ++count;
-            }
+            const float* l = st.l.data();
+            const float* rgb = st.rgb.data();
             if (count > 0) {
                 eval_at_texels(m, v, sc.eta[q], st, count);
                 for (size_t k = 0; k < count; ++k)
@@ -193,7 +253,8 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
             float* u0 = grow(st.u0, K);
             float* u1 = grow(st.u1, K);
             float* u2 = grow(st.u2, K);
-            const uint32_t key = hash_u32(st.queries[qi].key ^ 0x2545f491u);
+            const uint32_t key = hash_u32(
+                sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q])) ^ 0x2545f491u);
             for (size_t k = 0; k < K; ++k) {
                 std::copy(v, v + 3, vv + 3 * k);
                 ee[k] = sc.eta[q];
@@ -201,7 +262,7 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
                 u1[k] = uniform(key, 3 * static_cast<uint32_t>(k) + 1);
                 u2[k] = uniform(key, 3 * static_cast<uint32_t>(k) + 2);
             }
-            float* l = grow(st.l, 3 * K);
+            float* l = grow(st.lobe_l, 3 * K);
             float* pdf = grow(st.pdf, K);
             render_detail::material_sample(m, vv, ee, u0, u1, u2, l, pdf, K);
             render_detail::material_eval(m, l, vv, ee, grow(st.f, 3 * K), K);
@@ -213,12 +274,37 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
             }
             for (double& s : sum) s /= static_cast<double>(K);
         }
-        for (int c = 0; c < 3; ++c) st.sums[3 * qi + c] = static_cast<float>(sum[c]);
+        for (int c = 0; c < 3; ++c) st.sums[3 * member + c] = static_cast<float>(sum[c]);
     };
-    st.sums.assign(3 * n, 0.0f);
-    const CacheCounts c = reconstruct_hemispheres(cfg, w.eps, st.queries.data(), n, true, st, trace, consume);
+    auto consume = [&](size_t qi, const float* radiance) {
+        float* l = grow(st.l, 3 * T);
+        float* rgb = grow(st.rgb, 3 * T);
+        size_t count = 0;
+        for (size_t t = 0; t < T; ++t) {
+            const float* L = radiance + 3 * t;
+            if (!(L[0] > 0 || L[1] > 0 || L[2] > 0)) continue;
+            l[3 * count] = st.dirs.x[t], l[3 * count + 1] = st.dirs.y[t], l[3 * count + 2] = st.dirs.z[t];
+            std::copy(L, L + 3, rgb + 3 * count);
+            ++count;
+        }
+        int32_t lambert = -1;  // the query's last Lambert member: its integral does not depend on the view
+        for (int32_t i = st.query_first[qi]; i < st.query_first[qi + 1]; ++i) {
+            const int32_t member = st.query_members[i];
+            const ShadingPoint& sp = sc.sorted[st.member_point[member]];
+            const Material& m = w.s.materials[sp.material];
+            const bool plain = m.kind == MaterialKind::Lambert && !m.coat;
+            if (plain && lambert >= 0 && sc.sorted[st.member_point[lambert]].material == sp.material) {
+                std::copy(st.sums.begin() + 3 * lambert, st.sums.begin() + 3 * lambert + 3, st.sums.begin() + 3 * member);
+                continue;
+            }
+            integrate(member, radiance, count);
+            if (plain) lambert = member;
+        }
+    };
+    st.sums.assign(3 * st.member_point.size(), 0.0f);
+    const CacheCounts c = reconstruct_hemispheres(cfg, w.eps, true, st, trace, consume);
     add_counts(w, c, st, rays_before);
-    // every point of a query: its indirect light
+    // every point of a member: its indirect light
     for (size_t q = 0; q < sc.sorted.size(); ++q) {
         if (st.query_of[q] < 0) continue;
         const int32_t path = sc.sorted[q].path;
@@ -234,40 +320,46 @@ template <class W, class Tracer>
 inline void build_guides(const W& w, Tracer& trace) {
     PathScratch& sc = w.sc;
     CacheState& st = cache_state(sc);
+    st.timer = &sc.timer;
     const CacheSettings& cfg = w.st.cache;
     const int R = cfg.resolution;
     const size_t T = static_cast<size_t>(R) * R;
     sc.guide_of.assign(sc.sorted.size(), -1);
-    const size_t n = collect_queries(w, st, [&](const Material& m) { return texel_resolvable(m, R); });
-    float* cdf = grow(sc.guide_cdf, n * T);
+    collect_queries(w, st, [&](const Material& m) { return texel_resolvable(m, R); });
+    float* cdf = grow(sc.guide_cdf, st.member_point.size() * T);
     const size_t rays_before = st.inner.rays_traced;
     st.dirs.prepare(R);
     float* l = grow(st.l, 3 * T);
     for (size_t t = 0; t < T; ++t) l[3 * t] = st.dirs.x[t], l[3 * t + 1] = st.dirs.y[t], l[3 * t + 2] = st.dirs.z[t];
+    // each member of the query: its own BRDF and view against the query's radiance
     auto consume = [&](size_t qi, const float* radiance) {
-        const size_t q = st.query_point[qi];
-        const ShadingPoint& sp = sc.sorted[q];
-        eval_at_texels(w.s.materials[sp.material], sc.v_local.data() + 3 * q, sc.eta[q], st, T);
-        float* c = cdf + qi * T;
-        double acc = 0;
-        for (size_t t = 0; t < T; ++t) {
-            float prod[3];
-            for (int k = 0; k < 3; ++k) prod[k] = radiance[3 * t + k] * st.f[3 * t + k];
-            acc += std::max(0.0f, luminance(prod)) * l[3 * t + 2];
-            c[t] = static_cast<float>(acc);
+        for (int32_t i = st.query_first[qi]; i < st.query_first[qi + 1]; ++i) {
+            const int32_t member = st.query_members[i];
+            const size_t q = st.member_point[member];
+            float v[3];
+            view_in_query_frame(sc, st, member, v);
+            eval_at_texels(w.s.materials[sc.sorted[q].material], v, sc.eta[q], st, T);
+            float* c = cdf + static_cast<size_t>(member) * T;
+            double acc = 0;
+            for (size_t t = 0; t < T; ++t) {
+                float prod[3];
+                for (int k = 0; k < 3; ++k) prod[k] = radiance[3 * t + k] * st.f[3 * t + k];
+                acc += std::max(0.0f, luminance(prod)) * l[3 * t + 2];
+                c[t] = static_cast<float>(acc);
+            }
+            if (!(acc > 0) || !std::isfinite(acc)) continue;
+            const float inv = static_cast<float>(1.0 / acc);
+            for (size_t t = 0; t < T; ++t) c[t] *= inv;
+            c[T - 1] = 1.0f;
+            sc.guide_of[q] = member;
         }
-        if (!(acc > 0) || !std::isfinite(acc)) return;
-        const float inv = static_cast<float>(1.0 / acc);
-        for (size_t t = 0; t < T; ++t) c[t] *= inv;
-        c[T - 1] = 1.0f;
-        sc.guide_of[q] = static_cast<int32_t>(qi);
     };
-    const CacheCounts counts = reconstruct_hemispheres(cfg, w.eps, st.queries.data(), n, false, st, trace, consume);
+    const CacheCounts counts = reconstruct_hemispheres(cfg, w.eps, false, st, trace, consume);
     add_counts(w, counts, st, rays_before);
-    // the other points of a query draw from its guide (in their own frames: another
+    // the other points of a member draw from its guide (in their own frames: another
     // distribution, as valid, its density evaluated the same way)
     for (size_t q = 0; q < sc.sorted.size(); ++q)
-        if (st.query_of[q] >= 0) sc.guide_of[q] = sc.guide_of[st.query_point[st.query_of[q]]];
+        if (st.query_of[q] >= 0) sc.guide_of[q] = sc.guide_of[st.member_point[st.query_of[q]]];
 }
 
 inline bool has_guides(const PathScratch& sc);

@@ -123,6 +123,7 @@ def _with_options(scene: Scene, args: argparse.Namespace) -> Scene:
         cache_resolution=args.cache_resolution,
         cache_error=args.cache_error,
         cache_guide=args.cache_guide,
+        cache_block=args.cache_block,
     )
 
 
@@ -370,6 +371,7 @@ def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help:
         ("resolution", int, "texels per side of a cache point's hemisphere"),
         ("error", float, "the cache's reuse criterion bound (larger: fewer cache points, more reuse)"),
         ("guide", float, "cache-guided: probability of drawing the first bounce from the cache"),
+        ("block", int, "pixels per side of the blocks whose close points share one reconstruction"),
     ):
         lo, hi = CACHE_RANGES[key]
         s.add_argument(

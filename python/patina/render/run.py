@@ -176,6 +176,7 @@ def job_settings(
         "cache_resolution": scene.render.cache.resolution,
         "cache_error": float(scene.render.cache.error),
         "cache_guide": float(scene.render.cache.guide),
+        "cache_block": scene.render.cache.block,
     }
 
 

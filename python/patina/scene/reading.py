@@ -187,18 +187,25 @@ SAMPLERS = ("sobol", "independent")  # render.sampler, --sampler: the paths' num
 INTEGRATORS = ("direct", "path", "cache", "cache-guided")  # render.integrator, --integrator
 # the radiance cache's parameters (docs/radiance-cache.md): render.cache.<key>, --cache-<key>;
 # the ranges are the C++ side's (render/cache/cache_settings.h)
-CACHE_RANGES: dict[str, tuple[float, float]] = {"resolution": (8, 128), "error": (0.01, 4.0), "guide": (0.05, 0.95)}
+CACHE_RANGES: dict[str, tuple[float, float]] = {
+    "resolution": (8, 128),
+    "error": (0.01, 4.0),
+    "guide": (0.05, 0.95),
+    "block": (1, 16),
+}
+CACHE_INTEGER_KEYS = ("resolution", "block")
 
 
 def _cache_params(o: Obj) -> CacheParams:
     o.allow(tuple(CACHE_RANGES), "render.cache")
     d = CacheParams()
-    lo, hi = CACHE_RANGES["resolution"]
-    return CacheParams(
-        resolution=o.read("resolution", integer, d.resolution, lo=int(lo), hi=int(hi)),
-        error=o.read("error", number, d.error, lo=CACHE_RANGES["error"][0], hi=CACHE_RANGES["error"][1]),
-        guide=o.read("guide", number, d.guide, lo=CACHE_RANGES["guide"][0], hi=CACHE_RANGES["guide"][1]),
-    )
+    values = {}
+    for key, (lo, hi) in CACHE_RANGES.items():
+        if key in CACHE_INTEGER_KEYS:
+            values[key] = o.read(key, integer, getattr(d, key), lo=int(lo), hi=int(hi))
+        else:
+            values[key] = o.read(key, number, getattr(d, key), lo=lo, hi=hi)
+    return CacheParams(**values)
 
 
 def _render(o: Obj) -> Render:
@@ -654,6 +661,7 @@ def with_overrides(
     cache_resolution: int | None = None,
     cache_error: float | None = None,
     cache_guide: float | None = None,
+    cache_block: int | None = None,
 ) -> Scene:
     """The scene with command-line settings replacing the file's; bad values are FormatErrors
     naming the option (file "command line")."""
@@ -664,14 +672,16 @@ def with_overrides(
     if integrator is not None:
         render = dataclasses.replace(render, integrator=choice(ctx, "--integrator", integrator, INTEGRATORS))
     cache = render.cache
-    if cache_resolution is not None:
-        lo, hi = CACHE_RANGES["resolution"]
-        value = integer(ctx, "--cache-resolution", cache_resolution, lo=int(lo), hi=int(hi))
-        cache = dataclasses.replace(cache, resolution=value)
-    for option, key, given in (("--cache-error", "error", cache_error), ("--cache-guide", "guide", cache_guide)):
+    given_cache = {"resolution": cache_resolution, "error": cache_error, "guide": cache_guide, "block": cache_block}
+    for key, given in given_cache.items():
         if given is not None:
             lo, hi = CACHE_RANGES[key]
-            cache = dataclasses.replace(cache, **{key: number(ctx, option, given, lo=lo, hi=hi)})
+            option = f"--cache-{key}"
+            if key in CACHE_INTEGER_KEYS:
+                value = integer(ctx, option, given, lo=int(lo), hi=int(hi))
+            else:
+                value = number(ctx, option, given, lo=lo, hi=hi)
+            cache = dataclasses.replace(cache, **{key: value})
     render = dataclasses.replace(render, cache=cache)
     if seed is not None:
         render = dataclasses.replace(render, seed=integer(ctx, "--seed", seed, lo=0, hi=MAX_SEED))

@@ -69,9 +69,10 @@ class CacheParams:
     """The radiance cache's parameters (docs/radiance-cache.md), for the `cache` and
     `cache-guided` integrators."""
 
-    resolution: int = 32  # texels per side of a hemisphere, 8 to 128
+    resolution: int = 24  # texels per side of a hemisphere, 8 to 128
     error: float = 0.5  # the reuse criterion's bound, 0.01 to 4
     guide: float = 0.5  # cache-guided: probability of drawing the first bounce from the cache, 0.05 to 0.95
+    block: int = 8  # pixels per side of the blocks whose close points share one reconstruction, 1 to 16
 
 
 @dataclass(frozen=True)

@@ -239,15 +239,20 @@ def test_overrides(folder):
 
 def test_cache_settings_defaults_and_overrides(folder):
     scene = parse(FULL, folder)
-    assert (scene.render.cache.resolution, scene.render.cache.error, scene.render.cache.guide) == (32, 0.5, 0.5)
-    s = with_overrides(scene, integrator="cache-guided", cache_resolution=16, cache_error=1.5, cache_guide=0.3)
+    c = scene.render.cache
+    assert (c.resolution, c.error, c.guide, c.block) == (24, 0.5, 0.5, 8)
+    overrides = {"cache_resolution": 16, "cache_error": 1.5, "cache_guide": 0.3, "cache_block": 2}
+    s = with_overrides(scene, integrator="cache-guided", **overrides)
     assert s.render.integrator == "cache-guided"
-    assert (s.render.cache.resolution, s.render.cache.error, s.render.cache.guide) == (16, 1.5, 0.3)
+    c = s.render.cache
+    assert (c.resolution, c.error, c.guide, c.block) == (16, 1.5, 0.3, 2)
     obj = copy.deepcopy(FULL)
-    obj["render"]["cache"] = {"resolution": 24}
-    assert parse(obj, folder).render.cache.resolution == 24
+    obj["render"]["cache"] = {"resolution": 32, "block": 1}
+    c = parse(obj, folder).render.cache
+    assert (c.resolution, c.block) == (32, 1)
     for kwargs, where in [({"cache_resolution": 200}, "--cache-resolution"), ({"cache_error": 5.0}, "--cache-error"),
-                          ({"cache_guide": 0.0}, "--cache-guide")]:  # fmt: skip
+                          ({"cache_guide": 0.0}, "--cache-guide"), ({"cache_block": 17}, "--cache-block"),
+                          ({"cache_block": 2.5}, "--cache-block")]:  # fmt: skip
         with pytest.raises(FormatError) as info:
             with_overrides(scene, **kwargs)
         assert info.value.where == where and info.value.path == "command line"
@@ -291,6 +296,7 @@ ERRORS = [
     (("render", "cache"), {"resolution": 16.5}, "render.cache.resolution", "integer"),
     (("render", "cache"), {"error": 0}, "render.cache.error", "[0.01, 4]"),
     (("render", "cache"), {"guide": 1}, "render.cache.guide", "[0.05, 0.95]"),
+    (("render", "cache"), {"block": 0}, "render.cache.block", "[1, 16]"),
     (("render", "cache"), {"eror": 1}, "render.cache.eror", "did you mean 'error'"),
     (("render", "cache"), 3, "render.cache", "object"),
     (("materials", "paint", "coat", "eta"), 0.5, "materials.paint.coat.eta", "in [1, 1000]"),

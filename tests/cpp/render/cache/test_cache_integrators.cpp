@@ -96,11 +96,12 @@ std::vector<CameraSample> pixel_samples(int width, int height, int spp, uint32_t
 }
 
 std::vector<PathResult> trace(const BoxScene& b, int width, IntegratorMode mode, const std::vector<CameraSample>& cs,
-                              PathScratch& sc) {
+                              PathScratch& sc, int block = 1) {
     IntegratorSettings st;
     st.max_depth = 4;
     st.mode = mode;
     st.cache.resolution = 16;
+    st.cache.block = block;
     std::vector<PathResult> out(cs.size());
     render_kernels_for(width).trace_paths(b.scene, st, cs.data(), cs.size(), out.data(), sc);
     return out;
@@ -135,16 +136,17 @@ std::vector<float> render_job(const BoxScene& b, IntegratorMode mode, int thread
 TEST(CacheIntegrators, WidthsFourAndEightGiveTheBitsOfWidthOne) {
     const BoxScene b(12, 12);
     const std::vector<CameraSample> cs = pixel_samples(12, 12, 2, 3);
-    for (IntegratorMode mode : {IntegratorMode::Cache, IntegratorMode::CacheGuided}) {
+    for (IntegratorMode mode : {IntegratorMode::Cache, IntegratorMode::CacheGuided})
+    for (int block : {1, 4}) {
         PathScratch s1;
-        const std::vector<PathResult> ref = trace(b, 1, mode, cs, s1);
+        const std::vector<PathResult> ref = trace(b, 1, mode, cs, s1, block);
         for (int width : {4, 8}) {
             if (!width_supported(width)) continue;
             PathScratch sw;
-            const std::vector<PathResult> got = trace(b, width, mode, cs, sw);
+            const std::vector<PathResult> got = trace(b, width, mode, cs, sw, block);
             for (size_t i = 0; i < cs.size(); ++i)
                 for (int k = 0; k < 3; ++k)
-                    ASSERT_EQ(got[i].rgb[k], ref[i].rgb[k]) << "width " << width << " sample " << i;
+                    ASSERT_EQ(got[i].rgb[k], ref[i].rgb[k]) << "width " << width << " block " << block << " sample " << i;
             EXPECT_EQ(sw.cache_points, s1.cache_points);
             EXPECT_EQ(sw.rays_traced, s1.rays_traced);
         }
@@ -180,6 +182,38 @@ TEST(CacheIntegrators, RadianceIsFiniteAndCachePointsAreReused) {
             EXPECT_GT(sc.cache_texels_reprojected, sc.cache_texels_traced);
         }
     }
+}
+
+// Blocks of pixels share reconstructions: far fewer than one a pixel (in this small box the
+// 0.3 R_A reach splits many of the 4 x 4 blocks, about 0.5 m across, once more), but never
+// one across the box's walls, and an image whose mean is the per-pixel reconstruction's.
+TEST(CacheIntegrators, BlocksOfPixelsShareReconstructionsButNotAcrossWalls) {
+    const BoxScene b(16, 16);
+    const std::vector<CameraSample> cs = pixel_samples(16, 16, 2, 21);
+    PathScratch s1, s4;
+    const double per_pixel = mean_radiance(trace(b, 0, IntegratorMode::Cache, cs, s1, 1));
+    const std::vector<PathResult> r = trace(b, 0, IntegratorMode::Cache, cs, s4, 4);
+    for (const PathResult& p : r)
+        for (int k = 0; k < 3; ++k) ASSERT_TRUE(std::isfinite(p.rgb[k]) && p.rgb[k] >= 0.0f);
+    EXPECT_LT(s4.cache_queries, s1.cache_queries / 3);
+    // 16 blocks, and the blocks on a wall's edge (most of them here) hold two surfaces or more
+    EXPECT_GT(s4.cache_queries, 16u + 8u);
+    EXPECT_NEAR(mean_radiance(r) / per_pixel, 1.0, 0.04);
+}
+
+// A clear coat's lobe is narrower than any texel: `cache` leaves it to the path tracer, so
+// in a box of coated walls the cache has nothing to do and the image is path's, bit for bit.
+TEST(CacheIntegrators, ACoatIsLeftToThePathTracer) {
+    BoxScene b(8, 8);
+    for (Material& m : b.scene.materials)
+        if (m.kind != MaterialKind::Emitter) m.coat = true;
+    const std::vector<CameraSample> cs = pixel_samples(8, 8, 2, 6);
+    PathScratch sp, sc;
+    const std::vector<PathResult> path = trace(b, 0, IntegratorMode::Path, cs, sp);
+    const std::vector<PathResult> cached = trace(b, 0, IntegratorMode::Cache, cs, sc);
+    EXPECT_EQ(sc.cache_queries, 0u);
+    for (size_t i = 0; i < cs.size(); ++i)
+        for (int k = 0; k < 3; ++k) ASSERT_EQ(path[i].rgb[k], cached[i].rgb[k]) << i;
 }
 
 // Direct light alone (max_depth 1): the cache has nothing to do, the image is the path
