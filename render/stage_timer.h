@@ -43,6 +43,7 @@ enum class Stage : int {
     CacheReproject,   // cache points reprojected into the points that use them
     CacheHoles,       // what reprojection left traced from the points
     CacheIntegrate,   // reconstructed radiance integrated against the BRDF (or made a guide)
+    CacheSplit,       // narrow lobes' first bounces split into several traced paths
     Count
 };
 constexpr int kStageCount = static_cast<int>(Stage::Count);
@@ -53,7 +54,8 @@ inline const char* stage_name(Stage s) {
         "camera_rays",   "ray_gather",    "trace_camera",  "trace_secondary", "emission",   "shading_points",
         "group_material", "light_select", "light_sample",  "light_to_local",  "shade_light", "shadow_queue",
         "bsdf_uniforms", "shade_sample",  "path_update",   "trace_shadow",    "shadow_resolve",
-        "cache_place",   "cache_build",   "cache_surfels", "cache_reproject", "cache_holes", "cache_integrate"};
+        "cache_place",   "cache_build",   "cache_surfels", "cache_reproject", "cache_holes", "cache_integrate",
+        "cache_split"};
     return names[static_cast<int>(s)];
 }
 

@@ -90,6 +90,7 @@ struct CacheState {
     std::vector<float> sums;                // cache: each member's indirect light (RGB)
     std::vector<float> l, v, eta, f, pdf, u0, u1, u2, rgb;  // integrating one hemisphere
     std::vector<float> lobe_l;  // a narrow lobe's sampled directions
+    std::vector<float> split_weight;  // split_narrow_lobes: each ray's f cos / (pdf K), RGB
     std::vector<uint8_t> chose_guide;  // cache-guided: per first-hit point, drawn from the guide
     std::vector<float> guide_pick;     // ...and the uniform that picks its texel
     std::vector<CachePoint> points;

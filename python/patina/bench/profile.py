@@ -44,7 +44,15 @@ KINDS: dict[str, tuple[str, ...]] = {
         "sampler_film",
     ),
     # the radiance cache at the first hit (integrators cache, cache-guided), its own rays included
-    "cache": ("cache_place", "cache_build", "cache_surfels", "cache_reproject", "cache_holes", "cache_integrate"),
+    "cache": (
+        "cache_place",
+        "cache_build",
+        "cache_surfels",
+        "cache_reproject",
+        "cache_holes",
+        "cache_integrate",
+        "cache_split",
+    ),
 }
 
 
