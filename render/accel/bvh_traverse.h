@@ -169,6 +169,35 @@ PATINA_INLINE uint32_t order_children(const Bvh& bvh, const BvhNode& node, int m
     }
     return hit[n - 1].child;
 }
+
+// The traversal both queries share: nodes with L lanes over their children, nearest child first,
+// the others on the stack; a popped child is skipped once it lies beyond `tfar` (the closest hit
+// so far, which the leaf visitor may lower). `leaf(first_block, block_count)` returns true to stop.
+template <int L, typename Leaf>
+inline void traverse(const Bvh& bvh, const RayPacket<1>& r, const BoxRay& b, const float& tfar, Leaf&& leaf) {
+    StackEntry stack[kStackSize];
+    int top = 0;
+    uint32_t cur = bvh.root;
+    alignas(32) float near[kBvhWidth];
+    for (;;) {
+        while (!bvh_is_leaf(cur)) {
+            const BvhNode& node = bvh.nodes[cur];
+            const int mask = hit_children<L>(node, b, r.tmin, tfar, near);
+            if (mask == 0) goto pop;
+            cur = order_children(bvh, node, mask, near, stack, top);
+        }
+        if (leaf(&bvh.blocks[bvh_leaf_first(cur)], bvh_leaf_blocks(cur))) return;
+    pop:
+        for (;;) {
+            if (top == 0) return;
+            const StackEntry& e = stack[--top];
+            if (e.tnear <= tfar) {
+                cur = e.child;
+                break;
+            }
+        }
+    }
+}
 }  // namespace bvh_detail
 
 // Closest hit (the least t, then the least primitive index) of the ray in (tmin, tmax], with L lanes over the
@@ -184,47 +213,26 @@ inline void bvh_intersect(const Bvh& bvh, const float* org, const float* dir, fl
     RayPacket<1> r;
     BoxRay b;
     load_ray(bvh, org, dir, tmin, tmax, r, b);
-    StackEntry stack[kStackSize];
-    int top = 0;
-    uint32_t cur = bvh.root;
-    alignas(32) float near[kBvhWidth];
-    for (;;) {
-        while (!bvh_is_leaf(cur)) {
-            const BvhNode& node = bvh.nodes[cur];
-            const int mask = hit_children<L>(node, b, r.tmin, hit.t, near);
-            if (mask == 0) goto pop;
-            cur = order_children(bvh, node, mask, near, stack, top);
-        }
-        {
-            const BvhBlock* blk = &bvh.blocks[bvh_leaf_first(cur)];
-            for (uint32_t k = 0, nb = bvh_leaf_blocks(cur); k < nb; ++k, ++blk) {
-                for (int c = 0; c < kBvhBlock; c += T) {
-                    vfloat<T> t(0.0f), u(0.0f), v(0.0f);
-                    const int valid = movemask(block_lanes<T, false>(r, *blk, c, hit.t, t, u, v));
-                    for (int m = valid; m; m &= m - 1) {
-                        const int j = __builtin_ctz(static_cast<unsigned>(m));
-                        const float tj = lane(t, j);
-                        const int32_t pj = blk->prim[c + j];
-                        if (tj < hit.t || (tj == hit.t && (hit.prim < 0 || pj < hit.prim))) {
-                            hit.t = tj;
-                            hit.u = lane(u, j);
-                            hit.v = lane(v, j);
-                            hit.prim = pj;
-                        }
+    traverse<L>(bvh, r, b, hit.t, [&](const BvhBlock* blk, uint32_t nb) {
+        for (uint32_t k = 0; k < nb; ++k, ++blk) {
+            for (int c = 0; c < kBvhBlock; c += T) {
+                vfloat<T> t(0.0f), u(0.0f), v(0.0f);
+                const int valid = movemask(block_lanes<T, false>(r, *blk, c, hit.t, t, u, v));
+                for (int m = valid; m; m &= m - 1) {
+                    const int j = __builtin_ctz(static_cast<unsigned>(m));
+                    const float tj = lane(t, j);
+                    const int32_t pj = blk->prim[c + j];
+                    if (tj < hit.t || (tj == hit.t && (hit.prim < 0 || pj < hit.prim))) {
+                        hit.t = tj;
+                        hit.u = lane(u, j);
+                        hit.v = lane(v, j);
+                        hit.prim = pj;
                     }
                 }
             }
         }
-    pop:
-        for (;;) {
-            if (top == 0) return;
-            const StackEntry& e = stack[--top];
-            if (e.tnear <= hit.t) {
-                cur = e.child;
-                break;
-            }
-        }
-    }
+        return false;
+    });
 }
 
 // Whether the ray hits anything in (tmin, tmax).
@@ -235,30 +243,17 @@ inline bool bvh_occluded(const Bvh& bvh, const float* org, const float* dir, flo
     RayPacket<1> r;
     BoxRay b;
     load_ray(bvh, org, dir, tmin, tmax, r, b);
-    StackEntry stack[kStackSize];
-    int top = 0;
-    uint32_t cur = bvh.root;
-    alignas(32) float near[kBvhWidth];
-    for (;;) {
-        while (!bvh_is_leaf(cur)) {
-            const BvhNode& node = bvh.nodes[cur];
-            const int mask = hit_children<L>(node, b, r.tmin, r.tmax, near);
-            if (mask == 0) goto pop;
-            cur = order_children(bvh, node, mask, near, stack, top);
-        }
-        {
-            const BvhBlock* blk = &bvh.blocks[bvh_leaf_first(cur)];
-            for (uint32_t k = 0, nb = bvh_leaf_blocks(cur); k < nb; ++k, ++blk) {
-                for (int c = 0; c < kBvhBlock; c += T) {
-                    vfloat<T> t(0.0f), u(0.0f), v(0.0f);
-                    if (any(block_lanes<T, true>(r, *blk, c, r.tmax, t, u, v))) return true;
-                }
+    bool occluded = false;
+    traverse<L>(bvh, r, b, r.tmax, [&](const BvhBlock* blk, uint32_t nb) {
+        for (uint32_t k = 0; k < nb; ++k, ++blk) {
+            for (int c = 0; c < kBvhBlock; c += T) {
+                vfloat<T> t(0.0f), u(0.0f), v(0.0f);
+                if (any(block_lanes<T, true>(r, *blk, c, r.tmax, t, u, v))) return occluded = true;
             }
         }
-    pop:
-        if (top == 0) return false;
-        cur = stack[--top].child;
-    }
+        return false;
+    });
+    return occluded;
 }
 
 PATINA_END_TARGET
