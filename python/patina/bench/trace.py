@@ -88,13 +88,7 @@ def _closest_records(
     # Packets against single rays: both write into the same preallocated arrays, so the
     # ratio is the traversal's. Against Embree: ours allocates its results as embreex does.
     n = len(o)
-    out = (
-        np.empty(n, np.float32),
-        np.empty(n, np.int32),
-        np.empty(n, np.float32),
-        np.empty(n, np.float32),
-        np.empty((n, 3), np.float32),
-    )
+    out = _hit_arrays(n)
     fns = [functools.partial(accel.core.intersect, o, d, width=w, threads=1, out=out) for w in (1, *widths)]
     fns += [functools.partial(accel.core.intersect, o, d, width=w, threads=1) for w in widths]
     if embree is not None:
@@ -105,6 +99,17 @@ def _closest_records(
     if embree is not None:
         records += _embree_records(prefix, widths, times[1 + k : 1 + 2 * k], times[-1], n, "kd-tree", EMBREE)
     return records
+
+
+def _hit_arrays(n: int) -> tuple[np.ndarray, ...]:
+    """Preallocated results of `intersect(..., out=)` for n rays: t, triangle id, u, v, normal."""
+    return (
+        np.empty(n, np.float32),
+        np.empty(n, np.int32),
+        np.empty(n, np.float32),
+        np.empty(n, np.float32),
+        np.empty((n, 3), np.float32),
+    )
 
 
 def _shadow_records(
@@ -157,13 +162,7 @@ def _bvh_records(
     w = max(_packetsimd_widths(), default=1)
     accel.core.build_bvh()  # not timed
     if tmax is None:
-        out = (
-            np.empty(n, np.float32),
-            np.empty(n, np.int32),
-            np.empty(n, np.float32),
-            np.empty(n, np.float32),
-            np.empty((n, 3), np.float32),
-        )
+        out = _hit_arrays(n)
         fns = [functools.partial(accel.core.intersect, o, d, width=w, threads=1, out=out, bvh=b) for b in (False, True)]
         fns.append(functools.partial(accel.core.intersect, o, d, width=w, threads=1, bvh=True))
         what, embree_what = "BVH", EMBREE
