@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "render/aa_highlights.h"
 #include "render/scene.h"
 
 namespace patina {
@@ -32,6 +33,8 @@ struct AaEdgeHints {
     // degrees counter-clockwise (u = 1 - y); 0: no edge
     std::vector<uint8_t> zones[2];
     std::vector<float> nearest;  // per pixel: the distance from the camera of the nearest edge crossing it
+    // the sub-pixel highlights' pieces (aa_highlights.h), sorted by pixel, one a pixel
+    std::vector<AaSpot> spots;
     bool empty() const { return width == 0; }
     void resize(int w, int h);  // w x h pixels, no edge
 };

@@ -12,6 +12,8 @@ namespace {
 
 constexpr uint32_t kCornerSalt = 0x6a09e667u;  // corners' random streams apart from the pixels'
 constexpr uint32_t kSignalSalt = 0xbb67ae85u;  // the signal's one shared stream
+constexpr uint32_t kSpotSalt = 0x3c6ef372u;    // the highlights' grids
+constexpr int kSpotRays = kAaSpotGrid * kAaSpotGrid;
 
 uint32_t morton(uint32_t x, uint32_t y) {
     uint32_t m = 0;
@@ -95,6 +97,19 @@ void AdaptiveSampler::begin(const TileRect& tile, int pass) {
     m_level2_pixels.clear();
     m_level3_pixels.clear();
     m_level3_first.assign(m_pixels.size(), -1);
+    // the pixels a sub-pixel highlight falls on (the pre-pass's pieces, sorted by pixel)
+    m_spot_pixels.clear();
+    if (m_hints != nullptr && !m_hints->spots.empty()) {
+        const std::vector<AaSpot>& spots = m_hints->spots;
+        for (size_t i = 0; i < m_pixels.size(); ++i) {
+            const auto it = std::lower_bound(spots.begin(), spots.end(), m_pixels[i].pixel,
+                                             [](const AaSpot& a, int pixel) { return a.pixel < pixel; });
+            if (it == spots.end() || it->pixel != m_pixels[i].pixel) continue;
+            m_pixels[i].spot = static_cast<int>(it - spots.begin());
+            m_pixels[i].spot_first = kSpotRays * static_cast<int>(m_spot_pixels.size());
+            m_spot_pixels.push_back(static_cast<int>(i));
+        }
+    }
 }
 
 int AdaptiveSampler::corner_of(const PixelState& p, int canonical) const {
@@ -135,6 +150,20 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
             // border trace it alike
             const uint32_t id = static_cast<uint32_t>(cy) * row + static_cast<uint32_t>(cx);
             samples.push_back({static_cast<float>(cx), static_cast<float>(cy), stream_key(m_seed ^ kCornerSalt, id), pass});
+        }
+        m_corner_count = samples.size();
+        // the highlights' grids with the corners: where they fall is known before any ray
+        for (const int i : m_spot_pixels) {
+            const PixelState& p = m_pixels[i];
+            const AaSpot& q = m_hints->spots[static_cast<size_t>(p.spot)];
+            const float x0 = static_cast<float>(m_tile.x0 + p.tx), y0 = static_cast<float>(m_tile.y0 + p.ty);
+            for (int k = 0; k < kSpotRays; ++k) {
+                const float gx = (static_cast<float>(k % kAaSpotGrid) + 0.5f) / kAaSpotGrid;
+                const float gy = (static_cast<float>(k / kAaSpotGrid) + 0.5f) / kAaSpotGrid;
+                const uint32_t id = static_cast<uint32_t>(p.pixel) * kSpotRays + static_cast<uint32_t>(k);
+                samples.push_back({x0 + q.x0 + gx * (q.x1 - q.x0), y0 + q.y0 + gy * (q.y1 - q.y0),
+                                   stream_key(m_seed ^ kSpotSalt, id), pass});
+            }
         }
         m_round = 1;
         return !samples.empty();
@@ -195,11 +224,13 @@ void AdaptiveSampler::trace_signal(const CameraSample* samples, size_t n, PathRe
 
 void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult* results, size_t n) {
     if (m_round == 1) {
-        m_corners.resize(n);
+        const size_t nc = m_corner_count;  // then the highlights' grids, which decide nothing
+        m_corners.resize(nc);
         std::vector<AaSignal> sig;
-        signals(samples, results, n, sig);
-        m_corner_signal.resize(n);
-        for (size_t q = 0; q < n; ++q) {
+        signals(samples, results, nc, sig);
+        m_corner_signal.resize(nc);
+        m_spot.assign(results + nc, results + n);
+        for (size_t q = 0; q < nc; ++q) {
             m_corners[m_corner_order[q]] = results[q];
             m_corner_signal[m_corner_order[q]] = sig[q];
         }
@@ -271,29 +302,60 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
     }
 }
 
+bool AdaptiveSampler::in_spot(const PixelState& p, int s) const {
+    if (p.spot < 0) return false;
+    const AaSpot& q = m_hints->spots[static_cast<size_t>(p.spot)];
+    float fx, fy;
+    place(p, s, fx, fy);
+    fx -= static_cast<float>(m_tile.x0 + p.tx);
+    fy -= static_cast<float>(m_tile.y0 + p.ty);
+    return fx >= q.x0 && fx <= q.x1 && fy >= q.y0 && fy <= q.y1;
+}
+
 void AdaptiveSampler::finish() {
     const bool record = m_pass == 0;
     for (size_t i = 0; i < m_pixels.size(); ++i) {
         const PixelState& p = m_pixels[i];
-        if (record) m_stats.level[p.pixel] = static_cast<uint8_t>(p.level);
-        if (p.level == 1) {
-            for (int k = 0; k < aa::kCorners; ++k) m_film.add(p.pixel, m_corners[corner_of(p, k)], aa::kCornerWeightLevel1);
-            if (record) m_stats.rays[p.pixel] = 1;
-            continue;
-        }
-        const auto& w = aa::kWeights[p.zones];
-        for (int k = 0; k < aa::kCorners; ++k) m_film.add(p.pixel, m_corners[corner_of(p, k)], w[k]);
-        for (int k = 0; k < aa::kLevel2; ++k) m_film.add(p.pixel, m_level2[p.first + k], w[aa::kCorners + k]);
-        int next = m_level3_first[i], zigzags = 0;
-        for (int z = 0; z < aa::kZones; ++z) {
-            if (!((p.zones >> z) & 1)) continue;
-            ++zigzags;
-            for (int k = 0; k < aa::kZigzag; ++k) {
-                const int s = aa::kCorners + aa::kLevel2 + z * aa::kZigzag + k;
-                m_film.add(p.pixel, m_level3[next++], w[s]);
+        // the pattern's samples of the pixel with their weights: f(s, result, weight)
+        const auto each_sample = [&](const auto& f) {
+            if (p.level == 1) {
+                for (int k = 0; k < aa::kCorners; ++k) f(k, m_corners[corner_of(p, k)], aa::kCornerWeightLevel1);
+                return;
             }
+            const auto& w = aa::kWeights[p.zones];
+            for (int k = 0; k < aa::kCorners; ++k) f(k, m_corners[corner_of(p, k)], w[k]);
+            for (int k = 0; k < aa::kLevel2; ++k) f(aa::kCorners + k, m_level2[p.first + k], w[aa::kCorners + k]);
+            int next = m_level3_first[i];
+            for (int z = 0; z < aa::kZones; ++z) {
+                if (!((p.zones >> z) & 1)) continue;
+                for (int k = 0; k < aa::kZigzag; ++k) {
+                    const int s = aa::kCorners + aa::kLevel2 + z * aa::kZigzag + k;
+                    f(s, m_level3[next++], w[s]);
+                }
+            }
+        };
+        // a highlight's piece: its grid's rays share the piece's area, the pattern's rays
+        // outside it the rest (in proportion to their weights)
+        float spot_scale = 1, grid_weight = 0;
+        if (p.spot >= 0) {
+            const AaSpot& q = m_hints->spots[static_cast<size_t>(p.spot)];
+            const double area = static_cast<double>(q.x1 - q.x0) * static_cast<double>(q.y1 - q.y0);
+            double outside = 0;
+            each_sample([&](int s, const PathResult&, float w) { outside += in_spot(p, s) ? 0.0 : w; });
+            spot_scale = outside > 0 ? static_cast<float>((1 - area) / outside) : 0.0f;
+            grid_weight = static_cast<float>((outside > 0 ? area : 1.0) / kSpotRays);
+            for (int k = 0; k < kSpotRays; ++k) m_film.add(p.pixel, m_spot[p.spot_first + k], grid_weight);
         }
-        if (record) m_stats.rays[p.pixel] = static_cast<uint8_t>(1 + aa::kLevel2 + aa::kZigzag * zigzags);
+        // (the samples inside the piece left out: the grid stands for them)
+        each_sample([&](int s, const PathResult& r, float w) {
+            if (!in_spot(p, s) && w * spot_scale != 0) m_film.add(p.pixel, r, w * spot_scale);
+        });
+        if (record) {
+            m_stats.level[p.pixel] = static_cast<uint8_t>(p.level);
+            const int zigzags = p.level == 1 ? 0 : zone_count(p.zones);
+            const int rays = p.level == 1 ? 1 : 1 + aa::kLevel2 + aa::kZigzag * zigzags;
+            m_stats.rays[p.pixel] = static_cast<uint8_t>(rays + (p.spot >= 0 ? kSpotRays : 0));
+        }
     }
 }
 

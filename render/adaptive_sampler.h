@@ -96,12 +96,15 @@ private:
         uint8_t hint = 0;       // the zones a visible feature edge crosses (the geometric pre-pass)
         int level = 1;
         int first = -1;         // index of its level-2 (then level-3) results in m_refined
+        int spot = -1;          // its highlight piece in m_hints->spots (aa_highlights.h), -1 none
+        int spot_first = -1;    // index of its spot grid's results in m_spot
     };
     // the signals of a round's positions: its own results where they are the signal, else traced
     void signals(const CameraSample* samples, const PathResult* results, size_t n, std::vector<AaSignal>& out);
     void place(const PixelState& p, int s, float& fx, float& fy) const;
     int corner_of(const PixelState& p, int canonical) const;  // index into m_corners
     void finish();
+    bool in_spot(const PixelState& p, int s) const;  // sample s of p's pattern lies in its highlight piece
 
     Film& m_film;
     const RenderScene& m_scene;
@@ -118,6 +121,9 @@ private:
     std::vector<PixelState> m_pixels;  // Morton order
     std::vector<int> m_corner_order;   // corner indices (cy * (w + 1) + cx) in Morton order
     std::vector<PathResult> m_corners;
+    size_t m_corner_count = 0;          // round 1: the corners, then the highlights' grids
+    std::vector<int> m_spot_pixels;     // into m_pixels
+    std::vector<PathResult> m_spot;
     std::vector<AaSignal> m_corner_signal;
     std::vector<int> m_level2_pixels, m_level3_pixels;  // into m_pixels
     std::vector<PathResult> m_level2, m_level3;

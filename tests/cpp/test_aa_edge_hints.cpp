@@ -8,6 +8,7 @@
 #include <cstring>
 #include <vector>
 
+#include "aa_test_scene.h"
 #include "render/aa_edge_hints.h"
 #include "render/accel/kdtree.h"
 
@@ -70,15 +71,8 @@ TEST(AaEdgeHints, OfAMeshOnlyTheFeatureEdgesAreProjected) {
     };
     set_triangles(v, idx);
     tree.normals = {0, 0, 1, 0, 0, 1};
-    patina::RenderScene s;
-    s.tree = &tree;
-    s.indices = idx.data();
-    s.normals = n.data();
-    s.tri_material = mat.data();
-    s.triangle_count = 2;
-    s.camera.position[2] = 2;  // looking down -z, 32 x 32, the square 0.5 / (2 tan) = half the half height
-    s.camera.tan_half_fov = 0.5f;
-    s.camera.width = s.camera.height = 32;
+    // looking down -z, 32 x 32, the square 0.5 / (2 tan) = half the half height
+    patina::RenderScene s = aa_test::looking_down(tree, idx, n, mat, 32, 32);
     const patina::AaEdgeHints h = patina::project_feature_edges(s, 0.1f);
     // the square spans film 8 .. 24 on both axes: its sides on x = 8, x = 24, y = 8, y = 24
     const auto marked = [&](int x, int y) {
@@ -119,15 +113,7 @@ TEST(AaEdgeHints, APointLightsShadowOfAStripIsMarkedWhereItFalls) {
     std::vector<float> n;
     for (int k = 0; k < 8; ++k) n.insert(n.end(), {0, 0, 1});
     const patina::KdTree tree = patina::build_kdtree(v.data(), 8, idx.data(), 4, patina::KdBuildOptions{});
-    patina::RenderScene s;
-    s.tree = &tree;
-    s.indices = idx.data();
-    s.normals = n.data();
-    s.tri_material = mat.data();
-    s.triangle_count = 4;
-    s.camera.position[2] = 2;
-    s.camera.tan_half_fov = 0.5f;
-    s.camera.width = s.camera.height = 32;
+    patina::RenderScene s = aa_test::looking_down(tree, idx, n, mat, 32, 32);
     const auto marked = [](const patina::AaEdgeHints& h, int x, int y) {
         const size_t i = static_cast<size_t>(y) * 32 + x;
         return h.zones[0][i] != 0 || h.zones[1][i] != 0;
@@ -181,16 +167,7 @@ TEST(AaEdgeHints, AnyThreadCountGivesTheSameHints) {
     const std::vector<int32_t> mat(tris, 0);
     const patina::KdTree tree =
         patina::build_kdtree(v.data(), v.size() / 3, idx.data(), tris, patina::KdBuildOptions{});
-    patina::RenderScene s;
-    s.tree = &tree;
-    s.indices = idx.data();
-    s.normals = normals.data();
-    s.tri_material = mat.data();
-    s.triangle_count = tris;
-    s.camera.position[2] = 2;
-    s.camera.tan_half_fov = 0.5f;
-    s.camera.width = 64;
-    s.camera.height = 48;
+    patina::RenderScene s = aa_test::looking_down(tree, idx, normals, mat, 64, 48);
     patina::Light light;
     light.position[0] = 0.5f;
     light.position[2] = 1;

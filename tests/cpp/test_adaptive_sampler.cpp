@@ -326,3 +326,49 @@ TEST(AdaptiveSampler, AThinLineBetweenTheRaysIsFoundThroughTheGeometricPrePass) 
     run_tile(hidden, hit, on, nullptr, &hints);
     for (int y = 1; y < 6; ++y) EXPECT_EQ(hidden.stats.level[y * 8 + 3], 1);
 }
+
+// A highlight far smaller than the gaps between the rays (a Gaussian spot of sigma 0.02
+// pixel, 1000 times the background) falls between them: the pattern misses it. The
+// pre-pass's piece around it gets a grid of 8 x 8 rays, which weighs in with the piece's
+// area and the pattern's rays outside it with the rest: the pixel is the spot's integral.
+TEST(AdaptiveSampler, ASubPixelHighlightIsIntegratedByItsPiecesGrid) {
+    constexpr float cx = 3.37f, cy = 2.61f, sigma = 0.02f, peak = 1000.0f;
+    const auto spot = [&](float x, float y) {
+        const float r2 = (x - cx) * (x - cx) + (y - cy) * (y - cy);
+        return 1.0f + peak * std::exp(-0.5f * r2 / (sigma * sigma));
+    };
+    const auto hit = [](float, float) { return true; };
+    TileRun blind;
+    run_tile(blind, hit, spot);
+    const int i = 2 * 8 + 3;
+    EXPECT_NEAR(image(blind)[i], 1.0f, 1e-3);  // missed
+    patina::AaEdgeHints hints;
+    hints.resize(8, 8);
+    const float half = 5 * sigma;  // the piece: the spot's centre +- 5 sigma
+    hints.spots.push_back({i, cx - 3 - half, cy - 2 - half, cx - 3 + half, cy - 2 + half});
+    TileRun seen;
+    run_tile(seen, hit, spot, nullptr, &hints);
+    const std::vector<float> img = image(seen);
+    const double integral = 1.0 + peak * 2 * 3.14159265358979 * sigma * sigma;  // the pixel's mean
+    EXPECT_NEAR(img[i], integral, 0.01 * integral);
+    EXPECT_EQ(seen.stats.level[i], 1);  // the pattern is what it was
+    EXPECT_EQ(seen.stats.rays[i], 1 + patina::kAaSpotGrid * patina::kAaSpotGrid);
+    int grid = 0;  // the grid's rays inside the piece, traced with the corners
+    for (const auto& c : seen.traced) grid += std::fabs(c.fx - cx) < half && std::fabs(c.fy - cy) < half;
+    EXPECT_EQ(grid, patina::kAaSpotGrid * patina::kAaSpotGrid);
+    EXPECT_EQ(seen.traced.size(), blind.traced.size() + grid);
+    const std::vector<float> without = image(blind);
+    for (int k = 0; k < 64; ++k) {
+        if (k != i) {
+            EXPECT_EQ(img[k], without[k]) << k;  // the other pixels are untouched
+        }
+    }
+    // a piece over a corner of the pattern leaves that corner out: the pixel is the rest
+    // of the pattern and the grid, each by its area, and the grid's weights are finite
+    patina::AaEdgeHints corner;
+    corner.resize(8, 8);
+    corner.spots.push_back({i, 0.0f, 0.0f, 0.1f, 0.1f});
+    TileRun c;
+    run_tile(c, hit, [](float x, float y) { return x == 3.0f && y == 2.0f ? 1e6f : 1.0f; }, nullptr, &corner);
+    EXPECT_NEAR(image(c)[i], 1.0f, 1e-5);
+}
