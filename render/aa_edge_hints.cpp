@@ -372,7 +372,7 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
             h.zones[1][i] |= o.zones[1][i];
             h.nearest[i] = std::min(h.nearest[i], o.nearest[i]);
         }
-    h.spots = find_highlight_spots(s);
+    h.spots = find_highlight_spots(s, threads);
     return h;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 #include "render/accel/trace_kernels.h"
 
@@ -50,7 +51,7 @@ float sharpest_alpha(const Material& m) {
     return a;
 }
 
-std::vector<AaSpot> find_highlight_spots(const RenderScene& s) {
+std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
     std::vector<AaSpot> pieces;
     if (s.tree == nullptr || s.indices == nullptr || s.triangle_count == 0 ||
         s.tree->triangle_count() != s.triangle_count)
@@ -84,137 +85,154 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s) {
     struct Rect {
         double x0, y0, x1, y1;
     };
-    std::vector<Rect> spots;
-    for (const Light& light : s.lights) {
-        const bool local = light.kind == LightKind::Point || light.kind == LightKind::Spot ||
-                           light.kind == LightKind::Goniometric;
-        if (!local && light.kind != LightKind::Sun) continue;  // area lights and environments: broad highlights
-        const V3 lp = load(light.position), sun = load(light.direction);
-        // the sun is a disc: its mirror image is spread over half its angular radius of normals
-        const double sun_spread = light.kind == LightKind::Sun ? 0.5 * std::acos(std::clamp<double>(light.cos_sun, -1, 1)) : 0;
-        const auto to_light = [&](V3 p) { return local ? unit(lp - p) : unit(sun); };
-        const auto half = [&](V3 p) { return unit(to_light(p) + unit(eye - p)); };
-        for (size_t t = 0; t < s.triangle_count; ++t) {
-            const size_t mi = s.tri_material != nullptr ? static_cast<size_t>(s.tri_material[t]) : 0;
-            if (mi >= s.materials.size()) continue;  // no material: nothing to place
-            const Material& m = s.materials[mi];
-            const double alpha = double(sharpest_alpha(m)) + sun_spread;
-            if (!(alpha < 0.5)) continue;  // no lobe, or one too broad to be sub-pixel anywhere near
-            Tri T;
-            for (int e = 0; e < 3; ++e) {
-                T.p[e] = load(tri + 9 * t + 3 * e);
-                T.n[e] = s.normals != nullptr ? load(s.normals + 3 * static_cast<size_t>(s.indices[3 * t + e]))
-                                              : load(ng + 3 * t);
-            }
-            T.ng = load(ng + 3 * t);
-            const V3 centre = (1.0 / 3) * (T.p[0] + T.p[1] + T.p[2]);
-            if (dot(T.ng, eye - centre) < 0) {  // seen from the back: only a two-sided surface shades it, flipped
-                if (!m.two_sided) continue;
-                T.ng = -1.0 * T.ng;
-                for (V3& n : T.n) n = -1.0 * n;
-            }
-            // the point where the shading normal is the half-vector h: for a fixed h, the
-            // interpolated normal normalize(sum b_i n_i) is h where h = sum x_i n_i with
-            // x_i >= 0 (h in the cone of the corners' normals), b = x / sum x; h depends on
-            // the point only through the directions to the light and the camera, so a few
-            // rounds of that solve converge
-            double b[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
-            const V3 c12 = cross(T.n[1], T.n[2]), c20 = cross(T.n[2], T.n[0]), c01 = cross(T.n[0], T.n[1]);
-            const double det = dot(T.n[0], c12);
-            const double spread = std::max({1 - dot(T.n[0], T.n[1]), 1 - dot(T.n[1], T.n[2]), 1 - dot(T.n[2], T.n[0])});
-            V3 p = centre;
-            bool found = false;
-            if (std::fabs(det) > 1e-12) {
-                for (int round = 0; round < 24; ++round) {
-                    const V3 h = half(p);
-                    const double x[3] = {dot(h, c12) / det, dot(h, c20) / det, dot(h, c01) / det};
-                    const double sum = x[0] + x[1] + x[2];
-                    if (!(sum > 0)) break;
-                    double moved = 0;
-                    for (int e = 0; e < 3; ++e) {
-                        moved = std::max(moved, std::fabs(x[e] / sum - b[e]));
-                        b[e] = x[e] / sum;
-                    }
-                    if (std::min({b[0], b[1], b[2]}) < -0.5) break;  // far outside: not this triangle's
-                    p = b[0] * T.p[0] + b[1] * T.p[1] + b[2] * T.p[2];
-                    if (moved < 1e-7) {
-                        found = std::min({b[0], b[1], b[2]}) >= -1e-7;
-                        break;
-                    }
+    // the spots on triangles [t_begin, t_end) into `spots`
+    const auto search = [&](size_t t_begin, size_t t_end, std::vector<Rect>& spots) {
+        for (const Light& light : s.lights) {
+            const bool local = light.kind == LightKind::Point || light.kind == LightKind::Spot ||
+                               light.kind == LightKind::Goniometric;
+            if (!local && light.kind != LightKind::Sun) continue;  // area lights and environments: broad highlights
+            const V3 lp = load(light.position), sun = load(light.direction);
+            // the sun is a disc: its mirror image is spread over half its angular radius of normals
+            const double sun_spread =
+                light.kind == LightKind::Sun ? 0.5 * std::acos(std::clamp<double>(light.cos_sun, -1, 1)) : 0;
+            const auto to_light = [&](V3 p) { return local ? unit(lp - p) : unit(sun); };
+            const auto half = [&](V3 p) { return unit(to_light(p) + unit(eye - p)); };
+            for (size_t t = t_begin; t < t_end; ++t) {
+                const size_t mi = s.tri_material != nullptr ? static_cast<size_t>(s.tri_material[t]) : 0;
+                if (mi >= s.materials.size()) continue;  // no material: nothing to place
+                const Material& m = s.materials[mi];
+                const double alpha = double(sharpest_alpha(m)) + sun_spread;
+                if (!(alpha < 0.5)) continue;  // no lobe, or one too broad to be sub-pixel anywhere near
+                Tri T;
+                for (int e = 0; e < 3; ++e) {
+                    T.p[e] = load(tri + 9 * t + 3 * e);
+                    T.n[e] = s.normals != nullptr ? load(s.normals + 3 * static_cast<size_t>(s.indices[3 * t + e]))
+                                                  : load(ng + 3 * t);
                 }
-            } else if (spread < 1e-9) {
-                // flat: the mirror point, where the line from the camera's mirror image to the
-                // light meets the plane (for the sun: the camera ray whose reflection is the sun)
-                const V3 n = unit(T.n[0]);
-                const double he = dot(eye - T.p[0], n);
-                if (local) {
-                    const double hl = dot(lp - T.p[0], n);
-                    if (!(he > 0 && hl > 0)) continue;
-                    p = (eye - (2 * he) * n) + (he / (he + hl)) * (lp - (eye - (2 * he) * n));
-                } else {
-                    const V3 d = unit(sun) - (2 * dot(unit(sun), n)) * n;
-                    const double dn = dot(d, n);
-                    if (!(he > 0 && dn < 0)) continue;
-                    p = eye + (-he / dn) * d;
+                T.ng = load(ng + 3 * t);
+                const V3 centre = (1.0 / 3) * (T.p[0] + T.p[1] + T.p[2]);
+                if (dot(T.ng, eye - centre) < 0) {  // seen from the back: only a two-sided surface shades it, flipped
+                    if (!m.two_sided) continue;
+                    T.ng = -1.0 * T.ng;
+                    for (V3& n : T.n) n = -1.0 * n;
                 }
-                barycentric(T, p, b);
-                found = std::min({b[0], b[1], b[2]}) >= -1e-7;
+                // the point where the shading normal is the half-vector h: for a fixed h, the
+                // interpolated normal normalize(sum b_i n_i) is h where h = sum x_i n_i with
+                // x_i >= 0 (h in the cone of the corners' normals), b = x / sum x; h depends on
+                // the point only through the directions to the light and the camera, so a few
+                // rounds of that solve converge
+                double b[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+                const V3 c12 = cross(T.n[1], T.n[2]), c20 = cross(T.n[2], T.n[0]), c01 = cross(T.n[0], T.n[1]);
+                const double det = dot(T.n[0], c12);
+                const double spread =
+                    std::max({1 - dot(T.n[0], T.n[1]), 1 - dot(T.n[1], T.n[2]), 1 - dot(T.n[2], T.n[0])});
+                V3 p = centre;
+                bool found = false;
+                if (std::fabs(det) > 1e-12) {
+                    for (int round = 0; round < 24; ++round) {
+                        const V3 h = half(p);
+                        const double x[3] = {dot(h, c12) / det, dot(h, c20) / det, dot(h, c01) / det};
+                        const double sum = x[0] + x[1] + x[2];
+                        if (!(sum > 0)) break;
+                        double moved = 0;
+                        for (int e = 0; e < 3; ++e) {
+                            moved = std::max(moved, std::fabs(x[e] / sum - b[e]));
+                            b[e] = x[e] / sum;
+                        }
+                        if (std::min({b[0], b[1], b[2]}) < -0.5) break;  // far outside: not this triangle's
+                        p = b[0] * T.p[0] + b[1] * T.p[1] + b[2] * T.p[2];
+                        if (moved < 1e-7) {
+                            found = std::min({b[0], b[1], b[2]}) >= -1e-7;
+                            break;
+                        }
+                    }
+                } else if (spread < 1e-9) {
+                    // flat: the mirror point, where the line from the camera's mirror image to the
+                    // light meets the plane (for the sun: the camera ray whose reflection is the sun)
+                    const V3 n = unit(T.n[0]);
+                    const double he = dot(eye - T.p[0], n);
+                    if (local) {
+                        const double hl = dot(lp - T.p[0], n);
+                        if (!(he > 0 && hl > 0)) continue;
+                        p = (eye - (2 * he) * n) + (he / (he + hl)) * (lp - (eye - (2 * he) * n));
+                    } else {
+                        const V3 d = unit(sun) - (2 * dot(unit(sun), n)) * n;
+                        const double dn = dot(d, n);
+                        if (!(he > 0 && dn < 0)) continue;
+                        p = eye + (-he / dn) * d;
+                    }
+                    barycentric(T, p, b);
+                    found = std::min({b[0], b[1], b[2]}) >= -1e-7;
+                }
+                if (!found) continue;
+                const V3 l = to_light(p), v = unit(eye - p);
+                if (dot(T.ng, l) <= 0 || dot(T.ng, v) <= 0) continue;
+                if (light.kind == LightKind::Spot && dot(-1.0 * l, load(light.direction)) < light.cos_outer) continue;
+                // seen: the camera's ray towards p hits nothing before it
+                const double dist = std::sqrt(dot(p - eye, p - eye));
+                const double slack = 1e-4 * dist + 10 * double(s.ray_offset);
+                const float inf = std::numeric_limits<float>::infinity();
+                if (first_hit(eye, unit(p - eye), 0.0f, inf) < dist - slack) continue;
+                // lit: nothing between p and the light
+                const double to_lp = local ? std::sqrt(dot(lp - p, lp - p)) : std::numeric_limits<double>::infinity();
+                const V3 o = p + (2 * double(s.ray_offset)) * T.ng;
+                const float tmax = local ? float(to_lp * (1 - 1e-4)) : std::numeric_limits<float>::infinity();
+                if (std::isfinite(first_hit(o, l, s.ray_offset, tmax))) continue;
+                double fx, fy;
+                if (!film(p, fx, fy)) continue;
+                // the spot's size: the normal's offset from the half-vector, a 2-vector in a frame
+                // across h, as the film position moves (the camera ray meets the triangle's plane
+                // there); the lobe's footprint is where that offset is within kAaSpotWidths lobe
+                // widths: an ellipse J q <= r on the film, bounded by a box of half-widths
+                // r sqrt((J^T J)^-1) on its diagonal
+                const V3 h0 = half(p);
+                const V3 t1 = unit(cross(h0, std::fabs(h0.x) < 0.9 ? V3{1, 0, 0} : V3{0, 1, 0})), t2 = cross(h0, t1);
+                const auto offset = [&](double x, double y, double o2[2]) {
+                    const V3 d = ray_dir(x, y);
+                    const double dn = dot(d, T.ng);
+                    if (dn == 0) return false;
+                    const V3 q = eye + (dot(T.p[0] - eye, T.ng) / dn) * d;
+                    double bq[3];
+                    barycentric(T, q, bq);
+                    const V3 n = shading_normal(T, bq), h = half(q);
+                    // the normal against the half-vector, in the frame across h0
+                    const V3 r = n - h;
+                    o2[0] = dot(r, t1);
+                    o2[1] = dot(r, t2);
+                    return true;
+                };
+                constexpr double kStep = 0.25;  // pixels: near the spot, where the offset is about linear
+                double ax[2], bx[2], ay[2], by[2];
+                if (!offset(fx + kStep, fy, ax) || !offset(fx - kStep, fy, bx) || !offset(fx, fy + kStep, ay) ||
+                    !offset(fx, fy - kStep, by))
+                    continue;
+                const double j00 = (ax[0] - bx[0]) / (2 * kStep), j10 = (ax[1] - bx[1]) / (2 * kStep);
+                const double j01 = (ay[0] - by[0]) / (2 * kStep), j11 = (ay[1] - by[1]) / (2 * kStep);
+                const double m00 = j00 * j00 + j10 * j10, m01 = j00 * j01 + j10 * j11, m11 = j01 * j01 + j11 * j11;
+                const double mdet = m00 * m11 - m01 * m01;
+                if (!(mdet > 0)) continue;  // the normal does not turn across the film: no spot
+                const double r = kAaSpotWidths * alpha;
+                const double hx = r * std::sqrt(m11 / mdet), hy = r * std::sqrt(m00 / mdet);
+                if (!(hx <= kAaSpotMaxHalf && hy <= kAaSpotMaxHalf)) continue;  // not sub-pixel: the pattern sees it
+                spots.push_back({fx - hx, fy - hy, fx + hx, fy + hy});
             }
-            if (!found) continue;
-            const V3 l = to_light(p), v = unit(eye - p);
-            if (dot(T.ng, l) <= 0 || dot(T.ng, v) <= 0) continue;
-            if (light.kind == LightKind::Spot && dot(-1.0 * l, load(light.direction)) < light.cos_outer) continue;
-            // seen: the camera's ray towards p hits nothing before it
-            const double dist = std::sqrt(dot(p - eye, p - eye));
-            const double slack = 1e-4 * dist + 10 * double(s.ray_offset);
-            if (first_hit(eye, unit(p - eye), 0.0f, std::numeric_limits<float>::infinity()) < dist - slack) continue;
-            // lit: nothing between p and the light
-            const double to_lp = local ? std::sqrt(dot(lp - p, lp - p)) : std::numeric_limits<double>::infinity();
-            const V3 o = p + (2 * double(s.ray_offset)) * T.ng;
-            const float tmax = local ? float(to_lp * (1 - 1e-4)) : std::numeric_limits<float>::infinity();
-            if (std::isfinite(first_hit(o, l, s.ray_offset, tmax))) continue;
-            double fx, fy;
-            if (!film(p, fx, fy)) continue;
-            // the spot's size: the normal's offset from the half-vector, a 2-vector in a frame
-            // across h, as the film position moves (the camera ray meets the triangle's plane
-            // there); the lobe's footprint is where that offset is within kAaSpotWidths lobe
-            // widths: an ellipse J q <= r on the film, bounded by a box of half-widths
-            // r sqrt((J^T J)^-1) on its diagonal
-            const V3 h0 = half(p);
-            const V3 t1 = unit(cross(h0, std::fabs(h0.x) < 0.9 ? V3{1, 0, 0} : V3{0, 1, 0})), t2 = cross(h0, t1);
-            const auto offset = [&](double x, double y, double o2[2]) {
-                const V3 d = ray_dir(x, y);
-                const double dn = dot(d, T.ng);
-                if (dn == 0) return false;
-                const V3 q = eye + (dot(T.p[0] - eye, T.ng) / dn) * d;
-                double bq[3];
-                barycentric(T, q, bq);
-                const V3 n = shading_normal(T, bq), h = half(q);
-                // the normal against the half-vector, in the frame across h0
-                const V3 r = n - h;
-                o2[0] = dot(r, t1);
-                o2[1] = dot(r, t2);
-                return true;
-            };
-            constexpr double kStep = 0.25;  // pixels: near the spot, where the offset is about linear
-            double ax[2], bx[2], ay[2], by[2];
-            if (!offset(fx + kStep, fy, ax) || !offset(fx - kStep, fy, bx) || !offset(fx, fy + kStep, ay) ||
-                !offset(fx, fy - kStep, by))
-                continue;
-            const double j00 = (ax[0] - bx[0]) / (2 * kStep), j10 = (ax[1] - bx[1]) / (2 * kStep);
-            const double j01 = (ay[0] - by[0]) / (2 * kStep), j11 = (ay[1] - by[1]) / (2 * kStep);
-            const double m00 = j00 * j00 + j10 * j10, m01 = j00 * j01 + j10 * j11, m11 = j01 * j01 + j11 * j11;
-            const double mdet = m00 * m11 - m01 * m01;
-            if (!(mdet > 0)) continue;  // the normal does not turn across the film: no spot
-            const double r = kAaSpotWidths * alpha;
-            const double hx = r * std::sqrt(m11 / mdet), hy = r * std::sqrt(m00 / mdet);
-            if (!(hx <= kAaSpotMaxHalf && hy <= kAaSpotMaxHalf)) continue;  // not sub-pixel: the pattern sees it
-            spots.push_back({fx - hx, fy - hy, fx + hx, fy + hy});
         }
-    }
+    };
+    // the triangles split among threads (the pieces are merged by pixel below: the same for any count)
+    const size_t parts = std::clamp<size_t>(static_cast<size_t>(std::max(threads, 1)), 1,
+                                            std::max<size_t>(1, s.triangle_count / 4096));
+    std::vector<std::vector<Rect>> found(parts);
+    std::vector<std::thread> workers;
+    const auto bound = [&](size_t k) { return s.triangle_count * k / parts; };
+    for (size_t k = 1; k < parts; ++k) workers.emplace_back([&, k] { search(bound(k), bound(k + 1), found[k]); });
+    search(0, bound(1), found[0]);
+    for (auto& w : workers) w.join();
+    std::vector<Rect> spots;
+    for (const auto& f : found) spots.insert(spots.end(), f.begin(), f.end());
     // each spot cut into the pixels it covers
     for (const Rect& q : spots) {
-        const int px0 = std::max(0, static_cast<int>(std::floor(q.x0))), py0 = std::max(0, static_cast<int>(std::floor(q.y0)));
+        const int px0 = std::max(0, static_cast<int>(std::floor(q.x0)));
+        const int py0 = std::max(0, static_cast<int>(std::floor(q.y0)));
         const int px1 = std::min(c.width - 1, static_cast<int>(std::floor(q.x1)));
         const int py1 = std::min(c.height - 1, static_cast<int>(std::floor(q.y1)));
         for (int py = py0; py <= py1; ++py)

@@ -36,8 +36,9 @@ inline constexpr double kAaSpotMaxHalf = 2;
 
 // The pixels the sub-pixel highlights of the scene's point, spot and goniometric lights and
 // the sun fall on (camera through its pinhole, as the edges), sorted by pixel, one piece a
-// pixel (the bounding box where spots share a pixel).
-std::vector<AaSpot> find_highlight_spots(const RenderScene& scene);
+// pixel (the bounding box where spots share a pixel). The triangles are searched by `threads`
+// threads (the same pieces for any count).
+std::vector<AaSpot> find_highlight_spots(const RenderScene& scene, int threads = 1);
 
 // The GGX roughness of a material's sharpest specular lobe (clear coat, conductor,
 // dielectric), or infinity for none (Lambert; measured tables and fitted mixtures have no

@@ -49,6 +49,24 @@ float aa_contrast(const AaSignal& a, const AaSignal& b) {
     return std::isfinite(c) ? c : 1.0f;
 }
 
+bool aa_differs(const AaSignal& a, const AaSignal& b, float threshold) {
+    const bool ha = std::isfinite(a.depth), hb = std::isfinite(b.depth);
+    const bool broken = 1.0f > threshold;  // what a contrast of 1 decides
+    if (ha != hb) return broken;
+    // |x - y| / (|x| + |y|) > threshold, multiplied out
+    const auto step = [&](float x, float y) {
+        if (!std::isfinite(x) || !std::isfinite(y)) return broken;
+        return std::fabs(x - y) > threshold * (std::fabs(x) + std::fabs(y));
+    };
+    for (int k = 0; k < 3; ++k)
+        if (step(a.colour[k], b.colour[k])) return true;
+    if (!ha) return false;
+    if (step(a.depth, b.depth)) return true;
+    const float d = a.normal[0] * b.normal[0] + a.normal[1] * b.normal[1] + a.normal[2] * b.normal[2];
+    if (!std::isfinite(d)) return broken;
+    return 0.5f * (1.0f - std::clamp(d, -1.0f, 1.0f)) > threshold;
+}
+
 bool aa_sample_is_signal(const RenderScene& scene, const IntegratorSettings& integrator) {
     if (integrator.max_depth != 1 || scene.camera.aperture_radius > 0 || scene.env.present) return false;
     if (scene.lights.size() != 1) return false;
@@ -76,24 +94,30 @@ void AdaptiveSampler::begin(const TileRect& tile, int pass) {
     m_pass = pass;
     m_round = 0;
     const int w = tile.x1 - tile.x0, h = tile.y1 - tile.y0;
-    std::vector<std::pair<uint32_t, int>> order;
-    for (int ty = 0; ty < h; ++ty)
-        for (int tx = 0; tx < w; ++tx) order.push_back({morton(tx, ty), ty * w + tx});
-    std::sort(order.begin(), order.end());
+    if (w != m_order_w || h != m_order_h) {  // the Morton orders of a tile's size, made once
+        m_order_w = w;
+        m_order_h = h;
+        std::vector<std::pair<uint32_t, int>> order;
+        for (int ty = 0; ty < h; ++ty)
+            for (int tx = 0; tx < w; ++tx) order.push_back({morton(tx, ty), ty * w + tx});
+        std::sort(order.begin(), order.end());
+        m_pixel_order.clear();
+        for (const auto& [code, t] : order) m_pixel_order.push_back(t);
+        order.clear();
+        for (int cy = 0; cy <= h; ++cy)
+            for (int cx = 0; cx <= w; ++cx) order.push_back({morton(cx, cy), cy * (w + 1) + cx});
+        std::sort(order.begin(), order.end());
+        m_corner_order.clear();
+        for (const auto& [code, c] : order) m_corner_order.push_back(c);
+    }
     m_pixels.clear();
-    for (const auto& [code, t] : order) {
+    for (const int t : m_pixel_order) {
         PixelState p;
         p.tx = t % w;
         p.ty = t / w;
         p.pixel = (tile.y0 + p.ty) * m_film.width() + tile.x0 + p.tx;
         m_pixels.push_back(p);
     }
-    order.clear();
-    for (int cy = 0; cy <= h; ++cy)
-        for (int cx = 0; cx <= w; ++cx) order.push_back({morton(cx, cy), cy * (w + 1) + cx});
-    std::sort(order.begin(), order.end());
-    m_corner_order.clear();
-    for (const auto& [code, c] : order) m_corner_order.push_back(c);
     m_level2_pixels.clear();
     m_level3_pixels.clear();
     m_level3_first.assign(m_pixels.size(), -1);
@@ -226,22 +250,35 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
     if (m_round == 1) {
         const size_t nc = m_corner_count;  // then the highlights' grids, which decide nothing
         m_corners.resize(nc);
-        std::vector<AaSignal> sig;
-        signals(samples, results, nc, sig);
+        signals(samples, results, nc, m_round_signal);
         m_corner_signal.resize(nc);
         m_spot.assign(results + nc, results + n);
         for (size_t q = 0; q < nc; ++q) {
             m_corners[m_corner_order[q]] = results[q];
-            m_corner_signal[m_corner_order[q]] = sig[q];
+            m_corner_signal[m_corner_order[q]] = m_round_signal[q];
         }
-        const int row = m_tile.x1 - m_tile.x0 + 1;
+        const int w = m_tile.x1 - m_tile.x0, h = m_tile.y1 - m_tile.y0, row = w + 1;
+        // each pair of neighbouring corners compared once, for both pixels that share it:
+        // across[cy * w + cx] corners (cx, cy)-(cx + 1, cy), down[cy * row + cx] (cx, cy)-(cx, cy + 1)
+        m_across.resize(static_cast<size_t>(w) * (h + 1));
+        m_down.resize(static_cast<size_t>(row) * h);
+        for (int cy = 0; cy <= h; ++cy)
+            for (int cx = 0; cx < w; ++cx) {
+                const int k = cy * row + cx;
+                m_across[cy * w + cx] = aa_differs(m_corner_signal[k], m_corner_signal[k + 1], m_threshold);
+            }
+        for (int cy = 0; cy < h; ++cy)
+            for (int cx = 0; cx <= w; ++cx) {
+                const int k = cy * row + cx;
+                m_down[cy * row + cx] = aa_differs(m_corner_signal[k], m_corner_signal[k + row], m_threshold);
+            }
         for (size_t i = 0; i < m_pixels.size(); ++i) {
             PixelState& p = m_pixels[i];
             const int tl = p.ty * row + p.tx;
             const AaSignal *a = &m_corner_signal[tl], *b = &m_corner_signal[tl + 1], *c = &m_corner_signal[tl + row],
                            *d = &m_corner_signal[tl + row + 1];
-            const bool horizontal = aa_contrast(*a, *b) > m_threshold || aa_contrast(*c, *d) > m_threshold;
-            const bool vertical = aa_contrast(*a, *c) > m_threshold || aa_contrast(*b, *d) > m_threshold;
+            const bool horizontal = m_across[p.ty * w + p.tx] || m_across[(p.ty + 1) * w + p.tx];  // A-B, C-D
+            const bool vertical = m_down[p.ty * row + p.tx] || m_down[p.ty * row + p.tx + 1];      // A-C, B-D
             uint8_t hint[2] = {0, 0};
             if (m_hints != nullptr) {
                 // an edge behind what all four corners see is hidden (a surface covers the pixel)
@@ -279,7 +316,7 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
                 int mask = 0;
                 for (int l = 0; l < 4; ++l) {
                     const aa::Pair pr = aa::kComparisons[f][l];
-                    mask |= (aa_contrast(*pts[pr.p], *pts[pr.q]) > m_threshold ? 1 : 0) << l;
+                    mask |= (aa_differs(*pts[pr.p], *pts[pr.q], m_threshold) ? 1 : 0) << l;
                 }
                 zones |= aa::kZoneTable[f][mask];
             }
@@ -336,6 +373,7 @@ void AdaptiveSampler::finish() {
         };
         // a highlight's piece: its grid's rays share the piece's area, the pattern's rays
         // outside it the rest (in proportion to their weights)
+        FilmSum sum;
         float spot_scale = 1, grid_weight = 0;
         if (p.spot >= 0) {
             const AaSpot& q = m_hints->spots[static_cast<size_t>(p.spot)];
@@ -344,12 +382,13 @@ void AdaptiveSampler::finish() {
             each_sample([&](int s, const PathResult&, float w) { outside += in_spot(p, s) ? 0.0 : w; });
             spot_scale = outside > 0 ? static_cast<float>((1 - area) / outside) : 0.0f;
             grid_weight = static_cast<float>((outside > 0 ? area : 1.0) / kSpotRays);
-            for (int k = 0; k < kSpotRays; ++k) m_film.add(p.pixel, m_spot[p.spot_first + k], grid_weight);
+            for (int k = 0; k < kSpotRays; ++k) sum.add(m_spot[p.spot_first + k], grid_weight);
         }
         // (the samples inside the piece left out: the grid stands for them)
         each_sample([&](int s, const PathResult& r, float w) {
-            if (!in_spot(p, s) && w * spot_scale != 0) m_film.add(p.pixel, r, w * spot_scale);
+            if (!in_spot(p, s) && w * spot_scale != 0) sum.add(r, w * spot_scale);
         });
+        m_film.add(p.pixel, sum);  // the pixel's samples in one write
         if (record) {
             m_stats.level[p.pixel] = static_cast<uint8_t>(p.level);
             const int zigzags = p.level == 1 ? 0 : zone_count(p.zones);

@@ -30,6 +30,32 @@ void Film::add(int pixel, const PathResult& r, float weight) {
     m_weight[pixel] += weight;
 }
 
+void FilmSum::add(const PathResult& r, float w) {
+    for (int k = 0; k < 3; ++k) {
+        rgb[k] += w * r.rgb[k];
+        albedo[k] += w * r.albedo[k];
+        normal[k] += w * r.normal[k];
+    }
+    lux += w * r.illuminance;
+    if (std::isfinite(r.depth)) {
+        depth += w * r.depth;
+        depth_weight += w;
+    }
+    weight += w;
+}
+
+void Film::add(int pixel, const FilmSum& s) {
+    for (int k = 0; k < 3; ++k) {
+        m_rgb[3 * pixel + k] += s.rgb[k];
+        m_albedo[3 * pixel + k] += s.albedo[k];
+        m_normal[3 * pixel + k] += s.normal[k];
+    }
+    m_lux[pixel] += s.lux;
+    m_depth[pixel] += s.depth;
+    m_depth_weight[pixel] += s.depth_weight;
+    m_weight[pixel] += s.weight;
+}
+
 void Film::resolve(float* rgb, float* albedo, float* normal, float* depth, float* lux, float* samples) const {
     const size_t pixels = m_weight.size();
     for (size_t i = 0; i < pixels; ++i) {

@@ -9,6 +9,15 @@
 
 namespace patina {
 
+// Weighted samples of one pixel summed apart, then added to the film in one write (a
+// sampler that gives a pixel several samples with their filter weights: the adaptive
+// antialiasing's pattern), the same sums Film::add would make.
+struct FilmSum {
+    double rgb[3] = {0, 0, 0}, albedo[3] = {0, 0, 0}, normal[3] = {0, 0, 0};
+    double lux = 0, depth = 0, weight = 0, depth_weight = 0;
+    void add(const PathResult& r, float weight);
+};
+
 class Film {
 public:
     Film(int width, int height);
@@ -16,6 +25,7 @@ public:
     int height() const { return m_height; }
     // Adds one sample's result to a pixel with a filter weight.
     void add(int pixel, const PathResult& r, float weight);
+    void add(int pixel, const FilmSum& sum);
     // Each pixel the weighted mean of its samples (H x W x 3 etc.); samples: the weight sum.
     void resolve(float* rgb, float* albedo, float* normal, float* depth, float* lux, float* samples) const;
 

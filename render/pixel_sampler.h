@@ -20,6 +20,8 @@ struct TileRect {
     int x0, y0, x1, y1;  // pixels [x0, x1) x [y0, y1)
 };
 
+inline constexpr int kUniformTileSize = 16;  // the render job's tiles for the uniform sampler
+
 class PixelSampler {
 public:
     virtual ~PixelSampler() = default;

@@ -30,7 +30,9 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
       m_film(std::max(scene.camera.width, 1), std::max(scene.camera.height, 1)) {
     if (settings.spp < 1) throw std::invalid_argument("spp must be at least 1");
     if (settings.max_depth < 1) throw std::invalid_argument("max_depth must be at least 1");
-    if (settings.tile_size < 1) throw std::invalid_argument("tile_size must be at least 1");
+    if (settings.tile_size < 0) throw std::invalid_argument("tile_size must be at least 1 (or 0: the sampler's own)");
+    if (m_settings.tile_size == 0)
+        m_settings.tile_size = settings.aa == RenderSettings::Aa::Adaptive ? kAdaptiveTileSize : kUniformTileSize;
     if (settings.max_pass_spp < 1) throw std::invalid_argument("max_pass_spp must be at least 1");
     if (!(settings.aa_threshold >= 0) || !std::isfinite(settings.aa_threshold))
         throw std::invalid_argument("aa_threshold must be a finite number >= 0");
@@ -42,8 +44,8 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     m_integrator.sampler = settings.sampler;
     m_integrator.mode = settings.mode;
     m_integrator.cache = settings.cache;
-    m_tiles_x = (c.width + settings.tile_size - 1) / settings.tile_size;
-    m_tiles_y = (c.height + settings.tile_size - 1) / settings.tile_size;
+    m_tiles_x = (c.width + m_settings.tile_size - 1) / m_settings.tile_size;
+    m_tiles_y = (c.height + m_settings.tile_size - 1) / m_settings.tile_size;
     // at least `passes` passes, each of at most max_pass_spp samples; the radiance cache's
     // integrators as few as that allows: a pass's cache points serve its samples only
     const int min_passes = settings.mode == IntegratorMode::Path ? std::max(settings.passes, 1) : 1;
@@ -209,10 +211,12 @@ RenderJob::TileWork RenderJob::render_tiles(const std::vector<int>& tiles, int f
     if (first < 0 || first > end || end > pass_count())
         throw std::out_of_range("passes [" + std::to_string(first) + ", " + std::to_string(end) + ") are not in [0, " +
                                 std::to_string(pass_count()) + ")");
-    // the adaptive sampler's geometric pre-pass, as start() makes it: the same for every tile
+    // the adaptive sampler's geometric pre-pass, as start() makes it (on the settings'
+    // threads too: the hints are the same for any count), the same for every tile
     std::call_once(m_aa_hints_once, [this] {
+        const int threads = m_settings.threads > 0 ? m_settings.threads : default_thread_count();
         if (m_settings.aa == RenderSettings::Aa::Adaptive)
-            m_aa_hints = project_feature_edges(m_scene, m_settings.aa_threshold);
+            m_aa_hints = project_feature_edges(m_scene, m_settings.aa_threshold, threads);
     });
     // The calling thread's buffers, kept from call to call as a local worker keeps them from
     // item to item: made anew each call, their megabytes are page-faulted in again each time

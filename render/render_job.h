@@ -28,7 +28,9 @@ struct RenderSettings {
     uint32_t seed = 0;
     int threads = 0;    // 0: all hardware threads
     int width = 0;      // SIMD width 1, 4, 8; 0: the widest the CPU runs
-    int tile_size = 16;
+    // 0: the sampler's own, 16 for the uniform sampler, kAdaptiveTileSize for the adaptive
+    // one (its levels 2 and 3 trace scattered pixels: larger tiles make larger wavefronts)
+    int tile_size = 0;
     int passes = 8;     // a pixel's samples are split into at least this many passes (fewer if spp is smaller)...
     int max_pass_spp = 16;  // ...of at most this many samples, so a cancel never waits long for a pass
     // The pixel sampler: uniform (spp jittered samples a pixel) or the adaptive antialiasing

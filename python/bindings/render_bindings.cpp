@@ -796,7 +796,7 @@ void bind_render(nb::module_& m) {
           "indirect_depth > 0 the light the scene reflects, by cosine-weighted sensor paths of that many vertices.");
     nb::class_<JobHandle>(m, "RenderJob", "A render running on worker threads: start, poll progress, cancel, resolve.")
         .def(nb::new_(&make_job), nb::arg("scene"), nb::arg("spp"), nb::arg("max_depth"), nb::arg("seed") = 0,
-             nb::arg("threads") = 0, nb::arg("width") = 0, nb::arg("tile_size") = 16, nb::arg("passes") = 8,
+             nb::arg("threads") = 0, nb::arg("width") = 0, nb::arg("tile_size") = 0, nb::arg("passes") = 8,
              nb::arg("aa") = "uniform", nb::arg("aa_threshold") = patina::kDefaultAaThreshold,
              nb::arg("indirect_illuminance") = false, nb::arg("sampler") = "sobol",
              nb::arg("stage_clock") = "wall", nb::arg("integrator") = "path", nb::arg("cache_resolution") = patina::CacheSettings{}.resolution,

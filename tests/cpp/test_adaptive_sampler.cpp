@@ -7,6 +7,7 @@
 
 #include "render/adaptive_pattern.h"
 #include "render/adaptive_sampler.h"
+#include "render/rng.h"
 
 namespace aa = patina::aa;
 
@@ -148,6 +149,37 @@ TEST(AdaptiveContrast, IsScaleFreeAndSeesHitsAndMisses) {
     EXPECT_EQ(patina::aa_contrast(a, nan), 1.0f);
 }
 
+// The sampler compares with aa_differs, the contrast test with its divisions multiplied
+// out: the same decisions (away from ties) on signals of every kind, misses and NaN included
+TEST(AdaptiveContrast, DiffersDecidesAsTheContrastAgainstTheThreshold) {
+    uint32_t h = 12345;
+    const auto next = [&] {
+        h = patina::hash_u32(h);
+        return static_cast<float>(h >> 8) / 16777216.0f;
+    };
+    const float inf = std::numeric_limits<float>::infinity();
+    int checked = 0;
+    for (int k = 0; k < 20000; ++k) {
+        patina::AaSignal s[2];
+        for (auto& g : s) {
+            for (float& c : g.colour) c = next() < 0.1f ? 0.0f : 10 * next();
+            const float nz = next();
+            g.normal[0] = std::sqrt(1 - nz * nz);
+            g.normal[1] = 0;
+            g.normal[2] = nz;
+            g.depth = next() < 0.1f ? inf : 1 + next();
+        }
+        if (k % 97 == 0) s[1].colour[1] = std::nanf("");
+        for (const float t : {0.0f, 0.05f, 0.15f, 0.5f, 1.0f}) {
+            const float c = patina::aa_contrast(s[0], s[1]);
+            if (std::fabs(c - t) < 1e-5f) continue;  // a tie: rounding may go either way
+            EXPECT_EQ(patina::aa_differs(s[0], s[1], t), c > t) << k << " " << t;
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 80000);  // (the ties: contrasts of 0 at threshold 0 and of 1 at 1)
+}
+
 // ---- the sampler's rounds on synthetic results and a known signal ---------------------------
 
 #include <functional>
@@ -155,7 +187,6 @@ TEST(AdaptiveContrast, IsScaleFreeAndSeesHitsAndMisses) {
 #include <vector>
 
 #include "render/film.h"
-#include "render/rng.h"
 
 namespace {
 

@@ -390,7 +390,7 @@ def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help:
         type=float,
         default=None,
         metavar="T",
-        help="the adaptive sampler's contrast threshold in [0, 1] (default: the scene's, 0.1)",
+        help="the adaptive sampler's contrast threshold in [0, 1] (default: the scene's, 0.15)",
     )
     s.add_argument(
         "--sampler",

@@ -51,7 +51,7 @@ class RenderResult:
     threads: int
     interrupted: bool = False  # Ctrl-C (or SIGTERM in the CLI) came; the image may still be complete
     aa: str = "uniform"  # the pixel sampler (docs/antialiasing.md)
-    aa_threshold: float = 0.1
+    aa_threshold: float = 0.15
     sampler: str = "sobol"  # the paths' numbers (docs/render.md)
     camera_rays: int = 0  # camera rays traced (the adaptive sampler: its positions, each one integrator sample)
     aa_level: np.ndarray | None = None  # (H, W) adaptive: 1, 2 or 3, the level each pixel reached

@@ -180,7 +180,7 @@ def _camera(o: Obj) -> Camera:
 
 
 AA_SAMPLERS = ("uniform", "adaptive")  # render.aa, --aa (docs/antialiasing.md)
-AA_THRESHOLD = 0.1  # the adaptive sampler's contrast threshold; contrasts are in [0, 1]
+AA_THRESHOLD = 0.15  # the adaptive sampler's contrast threshold; contrasts are in [0, 1]
 SAMPLERS = ("sobol", "independent")  # render.sampler, --sampler: the paths' numbers (docs/render.md)
 
 

@@ -84,7 +84,7 @@ class Render:
     max_depth: int
     seed: int
     aa: str = "uniform"  # the pixel sampler: "uniform" | "adaptive" (docs/antialiasing.md)
-    aa_threshold: float = 0.1  # the adaptive sampler's contrast threshold, in [0, 1]
+    aa_threshold: float = 0.15  # the adaptive sampler's contrast threshold, in [0, 1]
     indirect_illuminance: bool = False  # the illuminance AOV also counts light reflected by the scene
     sampler: str = "sobol"  # the paths' numbers: "sobol" | "independent" (docs/render.md)
     cache: CacheParams = field(default_factory=CacheParams)

@@ -71,7 +71,7 @@ def test_the_pattern_data_is_what_the_docs_say():
     assert np.allclose(pos[:4], [[0, 0], [1, 0], [0, 1], [1, 1]])
     assert np.allclose(pos[4:8], [[0.2, 0.5], [0.4, 0.5], [0.6, 0.5], [0.8, 0.5]])
     assert np.allclose(np.asarray(p["weights"]).sum(axis=1), 1.0, atol=1e-6)
-    assert p["default_threshold"] == pytest.approx(0.1)
+    assert p["default_threshold"] == pytest.approx(0.15)
 
 
 def test_a_flat_noisy_region_stays_at_level_one():
@@ -239,11 +239,11 @@ def test_cli_options_and_the_exr_header(tmp_path, capsys):
     path = tmp_path / "s.json"
     path.write_text(json.dumps(disc_scene((0, 0, -1))))
     out = tmp_path / "a.exr"
-    assert main(["render", str(path), "--out", str(out), "--aa", "adaptive", "--aa-threshold", "0.15"]) == 0
+    assert main(["render", str(path), "--out", str(out), "--aa", "adaptive", "--aa-threshold", "0.2"]) == 0
     assert "camera rays per pixel" in capsys.readouterr().out
     layers, meta = read_exr_layers(str(out))
     assert meta["patina:aa"] == "adaptive"
-    assert meta["patina:aa_threshold"] == pytest.approx(0.15)
+    assert meta["patina:aa_threshold"] == pytest.approx(0.2)
     assert 1.0 <= meta["patina:aa_rays_per_pixel"] < 4.0
     fractions = [meta[f"patina:aa_level{k}_fraction"] for k in (1, 2, 3)]
     assert sum(fractions) == pytest.approx(1.0) and fractions[0] > 0.5
