@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <thread>
 
 #include "render/accel/trace_kernels.h"
@@ -112,72 +114,9 @@ void cast_shadow(V3 pa, V3 pb, const Receiver& receiver, const Film& film, const
     cast_piece(pa, pb, 0.0, a, 1.0, b, 0, receiver, film, project, width, height);
 }
 
-}  // namespace
-
-void AaEdgeHints::resize(int w, int h) {
-    width = w;
-    height = h;
-    const size_t pixels = static_cast<size_t>(w) * h;
-    zones[0].assign(pixels, 0);
-    zones[1].assign(pixels, 0);
-    nearest.assign(pixels, std::numeric_limits<float>::infinity());
-}
-
-void rasterise_edge(AaEdgeHints& h, float x0f, float y0f, float x1f, float y1f, float z0, float z1, float tan_x,
-                    float tan_y) {
-    const double x0 = x0f, y0 = y0f, dx = double(x1f) - x0, dy = double(y1f) - y0;
-    // Liang-Barsky: the part of the segment inside the image
-    double ta = 0, tb = 1;
-    const double p[4] = {-dx, dx, -dy, dy}, q[4] = {x0, h.width - x0, y0, h.height - y0};
-    for (int k = 0; k < 4; ++k) {
-        if (p[k] == 0) {
-            if (q[k] < 0) return;
-            continue;
-        }
-        const double t = q[k] / p[k];
-        if (p[k] < 0)
-            ta = std::max(ta, t);
-        else
-            tb = std::min(tb, t);
-    }
-    if (!(ta <= tb)) return;
-    // where it crosses the pixel grid: between two consecutive crossings it is in one pixel
-    std::vector<double> ts{ta, tb};
-    const auto crossings = [&](double a, double d) {
-        if (d == 0) return;
-        const double lo = std::min(a + ta * d, a + tb * d), hi = std::max(a + ta * d, a + tb * d);
-        for (double g = std::ceil(lo); g <= hi; g += 1) ts.push_back((g - a) / d);
-    };
-    crossings(x0, dx);
-    crossings(y0, dy);
-    std::sort(ts.begin(), ts.end());
-    const auto distance = [&](double t) {
-        // 1/z is linear in film space (perspective); the distance is z times the ray's length a unit of z
-        const double z = 1.0 / ((1 - t) / z0 + t / z1);
-        const double sx = (2 * (x0 + t * dx) / h.width - 1) * tan_x, sy = (1 - 2 * (y0 + t * dy) / h.height) * tan_y;
-        return z * std::sqrt(1 + sx * sx + sy * sy);
-    };
-    for (size_t k = 0; k + 1 < ts.size(); ++k) {
-        const double t0 = ts[k], t1 = ts[k + 1], tm = 0.5 * (t0 + t1);
-        if (t1 - t0 < 1e-12 && ts.size() > 2) continue;
-        const int px = std::clamp(static_cast<int>(std::floor(x0 + tm * dx)), 0, h.width - 1);
-        const int py = std::clamp(static_cast<int>(std::floor(y0 + tm * dy)), 0, h.height - 1);
-        const size_t i = static_cast<size_t>(py) * h.width + px;
-        const double xa = x0 + t0 * dx - px, xb = x0 + t1 * dx - px, ya = y0 + t0 * dy - py, yb = y0 + t1 * dy - py;
-        h.zones[0][i] |= zones_crossed(xa, ya, xb, yb);                  // (u, v) = (x, y)
-        h.zones[1][i] |= zones_crossed(1 - ya, xa, 1 - yb, xb);          // turned: (u, v) = (1 - y, x)
-        h.nearest[i] = std::min(h.nearest[i], static_cast<float>(std::min(distance(t0), distance(t1))));
-    }
-}
-
-AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int threads) {
-    AaEdgeHints h;
-    const Camera& c = s.camera;
-    h.resize(c.width, c.height);
-    const size_t pixels = static_cast<size_t>(c.width) * c.height;
-    if (s.tree == nullptr || s.indices == nullptr || s.triangle_count == 0 ||
-        s.tree->triangle_count() != s.triangle_count)
-        return h;
+// The mesh's edges between vertices merged by position, each with the triangles that have it:
+// what of the pre-pass depends on the geometry alone.
+std::vector<EdgeUse> make_mesh_edges(const RenderScene& s) {
     const size_t nt = s.triangle_count;
     const float* tri = s.tree->triangles.data();  // corner e of triangle t at tri + 9 t + 3 e
     // the vertices merged by position (sorted by their coordinates' bits, so the merge is the
@@ -258,6 +197,116 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
             i = j;
         }
     }
+    return edges;
+}
+
+// A content key of the geometry the edges are made from: the triangles' positions and indices.
+uint64_t geometry_key(const RenderScene& s) {
+    uint64_t k = 0xcbf29ce484222325ull;  // FNV-1a over 32-bit words
+    const auto add = [&](const void* data, size_t words) {
+        const uint32_t* w = static_cast<const uint32_t*>(data);
+        for (size_t i = 0; i < words; ++i) k = (k ^ w[i]) * 0x100000001b3ull;
+    };
+    add(s.tree->triangles.data(), 9 * s.triangle_count);
+    add(s.indices, 3 * s.triangle_count);
+    return k;
+}
+
+struct MeshEdges {
+    uint64_t key = 0;
+    size_t triangles = 0;
+    std::vector<EdgeUse> edges;
+};
+
+// The last geometry's edges, kept: a preview or a bench re-rendering one scene (another
+// camera, another light) merges and sorts its vertices and edges once. Keyed by content, so
+// a new scene, even at the old one's addresses, makes its own.
+std::shared_ptr<const MeshEdges> mesh_edges(const RenderScene& s) {
+    static std::mutex lock;
+    static std::shared_ptr<const MeshEdges> last;
+    const uint64_t key = geometry_key(s);
+    {
+        std::lock_guard<std::mutex> g(lock);
+        if (last != nullptr && last->key == key && last->triangles == s.triangle_count) return last;
+    }
+    auto made = std::make_shared<MeshEdges>();
+    made->key = key;
+    made->triangles = s.triangle_count;
+    made->edges = make_mesh_edges(s);
+    std::lock_guard<std::mutex> g(lock);
+    last = made;
+    return made;
+}
+
+}  // namespace
+
+void AaEdgeHints::resize(int w, int h) {
+    width = w;
+    height = h;
+    const size_t pixels = static_cast<size_t>(w) * h;
+    zones[0].assign(pixels, 0);
+    zones[1].assign(pixels, 0);
+    nearest.assign(pixels, std::numeric_limits<float>::infinity());
+}
+
+void rasterise_edge(AaEdgeHints& h, float x0f, float y0f, float x1f, float y1f, float z0, float z1, float tan_x,
+                    float tan_y) {
+    const double x0 = x0f, y0 = y0f, dx = double(x1f) - x0, dy = double(y1f) - y0;
+    // Liang-Barsky: the part of the segment inside the image
+    double ta = 0, tb = 1;
+    const double p[4] = {-dx, dx, -dy, dy}, q[4] = {x0, h.width - x0, y0, h.height - y0};
+    for (int k = 0; k < 4; ++k) {
+        if (p[k] == 0) {
+            if (q[k] < 0) return;
+            continue;
+        }
+        const double t = q[k] / p[k];
+        if (p[k] < 0)
+            ta = std::max(ta, t);
+        else
+            tb = std::min(tb, t);
+    }
+    if (!(ta <= tb)) return;
+    // where it crosses the pixel grid: between two consecutive crossings it is in one pixel
+    std::vector<double> ts{ta, tb};
+    const auto crossings = [&](double a, double d) {
+        if (d == 0) return;
+        const double lo = std::min(a + ta * d, a + tb * d), hi = std::max(a + ta * d, a + tb * d);
+        for (double g = std::ceil(lo); g <= hi; g += 1) ts.push_back((g - a) / d);
+    };
+    crossings(x0, dx);
+    crossings(y0, dy);
+    std::sort(ts.begin(), ts.end());
+    const auto distance = [&](double t) {
+        // 1/z is linear in film space (perspective); the distance is z times the ray's length a unit of z
+        const double z = 1.0 / ((1 - t) / z0 + t / z1);
+        const double sx = (2 * (x0 + t * dx) / h.width - 1) * tan_x, sy = (1 - 2 * (y0 + t * dy) / h.height) * tan_y;
+        return z * std::sqrt(1 + sx * sx + sy * sy);
+    };
+    for (size_t k = 0; k + 1 < ts.size(); ++k) {
+        const double t0 = ts[k], t1 = ts[k + 1], tm = 0.5 * (t0 + t1);
+        if (t1 - t0 < 1e-12 && ts.size() > 2) continue;
+        const int px = std::clamp(static_cast<int>(std::floor(x0 + tm * dx)), 0, h.width - 1);
+        const int py = std::clamp(static_cast<int>(std::floor(y0 + tm * dy)), 0, h.height - 1);
+        const size_t i = static_cast<size_t>(py) * h.width + px;
+        const double xa = x0 + t0 * dx - px, xb = x0 + t1 * dx - px, ya = y0 + t0 * dy - py, yb = y0 + t1 * dy - py;
+        h.zones[0][i] |= zones_crossed(xa, ya, xb, yb);                  // (u, v) = (x, y)
+        h.zones[1][i] |= zones_crossed(1 - ya, xa, 1 - yb, xb);          // turned: (u, v) = (1 - y, x)
+        h.nearest[i] = std::min(h.nearest[i], static_cast<float>(std::min(distance(t0), distance(t1))));
+    }
+}
+
+AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int threads) {
+    AaEdgeHints h;
+    const Camera& c = s.camera;
+    h.resize(c.width, c.height);
+    const size_t pixels = static_cast<size_t>(c.width) * c.height;
+    if (s.tree == nullptr || s.indices == nullptr || s.triangle_count == 0 ||
+        s.tree->triangle_count() != s.triangle_count)
+        return h;
+    const float* tri = s.tree->triangles.data();  // corner e of triangle t at tri + 9 t + 3 e
+    const std::shared_ptr<const MeshEdges> mesh = mesh_edges(s);
+    const std::vector<EdgeUse>& edges = mesh->edges;
     const V3 eye = load(c.position), fwd = load(c.forward), right = load(c.right), up = load(c.up);
     const double tan_y = c.tan_half_fov, tan_x = tan_y * c.width / c.height;
     const double z_near = 1e-5 * std::max(s.scene_radius, 1e-6f);

@@ -98,6 +98,15 @@ TEST(AaEdgeHints, OfAMeshOnlyTheFeatureEdgesAreProjected) {
     const patina::AaEdgeHints folded = patina::project_feature_edges(s, 0.1f);
     EXPECT_NE(folded.zones[0][15 * 32 + 16], 0u);
     EXPECT_EQ(folded.zones[0][20 * 32 + 12], 0u);  // away from the diagonal and the sides
+    // the mesh's edges are kept for the next render of the same geometry (by content): the
+    // flat square again, after the folded one, gives the flat square's hints, not the fold's
+    set_triangles(v, idx);
+    s.indices = idx.data();
+    s.normals = n.data();
+    const patina::AaEdgeHints again = patina::project_feature_edges(s, 0.1f);
+    EXPECT_EQ(again.zones[0], h.zones[0]);
+    EXPECT_EQ(again.zones[1], h.zones[1]);
+    EXPECT_EQ(patina::project_feature_edges(s, 0.1f).zones[0], h.zones[0]);  // and once more, kept
 }
 
 TEST(AaEdgeHints, APointLightsShadowOfAStripIsMarkedWhereItFalls) {
