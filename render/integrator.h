@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/vec3.h"
+#include "render/cache/cache_point.h"
 #include "render/cache/cache_probe.h"
 #include "render/cache/cache_settings.h"
 #include "render/grid2.h"
@@ -114,6 +115,9 @@ struct PathScratch {
     // tag object is one the width-16 units may not define, see CMakeLists.txt)
     std::unique_ptr<void, void (*)(void*)> cache{nullptr, nullptr};
     int cache_width = 0;
+    // the cache points the batch's cache starts from: those of the regions its tile overlaps
+    // (render/cache/cache_regions.h; set by the render job for each work item, held by it)
+    std::vector<const CachePoint*> cache_shared;
     // the cache's statistics since construction
     size_t cache_points = 0, cache_queries = 0, cache_texels_reprojected = 0, cache_texels_traced = 0;
 };
@@ -140,6 +144,12 @@ struct RenderKernels {
     // with the settings' cache parameters and depth (render/cache/cache_probe.h)
     void (*cache_probe)(const RenderScene& scene, const IntegratorSettings& settings, const float* a, const float* na,
                         const float* b, const float* nb, uint32_t seed, bool unknown_masks, CacheProbe& out);
+    // The radiance cache's points for an image region (render/cache/cache_regions.h): the
+    // region's pre-pass camera samples traced to their first hits, the cache points placed
+    // there as a work item places them (settings' mode and cache parameters) and built
+    void (*build_cache_region)(const RenderScene& scene, const IntegratorSettings& settings,
+                               const CameraSample* samples, size_t n, std::vector<CachePoint>& points,
+                               PathScratch& scratch);
 };
 
 const RenderKernels& render_kernels_w1();

@@ -471,16 +471,22 @@ void trace_given_rays(const RenderScene& s, const IntegratorSettings& st, const 
                       std::vector<CameraSample>& samples);
 
 // At the first hit, the radiance cache's stage of the cache integrators (render/cache/).
-inline void run_cache_stage(const Wavefront& w) {
-    // the cache's rays start at the first hit: one bounce fewer, roulette one sooner
-    IntegratorSettings inner = w.st;
+// The settings of the cache's own rays, which start at the first hit: one bounce fewer,
+// roulette one sooner.
+inline IntegratorSettings cache_ray_settings(const IntegratorSettings& st) {
+    IntegratorSettings inner = st;
     inner.mode = IntegratorMode::Path;
     inner.indirect_illuminance = false;
-    inner.max_depth = w.st.max_depth - 1;
-    inner.rr_depth = std::max(1, w.st.rr_depth - 1);
+    inner.max_depth = st.max_depth - 1;
+    inner.rr_depth = std::max(1, st.rr_depth - 1);
     // a guide needs the shape of the indirect light, not its value: the direct light at the
     // hits (one bounce) is that shape at a fraction of the full paths' cost
-    if (w.st.mode == IntegratorMode::CacheGuided) inner.max_depth = 1;
+    if (st.mode == IntegratorMode::CacheGuided) inner.max_depth = 1;
+    return inner;
+}
+
+inline void run_cache_stage(const Wavefront& w) {
+    const IntegratorSettings inner = cache_ray_settings(w.st);
     cache::CacheState& cs = cache::cache_state(w.sc);
     auto tracer = [&](const float* o, const float* d, const uint32_t* k, const uint32_t* idx, size_t m, PathResult* r) {
         trace_given_rays(w.s, inner, o, d, k, idx, m, r, cs.inner, cs.inner_samples);
@@ -594,6 +600,31 @@ void trace_given_rays(const RenderScene& s, const IntegratorSettings& st, const 
     w.first_emission = false;
     start_given_paths(w, org, dir, n);
     run_paths(w);
+}
+
+// An image region's cache points (integrator.h, build_cache_region): the camera rays' first
+// hits, then the cache's placement and building there (cache_stages_impl.h).
+void build_cache_region(const RenderScene& s, const IntegratorSettings& st, const CameraSample* cs, size_t n,
+                        std::vector<CachePoint>& points, PathScratch& sc) {
+    enter_kernel();
+    std::vector<PathResult> out(n);
+    const Wavefront w{s, st, cs, out.data(), sc, lights_emit(s), scene_has_sun(s), s.ray_offset};
+    sc.sensors.clear();
+    sc.timer.start();
+    start_camera_paths(w, n);
+    sc.timer.lap(Stage::CameraRays);
+    const HitBatch hits = trace_bounce(w, 0);
+    group_by_material(w, hits, 0);
+    make_shading_points(w, hits, 0);
+    sc.sensors.clear();
+    sc.timer.lap(Stage::ShadingPoints);
+    const IntegratorSettings inner = cache_ray_settings(st);
+    cache::CacheState& cs_state = cache::cache_state(sc);
+    auto tracer = [&](const float* o, const float* d, const uint32_t* k, const uint32_t* idx, size_t m, PathResult* r) {
+        trace_given_rays(s, inner, o, d, k, idx, m, r, cs_state.inner, cs_state.inner_samples);
+    };
+    cache::build_region_points(w, tracer, points);
+    sc.active.clear();
 }
 
 // The radiance cache at one point reprojected into another (integrator.h, cache_probe).

@@ -8,7 +8,8 @@ namespace patina {
 const RenderKernels& render_kernels_w16() {
     static const RenderKernels k{16, &render_detail::trace_paths, &render_detail::sensor_illuminance,
                                  &render_detail::sensor_illuminance_indirect,
-                                 &render_detail::grid2_w::eval_array, &render_detail::cache_probe};
+                                 &render_detail::grid2_w::eval_array, &render_detail::cache_probe,
+                                 &render_detail::build_cache_region};
     return k;
 }
 

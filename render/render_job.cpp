@@ -7,11 +7,13 @@
 #include <string>
 
 #include "core/parallel.h"
+#include "render/rng.h"
 
 namespace patina {
 namespace {
 
 constexpr size_t kMaxBatch = 4096;  // camera samples traced as one wavefront
+constexpr uint32_t kCacheRegionSalt = 0x2c1b3c6du;  // the regions' pre-pass streams: not any pixel's samples
 
 // f(k, i) for the tile's pixels row by row: k counts them, i is the pixel's index in the image.
 template <class F>
@@ -60,6 +62,9 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     m_item_count = static_cast<size_t>(passes) * tiles;  // item k: pass k / tiles, tile k % tiles
     m_tile_passes = std::vector<std::atomic<int>>(tiles);
     for (auto& a : m_tile_passes) a.store(0);
+    // the radiance cache's shared points (cache_regions.h), where the cache stage runs
+    if (settings.mode != IntegratorMode::Path && settings.max_depth > 1)
+        m_cache_regions = std::make_unique<CacheRegions>(c.width, c.height);
     if (settings.aa == RenderSettings::Aa::Adaptive) {
         m_aa_stats.level.assign(static_cast<size_t>(c.width) * c.height, 0);
         m_aa_stats.rays.assign(static_cast<size_t>(c.width) * c.height, 0);
@@ -80,6 +85,9 @@ void RenderJob::start() {
     const int threads = m_settings.threads > 0 ? m_settings.threads : default_thread_count();
     if (m_settings.aa == RenderSettings::Aa::Adaptive)
         m_aa_hints = project_feature_edges(m_scene, m_settings.aa_threshold, threads);
+    std::vector<int> all(m_tile_passes.size());
+    for (size_t t = 0; t < all.size(); ++t) all[t] = static_cast<int>(t);
+    expect_cache_regions(all, pass_count());
     for (int i = 0; i < threads; ++i) m_threads.emplace_back([this] { worker(); });
 }
 
@@ -191,9 +199,57 @@ TileRect RenderJob::tile_rect(int tile) const {
     return TileRect{x0, y0, std::min(x0 + ts, cam.width), std::min(y0 + ts, cam.height)};
 }
 
+void RenderJob::expect_cache_regions(const std::vector<int>& tiles, int passes) {
+    if (!m_cache_regions) return;
+    for (const int tile : tiles) {
+        const TileRect r = tile_rect(tile);
+        for (const int region : m_cache_regions->overlapping(r.x0, r.y0, r.x1, r.y1))
+            m_cache_regions->expect(region, passes);
+    }
+}
+
+// A region's cache points from its pre-pass: a camera ray through every pixel's centre, its
+// stream keyed by the seed and the pixel (salted), traced on the calling thread's scratch.
+void RenderJob::build_cache_region(int x0, int y0, int x1, int y1, CacheRegion& out, PathScratch& scratch) const {
+    std::vector<CameraSample> prepass;
+    const uint32_t seed = m_settings.seed ^ kCacheRegionSalt;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            const uint32_t pixel = static_cast<uint32_t>(y) * static_cast<uint32_t>(m_scene.camera.width) + x;
+            prepass.push_back({static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f, stream_key(seed, pixel), 0});
+        }
+    m_kernels->build_cache_region(m_scene, m_integrator, prepass.data(), prepass.size(), out.points, scratch);
+}
+
 size_t RenderJob::run_item(const Item& item, PixelSampler& sampler, PathScratch& scratch,
                            std::vector<CameraSample>& cs, std::vector<PathResult>& out) {
-    sampler.begin(tile_rect(item.tile), item.pass);
+    const TileRect rect = tile_rect(item.tile);
+    // the cache points of the regions the tile overlaps, built if no one has, held for the item
+    struct HeldRegions {
+        CacheRegions* regions;
+        std::vector<int> ids;
+        std::vector<std::shared_ptr<const CacheRegion>> held;
+        PathScratch& sc;
+        ~HeldRegions() {
+            sc.cache_shared.clear();
+            held.clear();
+            for (const int r : ids) regions->release(r);
+        }
+    } hold{m_cache_regions.get(), {}, {}, scratch};
+    scratch.cache_shared.clear();
+    if (m_cache_regions) {
+        const std::vector<int> ids = m_cache_regions->overlapping(rect.x0, rect.y0, rect.x1, rect.y1);
+        const CacheRegions::Build build = [&](int, int x0, int y0, int x1, int y1, CacheRegion& made) {
+            build_cache_region(x0, y0, x1, y1, made, scratch);
+        };
+        for (const int r : ids) {
+            hold.held.push_back(m_cache_regions->acquire(r, build));
+            hold.ids.push_back(r);
+        }
+        for (const auto& region : hold.held)
+            for (const CachePoint& a : region->points) scratch.cache_shared.push_back(&a);
+    }
+    sampler.begin(rect, item.pass);
     size_t samples = 0;
     while (sampler.next_batch(cs)) {
         out.resize(cs.size());
@@ -225,6 +281,7 @@ RenderJob::TileWork RenderJob::render_tiles(const std::vector<int>& tiles, int f
     thread_local std::vector<CameraSample> cs;
     thread_local std::vector<PathResult> out;
     Samplers samplers(*this);
+    expect_cache_regions(tiles, end - first);
     const size_t rays = scratch.rays_traced, points = scratch.cache_points, queries = scratch.cache_queries,
                  reprojected = scratch.cache_texels_reprojected, traced = scratch.cache_texels_traced;
     TileWork work;

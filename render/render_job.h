@@ -10,11 +10,13 @@
 #include <chrono>
 #include <cstdint>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
 
 #include "render/adaptive_sampler.h"
+#include "render/cache/cache_regions.h"
 #include "render/film.h"
 #include "render/integrator.h"
 #include "render/pixel_sampler.h"
@@ -113,6 +115,9 @@ private:
     // returns the camera samples it took
     size_t run_item(const Item& item, PixelSampler& sampler, PathScratch& scratch, std::vector<CameraSample>& cs,
                     std::vector<PathResult>& out);
+    // the radiance cache's regions: announce the items of `passes` passes of `tiles`; build one
+    void expect_cache_regions(const std::vector<int>& tiles, int passes);
+    void build_cache_region(int x0, int y0, int x1, int y1, CacheRegion& out, PathScratch& scratch) const;
 
     const RenderScene& m_scene;
     RenderSettings m_settings;
@@ -124,6 +129,8 @@ private:
     std::vector<std::atomic<int>> m_tile_passes;  // passes finished per tile
     Film m_film;
     AaStats m_aa_stats;
+    // the radiance cache's points shared by the items (render/cache/cache_regions.h; null: no cache stage)
+    std::unique_ptr<CacheRegions> m_cache_regions;
     AaEdgeHints m_aa_hints;  // the adaptive sampler's geometric pre-pass, computed once
     std::once_flag m_aa_hints_once;  // render_tiles: computed by the first call, whichever thread
     std::atomic<size_t> m_next{0}, m_done{0}, m_rays{0}, m_samples_done{0};

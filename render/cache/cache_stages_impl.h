@@ -23,6 +23,7 @@
 #include "core/constants.h"
 #include "core/simd/kernel_width.h"
 #include "core/vec3.h"
+#include "render/cache/cache_regions.h"
 #include "render/cache/error_criterion.h"
 #include "render/cache/hemisphere.h"
 #include "render/cache/radiance_cache_impl.h"
@@ -83,6 +84,13 @@ inline bool left_to_path(const Material& m, int resolution) {
 constexpr int kSplitPaths = 4;
 inline bool split_by_paths(const Material& m, int resolution) {
     return m.kind != MaterialKind::Dielectric && left_to_path(m, resolution);
+}
+
+// Whether the integrator's first-hit points of material m take their light from the cache's
+// reconstruction: cache, all but those left to the path tracer; cache-guided, those whose
+// guide the texels resolve.
+inline bool served_by_cache(IntegratorMode mode, const Material& m, int resolution) {
+    return mode == IntegratorMode::Cache ? !left_to_path(m, resolution) : texel_resolvable(m, resolution);
 }
 
 // The texel of local direction l (z > 0) in an R x R hemisphere.
@@ -295,7 +303,8 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
     const int R = cfg.resolution;
     const size_t T = static_cast<size_t>(R) * R;
     const float texel = texel_solid_angle(R);
-    collect_queries(w, st, [&](const Material& m) { return !left_to_path(m, R); });
+    collect_queries(w, st, [&](const Material& m) { return served_by_cache(w.st.mode, m, R); });
+    st.shared = &sc.cache_shared;
     const size_t rays_before = st.inner.rays_traced;
     st.dirs.prepare(R);
     // one member's indirect light from its query's radiance; the texels with light (count of
@@ -399,7 +408,8 @@ inline void build_guides(const W& w, Tracer& trace) {
     const int R = cfg.resolution;
     const size_t T = static_cast<size_t>(R) * R;
     sc.guide_of.assign(sc.sorted.size(), -1);
-    collect_queries(w, st, [&](const Material& m) { return texel_resolvable(m, R); });
+    collect_queries(w, st, [&](const Material& m) { return served_by_cache(w.st.mode, m, R); });
+    st.shared = &sc.cache_shared;
     float* cdf = grow(sc.guide_cdf, st.member_point.size() * T);
     const size_t rays_before = st.inner.rays_traced;
     st.dirs.prepare(R);
@@ -437,6 +447,39 @@ inline void build_guides(const W& w, Tracer& trace) {
 }
 
 inline bool has_guides(const PathScratch& sc);
+
+// The cache points of an image region (render/cache/cache_regions.h) from its pre-pass's
+// first-hit points (sc.sorted: one a pixel, at its centre): those of the materials the
+// cache serves are placed in rounds as a work item's points are (with no shared points to
+// start from), built, and moved to `out` without their build-only data.
+template <class W, class Tracer>
+inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoint>& out) {
+    PathScratch& sc = w.sc;
+    CacheState& st = cache_state(sc);
+    st.timer = &sc.timer;
+    const CacheSettings& cfg = w.st.cache;
+    const Camera& cam = w.s.camera;
+    st.queries.clear();
+    for (size_t k = 0; k < w.s.materials.size(); ++k) {
+        if (!served_by_cache(w.st.mode, w.s.materials[k], cfg.resolution)) continue;
+        for (size_t q = sc.material_start[k]; q < static_cast<size_t>(sc.material_start[k + 1]); ++q) {
+            const ShadingPoint& sp = sc.sorted[q];
+            const float footprint = w.out[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
+            const uint32_t key = sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q]));
+            st.queries.push_back(Query{sp.p, sp.ng, sp.t, sp.b, sp.n, key, kMinReusePixels * footprint / cfg.error});
+        }
+    }
+    st.shared = nullptr;
+    const size_t rays_before = st.inner.rays_traced;
+    place_cache_points(cfg, w.eps, st.queries.data(), st.queries.size(), st, trace);
+    out.clear();
+    for (size_t a = 0; a < st.used; ++a) {
+        out.push_back(std::move(st.points[a]));
+        drop_build_data(out.back());
+    }
+    sc.cache_points += st.used;
+    sc.rays_traced += st.inner.rays_traced - rays_before;
+}
 
 // cache-guided, light sampling at the first hit: the BRDF-sampling density the light
 // sample's MIS weight compares with is the mixture's.

@@ -1,8 +1,11 @@
 // The radiance cache at work on one batch of shading points (docs/radiance-cache.md),
-// compiled once per width (included by integrator_impl.h). The cache lives for one call:
-// the batch is one (tile, pass) work item's camera samples, so nothing is shared between
-// threads and the image depends on the seed only.
-//   1. placement, in rounds: each point takes the existing cache point of least error
+// compiled once per width (included by integrator_impl.h). The batch is one (tile, pass)
+// work item's camera samples; the cache points it starts from are those of the image
+// regions its tile overlaps (render/cache/cache_regions.h: built by a pre-pass of their
+// own, read only), and the points it builds itself live for the call, so the image
+// depends on the seed only.
+//   1. placement, in rounds: each point takes the existing cache point (a region's or one
+//      built here) of least error
 //      (render/cache/error_criterion.h) if that is within the bound; the others, in order,
 //      become new cache points unless a new one of this round already lies within the bound
 //      (with the radius of those built so far as the estimate), and the round's new ones are
@@ -93,8 +96,11 @@ struct CacheState {
     std::vector<float> split_weight;  // split_narrow_lobes: each ray's f cos / (pdf K), RGB
     std::vector<uint8_t> chose_guide;  // cache-guided: per first-hit point, drawn from the guide
     std::vector<float> guide_pick;     // ...and the uniform that picks its texel
-    std::vector<CachePoint> points;
+    std::vector<CachePoint> points;  // built by this call: [0, used)
     size_t used = 0;
+    // the cache points a call starts from (the regions', PathScratch::cache_shared; none: null)
+    const std::vector<const CachePoint*>* shared = nullptr;
+    std::vector<const CachePoint*> pool;  // after placement: the shared points, then [0, used)
     TexelDirections dirs;
     ReprojectScratch rs;
     Reprojection rep;
@@ -192,11 +198,16 @@ inline void build_cache_points(const CacheSettings& cfg, float eps, const Query*
     st.lap(Stage::CacheSurfels);
 }
 
-// Assigns every query a cache point (st.assigned, st.own: the query is that point), building
-// the cache points it needs.
+// Assigns every query a cache point (st.assigned, an index in st.pool; st.own: the query is
+// that point), starting from the shared points (st.shared) and building the ones it needs.
 template <class Tracer>
 inline void place_cache_points(const CacheSettings& cfg, float eps, const Query* queries, size_t n,
                                CacheState& st, Tracer& trace) {
+    static const std::vector<const CachePoint*> none;
+    const std::vector<const CachePoint*>& shared = st.shared ? *st.shared : none;
+    const size_t ns = shared.size();
+    // point a: shared[a], or the a - ns'th built here
+    auto point = [&](size_t a) -> const CachePoint& { return a < ns ? *shared[a] : st.points[a - ns]; };
     st.used = 0;
     st.assigned.assign(n, -1);
     st.own.assign(n, 0);
@@ -205,16 +216,16 @@ inline void place_cache_points(const CacheSettings& cfg, float eps, const Query*
         for (size_t q = 0; q < n; ++q) {
             if (st.assigned[q] >= 0) continue;
             float best = cfg.error;
-            for (size_t a = 0; a < st.used; ++a) {
-                const float e = reuse_error(st.points[a], queries[q].p, queries[q].n);
+            for (size_t a = 0; a < ns + st.used; ++a) {
+                const float e = reuse_error(point(a), queries[q].p, queries[q].n);
                 if (e <= best) best = e, st.assigned[q] = static_cast<int32_t>(a);
             }
         }
-        // the radius new cache points are expected to have: the median of those built
+        // the radius new cache points are expected to have: the median of the existing ones
         float radius = INFINITY;
-        if (st.used > 0) {
+        if (ns + st.used > 0) {
             std::vector<float> radii;
-            for (size_t a = 0; a < st.used; ++a) radii.push_back(st.points[a].reuse_radius);
+            for (size_t a = 0; a < ns + st.used; ++a) radii.push_back(point(a).reuse_radius);
             std::nth_element(radii.begin(), radii.begin() + radii.size() / 2, radii.end());
             radius = radii[radii.size() / 2];
         }
@@ -231,13 +242,15 @@ inline void place_cache_points(const CacheSettings& cfg, float eps, const Query*
             if (!near) st.pending.push_back(static_cast<int32_t>(q));
         }
         if (st.pending.empty()) break;
-        const size_t first = st.used;
+        const size_t first = ns + st.used;
         build_cache_points(cfg, eps, queries, st, trace);
         for (size_t k = 0; k < st.pending.size(); ++k) {
             st.assigned[st.pending[k]] = static_cast<int32_t>(first + k);
             st.own[st.pending[k]] = 1;
         }
     }
+    st.pool.clear();
+    for (size_t a = 0; a < ns + st.used; ++a) st.pool.push_back(&point(a));
     st.lap(Stage::CachePlace);
 }
 
@@ -265,7 +278,7 @@ inline void split_far_members(CacheState& st) {
     const size_t nq = st.queries.size();
     bool split = false;
     for (size_t u = 0; u < nq; ++u) {
-        const float reach = kShareError * st.points[st.assigned[u]].reuse_radius;
+        const float reach = kShareError * st.pool[st.assigned[u]]->reuse_radius;
         auto within = [&](const Vec3f& p, const Vec3f& q) { return dot(p - q, p - q) <= reach * reach; };
         const size_t first_new = st.queries.size();
         for (int32_t i = st.query_first[u]; i < st.query_first[u + 1]; ++i) {
@@ -317,7 +330,7 @@ inline CacheCounts reconstruct_hemispheres(const CacheSettings& cfg, float eps, 
         st.rays.clear();
         for (size_t q = c0; q < c1; ++q) {
             float* out = tex + (q - c0) * 3 * T;
-            const CachePoint& a = st.points[st.assigned[q]];
+            const CachePoint& a = *st.pool[st.assigned[q]];
             if (st.own[q]) {
                 std::copy(a.radiance.begin(), a.radiance.end(), out);
                 ++counts.own;

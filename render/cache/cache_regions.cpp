@@ -1,0 +1,127 @@
+#include "render/cache/cache_regions.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace patina {
+
+size_t cache_point_bytes(const CachePoint& a) {
+    return sizeof(CachePoint) + sizeof(float) * (a.radiance.capacity() + a.dist.capacity() + a.hit_point.capacity() +
+                                                 a.hit_normal.capacity() + a.outline.capacity()) +
+           a.kind.capacity() + sizeof(Surfel) * a.surfels.capacity() +
+           sizeof(Silhouette) * a.silhouettes.capacity() +
+           sizeof(int32_t) * (a.layer_start.capacity() + a.silhouette_start.capacity());
+}
+
+// Reprojection reads the radiance, the texel kinds, the surfels and the silhouettes; the
+// hits and their normals only made the surfels.
+void drop_build_data(CachePoint& a) {
+    std::vector<float>().swap(a.hit_point);
+    std::vector<float>().swap(a.hit_normal);
+}
+
+CacheRegions::CacheRegions(int width, int height, size_t budget_bytes)
+    : m_width(width),
+      m_height(height),
+      m_x((width + kCacheRegionPixels - 1) / kCacheRegionPixels),
+      m_y((height + kCacheRegionPixels - 1) / kCacheRegionPixels),
+      m_budget(budget_bytes),
+      m_slots(static_cast<size_t>(m_x) * m_y) {}
+
+std::vector<int> CacheRegions::overlapping(int x0, int y0, int x1, int y1) const {
+    std::vector<int> out;
+    const int k = kCacheRegionPixels;
+    for (int ry = std::max(0, y0 / k); ry <= std::min(m_y - 1, (y1 - 1) / k); ++ry)
+        for (int rx = std::max(0, x0 / k); rx <= std::min(m_x - 1, (x1 - 1) / k); ++rx) out.push_back(ry * m_x + rx);
+    return out;
+}
+
+void CacheRegions::expect(int region, int uses) {
+    std::lock_guard<std::mutex> lock(m_lock);
+    m_slots[region].uses += uses;
+}
+
+std::shared_ptr<const CacheRegion> CacheRegions::acquire(int region, const Build& build) {
+    for (;;) {
+        int claimed = -1;
+        {
+            std::unique_lock<std::mutex> lock(m_lock);
+            Slot& s = m_slots[region];
+            if (s.state == kBuilt) {
+                s.last_use = ++m_clock;
+                return s.points;
+            }
+            if (s.state == kEmpty) {
+                s.state = kBuilding;
+                claimed = region;
+            } else if (m_bytes.load() < m_budget) {
+                // another thread builds it: build the next region that items will want
+                for (int k = 1; k < count() && claimed < 0; ++k) {
+                    Slot& o = m_slots[(region + k) % count()];
+                    if (o.state == kEmpty && o.uses > 0) {
+                        o.state = kBuilding;
+                        claimed = (region + k) % count();
+                    }
+                }
+            }
+            if (claimed < 0) {
+                m_changed.wait(lock, [&] { return s.state != kBuilding; });
+                continue;
+            }
+        }
+        std::shared_ptr<const CacheRegion> made = build_into(claimed, build);
+        if (claimed == region) return made;
+    }
+}
+
+std::shared_ptr<const CacheRegion> CacheRegions::build_into(int region, const Build& build) {
+    auto made = std::make_shared<CacheRegion>();
+    const int k = kCacheRegionPixels;
+    const int x0 = (region % m_x) * k, y0 = (region / m_x) * k;
+    try {
+        build(region, x0, y0, std::min(x0 + k, m_width), std::min(y0 + k, m_height), *made);
+    } catch (...) {
+        std::lock_guard<std::mutex> lock(m_lock);
+        m_slots[region].state = kEmpty;
+        m_changed.notify_all();
+        throw;
+    }
+    made->bytes = 0;
+    for (const CachePoint& a : made->points) made->bytes += cache_point_bytes(a);
+    std::lock_guard<std::mutex> lock(m_lock);
+    Slot& s = m_slots[region];
+    s.points = std::move(made);
+    s.state = kBuilt;
+    s.last_use = ++m_clock;
+    m_bytes += s.points->bytes;
+    ++m_builds;
+    std::shared_ptr<const CacheRegion> held = s.points;  // not evicted before its item has it
+    evict_over_budget();
+    m_changed.notify_all();
+    return held;
+}
+
+void CacheRegions::release(int region) {
+    std::lock_guard<std::mutex> lock(m_lock);
+    Slot& s = m_slots[region];
+    if (--s.uses > 0 || s.state != kBuilt) return;
+    m_bytes -= s.points->bytes;
+    s.points.reset();  // the items holding it keep it until they are done
+    s.state = kEmpty;
+}
+
+// Drops the least recently used regions that no item holds until the rest fit the budget;
+// an item that wants one again builds it again, the same points.
+void CacheRegions::evict_over_budget() {
+    while (m_bytes.load() > m_budget) {
+        Slot* oldest = nullptr;
+        for (Slot& s : m_slots)
+            if (s.state == kBuilt && s.points.use_count() == 1 && (!oldest || s.last_use < oldest->last_use)) oldest = &s;
+        if (!oldest) return;
+        m_bytes -= oldest->points->bytes;
+        oldest->points.reset();
+        oldest->state = kEmpty;
+    }
+}
+
+}  // namespace patina

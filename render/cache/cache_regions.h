@@ -1,0 +1,81 @@
+// The radiance cache's cache points shared by the work items of a render
+// (docs/radiance-cache.md, "Regions"). The image is split into regions of
+// kCacheRegionPixels x kCacheRegionPixels pixels; a region's cache points are placed and
+// built by a pre-pass of its own (camera rays through its pixels' centres, keys from the
+// seed and the pixel) that depends on nothing but the region, and then serve every pass of
+// every tile that overlaps it. So a cache point is built once per region instead of once
+// per (tile, pass), and the image still depends on the seed only: whichever thread builds
+// a region, in whatever order, builds the same points -- and a region dropped from memory
+// and built again is the same region, which is what bounds the memory: a region is freed
+// when its last item is done, and regions no item holds are dropped (least recently used
+// first) when the regions kept exceed a budget.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "render/cache/cache_point.h"
+
+namespace patina {
+
+constexpr int kCacheRegionPixels = 32;
+constexpr size_t kCacheRegionBudgetBytes = size_t{256} << 20;
+
+// One region's cache points (their build-only data dropped: cache_point_bytes).
+struct CacheRegion {
+    std::vector<CachePoint> points;
+    size_t bytes = 0;
+};
+
+// The memory a cache point keeps, and its build-only arrays (hits and their normals) dropped.
+size_t cache_point_bytes(const CachePoint& a);
+void drop_build_data(CachePoint& a);
+
+class CacheRegions {
+public:
+    // build(region, x0, y0, x1, y1, out): the region's cache points, for its pixels [x0, x1) x [y0, y1)
+    using Build = std::function<void(int region, int x0, int y0, int x1, int y1, CacheRegion& out)>;
+
+    CacheRegions(int width, int height, size_t budget_bytes = kCacheRegionBudgetBytes);
+
+    int count() const { return m_x * m_y; }
+    // The regions that pixels [x0, x1) x [y0, y1) overlap, in order.
+    std::vector<int> overlapping(int x0, int y0, int x1, int y1) const;
+    // Announces `uses` more items that will acquire and release the region.
+    void expect(int region, int uses);
+    // The region's points, built with `build` if they are not in memory. While another
+    // thread builds it, this one builds the next region nobody has built yet (work that
+    // later items need: no thread idles while a neighbour builds what both need).
+    std::shared_ptr<const CacheRegion> acquire(int region, const Build& build);
+    // One announced use done: the last one frees the region.
+    void release(int region);
+    size_t bytes() const { return m_bytes.load(); }
+    size_t builds() const { return m_builds.load(); }
+
+private:
+    enum State : int { kEmpty = 0, kBuilding = 1, kBuilt = 2 };
+    struct Slot {
+        std::atomic<int> state{kEmpty};
+        std::shared_ptr<const CacheRegion> points;  // under m_lock
+        int uses = 0;                               // announced uses left (under m_lock)
+        uint64_t last_use = 0;                      // under m_lock
+    };
+    std::shared_ptr<const CacheRegion> build_into(int region, const Build& build);
+    void evict_over_budget();  // under m_lock
+
+    int m_width, m_height, m_x, m_y;
+    size_t m_budget;
+    std::vector<Slot> m_slots;
+    mutable std::mutex m_lock;
+    std::condition_variable m_changed;  // a region built, or its build failed
+    std::atomic<size_t> m_bytes{0}, m_builds{0};
+    uint64_t m_clock = 0;  // under m_lock
+};
+
+}  // namespace patina
