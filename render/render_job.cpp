@@ -281,7 +281,7 @@ RenderJob::TileWork RenderJob::render_tiles(const std::vector<int>& tiles, int f
     thread_local std::vector<CameraSample> cs;
     thread_local std::vector<PathResult> out;
     Samplers samplers(*this);
-    expect_cache_regions(tiles, end - first);
+    // (the cache's regions are not announced: later calls may want them; the budget bounds them)
     const size_t rays = scratch.rays_traced, points = scratch.cache_points, queries = scratch.cache_queries,
                  reprojected = scratch.cache_texels_reprojected, traced = scratch.cache_texels_traced;
     TileWork work;

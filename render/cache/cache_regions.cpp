@@ -104,6 +104,7 @@ std::shared_ptr<const CacheRegion> CacheRegions::build_into(int region, const Bu
 void CacheRegions::release(int region) {
     std::lock_guard<std::mutex> lock(m_lock);
     Slot& s = m_slots[region];
+    if (s.uses <= 0) return;  // uses never announced (a distributed render's): kept, up to the budget
     if (--s.uses > 0 || s.state != kBuilt) return;
     m_bytes -= s.points->bytes;
     s.points.reset();  // the items holding it keep it until they are done

@@ -53,7 +53,8 @@ public:
     // thread builds it, this one builds the next region nobody has built yet (work that
     // later items need: no thread idles while a neighbour builds what both need).
     std::shared_ptr<const CacheRegion> acquire(int region, const Build& build);
-    // One announced use done: the last one frees the region.
+    // One announced use done: the last one frees the region (one never announced: kept
+    // until the budget drops it).
     void release(int region);
     size_t bytes() const { return m_bytes.load(); }
     size_t builds() const { return m_builds.load(); }

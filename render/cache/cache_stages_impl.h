@@ -229,6 +229,20 @@ inline void add_counts(const W& w, const CacheCounts& c, const CacheState& st, s
     w.sc.rays_traced += st.inner.rays_traced - rays_before;
 }
 
+// The start of either integrator's cache stage: the worker's cache state, timed by its
+// timer, holding the batch's queries and members of the materials the cache serves, the
+// shared points of the item's regions to start from, and the texel directions.
+template <class W>
+inline CacheState& start_cache_stage(const W& w) {
+    CacheState& st = cache_state(w.sc);
+    st.timer = &w.sc.timer;
+    const int R = w.st.cache.resolution;
+    collect_queries(w, st, [&](const Material& m) { return served_by_cache(w.st.mode, m, R); });
+    st.shared = &w.sc.cache_shared;
+    st.dirs.prepare(R);
+    return st;
+}
+
 // cache: the first-hit points of split_by_paths materials, each its indirect light from
 // kSplitPaths paths along its BRDF's own samples (traced by the path tracer as the cache's
 // rays are: the emission they see directly is the direct light's, left to the outer path's
@@ -297,16 +311,12 @@ inline void split_narrow_lobes(const W& w, Tracer& trace) {
 template <class W, class Tracer>
 inline void add_cached_indirect(const W& w, Tracer& trace) {
     PathScratch& sc = w.sc;
-    CacheState& st = cache_state(sc);
-    st.timer = &sc.timer;
+    CacheState& st = start_cache_stage(w);
     const CacheSettings& cfg = w.st.cache;
     const int R = cfg.resolution;
     const size_t T = static_cast<size_t>(R) * R;
     const float texel = texel_solid_angle(R);
-    collect_queries(w, st, [&](const Material& m) { return served_by_cache(w.st.mode, m, R); });
-    st.shared = &sc.cache_shared;
     const size_t rays_before = st.inner.rays_traced;
-    st.dirs.prepare(R);
     // one member's indirect light from its query's radiance; the texels with light (count of
     // them in st.l, st.rgb) listed once for all the query's members
     auto integrate = [&](int32_t member, const float* radiance, size_t count) {
@@ -402,17 +412,13 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
 template <class W, class Tracer>
 inline void build_guides(const W& w, Tracer& trace) {
     PathScratch& sc = w.sc;
-    CacheState& st = cache_state(sc);
-    st.timer = &sc.timer;
+    sc.guide_of.assign(sc.sorted.size(), -1);  // no guide (below: the points of a member)
+    CacheState& st = start_cache_stage(w);
     const CacheSettings& cfg = w.st.cache;
     const int R = cfg.resolution;
     const size_t T = static_cast<size_t>(R) * R;
-    sc.guide_of.assign(sc.sorted.size(), -1);
-    collect_queries(w, st, [&](const Material& m) { return served_by_cache(w.st.mode, m, R); });
-    st.shared = &sc.cache_shared;
     float* cdf = grow(sc.guide_cdf, st.member_point.size() * T);
     const size_t rays_before = st.inner.rays_traced;
-    st.dirs.prepare(R);
     float* l = grow(st.l, 3 * T);
     for (size_t t = 0; t < T; ++t) l[3 * t] = st.dirs.x[t], l[3 * t + 1] = st.dirs.y[t], l[3 * t + 2] = st.dirs.z[t];
     // each member of the query: its own BRDF and view against the query's radiance
@@ -449,26 +455,17 @@ inline void build_guides(const W& w, Tracer& trace) {
 inline bool has_guides(const PathScratch& sc);
 
 // The cache points of an image region (render/cache/cache_regions.h) from its pre-pass's
-// first-hit points (sc.sorted: one a pixel, at its centre): those of the materials the
-// cache serves are placed in rounds as a work item's points are (with no shared points to
-// start from), built, and moved to `out` without their build-only data.
+// first-hit points (sc.sorted: one a pixel, at its centre): the queries a work item would
+// make of them (collect_queries: a block's close points of the materials the cache serves
+// share one) are placed in rounds as an item's are (with no shared points to start from),
+// built, and moved to `out` without their build-only data.
 template <class W, class Tracer>
 inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoint>& out) {
     PathScratch& sc = w.sc;
     CacheState& st = cache_state(sc);
     st.timer = &sc.timer;
     const CacheSettings& cfg = w.st.cache;
-    const Camera& cam = w.s.camera;
-    st.queries.clear();
-    for (size_t k = 0; k < w.s.materials.size(); ++k) {
-        if (!served_by_cache(w.st.mode, w.s.materials[k], cfg.resolution)) continue;
-        for (size_t q = sc.material_start[k]; q < static_cast<size_t>(sc.material_start[k + 1]); ++q) {
-            const ShadingPoint& sp = sc.sorted[q];
-            const float footprint = w.out[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
-            const uint32_t key = sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q]));
-            st.queries.push_back(Query{sp.p, sp.ng, sp.t, sp.b, sp.n, key, kMinReusePixels * footprint / cfg.error});
-        }
-    }
+    collect_queries(w, st, [&](const Material& m) { return served_by_cache(w.st.mode, m, cfg.resolution); });
     st.shared = nullptr;
     const size_t rays_before = st.inner.rays_traced;
     place_cache_points(cfg, w.eps, st.queries.data(), st.queries.size(), st, trace);

@@ -103,7 +103,9 @@ struct CacheState {
     std::vector<const CachePoint*> pool;  // after placement: the shared points, then [0, used)
     TexelDirections dirs;
     ReprojectScratch rs;
-    Reprojection rep;
+    Reprojection rep, rep2;  // a query's reprojection, and its second cache point's (fill_holes)
+    std::vector<float> texture2;  // the second cache point's reprojected texture (R^2 x 3)
+    std::vector<int32_t> second;  // per query: the cache point that fills its holes (in pool), or -1
     RayQueue rays;
     std::vector<PathResult> results;
     std::vector<int32_t> assigned;
@@ -198,6 +200,52 @@ inline void build_cache_points(const CacheSettings& cfg, float eps, const Query*
     st.lap(Stage::CacheSurfels);
 }
 
+// Each query's second cache point (st.second): the one of least error after its own, if
+// within the bound. It fills the holes its own leaves before any is traced (fill_holes).
+inline void choose_second_points(const CacheSettings& cfg, const Query* queries, size_t n, CacheState& st) {
+    st.second.assign(n, -1);
+    for (size_t q = 0; q < n; ++q) {
+        float best = cfg.error;
+        for (size_t a = 0; a < st.pool.size(); ++a) {
+            if (static_cast<int32_t>(a) == st.assigned[q]) continue;
+            const float e = reuse_error(*st.pool[a], queries[q].p, queries[q].n);
+            if (e <= best) best = e, st.second[q] = static_cast<int32_t>(a);
+        }
+    }
+}
+
+// The holes A's reprojection left in B (neither filled nor decided: what A did not see,
+// not the surfels B sees from behind, which hide what lies behind them) filled, where it
+// knows them, by a second cache point's reprojection: geometry one point did not see
+// another nearby point often did, and a lookup costs far less than a path. Returns the
+// texels filled.
+constexpr int kMinHolesForSecond = 8;  // fewer holes are cheaper traced than a second reprojection
+
+inline int fill_holes(const CachePoint& a2, const Receiver& b, const TexelDirections& dirs, float* radiance,
+                      CacheState& st) {
+    const int R = a2.resolution;
+    Reprojection& r = st.rep;
+    int holes = 0;
+    for (int y = 0; y < R; ++y) holes += row_count(r.to_trace.rows[y] & ~r.filled.rows[y]);
+    if (holes < kMinHolesForSecond) return 0;
+    float* tex2 = grow(st.texture2, 3 * static_cast<size_t>(R) * R);
+    reproject(a2, b, dirs, tex2, st.rep2, st.rs);
+    int taken = 0;
+    for (int y = 0; y < R; ++y) {
+        const Row128 take = r.to_trace.rows[y] & ~r.filled.rows[y] & st.rep2.filled.rows[y] & ~st.rep2.to_trace.rows[y];
+        if (row_empty(take)) continue;
+        for_each_bit(take, [&](int x) {
+            const size_t t = static_cast<size_t>(y) * R + x;
+            std::copy(tex2 + 3 * t, tex2 + 3 * t + 3, radiance + 3 * t);
+            ++taken;
+        });
+        r.filled.rows[y] |= take;
+        r.to_trace.rows[y] &= ~take;
+    }
+    r.traced -= taken;
+    return taken;
+}
+
 // Assigns every query a cache point (st.assigned, an index in st.pool; st.own: the query is
 // that point), starting from the shared points (st.shared) and building the ones it needs.
 template <class Tracer>
@@ -251,6 +299,7 @@ inline void place_cache_points(const CacheSettings& cfg, float eps, const Query*
     }
     st.pool.clear();
     for (size_t a = 0; a < ns + st.used; ++a) st.pool.push_back(&point(a));
+    choose_second_points(cfg, queries, n, st);
     st.lap(Stage::CachePlace);
 }
 
@@ -293,6 +342,7 @@ inline void split_far_members(CacheState& st) {
                 st.queries.push_back(st.member_own[m]);
                 st.query_point.push_back(st.member_point[m]);
                 st.assigned.push_back(st.assigned[u]);
+                st.second.push_back(st.second[u]);
                 st.own.push_back(0);
             }
             st.member_query[m] = to;
@@ -337,8 +387,10 @@ inline CacheCounts reconstruct_hemispheres(const CacheSettings& cfg, float eps, 
                 continue;
             }
             const Query& b = queries[q];
-            reproject(a, Receiver{b.p, b.t, b.b, b.n}, st.dirs, out, st.rep, st.rs);
+            const Receiver receiver{b.p, b.t, b.b, b.n};
+            reproject(a, receiver, st.dirs, out, st.rep, st.rs);
             counts.reprojected += st.rep.reprojected;
+            if (st.second[q] >= 0) counts.reprojected += fill_holes(*st.pool[st.second[q]], receiver, st.dirs, out, st);
             counts.from_misses += st.rep.from_misses + st.rep.cracks;
             if (!exact) {
                 // guiding: the holes take the mean of what was reprojected

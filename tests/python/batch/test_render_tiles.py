@@ -41,13 +41,14 @@ def _local(scene):
     return render(scene, threads=2, prepared=_prepared())
 
 
-def assert_same_image(a, b) -> None:
+def assert_same_image(a, b, same_rays: bool = True) -> None:
     for name in IMAGES:
         x, y = getattr(a, name), getattr(b, name)
         assert (x is None) == (y is None), name
         if x is not None:
             assert np.array_equal(x, y), f"{name} differs"
-    assert (a.rays, a.camera_rays, a.spp, a.aa) == (b.rays, b.camera_rays, b.spp, b.aa)
+    assert (a.camera_rays, a.spp, a.aa) == (b.camera_rays, b.spp, b.aa)
+    assert a.rays == b.rays or not same_rays
 
 
 # ---------------------------------------------------------------- in this process
@@ -160,14 +161,18 @@ def test_the_distributed_render_is_the_local_one_bit_for_bit(cluster, aa):
 
 @pytest.mark.parametrize("integrator", ["cache", "cache-guided"])
 def test_the_radiance_cache_renders_on_the_cluster_as_here_bit_for_bit(cluster, integrator):
-    # its cache lives for one (tile, pass) work item, so a tile is the same in any process
+    # a work item's cache starts from its image regions' points, which depend on the region
+    # alone (render/cache/cache_regions.h), so a tile is the same in any process; each
+    # process builds the regions its tiles want, so the cluster may build more cache points
     scene = _scene(integrator=integrator, spp=2)
     there = render_tiles.render_on_dask(scene, cluster, prepared=_prepared(), groups=4)
     here = _local(scene)
     assert there.complete
-    assert_same_image(there, here)
-    counts = ("cache_points", "cache_queries", "cache_texels_reprojected", "cache_texels_traced")
-    assert [getattr(there, k) for k in counts] == [getattr(here, k) for k in counts] and here.cache_points > 0
+    assert_same_image(there, here, same_rays=False)  # the regions' rays, traced in each process
+    assert there.rays >= here.rays
+    counts = ("cache_queries", "cache_texels_reprojected", "cache_texels_traced")
+    assert [getattr(there, k) for k in counts] == [getattr(here, k) for k in counts]
+    assert there.cache_points >= here.cache_points > 0
 
 
 def test_each_worker_prepares_the_scene_once(cluster):

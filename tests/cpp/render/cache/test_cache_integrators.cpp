@@ -113,22 +113,34 @@ double mean_radiance(const std::vector<PathResult>& r) {
     return s / (3.0 * static_cast<double>(r.size()));
 }
 
-std::vector<float> render_job(const BoxScene& b, IntegratorMode mode, int threads, int spp) {
+RenderSettings job_settings(IntegratorMode mode, int threads, int spp, int width = 0) {
     RenderSettings st;
     st.spp = spp;
     st.max_depth = 4;
     st.seed = 5;
     st.threads = threads;
+    st.width = width;
     st.tile_size = 8;
+    st.max_pass_spp = 1;  // a pass a sample: the regions' cache points serve every pass
     st.mode = mode;
     st.cache.resolution = 16;
-    RenderJob job(b.scene, st);
-    job.start();
-    job.wait();
+    return st;
+}
+
+std::vector<float> resolved(const BoxScene& b, const RenderJob& job) {
     const size_t n = static_cast<size_t>(b.scene.camera.width) * b.scene.camera.height;
     std::vector<float> rgb(3 * n), albedo(3 * n), normal(3 * n), depth(n), lux(n), samples(n);
     job.resolve(rgb.data(), albedo.data(), normal.data(), depth.data(), lux.data(), samples.data());
     return rgb;
+}
+
+std::vector<float> render_job(const BoxScene& b, IntegratorMode mode, int threads, int spp, int width = 0,
+                              size_t* cache_points = nullptr) {
+    RenderJob job(b.scene, job_settings(mode, threads, spp, width));
+    job.start();
+    job.wait();
+    if (cache_points) *cache_points = job.progress().cache_points;
+    return resolved(b, job);
 }
 
 }  // namespace
@@ -160,6 +172,32 @@ TEST(CacheIntegrators, AnyThreadCountGivesTheSameImage) {
         const std::vector<float> three = render_job(b, mode, 3, 2);
         ASSERT_EQ(one.size(), three.size());
         for (size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], three[i]) << i;
+    }
+}
+
+// The render job's items start from the cache points of the image regions their tiles
+// overlap (render/cache/cache_regions.h), built once each, whichever item and thread come
+// first: the image is the same at every SIMD width and in any order of the tiles (here
+// rendered one by one, last first, on the calling thread: a distributed render's way), and
+// far fewer cache points are built than the items would build alone.
+TEST(CacheIntegrators, SharedRegionsKeepTheImageIndependentOfWidthAndTileOrder) {
+    const BoxScene b(40, 24);  // 2 x 1 regions of 32 pixels, 5 x 3 tiles of 8
+    for (IntegratorMode mode : {IntegratorMode::Cache, IntegratorMode::CacheGuided}) {
+        size_t points = 0;
+        const std::vector<float> one = render_job(b, mode, 2, 3, 1, &points);
+        for (int width : {4, 8}) {
+            if (!width_supported(width)) continue;
+            const std::vector<float> wide = render_job(b, mode, 2, 3, width);
+            for (size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], wide[i]) << "width " << width << ", " << i;
+        }
+        RenderJob job(b.scene, job_settings(mode, 1, 3, 1));
+        size_t built = 0;
+        for (int tile = job.tile_count() - 1; tile >= 0; --tile) built += job.render_tiles({tile}, 0, job.pass_count()).cache_points;
+        const std::vector<float> reversed = resolved(b, job);
+        for (size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], reversed[i]) << i;
+        EXPECT_EQ(built, points);
+        // each of the 15 tiles' 3 passes would place cache points of its own
+        EXPECT_LT(points, 15u * 3u);
     }
 }
 
