@@ -88,10 +88,12 @@ struct Ref {
 };
 using RefList = std::vector<Ref, UninitialisedAllocator<Ref>>;
 
-// Bins per axis: about one per four references (the refinement looks into two of them),
-// at least 4, at most kMaxBins.
+// Bins per axis: one per two references, at least 4, at most kMaxBins. Fewer bins make
+// the refinement's windows larger: one per four gave the 1M sphere a 2 % lower SAH cost
+// but took 4 % more instructions and 18 % more mispredicted branches (cachegrind), one
+// per reference more instructions again.
 constexpr int kMaxBins = 128;
-int bin_count(size_t n) { return static_cast<int>(std::clamp<size_t>(n / 4, 4, kMaxBins)); }
+int bin_count(size_t n) { return static_cast<int>(std::clamp<size_t>(n / 2, 4, kMaxBins)); }
 
 struct Split {
     int axis = -1;
