@@ -35,24 +35,31 @@ size_t first_invalid_ray(const RayBatch& rays, size_t n) {
     return n;
 }
 
+namespace {
+// Runs one of the width's kernels (a member of TraceKernels) over rays [0, n) of a tree or
+// a BVH, in blocks of 64 rays or more shared among `threads` workers.
+template <class Kernel, class Structure, class Out>
+void run_kernel(Kernel TraceKernels::*kernel, const Structure& s, const RayBatch& rays, const Out& out, size_t n,
+                int width, int threads) {
+    const Kernel k = trace_kernels_for(width).*kernel;
+    parallel_for(n, 64, threads, [&](size_t b, size_t e) { k(s, rays, out, b, e); });
+}
+}  // namespace
+
 void trace_intersect(const KdTree& tree, const RayBatch& rays, const HitBatch& hits, size_t n, int width, int threads) {
-    const TraceKernels& k = trace_kernels_for(width);
-    parallel_for(n, 64, threads, [&](size_t b, size_t e) { k.intersect(tree, rays, hits, b, e); });
+    run_kernel(&TraceKernels::intersect, tree, rays, hits, n, width, threads);
 }
 
 void trace_occluded(const KdTree& tree, const RayBatch& rays, uint8_t* blocked, size_t n, int width, int threads) {
-    const TraceKernels& k = trace_kernels_for(width);
-    parallel_for(n, 64, threads, [&](size_t b, size_t e) { k.occluded(tree, rays, blocked, b, e); });
+    run_kernel(&TraceKernels::occluded, tree, rays, blocked, n, width, threads);
 }
 
 void trace_intersect(const Bvh& bvh, const RayBatch& rays, const HitBatch& hits, size_t n, int width, int threads) {
-    const TraceKernels& k = trace_kernels_for(width);
-    parallel_for(n, 64, threads, [&](size_t b, size_t e) { k.intersect_bvh(bvh, rays, hits, b, e); });
+    run_kernel(&TraceKernels::intersect_bvh, bvh, rays, hits, n, width, threads);
 }
 
 void trace_occluded(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked, size_t n, int width, int threads) {
-    const TraceKernels& k = trace_kernels_for(width);
-    parallel_for(n, 64, threads, [&](size_t b, size_t e) { k.occluded_bvh(bvh, rays, blocked, b, e); });
+    run_kernel(&TraceKernels::occluded_bvh, bvh, rays, blocked, n, width, threads);
 }
 
 void hit_normals(const KdTree& tree, const int32_t* prim, float* normals, size_t n) {

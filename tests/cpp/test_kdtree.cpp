@@ -60,21 +60,7 @@ TEST(KdTree, SingleRaysMatchBruteForce) {
         const KdTree tree = build(m);
         const Rays rays = random_rays(3000, 2);
         const Result r = trace(tree, rays, 1);
-        int hits = 0;
-        for (size_t i = 0; i < rays.size(); ++i) {
-            const auto [t, prim] = brute_force(m, &rays.o[3 * i], &rays.d[3 * i]);
-            if (prim < 0) {
-                EXPECT_EQ(r.prim[i], -1) << "ray " << i;
-                continue;
-            }
-            ++hits;
-            ASSERT_GE(r.prim[i], 0) << "ray " << i << " missed, brute force hits " << prim << " at " << t;
-            EXPECT_NEAR(r.t[i], t, 1e-5 * t) << "ray " << i;
-            if (r.prim[i] != prim) {
-                EXPECT_NEAR(r.t[i], t, 1e-6 * t) << "ray " << i << ": not a tie";
-            }
-        }
-        EXPECT_GT(hits, 300);
+        expect_brute_force_hits(m, rays, r.t.data(), r.prim.data(), 300);
     }
 }
 

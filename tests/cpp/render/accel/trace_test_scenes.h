@@ -2,6 +2,8 @@
 // (the kd-tree's in tests/cpp/test_kdtree.cpp, the BVH's beside this file).
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -133,6 +135,28 @@ inline std::pair<double, int> brute_force(const Mesh& m, const float* o, const f
         }
     }
     return {best, prim};
+}
+
+// Closest hits (t and triangle per ray) against brute_force: a miss where it misses, every
+// hit it finds found, t within 1e-5 relative, another triangle only in a tie (t within
+// 1e-6); and at least `min_hits` rays that hit, so that the check means something.
+inline void expect_brute_force_hits(const Mesh& m, const Rays& rays, const float* t, const int32_t* prim,
+                                    int min_hits) {
+    int hits = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const auto [bt, bprim] = brute_force(m, &rays.o[3 * i], &rays.d[3 * i]);
+        if (bprim < 0) {
+            EXPECT_EQ(prim[i], -1) << "ray " << i;
+            continue;
+        }
+        ++hits;
+        ASSERT_GE(prim[i], 0) << "ray " << i << " missed, brute force hits " << bprim << " at " << bt;
+        EXPECT_NEAR(t[i], bt, 1e-5 * bt) << "ray " << i;
+        if (prim[i] != bprim) {
+            EXPECT_NEAR(t[i], bt, 1e-6 * bt) << "ray " << i << ": not a tie";
+        }
+    }
+    EXPECT_GT(hits, min_hits);
 }
 
 }  // namespace trace_test
