@@ -1,6 +1,7 @@
 // A kd-tree over triangles, built with the surface-area heuristic (SAH) in
-// O(N log N) by the event sweep of Wald and Havran (2006), with split clipping
-// ("perfect splits"), an empty-space bonus and compact 8-byte nodes. Traversal
+// O(N log N): binned, with the exact SAH at the triangle bounds near each axis's best
+// binned plane (the event sweep of Wald and Havran, 2006, over those bounds), split
+// clipping ("perfect splits"), an empty-space bonus and compact 8-byte nodes. Traversal
 // lives in traverse.h; building in kdtree_build.cpp.
 #pragma once
 
