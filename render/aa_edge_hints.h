@@ -15,7 +15,8 @@
 // onto what lies behind them (rays traced through the tree at width 1, so every SIMD width
 // sees the same), and the cast shadow is projected like a feature edge: a wire's shadow
 // thinner than the gaps between the corner rays is found too. Area lights and environments
-// cast soft shadows, left to the signal.
+// cast soft shadows, left to the signal. The same pre-pass places the sub-pixel highlights
+// of point-like lights (aa_highlights.h) in `spots`.
 #pragma once
 
 #include <cstdint>

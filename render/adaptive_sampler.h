@@ -12,7 +12,10 @@
 //      of comparisons give a 4-bit mask each, and the zone table the zones to refine;
 //   3. one zigzag of four through each flagged zone (at most five a pixel), the zones the
 //      pre-pass's edges cross included.
-// Every position's integrator sample is added with its precomputed weight.
+// Every position's integrator sample is added with its precomputed weight. A pixel that a
+// sub-pixel highlight of the pre-pass falls on (aa_highlights.h) also traces, in round 1,
+// a grid of rays over the highlight's piece, which stands for the piece's area in place of
+// the pattern's rays inside it.
 //
 // The decisions are not taken on the integrator's noisy radiance but on a signal that is a
 // function of the position only: each position traced again by the direct-light integrator
