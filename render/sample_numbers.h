@@ -1,14 +1,18 @@
 // The numbers a path draws, from its stream key and sample index (CameraSample), for each
 // use at each bounce (rng.h's RandomDim):
 //
-// - SamplerKind::Sobol: the stream (a pixel) is one Owen-scrambled Sobol sequence
-//   (render/sobol.h), the sample index its point, each use one Sobol dimension: the camera's
-//   four (pixel x, y, lens u, v: dimensions 0-3, so the pixel positions of a pixel's first
-//   2^m samples are a (0, m, 2)-net) at the first bounce, then seven a bounce (light pick, u,
-//   v, BRDF pick, u, v, roulette). Each (stream, dimension) has its own scramble seed, so
-//   pixels are decorrelated and a pixel's samples are stratified in every projection the
-//   sequence stratifies. Dimensions past the generated table (bounce 17 on) are padded
-//   with the independent numbers below.
+// - SamplerKind::Sobol: a padded Owen-scrambled Sobol sampler. The uses come in groups: the
+//   pairs (pixel x, y), (lens u, v), (light u, v) and (BRDF u, v), and the single uses light
+//   pick, BRDF pick and Russian roulette. Every group of every bounce draws from the same
+//   (0, 2)-sequence, Sobol's first two dimensions (render/sobol.h; a single use: the first),
+//   with the stream's sample index shuffled by the group's own nested scramble
+//   (sobol::shuffle_index) and the values Owen-scrambled with the group's own seeds. So each
+//   pair's first 2^m samples of a pixel are a (0, m, 2)-net, one in each of the 2^a x
+//   2^(m-a) strata, each single use is stratified in 2^m intervals, and the groups are
+//   paired at random, as Kollig and Keller's padding and pbrt-v4's padded Sobol sampler do:
+//   unlike consecutive dimensions of one Sobol sequence, whose higher pairs have 2-D
+//   projections far from a (0, 2)-net at a pixel's sample counts, every pair is as well
+//   stratified as the first. Every bounce is covered (no table to run out of).
 // - SamplerKind::Independent: a hash of (sample_key(stream, index), dimension), rng.h.
 //
 // Both are functions of (stream, index, bounce, use) only: the same whatever the thread,
@@ -17,7 +21,6 @@
 #pragma once
 
 #include <cstdint>
-#include <type_traits>
 
 #include "core/simd/simd.h"
 #include "render/integrator.h"
@@ -26,50 +29,55 @@
 
 PATINA_BEGIN_TARGET
 
-inline constexpr uint32_t kCameraDims = kDimLightPick;                       // pixel x, y, lens u, v
-inline constexpr uint32_t kBounceDims = kDimRoulette - kDimLightPick + 1;     // light, BRDF, roulette
-inline constexpr uint32_t kNoSobolDim = 0xffffffffu;                          // a use Sobol does not cover
+// A use's group: its first use (the pair's first, or the use itself) and its component
+// (0 or 1: the (0, 2)-sequence's dimension it draws).
+struct SobolGroup {
+    uint32_t id;  // unique over (bounce, group): bounce * kDimsPerBounce + the group's first use
+    int component;
+};
 
-// The Sobol dimension of use d at `bounce` (kNoSobolDim beyond the table, or for a camera
-// use after the first bounce).
-inline uint32_t sobol_dimension(int bounce, RandomDim d) {
-    uint32_t dim;
-    if (d < kDimLightPick)
-        dim = bounce == 0 ? static_cast<uint32_t>(d) : kNoSobolDim;
-    else
-        dim = kCameraDims + static_cast<uint32_t>(bounce) * kBounceDims + (d - kDimLightPick);
-    return dim < static_cast<uint32_t>(sobol::kDimensions) ? dim : kNoSobolDim;
+inline SobolGroup sobol_group(int bounce, RandomDim d) {
+    const bool second = d == kDimPixelY || d == kDimLensV || d == kDimLightV || d == kDimBsdfV;
+    return {static_cast<uint32_t>(bounce) * kDimsPerBounce + d - (second ? 1u : 0u), second ? 1 : 0};
 }
 
-// The scramble seed of dimension `dim` of stream `key`.
-inline uint32_t scramble_seed(uint32_t key, uint32_t dim) { return hash_u32(key ^ hash_u32(dim + 0x5851f42du)); }
+// The pixel position's group keeps the sequence's order (the pairing is what the shuffles
+// randomise: one group needs none, and the pixel sampler draws its numbers one at a time).
+inline constexpr uint32_t kPixelGroup = kDimPixelX;
+
+// The seeds of a group of stream `key`: its index shuffle's, and its values' scramble (one
+// a component).
+inline uint32_t shuffle_seed(uint32_t key, uint32_t group) { return hash_u32(key ^ hash_u32(group + 0x2545f491u)); }
+inline uint32_t scramble_seed(uint32_t key, uint32_t group, int component) {
+    return hash_u32(key ^ hash_u32(2 * group + static_cast<uint32_t>(component) + 0x5851f42du));
+}
 
 inline float unit_float(uint32_t bits) { return static_cast<float>(bits >> 8) * (1.0f / 16777216.0f); }
 
 inline float sample_uniform(SamplerKind kind, uint32_t key, uint32_t index, int bounce, RandomDim d) {
-    const uint32_t dim = kind == SamplerKind::Sobol ? sobol_dimension(bounce, d) : kNoSobolDim;
-    if (dim == kNoSobolDim) return bounce_uniform(sample_key(key, index), bounce, d);
-    return unit_float(sobol::owen_scramble(sobol::point_bits(index, static_cast<int>(dim)), scramble_seed(key, dim)));
+    if (kind != SamplerKind::Sobol) return bounce_uniform(sample_key(key, index), bounce, d);
+    const SobolGroup g = sobol_group(bounce, d);
+    const uint32_t shuffled = g.id == kPixelGroup ? index : sobol::shuffle_index(index, shuffle_seed(key, g.id));
+    return unit_float(sobol::owen_scramble(sobol::point_bits(shuffled, g.component), scramble_seed(key, g.id, g.component)));
 }
 
 // The same for N paths at once (keys and indices: uint32 bits in int32 lanes); index_bits:
 // the bit length of the largest index among them.
 template <class I>
 PATINA_INLINE auto sample_uniform_lanes(SamplerKind kind, I keys, I index, int index_bits, int bounce, RandomDim d) {
-    const uint32_t dim = kind == SamplerKind::Sobol ? sobol_dimension(bounce, d) : kNoSobolDim;
-    if (dim == kNoSobolDim) {
-        const I step = mul_wrap(index, I(static_cast<int32_t>(0x85ebca6bu)));
-        I sum;  // keys + step modulo 2^32 (int32_t overflow would be undefined at width 1)
-        if constexpr (std::is_same_v<I, int32_t>)
-            sum = static_cast<int32_t>(static_cast<uint32_t>(keys) + static_cast<uint32_t>(step));
-        else
-            sum = keys + step;
-        const I path = hash_lanes(sum);
+    if (kind != SamplerKind::Sobol) {
+        const I path = hash_lanes(sobol::add_wrap(keys, mul_wrap(index, I(static_cast<int32_t>(0x85ebca6bu)))));
         return bounce_uniform_lanes(path, bounce, d);
     }
-    const I seed = hash_lanes(keys ^ I(static_cast<int32_t>(hash_u32(dim + 0x5851f42du))));
-    const I bits = sobol::owen_scramble_lanes(sobol::point_bits_lanes(index, static_cast<int>(dim), index_bits), seed);
-    return to_float(srl(bits, 8)) * decltype(to_float(bits))(1.0f / 16777216.0f);
+    const SobolGroup g = sobol_group(bounce, d);
+    const I shuffle = hash_lanes(keys ^ I(static_cast<int32_t>(hash_u32(g.id + 0x2545f491u))));
+    const I shuffled = g.id == kPixelGroup ? index : sobol::shuffle_index_lanes(index, shuffle);
+    const I seed = hash_lanes(keys ^ I(static_cast<int32_t>(
+                                         hash_u32(2 * g.id + static_cast<uint32_t>(g.component) + 0x5851f42du))));
+    // the shuffle keeps the bits above its levels, and any below them may be set
+    const int bits = index_bits > sobol::kShuffleLevels ? index_bits : sobol::kShuffleLevels;
+    const I value = sobol::owen_scramble_lanes(sobol::point_bits_lanes(shuffled, g.component, bits), seed);
+    return to_float(srl(value, 8)) * decltype(to_float(value))(1.0f / 16777216.0f);
 }
 
 // The bit length of x (0 for 0).

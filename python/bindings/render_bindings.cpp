@@ -593,27 +593,32 @@ void check_axis(const FloatVector& a, const char* name) {
 // The adaptive sampler's fixed data (render/adaptive_pattern.h), for the drawings of
 // tools/draw_antialiasing.py and the tests: positions in the canonical frame, the three
 // fours of compared sample pairs, the zone tables, the weights per refined-zone set.
-// The first dimensions of a stream's samples [first, first + n) as the sampler draws them
-// (render/sample_numbers.h; sobol unscrambled: the plain Sobol points), for the tests of
-// stratification and convergence: out[i][d] is Sobol dimension d, or independent dimension d.
+// The first uses of a stream's samples [first, first + n) as the sampler draws them
+// (render/sample_numbers.h), for the tests of stratification and convergence: out[i][c] is
+// use c of the sample's path, in the order pixel x, y, lens u, v, then seven a bounce (light
+// pick, u, v, BRDF pick, u, v, roulette; bounce 0: columns 4-10, bounce 1: 11-17, ...).
+// sobol with scramble=false: the plain Sobol points, out[i][d] dimension d of the table.
 nb::ndarray<nb::numpy, float, nb::ndim<2>> sample_points(const std::string& sampler, size_t n, int dims, uint64_t seed,
                                                         uint32_t first, bool scramble) {
     const bool sobol = sampler == "sobol";
     if (!sobol && sampler != "independent")
         throw std::invalid_argument("sampler: '" + sampler + "' is not one of 'sobol', 'independent'");
-    if (dims < 1 || (sobol && dims > patina::sobol::kDimensions))
+    const bool plain = sobol && !scramble;
+    if (dims < 1 || (plain && dims > patina::sobol::kDimensions))
         throw std::invalid_argument("dims: must be 1 to " + std::to_string(patina::sobol::kDimensions));
     float* out;
     const size_t shape[2] = {n, static_cast<size_t>(dims)};
     auto a = new_array<float, 2>(shape, &out);
     const uint32_t key = patina::stream_key(stream_seed(seed), 0);
+    const auto kind = sobol ? patina::SamplerKind::Sobol : patina::SamplerKind::Independent;
+    constexpr int camera = patina::kDimLightPick, per_bounce = patina::kDimRoulette - patina::kDimLightPick + 1;
     for (size_t i = 0; i < n; ++i) {
         const uint32_t index = first + static_cast<uint32_t>(i);
-        for (int d = 0; d < dims; ++d) {
-            const uint32_t dim = static_cast<uint32_t>(d), bits = sobol ? patina::sobol::point_bits(index, d) : 0;
-            out[i * dims + d] = !sobol     ? patina::uniform(patina::sample_key(key, index), dim)
-                                : scramble ? patina::unit_float(patina::sobol::owen_scramble(bits, patina::scramble_seed(key, dim)))
-                                           : patina::unit_float(bits);
+        for (int c = 0; c < dims; ++c) {
+            const int bounce = c < camera ? 0 : (c - camera) / per_bounce;
+            const auto use = static_cast<patina::RandomDim>(c < camera ? c : camera + (c - camera) % per_bounce);
+            out[i * dims + c] = plain ? patina::unit_float(patina::sobol::point_bits(index, c))
+                                      : patina::sample_uniform(kind, key, index, bounce, use);
         }
     }
     return a;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "render/sample_numbers.h"
@@ -32,7 +33,7 @@ TEST(Sobol, FirstPointsAreTheKnownOnes) {
     EXPECT_EQ(sobol::point_bits(1, 0), 0x80000000u);
     EXPECT_EQ(sobol::point_bits(2, 0), 0x40000000u);
     EXPECT_EQ(sobol::point_bits(6, 0), 0x60000000u);
-    EXPECT_EQ(sobol::point_bits(0, 5), 0u);
+    EXPECT_EQ(sobol::point_bits(0, 1), 0u);
     EXPECT_EQ(sobol::point_bits(1, 1), 0x80000000u);
     EXPECT_EQ(sobol::point_bits(2, 1), 0xc0000000u);
     EXPECT_EQ(sobol::point_bits(3, 1), 0x40000000u);
@@ -118,54 +119,115 @@ TEST(SampleNumbers, IndependentNumbersAreTheCounterHashes) {
                 }
 }
 
-TEST(SampleNumbers, EachUseHasItsOwnSobolDimension) {
-    // the camera's uses are dimensions 0-3 of the first bounce, then seven a bounce, each
-    // dimension of the table used once; uses past it are padded (kNoSobolDim)
-    std::vector<int> used(sobol::kDimensions, 0);
-    int covered = 0;
-    for (int bounce = 0; bounce < 40; ++bounce)
-        for (int d = 0; d <= static_cast<int>(kDimRoulette); ++d) {
-            const uint32_t dim = sobol_dimension(bounce, static_cast<RandomDim>(d));
-            if (bounce > 0 && d < static_cast<int>(kDimLightPick)) {
-                EXPECT_EQ(dim, kNoSobolDim);
-                continue;
+TEST(Sobol, TheIndexShuffleMapsAlignedBlocksOntoAlignedBlocks) {
+    // a nested scramble of the index: the 2^m indices of an aligned block go to the 2^m of
+    // one aligned block (itself from kShuffleLevels on), and the order within it changes
+    for (uint32_t seed : {0u, 7u, 0xdeadbeefu})
+        for (int m : {0, 1, 3, 6, 12, 14})
+            for (uint32_t block : {0u, 1u, 9u, 1000u}) {
+                const uint32_t n = 1u << m, first = block * n;
+                const uint32_t high = sobol::shuffle_index(first, seed) >> m;
+                std::vector<int> seen(n, 0);
+                for (uint32_t i = first; i < first + n; ++i) {
+                    const uint32_t j = sobol::shuffle_index(i, seed);
+                    ASSERT_EQ(j >> m, high) << "m " << m << " block " << block;
+                    ++seen[j & (n - 1)];
+                }
+                for (int c : seen) ASSERT_EQ(c, 1);
+                if (m >= sobol::kShuffleLevels) {
+                    EXPECT_EQ(high, block);
+                }
             }
-            if (dim == kNoSobolDim) continue;
-            ASSERT_LT(dim, static_cast<uint32_t>(sobol::kDimensions));
-            ASSERT_EQ(++used[dim], 1) << "dimension " << dim;
-            ++covered;
-        }
-    EXPECT_EQ(covered, sobol::kDimensions);
-    EXPECT_EQ(sobol_dimension(0, kDimPixelX), 0u);
-    EXPECT_EQ(sobol_dimension(0, kDimPixelY), 1u);
-    EXPECT_EQ(sobol_dimension(40, kDimLightU), kNoSobolDim);
+    int moved = 0;
+    for (uint32_t i = 0; i < 256; ++i) moved += sobol::shuffle_index(i, 12345u) != i;
+    EXPECT_GT(moved, 100);
 }
 
-TEST(SampleNumbers, SobolNumbersAreAPixelsStratifiedSequence) {
-    // a pixel's first 64 samples: pixel positions a (0, 6, 2)-net, every use stratified in
-    // 64 intervals; another pixel (stream) draws other numbers
-    const uint32_t key = stream_key(7, 1234), other = stream_key(7, 1235);
-    std::vector<uint32_t> x, y;
-    for (int bounce = 0; bounce < 3; ++bounce)
-        for (RandomDim d : {kDimLensU, kDimLightPick, kDimLightV, kDimBsdfU, kDimRoulette}) {
-            if (bounce > 0 && d == kDimLensU) continue;
-            std::vector<int> count(64, 0);
-            int same = 0;
-            for (uint32_t i = 0; i < 64; ++i) {
-                const float u = sample_uniform(SamplerKind::Sobol, key, i, bounce, d);
-                ASSERT_GE(u, 0.0f);
-                ASSERT_LT(u, 1.0f);
-                ++count[static_cast<int>(u * 64)];
-                same += u == sample_uniform(SamplerKind::Sobol, other, i, bounce, d);
-            }
-            for (int c : count) ASSERT_EQ(c, 1) << "bounce " << bounce << " use " << d;
-            EXPECT_LT(same, 4);
+TEST(SampleNumbers, UsesComeInPairsAndSinglesWithTheirOwnGroups) {
+    // the pairs draw the (0, 2)-sequence's two dimensions, the single uses its first; every
+    // (bounce, group) has its own id
+    EXPECT_EQ(sobol_group(0, kDimPixelX).component, 0);
+    EXPECT_EQ(sobol_group(0, kDimPixelY).component, 1);
+    EXPECT_EQ(sobol_group(0, kDimPixelY).id, sobol_group(0, kDimPixelX).id);
+    EXPECT_EQ(sobol_group(3, kDimLightV).id, sobol_group(3, kDimLightU).id);
+    EXPECT_EQ(sobol_group(3, kDimBsdfV).id, sobol_group(3, kDimBsdfU).id);
+    std::vector<uint32_t> ids;
+    for (int bounce = 0; bounce < 40; ++bounce)
+        for (RandomDim d : {kDimPixelX, kDimLensU, kDimLightPick, kDimLightU, kDimBsdfPick, kDimBsdfU, kDimRoulette}) {
+            EXPECT_EQ(sobol_group(bounce, d).component, 0);
+            for (uint32_t id : ids) ASSERT_NE(id, sobol_group(bounce, d).id) << "bounce " << bounce << " use " << d;
+            ids.push_back(sobol_group(bounce, d).id);
         }
-    for (uint32_t i = 0; i < 64; ++i) {
-        x.push_back(static_cast<uint32_t>(sample_uniform(SamplerKind::Sobol, key, i, 0, kDimPixelX) * 16777216.0f) << 8);
-        y.push_back(static_cast<uint32_t>(sample_uniform(SamplerKind::Sobol, key, i, 0, kDimPixelY) * 16777216.0f) << 8);
+}
+
+// The top bits of a number in [0, 1), as sample_uniform's 24 bits at the top of a uint32.
+uint32_t bits_of(float u) { return static_cast<uint32_t>(u * 16777216.0f) << 8; }
+
+TEST(SampleNumbers, SobolNumbersAreAPixelsStratifiedSequence) {
+    // a pixel's first 64 samples, and its 64 after them: every pair of every bounce (deep
+    // ones too) a (0, 6, 2)-net, every use stratified in 64 intervals; another pixel
+    // (stream) draws other numbers
+    const uint32_t key = stream_key(7, 1234), other = stream_key(7, 1235);
+    for (uint32_t first : {0u, 64u})
+        for (int bounce : {0, 1, 2, 17, 40}) {
+            for (RandomDim d : {kDimLensU, kDimLightPick, kDimLightV, kDimBsdfPick, kDimBsdfU, kDimRoulette}) {
+                std::vector<int> count(64, 0);
+                int same = 0;
+                for (uint32_t i = first; i < first + 64; ++i) {
+                    const float u = sample_uniform(SamplerKind::Sobol, key, i, bounce, d);
+                    ASSERT_GE(u, 0.0f);
+                    ASSERT_LT(u, 1.0f);
+                    ++count[static_cast<int>(u * 64)];
+                    same += u == sample_uniform(SamplerKind::Sobol, other, i, bounce, d);
+                }
+                for (int c : count) ASSERT_EQ(c, 1) << "bounce " << bounce << " use " << d;
+                EXPECT_LT(same, 4);
+            }
+            for (RandomDim d : {kDimPixelX, kDimLensU, kDimLightU, kDimBsdfU}) {
+                std::vector<uint32_t> x, y;
+                for (uint32_t i = first; i < first + 64; ++i) {
+                    x.push_back(bits_of(sample_uniform(SamplerKind::Sobol, key, i, bounce, d)));
+                    y.push_back(bits_of(sample_uniform(SamplerKind::Sobol, key, i, bounce, static_cast<RandomDim>(d + 1))));
+                }
+                EXPECT_TRUE(is_02_net(x, y, 6)) << "bounce " << bounce << " use " << d << " first " << first;
+            }
+        }
+}
+
+TEST(SampleNumbers, TheGroupsArePairedAtRandom) {
+    // two groups' numbers of a pixel's samples: each group shuffles the index its own way,
+    // so the mean c of (u - 1/2)(v - 1/2) over a pixel's n samples is near that of a random
+    // pairing, 1/144 / n in square (up to twice that: a nested shuffle pairs two samples
+    // that share all but their last index bit, in opposite halves of [0, 1), with two such
+    // of the other group); one order for both (the scrambles of the values alone) would
+    // keep the top bits of u and v equal or opposite, c^2 near 1/256, 144 n / 256 times the
+    // random pairing's. Every two groups of bounce 0, and each use of bounce 0 against
+    // itself at bounce 1.
+    struct Use {
+        int bounce;
+        RandomDim d;
+    };
+    const RandomDim uses[] = {kDimPixelX, kDimLensU, kDimLightPick, kDimLightU, kDimBsdfPick, kDimBsdfU, kDimRoulette};
+    std::vector<std::pair<Use, Use>> pairs;
+    for (RandomDim a : uses)
+        for (RandomDim b : uses)
+            if (a < b) pairs.push_back({{0, a}, {0, b}});
+    for (RandomDim a : uses)
+        if (a >= kDimLightPick) pairs.push_back({{0, a}, {1, a}});
+    const int pixels = 64, n = 256;
+    for (const auto& [a, b] : pairs) {
+        double c2 = 0;
+        for (uint32_t p = 0; p < pixels; ++p) {
+            const uint32_t key = stream_key(3, p);
+            double c = 0;
+            for (uint32_t i = 0; i < n; ++i)
+                c += (sample_uniform(SamplerKind::Sobol, key, i, a.bounce, a.d) - 0.5) *
+                     (sample_uniform(SamplerKind::Sobol, key, i, b.bounce, b.d) - 0.5);
+            c2 += (c / n) * (c / n) / pixels;
+        }
+        EXPECT_LT(c2 * 144.0 * n, 3.5) << "uses " << a.d << " and " << b.d << " (bounce " << b.bounce << ")";
+        EXPECT_GT(c2 * 144.0 * n, 0.3) << "uses " << a.d << " and " << b.d << " (bounce " << b.bounce << ")";
     }
-    EXPECT_TRUE(is_02_net(x, y, 6));
 }
 
 }  // namespace

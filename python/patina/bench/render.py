@@ -20,7 +20,6 @@ import statistics
 import subprocess
 import sys
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -225,39 +224,6 @@ def _error_curve(render_at: Callable[[int], np.ndarray], levels: list[int], refe
     ]
 
 
-@dataclass
-class _Convergence:
-    """A renderer's noise and speed on one scene: RMSE^2 = c2 / spp, render time = t0 + per_spp * spp."""
-
-    c2: float
-    t0: float
-    per_spp: float
-
-    def spp_for(self, rmse: float) -> float:
-        return self.c2 / rmse**2
-
-    def seconds_for(self, rmse: float) -> float:
-        return max(self.t0, 0.0) + self.per_spp * self.spp_for(rmse)
-
-
-def _convergence(render_at: Callable[[int], np.ndarray], levels: list[int], reference: np.ndarray,
-                 reference_mse: float, repeat: int) -> _Convergence:  # fmt: skip
-    """Times the renderer at each spp level and measures its error against the reference.
-
-    RMSE, relative to the reference's image mean, goes as c / sqrt(spp) for an unbiased
-    renderer; c^2 is the mean over the levels of spp * (MSE - the reference's own MSE).
-    Time is fitted as t0 + per_spp * spp through the lowest and highest level (a fixed cost
-    per render, then a cost per sample).
-    """
-    curve = _error_curve(render_at, levels, reference, reference_mse, repeat)
-    times = [t for t, _ in curve]
-    c2 = statistics.fmean(n * mse for n, (_, mse) in zip(levels, curve))
-    per_spp = (times[-1] - times[0]) / (levels[-1] - levels[0])
-    if per_spp <= 0:  # timing noise swamped the growth (tiny quick-mode renders): all time counts as per sample
-        return _Convergence(c2, 0.0, times[-1] / levels[-1])
-    return _Convergence(c2, times[0] - per_spp * levels[0], per_spp)
-
-
 def _seconds_to_error(curve: list[tuple[float, float]], mse: float) -> float:
     """The render time at which a measured (seconds, MSE) curve reaches `mse`: the power law
     through the two measured points around it (through the last two, if it is below all of
@@ -349,20 +315,23 @@ def _vs_mitsuba_records(repeat: int, quick: bool, llvm: bool) -> list[Record]:
 
     patina = _error_curve(lambda n: _render(prep, scene, 0, threads, n), levels, reference, reference_mse, repeat)
     tp, target = patina[-1]
-    variants = ["scalar_rgb"] + (["llvm_ad_rgb"] if llvm else [])
+    # (record name, variant, Mitsuba on Patina's triangles of the sphere instead of its analytic one)
+    runs = [("render.vs_mitsuba", "scalar_rgb", False)]
+    if llvm:
+        runs += [("render.vs_mitsuba_llvm", "llvm_ad_rgb", False), ("render.vs_mitsuba_llvm.triangles", "llvm_ad_rgb", True)]
     records = []
-    for variant in variants:
-        render_at = _mitsuba_renderer(scene, variant, threads, sampler=MITSUBA_SAMPLER)
+    for name, variant, triangles in runs:
+        render_at = _mitsuba_renderer(scene, variant, threads, stand_ins=triangles, sampler=MITSUBA_SAMPLER)
         other = _error_curve(render_at, levels, reference, reference_mse, repeat)
         tm = _seconds_to_error(other, target)
-        name = "render.vs_mitsuba" + ("_llvm" if variant == "llvm_ad_rgb" else "")
+        shape = "Patina's triangles of the sphere, as Patina" if triangles else "its analytic sphere"
         records.append(
             Record(
                 name,
                 f"Patina (Owen-scrambled Sobol), conductor-sphere {w}x{h}, {threads} threads: {tp:.2f} s for "
                 f"RMSE {math.sqrt(target):.3f} x mean at {levels[-1]} spp (MSE at {', '.join(map(str, levels))} spp: "
                 f"{', '.join(f'{e:.2e}' for _, e in patina)})",
-                f"Mitsuba 3 {variant} ({MITSUBA_SAMPLER} sampler), same scene and threads: {tm:.2f} s (MSE: "
+                f"Mitsuba 3 {variant} ({MITSUBA_SAMPLER} sampler, {shape}), same threads: {tm:.2f} s (MSE: "
                 f"{', '.join(f'{e:.2e} in {t:.2f} s' for t, e in other)})",
                 tm / tp,
                 tp,
@@ -374,34 +343,39 @@ def _vs_mitsuba_records(repeat: int, quick: bool, llvm: bool) -> list[Record]:
 
 def _preview_vs_mitsuba_record(repeat: int, quick: bool) -> Record:
     """Time to the same relative RMSE on the preview ball with materials Mitsuba also has
-    (materials/scenes/preview-mitsuba.json), Patina against Mitsuba 3 llvm_ad_rgb, same threads.
+    (materials/scenes/preview-mitsuba.json), Patina against Mitsuba 3 llvm_ad_rgb, same threads,
+    each with its best sampler (Patina's Owen-scrambled Sobol, Mitsuba's MITSUBA_SAMPLER).
 
     Path traced (5 segments), 128 x 96 (quick: 32 x 24), every shape the same triangles on both
     sides. Two of its materials are Mitsuba stand-ins, not exact equivalents (bench/mitsuba_scenes.py),
-    so each renderer's error is measured against its own converged image (2048 spp; quick 256) and
-    the record compares noise per time, the method otherwise render.vs_mitsuba's (_convergence).
-    The candidate string gives Patina's image mean over Mitsuba's, to show the scenes agree.
+    so each renderer's error is measured against its own converged image (2048 spp as two halves,
+    _own_reference; quick 256); otherwise the method is render.vs_mitsuba's: measured error
+    curves at three spp levels, the error to reach Patina's at its highest level, Mitsuba's time
+    to it from the power law through its own measured points (_seconds_to_error). The candidate
+    string gives Patina's image mean over Mitsuba's, to show the scenes agree.
     """
     threads = os.cpu_count() or 1
-    w, h, levels, ref_spp = (32, 24, [4, 16], 256) if quick else (128, 96, [16, 64], 2048)
+    w, h, levels, ref_spp = (32, 24, [4, 16, 64], 256) if quick else (128, 96, [16, 64, 256], 2048)
     scene = preview_mitsuba_scene(w, h)
     prep = PreparedScene(scene)
 
     def patina_at(n: int, seed: int = 0) -> np.ndarray:
         return _render(prep, scene, 0, threads, n, seed)
 
-    mitsuba_at = _mitsuba_renderer(scene, "llvm_ad_rgb", threads, stand_ins=True)
+    mitsuba_at = _mitsuba_renderer(scene, "llvm_ad_rgb", threads, stand_ins=True, sampler=MITSUBA_SAMPLER)
     own = {"patina": _own_reference(patina_at, ref_spp), "mitsuba": _own_reference(mitsuba_at, ref_spp)}
-    patina = _convergence(patina_at, levels, *own["patina"], repeat)
-    other = _convergence(mitsuba_at, levels, *own["mitsuba"], repeat)
-    tp, tm = patina.seconds_for(TARGET_RMSE), other.seconds_for(TARGET_RMSE)
+    patina = _error_curve(patina_at, levels, *own["patina"], repeat)
+    other = _error_curve(mitsuba_at, levels, *own["mitsuba"], repeat)
+    tp, target = patina[-1]
+    tm = _seconds_to_error(other, target)
     means = float(own["patina"][0].mean()) / float(own["mitsuba"][0].mean())
     return Record(
         "render.preview.vs_mitsuba_llvm",
-        f"Patina, preview-mitsuba {w}x{h}, path, {threads} threads: {patina.spp_for(TARGET_RMSE):.0f} spp "
-        f"for RMSE {TARGET_RMSE:g} x mean ({patina.per_spp * 1e3:.2f} ms/spp; image mean {means:.3f} x Mitsuba's)",
-        f"Mitsuba 3 llvm_ad_rgb, same scene (stand-in BSDFs for the coats) and threads: "
-        f"{other.spp_for(TARGET_RMSE):.0f} spp ({other.per_spp * 1e3:.2f} ms/spp)",
+        f"Patina (Owen-scrambled Sobol), preview-mitsuba {w}x{h}, path, {threads} threads: {tp:.2f} s for "
+        f"RMSE {math.sqrt(target):.3f} x mean at {levels[-1]} spp (MSE at {', '.join(map(str, levels))} spp: "
+        f"{', '.join(f'{e:.2e}' for _, e in patina)}; image mean {means:.3f} x Mitsuba's)",
+        f"Mitsuba 3 llvm_ad_rgb ({MITSUBA_SAMPLER} sampler), same scene (stand-in BSDFs for the coats) and "
+        f"threads: {tm:.2f} s (MSE: {', '.join(f'{e:.2e} in {t:.2f} s' for t, e in other)})",
         tm / tp,
         tp,
         "s",

@@ -1,6 +1,6 @@
-"""The `render` benchmark group: its records in quick mode, the error-versus-samples fit
-behind render.preview.vs_mitsuba_llvm recovering a known noise level, and the error-versus-time
-interpolation behind render.vs_mitsuba."""
+"""The `render` benchmark group: its records in quick mode, the measured error curve behind
+render.vs_mitsuba and render.preview.vs_mitsuba_llvm recovering a known noise level, and the
+error-versus-time interpolation behind both."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from patina.bench import GROUPS, Record, records
-from patina.bench.render import _convergence, _seconds_to_error, _spp_to_target, bench_render
+from patina.bench.render import _error_curve, _seconds_to_error, _spp_to_target, bench_render
 from patina.native import _core
 
 
@@ -25,9 +25,11 @@ def test_quick_group_records():
     expected |= {"render.threads", "render.vs_mitsuba", "render.preview.ld_vs_independent"}
     expected.add("render.preview.bvh_vs_kdtree")
     # the llvm records only where Mitsuba's llvm_ad_rgb runs
-    assert expected <= set(by_name) <= expected | {"render.vs_mitsuba_llvm", "render.preview.vs_mitsuba_llvm"}
+    llvm = {"render.vs_mitsuba_llvm", "render.vs_mitsuba_llvm.triangles", "render.preview.vs_mitsuba_llvm"}
+    assert expected <= set(by_name) <= expected | llvm
     if "render.vs_mitsuba_llvm" in by_name:
-        assert by_name["render.preview.vs_mitsuba_llvm"].unit == "s"
+        assert llvm <= set(by_name)
+        assert all(by_name[name].unit == "s" for name in llvm)
     for r in records:
         assert math.isfinite(r.ratio) and r.ratio > 0, r
         assert math.isfinite(r.value) and r.value > 0, r
@@ -38,10 +40,11 @@ def test_quick_group_records():
     assert GROUPS["render"].__name__ == "bench_render"
 
 
-def test_convergence_recovers_the_noise_level(monkeypatch):
-    """A fake renderer whose pixels carry noise of standard deviation sigma / sqrt(spp): the fit
-    gives c^2 = (sigma / mean)^2, net of the reference's own noise, the spp for a target RMSE, and
-    the time per sample (1 ms here, on a fake clock: slept time on a loaded machine overshoots)."""
+def test_error_curve_is_net_of_the_references_noise(monkeypatch):
+    """A fake renderer whose pixels carry noise of standard deviation sigma / sqrt(spp): the
+    curve behind render.vs_mitsuba and render.preview.vs_mitsuba_llvm gives each level's
+    relative MSE (sigma / mean)^2 / spp net of the reference's own noise, and its time (1 ms a
+    sample here, on a fake clock: slept time on a loaded machine overshoots)."""
     rng = np.random.default_rng(7)
     truth = rng.uniform(0.5, 1.5, (96, 128, 3))
     sigma, ref_spp = 0.8, 4096
@@ -58,12 +61,11 @@ def test_convergence_recovers_the_noise_level(monkeypatch):
 
     a, b = noisy(ref_spp // 2), noisy(ref_spp // 2)
     reference, reference_mse = (a + b) / 2, float(((a - b) ** 2).mean()) / 4
-    fit = _convergence(render_at, [16, 64], reference, reference_mse, repeat=3)
-    expected = (sigma / truth.mean()) ** 2
-    assert fit.c2 == pytest.approx(expected, rel=0.03)
-    assert fit.spp_for(0.02) == pytest.approx(expected / 0.02**2, rel=0.03)
-    assert fit.per_spp == pytest.approx(1e-3, rel=1e-9)
-    assert fit.seconds_for(0.02) >= fit.per_spp * fit.spp_for(0.02) > 0
+    levels = [16, 64, 256]
+    curve = _error_curve(render_at, levels, reference, reference_mse, repeat=3)
+    for n, (t, mse) in zip(levels, curve):
+        assert mse == pytest.approx((sigma / truth.mean()) ** 2 / n, rel=0.05)
+        assert t == pytest.approx(1e-3 * n, rel=1e-9)
 
 
 @pytest.mark.parametrize("exponent", [1.0, 1.3])
