@@ -297,6 +297,9 @@ def _vs_mitsuba_records(repeat: int, quick: bool, llvm: bool) -> list[Record]:
        points around it (_seconds_to_error). No 1 / spp law is assumed: a low-discrepancy
        sampler converges faster, by an amount that depends on the scene.
        ratio = Mitsuba's time / Patina's time, value = Patina's time.
+    4. `render.vs_mitsuba_llvm.triangles`: llvm_ad_rgb again, on Patina's own triangles of the
+       sphere (bench/mitsuba_scenes.py) instead of the analytic sphere to_mitsuba gives it, so
+       both trace the same geometry; same reference.
 
     Patina's GGX uses the height-correlated Smith term and Mitsuba's the separable one
     (0.2 % brighter image mean on this scene, tests/python/render/test_against_mitsuba.py): that
@@ -318,7 +321,8 @@ def _vs_mitsuba_records(repeat: int, quick: bool, llvm: bool) -> list[Record]:
     # (record name, variant, Mitsuba on Patina's triangles of the sphere instead of its analytic one)
     runs = [("render.vs_mitsuba", "scalar_rgb", False)]
     if llvm:
-        runs += [("render.vs_mitsuba_llvm", "llvm_ad_rgb", False), ("render.vs_mitsuba_llvm.triangles", "llvm_ad_rgb", True)]
+        runs += [("render.vs_mitsuba_llvm", "llvm_ad_rgb", False)]
+        runs += [("render.vs_mitsuba_llvm.triangles", "llvm_ad_rgb", True)]
     records = []
     for name, variant, triangles in runs:
         render_at = _mitsuba_renderer(scene, variant, threads, stand_ins=triangles, sampler=MITSUBA_SAMPLER)

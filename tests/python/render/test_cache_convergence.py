@@ -58,9 +58,11 @@ def test_cache_is_within_its_stated_bias_of_a_converged_reference(name):
     s = scene(name)
     # measured at this size: the room -4.4 % against 8192 spp of path (-1.4 % against the
     # 2048 here, whose own noise on the room is about 2 %), the studio -1.5 %, the IES
-    # interior 0.0 %
+    # interior 0.0 %. One 8-spp image's mean swings by +-3 % with the seed on the room (and
+    # a seed in eight makes a firefly), more than the margin to the stated bias: the median
+    # of five seeds' means
     reference = image(s, "path", 2048, 31).mean()
-    biased = image(s, "cache", 8, 41).mean()
+    biased = float(np.median([image(s, "cache", 8, seed).mean() for seed in range(41, 46)]))
     assert abs(biased / reference - 1) < CACHE_BIAS, (biased, reference)
 
 
@@ -71,8 +73,9 @@ def enclosure(integrator: str) -> object:
     obj = {
         "version": 1,
         "camera": {"position": [0, 0.3, 0.2], "look_at": [0.3, -0.2, -1], "fov": 60, "width": 16, "height": 12},
-        # 16 segments: the series to a^15 (3e-5 short of its limit); 16 x 16 texels a cache point
-        "render": {"spp": 4, "integrator": integrator, "max_depth": 16, "seed": 3, "cache": {"resolution": 16}},
+        # 16 segments: the series to a^15 (3e-5 short of its limit); 16 x 16 texels a cache point;
+        # 16 spp: the image mean's noise (Russian roulette's) about 0.4 %, well inside 2 %
+        "render": {"spp": 16, "integrator": integrator, "max_depth": 16, "seed": 3, "cache": {"resolution": 16}},
         "materials": {"wall": {"type": "lambert", "albedo": ALBEDO, "two_sided": True}},
         "shapes": [{"type": "sphere", "material": "wall", "radius": 1.0}],
         "lights": [{"type": "point", "position": [0, 0, 0], "intensity_cd": CANDELA}],
