@@ -2,6 +2,7 @@
 // their weights. Tiles own disjoint pixels, so a tile's sampler adds without locks.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -24,7 +25,20 @@ public:
     int width() const { return m_width; }
     int height() const { return m_height; }
     // Adds one sample's result to a pixel with a filter weight.
-    void add(int pixel, const PathResult& r, float weight);
+    void add(int pixel, const PathResult& r, float weight) {
+        double* p = &m_sums[kChannels * static_cast<size_t>(pixel)];
+        for (int k = 0; k < 3; ++k) {
+            p[kRgb + k] += weight * r.rgb[k];
+            p[kAlbedo + k] += weight * r.albedo[k];
+            p[kNormal + k] += weight * r.normal[k];
+        }
+        p[kLux] += weight * r.illuminance;
+        if (std::isfinite(r.depth)) {
+            p[kDepth] += weight * r.depth;
+            p[kDepthWeight] += weight;
+        }
+        p[kWeight] += weight;
+    }
     void add(int pixel, const FilmSum& sum);
     // Each pixel the weighted mean of its samples (H x W x 3 etc.); samples: the weight sum.
     void resolve(float* rgb, float* albedo, float* normal, float* depth, float* lux, float* samples) const;
@@ -37,8 +51,10 @@ public:
     void write(int x0, int y0, int x1, int y1, const double* in);
 
 private:
+    // a pixel's sums side by side (read()'s order): one or two cache lines an add, not seven
+    static constexpr int kRgb = 0, kAlbedo = 3, kNormal = 6, kLux = 9, kDepth = 10, kWeight = 11, kDepthWeight = 12;
     int m_width, m_height;
-    std::vector<double> m_rgb, m_albedo, m_normal, m_lux, m_depth, m_weight, m_depth_weight;
+    std::vector<double> m_sums;  // kChannels a pixel
 };
 
 }  // namespace patina

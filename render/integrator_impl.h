@@ -627,6 +627,33 @@ void build_cache_region(const RenderScene& s, const IntegratorSettings& st, cons
     sc.active.clear();
 }
 
+// The uniform sampler's jitter (integrator.h, jitter_pixel_positions): pixel-x and pixel-y
+// numbers of N samples at a time, each lane the bits sample_uniform gives it.
+void jitter_pixel_positions(SamplerKind kind, CameraSample* cs, size_t n) {
+    enter_kernel();
+    for_blocks(n, [&](size_t i, int lanes) {
+        alignas(64) int32_t key[N] = {}, index[N] = {};
+        alignas(64) float fx[N] = {}, fy[N] = {};
+        uint32_t all = 0;
+        for (int k = 0; k < lanes; ++k) {
+            const CameraSample& c = cs[i + k];
+            key[k] = static_cast<int32_t>(c.key);
+            index[k] = static_cast<int32_t>(c.index);
+            fx[k] = c.fx;
+            fy[k] = c.fy;
+            all |= c.index;
+        }
+        const I keys = load_n<N>(key), indices = load_n<N>(index);
+        const int bits = bit_length(all);
+        store_n<N>(fx, load_n<N>(fx) + sample_uniform_lanes(kind, keys, indices, bits, 0, kDimPixelX));
+        store_n<N>(fy, load_n<N>(fy) + sample_uniform_lanes(kind, keys, indices, bits, 0, kDimPixelY));
+        for (int k = 0; k < lanes; ++k) {
+            cs[i + k].fx = fx[k];
+            cs[i + k].fy = fy[k];
+        }
+    });
+}
+
 // The radiance cache at one point reprojected into another (integrator.h, cache_probe).
 void cache_probe(const RenderScene& s, const IntegratorSettings& st, const float* pa, const float* na, const float* pb,
                  const float* nb, uint32_t seed, bool unknown_masks, CacheProbe& out) {

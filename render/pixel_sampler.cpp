@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <utility>
 
-#include "render/sample_numbers.h"
+#include "render/rng.h"
 
 namespace patina {
 namespace {
@@ -18,18 +18,30 @@ uint32_t morton(uint32_t x, uint32_t y) {
 
 }  // namespace
 
-UniformSampler::UniformSampler(Film& film, uint32_t seed, SamplerKind kind, std::vector<int> pass_begin,
-                               size_t max_batch)
-    : m_film(film), m_seed(seed), m_kind(kind), m_pass_begin(std::move(pass_begin)), m_max_batch(max_batch) {}
+UniformSampler::UniformSampler(Film& film, const RenderKernels& kernels, uint32_t seed, SamplerKind kind,
+                               std::vector<int> pass_begin, size_t max_batch)
+    : m_film(film),
+      m_kernels(kernels),
+      m_seed(seed),
+      m_kind(kind),
+      m_pass_begin(std::move(pass_begin)),
+      m_max_batch(max_batch) {}
 
 void UniformSampler::begin(const TileRect& tile, int pass) {
-    std::vector<std::pair<uint32_t, int>> order;
+    m_order.clear();
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x)
-            order.push_back({morton(x - tile.x0, y - tile.y0), y * m_film.width() + x});
-    std::sort(order.begin(), order.end());
+            m_order.push_back({morton(x - tile.x0, y - tile.y0), y * m_film.width() + x});
+    std::sort(m_order.begin(), m_order.end());
     m_pixels.clear();
-    for (const auto& [code, pixel] : order) m_pixels.push_back(pixel);
+    m_corners.clear();
+    const int width = m_film.width();
+    for (const auto& [code, pixel] : m_order) {
+        m_pixels.push_back(pixel);
+        // each pixel one stream, its samples in order (Sobol: one sequence a pixel)
+        m_corners.push_back({static_cast<float>(pixel % width), static_cast<float>(pixel / width),
+                             stream_key(m_seed, static_cast<uint32_t>(pixel)), 0});
+    }
     m_next_sample = m_pass_begin[pass];
     m_end_sample = m_pass_begin[pass + 1];
 }
@@ -39,15 +51,14 @@ bool UniformSampler::next_batch(std::vector<CameraSample>& samples) {
     if (m_next_sample >= m_end_sample || m_pixels.empty()) return false;
     const int per_round = std::max<int>(1, static_cast<int>(m_max_batch / m_pixels.size()));
     const int s1 = std::min(m_end_sample, m_next_sample + per_round);
-    const int width = m_film.width();
-    for (int s = m_next_sample; s < s1; ++s)
-        for (const int pixel : m_pixels) {
-            // each pixel one stream, its samples in order (Sobol: one sequence a pixel)
-            const uint32_t key = stream_key(m_seed, static_cast<uint32_t>(pixel)), index = static_cast<uint32_t>(s);
-            samples.push_back({static_cast<float>(pixel % width) + sample_uniform(m_kind, key, index, 0, kDimPixelX),
-                               static_cast<float>(pixel / width) + sample_uniform(m_kind, key, index, 0, kDimPixelY),
-                               key, index});
-        }
+    const size_t np = m_corners.size();
+    samples.resize(np * static_cast<size_t>(s1 - m_next_sample));
+    CameraSample* out = samples.data();
+    for (int s = m_next_sample; s < s1; ++s, out += np) {
+        std::copy(m_corners.begin(), m_corners.end(), out);
+        for (size_t q = 0; q < np; ++q) out[q].index = static_cast<uint32_t>(s);
+    }
+    m_kernels.jitter_pixel_positions(m_kind, samples.data(), samples.size());
     m_next_sample = s1;
     return true;
 }

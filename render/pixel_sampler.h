@@ -37,22 +37,27 @@ public:
 
 // Samples [pass_begin[p], pass_begin[p + 1]) of every pixel, box-filtered, at positions
 // within the pixel from the sampler's first two dimensions (Sobol: stratified, a (0, 2)-
-// sequence; independent: uniform). Pixels go in Morton order (2 x 2 blocks for 4-ray
-// packets, 4 x 2 for 8); a round holds at most max_batch samples.
+// sequence; independent: uniform), drawn N at a time by the kernels' jitter_pixel_positions.
+// Pixels go in Morton order (2 x 2 blocks for 4-ray packets, 4 x 2 for 8); a round holds at
+// most max_batch samples.
 class UniformSampler final : public PixelSampler {
 public:
-    UniformSampler(Film& film, uint32_t seed, SamplerKind kind, std::vector<int> pass_begin, size_t max_batch = 4096);
+    UniformSampler(Film& film, const RenderKernels& kernels, uint32_t seed, SamplerKind kind,
+                   std::vector<int> pass_begin, size_t max_batch = 4096);
     void begin(const TileRect& tile, int pass) override;
     bool next_batch(std::vector<CameraSample>& samples) override;
     void take_results(const CameraSample* samples, const PathResult* results, size_t n) override;
 
 private:
     Film& m_film;
+    const RenderKernels& m_kernels;
     uint32_t m_seed;
     SamplerKind m_kind;
     std::vector<int> m_pass_begin;
     size_t m_max_batch;
     std::vector<int> m_pixels;  // the tile's pixels in Morton order
+    std::vector<CameraSample> m_corners;  // theirs: top-left corner (fx, fy) and stream key; index 0
+    std::vector<std::pair<uint32_t, int>> m_order;  // begin()'s sort, its memory kept
     int m_next_sample = 0, m_end_sample = 0;
 };
 

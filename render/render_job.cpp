@@ -124,7 +124,7 @@ struct RenderJob::Samplers {
     AdaptiveSampler adaptive;
     PixelSampler& active;
     explicit Samplers(RenderJob& j)
-        : uniform(j.m_film, j.m_settings.seed, j.m_settings.sampler, j.m_pass_begin, kMaxBatch),
+        : uniform(j.m_film, *j.m_kernels, j.m_settings.seed, j.m_settings.sampler, j.m_pass_begin, kMaxBatch),
           adaptive(j.m_film, j.m_scene, *j.m_kernels, j.m_integrator, j.m_settings.seed, j.m_settings.aa_threshold,
                    j.m_aa_stats, &j.m_aa_hints),
           active(j.m_settings.aa == RenderSettings::Aa::Adaptive ? static_cast<PixelSampler&>(adaptive)
