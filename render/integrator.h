@@ -82,6 +82,11 @@ struct PathScratch {
     // per shading point, grouped by material
     std::vector<ShadingPoint> sorted;
     std::vector<int32_t> material_start;
+    std::vector<int32_t> shade_hits;  // the bounce's hits that may become shading points, in hit order
+    // the sorted points' fields again as (n, 3) rows and (n,) lanes: what the N-wide stages load
+    std::vector<float> pt_p, pt_ng, pt_t, pt_b, pt_n;
+    std::vector<int32_t> pt_path;
+    std::vector<float> material_eta, material_transmissive, material_two_sided;  // per material, for gathers
     std::vector<float> v_local, l_local, f, pdf, eta, u_pick, u1, u2;
     std::vector<int32_t> point_keys, point_index;  // the paths' stream keys and sample indices (uint32 bits)
     SamplerKind sampler = SamplerKind::Sobol;      // what the point_keys and point_index draw from

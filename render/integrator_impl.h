@@ -43,46 +43,6 @@ using namespace kernel_width;
 inline Vec3f to_local(const ShadingPoint& sp, const Vec3f& d) { return {dot(d, sp.t), dot(d, sp.b), dot(d, sp.n)}; }
 inline Vec3f to_world(const ShadingPoint& sp, const Vec3f& l) { return l.x * sp.t + l.y * sp.b + l.z * sp.n; }
 
-// Fills the shading point of a hit: interpolated normal and tangent, frame, facing. False
-// when the path ends here (the back of a one-sided surface).
-inline bool make_shading_point(const RenderScene& s, int32_t prim, float u, float v, const Vec3f& org,
-                               const Vec3f& dir, float t, ShadingPoint& sp) {
-    const Material& m = s.materials[s.tri_material[prim]];
-    const int32_t* tri = s.indices + 3 * static_cast<size_t>(prim);
-    const float w0 = 1.0f - u - v;
-    // a per-vertex attribute interpolated at the hit
-    auto interpolate = [&](const float* a) {
-        return w0 * load_vec3(a + 3 * tri[0]) + u * load_vec3(a + 3 * tri[1]) + v * load_vec3(a + 3 * tri[2]);
-    };
-    sp.p = org + t * dir;
-    sp.ng = load_vec3(s.tree->normals.data() + 3 * static_cast<size_t>(prim));
-    sp.n = normalize(interpolate(s.normals));
-    const Vec3f wo = -dir;
-    const bool transmissive = m.kind == MaterialKind::Dielectric;
-    // the geometric normal (from the winding) points out of a closed dielectric
-    sp.eta = transmissive ? (dot(sp.ng, wo) < 0 ? 1.0f / m.eta[0] : m.eta[0]) : 1.0f;
-    if (dot(sp.ng, wo) < 0) {
-        if (!m.two_sided && !transmissive) return false;
-        sp.ng = -sp.ng;
-        sp.n = -sp.n;
-    } else if (dot(sp.n, sp.ng) < 0) {
-        sp.n = -sp.n;  // a mesh whose normals point inwards
-    }
-    // a shading normal facing away from the viewer (silhouettes of coarse meshes): use the true one
-    if (!(dot(sp.n, wo) > 0)) sp.n = sp.ng;
-    if (s.tangents != nullptr) {
-        Vec3f tangent = interpolate(s.tangents);
-        tangent = tangent - dot(tangent, sp.n) * sp.n;
-        if (dot(tangent, tangent) > 1e-12f) {
-            sp.t = normalize(tangent);
-            sp.b = cross(sp.n, sp.t);
-            return true;
-        }
-    }
-    orthonormal_frame(sp.n, sp.t, sp.b);
-    return true;
-}
-
 // What every stage of one trace_paths call works on: the scene, the batch's camera samples
 // and results, and the paths' state in the scratch arrays -- per path its ray (org, dir),
 // throughput, and where and with what density its last BRDF sample left (prev_pos,
@@ -260,17 +220,139 @@ inline bool may_shade(const Wavefront& w, const HitBatch& hits, size_t j, int de
            depth < w.st.max_depth && !cached;
 }
 
-// 3. Grouping by material before the points exist: the hits that may become shading points
-//    counted per material (sc.material_start: each group's first slot in sc.sorted), so
+// 3. Grouping by material before the points exist: the hits that become shading points
+//    (not the back of a one-sided surface, where the path ends) in sc.shade_hits, counted
+//    per material (sc.material_start: each group's first slot in sc.sorted), so
 //    make_shading_points writes each point straight into its group, in hit order (what a
 //    stable counting sort of the points would give, without building and copying them twice).
 inline void group_by_material(const Wavefront& w, const HitBatch& hits, int depth) {
     PathScratch& sc = w.sc;
     const size_t nm = w.s.materials.size();
     sc.material_start.assign(nm + 1, 0);
-    for (size_t j = 0; j < sc.active.size(); ++j)
-        if (may_shade(w, hits, j, depth)) ++sc.material_start[w.s.tri_material[hits.prim[j]] + 1];
+    sc.material_eta.resize(nm);
+    sc.material_transmissive.resize(nm);
+    sc.material_two_sided.resize(nm);
+    for (size_t k = 0; k < nm; ++k) {
+        const Material& m = w.s.materials[k];
+        const bool transmissive = m.kind == MaterialKind::Dielectric;
+        sc.material_eta[k] = transmissive ? m.eta[0] : 1.0f;
+        sc.material_transmissive[k] = transmissive ? 1.0f : 0.0f;
+        sc.material_two_sided[k] = m.two_sided || transmissive ? 1.0f : 0.0f;
+    }
+    sc.shade_hits.clear();
+    const float* tn = w.s.tree->normals.data();
+    for (size_t j = 0; j < sc.active.size(); ++j) {
+        if (!may_shade(w, hits, j, depth)) continue;
+        const int32_t prim = hits.prim[j], material = w.s.tri_material[prim];
+        // the back of a one-sided surface ends the path (make_shading_lanes' test, so its
+        // groups have no gaps)
+        if (!(sc.material_two_sided[material] > 0.0f)) {
+            const Vec3f wo = -load_vec3(sc.dir.data() + 3 * sc.active[j]);
+            if (dot(load_vec3(tn + 3 * static_cast<size_t>(prim)), wo) < 0.0f) {
+                if (depth == 0) w.out[sc.active[j]].depth = hits.t[j];
+                continue;
+            }
+        }
+        ++sc.material_start[material + 1];
+        sc.shade_hits.push_back(static_cast<int32_t>(j));
+    }
     for (size_t k = 0; k < nm; ++k) sc.material_start[k + 1] += sc.material_start[k];
+}
+
+// a / |a| (a zero vector stays zero), N at a time: normalize's operations lane by lane.
+PATINA_INLINE V3 normalize_lanes(const V3& a) {
+    const F len = sqrt_exact(dot(a, a));
+    const B ok = len > F(0.0f);
+    return V3{select(ok, a.x / len, a.x), select(ok, a.y / len, a.y), select(ok, a.z / len, a.z)};
+}
+PATINA_INLINE V3 select3(B m, const V3& a, const V3& b) {
+    return V3{select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
+}
+
+// orthonormal_frame (render/scene.cpp) N at a time, the same operations lane by lane.
+PATINA_INLINE void orthonormal_frame_lanes(const V3& n, V3& t, V3& b) {
+    const F sign = copysign(F(1.0f), n.z);
+    const F a = F(-1.0f) / (sign + n.z), c = n.x * n.y * a;
+    t = V3{F(1.0f) + sign * n.x * n.x * a, sign * c, -sign * n.x};
+    b = V3{c, sign + n.y * n.y * a, -n.y};
+}
+
+// The shading points of N hits (sc.shade_hits[h0, h0 + lanes)) at once: make_shading_point's
+// operations lane by lane (interpolated normal and tangent, facing, frame), so every lane
+// has the bits the one-hit version gives. Results in lane arrays; ok: false where the path
+// ends at the hit (the back of a one-sided surface).
+struct PointLanes {
+    alignas(64) float p[3][N], ng[3][N], n[3][N], t[3][N], b[3][N], vl[3][N], eta[N];
+    int ok;  // bit k: lane k is a shading point
+};
+
+inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t h0, int lanes, PointLanes& out) {
+    const RenderScene& s = w.s;
+    const PathScratch& sc = w.sc;
+    // the hits' fields gathered by hit number (the last block's padding repeats its first hit)
+    alignas(64) int32_t hit[N];
+    if (lanes < N)
+        for (int k = 0; k < N; ++k) hit[k] = sc.shade_hits[h0 + (k < lanes ? k : 0)];
+    const I J = load_n<N>(lanes < N ? hit : sc.shade_hits.data() + h0);
+    const I pr = gather(hits.prim, J), material = gather(s.tri_material, pr);
+    const I pa3 = gather(sc.active.data(), J) * I(3), pr3 = pr * I(3);
+    const F fu = gather(hits.u, J), fv = gather(hits.v, J), ft = gather(hits.t, J);
+    // per material (group_by_material's tables): eta, 1 if dielectric, 1 if either side shades
+    const F ein = gather(sc.material_eta.data(), material);
+    const B transmissive = gather(sc.material_transmissive.data(), material) > F(0.0f);
+    const B two_sided = gather(sc.material_two_sided.data(), material) > F(0.0f);
+    const F w0 = F(1.0f) - fu - fv;
+    I vert[3];
+    for (int c = 0; c < 3; ++c) vert[c] = gather(s.indices, pr3 + I(c)) * I(3);
+    // a per-vertex attribute interpolated at the hits
+    auto interpolate = [&](const float* a) {
+        V3 x[3];
+        for (int c = 0; c < 3; ++c)
+            x[c] = V3{gather(a, vert[c]), gather(a, vert[c] + I(1)), gather(a, vert[c] + I(2))};
+        return w0 * x[0] + fu * x[1] + fv * x[2];
+    };
+    const float* org = sc.org.data();
+    const float* dirs = sc.dir.data();
+    const V3 o{gather(org, pa3), gather(org, pa3 + I(1)), gather(org, pa3 + I(2))};
+    const V3 dir{gather(dirs, pa3), gather(dirs, pa3 + I(1)), gather(dirs, pa3 + I(2))};
+    const float* tn = s.tree->normals.data();
+    V3 ng{gather(tn, pr3), gather(tn, pr3 + I(1)), gather(tn, pr3 + I(2))};
+    const V3 p = o + ft * dir;
+    V3 n = normalize_lanes(interpolate(s.normals));
+    const V3 wo = -dir;
+    const B back = dot(ng, wo) < F(0.0f);
+    // the geometric normal (from the winding) points out of a closed dielectric
+    const F eta = select(transmissive, select(back, F(1.0f) / ein, ein), F(1.0f));
+    const B ok = (!back) | two_sided;
+    ng = select3(back, -ng, ng);
+    // a mesh whose normals point inwards (in front); flipped with ng (behind)
+    n = select3(back | (dot(n, ng) < F(0.0f)), -n, n);
+    // a shading normal facing away from the viewer (silhouettes of coarse meshes): use the true one
+    n = select3(!(dot(n, wo) > F(0.0f)), ng, n);
+    V3 ft3, fb3;
+    orthonormal_frame_lanes(n, ft3, fb3);
+    if (s.tangents != nullptr) {
+        V3 tangent = interpolate(s.tangents);
+        tangent = tangent - dot(tangent, n) * n;
+        const B has = dot(tangent, tangent) > F(1e-12f);
+        const V3 tu = normalize_lanes(tangent);
+        ft3 = select3(has, tu, ft3);
+        fb3 = select3(has, cross(n, tu), fb3);
+    }
+    auto put = [](float (*dst)[N], const V3& a) {
+        store_n<N>(dst[0], a.x);
+        store_n<N>(dst[1], a.y);
+        store_n<N>(dst[2], a.z);
+    };
+    put(out.p, p);
+    put(out.ng, ng);
+    put(out.n, n);
+    put(out.t, ft3);
+    put(out.b, fb3);
+    // the view direction in the frame: to_local(sp, -dir)
+    put(out.vl, V3{dot(wo, ft3), dot(wo, fb3), dot(wo, n)});
+    store_n<N>(out.eta, eta);
+    out.ok = movemask(ok) & ((1 << lanes) - 1);
 }
 
 // 4. Surface hits become the bounce's shading points in sc.sorted, grouped by material (groups
@@ -287,35 +369,51 @@ inline void make_shading_points(const Wavefront& w, const HitBatch& hits, int de
     float* eta = grow(sc.eta, most);
     sc.point_keys.resize(most);
     sc.point_index.resize(most);
+    float* rows[5] = {grow(sc.pt_p, 3 * most), grow(sc.pt_ng, 3 * most), grow(sc.pt_t, 3 * most),
+                      grow(sc.pt_b, 3 * most), grow(sc.pt_n, 3 * most)};
+    int32_t* pt_path = grow(sc.pt_path, most);
     std::vector<int32_t>& fill = sc.next_active;  // reused as the write cursors
     fill.assign(sc.material_start.begin(), sc.material_start.end() - 1);
-    for (size_t j = 0; j < sc.active.size(); ++j) {
-        if (!may_shade(w, hits, j, depth)) continue;
-        const int32_t i = sc.active[j];
-        const int32_t prim = hits.prim[j];
-        const int32_t material = s.tri_material[prim];
-        const size_t q = fill[material];
-        ShadingPoint& sp = sc.sorted[q];
-        const Vec3f dir = load_vec3(sc.dir.data() + 3 * i);
-        if (!make_shading_point(s, prim, hits.u[j], hits.v[j], load_vec3(sc.org.data() + 3 * i), dir, hits.t[j], sp)) {
-            if (depth == 0) w.out[i].depth = hits.t[j];
-            continue;  // the slot is taken by the group's next point
+    PointLanes pl;
+    for_blocks(sc.shade_hits.size(), [&](size_t h0, int lanes) {
+        make_shading_lanes(w, hits, h0, lanes, pl);
+        for (int k = 0; k < lanes; ++k) {
+            const int32_t j = sc.shade_hits[h0 + k];
+            const int32_t i = sc.active[j];
+            if (!((pl.ok >> k) & 1)) {
+                if (depth == 0) w.out[i].depth = hits.t[j];
+                continue;  // the slot is taken by the group's next point
+            }
+            const int32_t material = s.tri_material[hits.prim[j]];
+            const size_t q = fill[material]++;
+            ShadingPoint& sp = sc.sorted[q];
+            sp.path = i;
+            sp.material = material;
+            sp.p = Vec3f{pl.p[0][k], pl.p[1][k], pl.p[2][k]};
+            sp.ng = Vec3f{pl.ng[0][k], pl.ng[1][k], pl.ng[2][k]};
+            sp.n = Vec3f{pl.n[0][k], pl.n[1][k], pl.n[2][k]};
+            sp.t = Vec3f{pl.t[0][k], pl.t[1][k], pl.t[2][k]};
+            sp.b = Vec3f{pl.b[0][k], pl.b[1][k], pl.b[2][k]};
+            sp.eta = pl.eta[k];
+            if (depth == 0) {
+                const Material& mat = s.materials[material];
+                std::copy(mat.albedo, mat.albedo + 3, w.out[i].albedo);
+                store_vec3(sp.n, w.out[i].normal);
+                w.out[i].depth = hits.t[j];
+                if (w.st.indirect_illuminance) sc.sensors.push_back(sp);
+            }
+            const float(*fields[5])[N] = {pl.p, pl.ng, pl.t, pl.b, pl.n};
+            for (int f = 0; f < 5; ++f)
+                for (int c = 0; c < 3; ++c) rows[f][3 * q + c] = fields[f][c][k];
+            pt_path[q] = i;
+            vl[3 * q] = pl.vl[0][k];
+            vl[3 * q + 1] = pl.vl[1][k];
+            vl[3 * q + 2] = pl.vl[2][k];
+            eta[q] = pl.eta[k];
+            sc.point_keys[q] = static_cast<int32_t>(w.cs[i].key);
+            sc.point_index[q] = static_cast<int32_t>(w.cs[i].index);
         }
-        ++fill[material];
-        sp.path = i;
-        sp.material = material;
-        if (depth == 0) {
-            const Material& mat = s.materials[material];
-            std::copy(mat.albedo, mat.albedo + 3, w.out[i].albedo);
-            store_vec3(sp.n, w.out[i].normal);
-            w.out[i].depth = hits.t[j];
-            if (w.st.indirect_illuminance) sc.sensors.push_back(sp);
-        }
-        store_vec3(to_local(sp, -dir), vl + 3 * q);
-        eta[q] = sp.eta;
-        sc.point_keys[q] = static_cast<int32_t>(w.cs[i].key);
-        sc.point_index[q] = static_cast<int32_t>(w.cs[i].index);
-    }
+    });
     // paths that ended at a hit (the back of a one-sided surface) left their group short:
     // close the gaps, groups in order
     size_t np = 0;
@@ -325,6 +423,8 @@ inline void make_shading_points(const Wavefront& w, const HitBatch& hits, int de
         if (a != np) {
             std::copy(sc.sorted.begin() + a, sc.sorted.begin() + a + count, sc.sorted.begin() + np);
             std::copy(vl + 3 * a, vl + 3 * (a + count), vl + 3 * np);
+            for (float* r : rows) std::copy(r + 3 * a, r + 3 * (a + count), r + 3 * np);
+            std::copy(pt_path + a, pt_path + a + count, pt_path + np);
             std::copy(eta + a, eta + a + count, eta + np);
             std::copy(sc.point_keys.begin() + a, sc.point_keys.begin() + a + count, sc.point_keys.begin() + np);
             std::copy(sc.point_index.begin() + a, sc.point_index.begin() + a + count, sc.point_index.begin() + np);
@@ -344,6 +444,106 @@ inline void for_material_groups(const Wavefront& w, Kernel kernel) {
         const size_t a = w.sc.material_start[k], count = w.sc.material_start[k + 1] - a;
         if (count > 0) kernel(w.s.materials[k], a, count);
     }
+}
+
+// Veach's power heuristic (power_heuristic) N at a time, the same operations lane by lane.
+PATINA_INLINE F power_heuristic_lanes(F a, F b) {
+    const F r = b / a;
+    return select(!(a > F(0.0f)), F(0.0f), select(!(b > F(0.0f)), F(1.0f), F(1.0f) / (F(1.0f) + r * r)));
+}
+
+// std::max and std::min lane by lane (the second argument where the first does not compare:
+// the scalar code's NaN behaviour too).
+PATINA_INLINE F std_max(F a, F b) { return select(a < b, b, a); }
+PATINA_INLINE F std_min(F a, F b) { return select(b < a, b, a); }
+
+// The lanes whose bit is set in `bits`, as a mask.
+PATINA_INLINE B mask_of_bits(int bits) {
+    constexpr int32_t kBit[16] = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384, 32768};
+    const I bit = load_n<N>(kBit);
+    return (I(bits) & bit) == bit;
+}
+
+// N path numbers from an (n,) array, the last block's padding lanes path 0 (read, never written).
+PATINA_INLINE I load_path_lanes(const int32_t* p, size_t i, int lanes) {
+    if (lanes == N) return load_n<N>(p + i);
+    alignas(64) int32_t pad[N] = {};
+    std::copy(p + i, p + i + lanes, pad);
+    return load_n<N>(pad);
+}
+
+// The light samples' shadow rays, N points at a time: each lane's contribution (throughput x
+// BRDF x cosine x radiance x MIS weight / pdf), lux and ray with queue_shadow_ray's operations,
+// and the lanes that carry light written to the queue in point order (a compress-store).
+inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
+    PathScratch& sc = w.sc;
+    const float* ll = sc.l_local.data();
+    const float* fv = sc.f.data();
+    const float* pdf = sc.pdf.data();
+    sc.shadow_path.resize(np);
+    sc.shadow_org.resize(3 * np);
+    sc.shadow_dir.resize(3 * np);
+    sc.shadow_rgb.resize(3 * np);
+    sc.shadow_tmax.resize(np);
+    sc.shadow_lux.resize(np);
+    size_t m = 0;
+    for_blocks(np, [&](size_t q0, int lanes) {
+        int ok_bits = 0, delta_bits = 0;
+        for (int k = 0; k < lanes; ++k) {
+            ok_bits |= (sc.ls_ok[q0 + k] ? 1 : 0) << k;
+            delta_bits |= (sc.ls_delta[q0 + k] ? 1 : 0) << k;
+        }
+        if (ok_bits == 0) return;
+        const V3 L = load_rows(ll, q0, lanes), FV = load_rows(fv, q0, lanes), RGB = load_rows(sc.ls_rgb.data(), q0, lanes);
+        const F z = L.z, lp = load_lanes(sc.ls_pdf.data(), q0, lanes), cos_l = abs(z);
+        const I path3 = load_path_lanes(sc.pt_path.data(), q0, lanes) * I(3);
+        const float* thr = sc.throughput.data();
+        const F wt = select(mask_of_bits(delta_bits), F(1.0f), power_heuristic_lanes(lp, load_lanes(pdf, q0, lanes)));
+        const F c[3] = {gather(thr, path3) * FV.x * cos_l * RGB.x * wt / lp,
+                        gather(thr, path3 + I(1)) * FV.y * cos_l * RGB.y * wt / lp,
+                        gather(thr, path3 + I(2)) * FV.z * cos_l * RGB.z * wt / lp};
+        const B front = z > F(0.0f);
+        const F lum = F(0.2126f) * RGB.x + F(0.7152f) * RGB.y + F(0.0722f) * RGB.z;
+        const F lux = depth == 0 ? select(front, F(kLumensPerWatt) * lum * cos_l / lp, F(0.0f)) : F(0.0f);
+        const F side = select(front, F(w.eps), F(-w.eps));
+        const B none_carried = (c[0] <= F(0.0f)) & (c[1] <= F(0.0f)) & (c[2] <= F(0.0f)) & (lux <= F(0.0f));
+        const B queued = (cos_l > F(0.0f)) & !none_carried;
+        // queue_shadow_ray: from the lifted origin, aimed at the light's point unless at infinity
+        const V3 P = load_rows(sc.pt_p.data(), q0, lanes), D = load_rows(sc.ls_dir.data(), q0, lanes);
+        const F ds = load_lanes(sc.ls_dist.data(), q0, lanes);
+        const V3 o = P + side * load_rows(sc.pt_ng.data(), q0, lanes);
+        const V3 to = P + ds * D - o;
+        const F len = sqrt_exact(dot(to, to));
+        const B finite = !(abs(ds) == F(kInfinity));
+        const V3 d = select3(finite, V3{to.x / len, to.y / len, to.z / len}, D);
+        const F tmax = select(finite, len * F(1.0f - 1e-4f), F(kInfinity));
+        alignas(64) float oo[3][N], dd[3][N], cc[3][N], tt[N], lx[N];
+        for (int k = 0; k < 3; ++k) {
+            store_n<N>(cc[k], c[k]);
+        }
+        store_n<N>(oo[0], o.x), store_n<N>(oo[1], o.y), store_n<N>(oo[2], o.z);
+        store_n<N>(dd[0], d.x), store_n<N>(dd[1], d.y), store_n<N>(dd[2], d.z);
+        store_n<N>(tt, tmax);
+        store_n<N>(lx, lux);
+        for (int bits = movemask(queued) & ok_bits; bits; bits &= bits - 1) {
+            const int k = __builtin_ctz(static_cast<unsigned>(bits));
+            sc.shadow_path[m] = sc.pt_path[q0 + k];
+            for (int a = 0; a < 3; ++a) {
+                sc.shadow_org[3 * m + a] = oo[a][k];
+                sc.shadow_dir[3 * m + a] = dd[a][k];
+                sc.shadow_rgb[3 * m + a] = cc[a][k];
+            }
+            sc.shadow_tmax[m] = tt[k];
+            sc.shadow_lux[m] = lx[k];
+            ++m;
+        }
+    });
+    sc.shadow_path.resize(m);
+    sc.shadow_org.resize(3 * m);
+    sc.shadow_dir.resize(3 * m);
+    sc.shadow_rgb.resize(3 * m);
+    sc.shadow_tmax.resize(m);
+    sc.shadow_lux.resize(m);
 }
 
 // 5. Light sampling: one light sample per point; the BRDF evaluated for it (N points of a
@@ -377,22 +577,84 @@ inline void queue_light_samples(const Wavefront& w, int depth) {
     });
     if (depth == 0 && w.st.mode == IntegratorMode::CacheGuided) cache::mix_light_pdfs(sc, w.st.cache, ll, pdf, np);
     sc.timer.lap(Stage::ShadeLight);
-    for (size_t q = 0; q < np; ++q) {
-        if (!sc.ls_ok[q]) continue;
-        const ShadingPoint& sp = sc.sorted[q];
-        const LightSample ls = load_light_sample(sc, q);
-        const float lz = ll[3 * q + 2], cos_l = std::abs(lz);
-        if (!(cos_l > 0)) continue;
-        const float wt = ls.delta ? 1.0f : power_heuristic(ls.pdf, pdf[q]);
-        const float* T = sc.throughput.data() + 3 * sp.path;
-        float c[3];
-        for (int k = 0; k < 3; ++k) c[k] = T[k] * fv[3 * q + k] * cos_l * ls.rgb[k] * wt / ls.pdf;
-        const float lux = depth == 0 && lz > 0 ? kLumensPerWatt * luminance(ls.rgb) * cos_l / ls.pdf : 0.0f;
-        const float side = lz > 0 ? w.eps : -w.eps;
-        if (c[0] <= 0 && c[1] <= 0 && c[2] <= 0 && lux <= 0) continue;
-        queue_shadow_ray(sc, sp.path, sp.p, sp.ng, side, ls, c, lux);
-    }
+    queue_shadow_lanes(w, depth, np);
     sc.timer.lap(Stage::ShadowQueue);
+}
+
+// The paths after their BRDF samples, N points at a time, each lane with the one-point
+// operations: the direction into the world (on the side the local direction says), the
+// throughput times BRDF x cosine / pdf, Russian roulette, and the next ray of the paths that
+// go on, appended to sc.next_active in point order.
+inline void update_paths(const Wavefront& w, int depth, size_t np) {
+    PathScratch& sc = w.sc;
+    const float* ll = sc.l_local.data();
+    const float* fv = sc.f.data();
+    const float* pdf = sc.pdf.data();
+    const bool roulette = depth + 1 >= w.st.rr_depth;
+    sc.next_active.resize(np);
+    size_t m = 0;
+    for_blocks(np, [&](size_t q0, int lanes) {
+        const I path = load_path_lanes(sc.pt_path.data(), q0, lanes), path3 = path * I(3);
+        alignas(64) int32_t key[N] = {}, index[N] = {};
+        uint32_t all = 0;
+        if (roulette)
+            for (int k = 0; k < lanes; ++k) {
+                const CameraSample& c = w.cs[sc.pt_path[q0 + k]];
+                key[k] = static_cast<int32_t>(c.key);
+                index[k] = static_cast<int32_t>(c.index);
+                all |= c.index;
+            }
+        const V3 L = load_rows(ll, q0, lanes);
+        const F P = load_lanes(pdf, q0, lanes);
+        B go = (P > F(0.0f)) & (L.z != F(0.0f));
+        // to_world(sp, l), normalised
+        const V3 wl = normalize_lanes(L.x * load_rows(sc.pt_t.data(), q0, lanes) +
+                                      L.y * load_rows(sc.pt_b.data(), q0, lanes) +
+                                      L.z * load_rows(sc.pt_n.data(), q0, lanes));
+        const V3 NG = load_rows(sc.pt_ng.data(), q0, lanes);
+        const V3 FV = load_rows(fv, q0, lanes);
+        go = go & (dot(wl, NG) * L.z > F(0.0f));  // the side the local direction says
+        const float* thr = sc.throughput.data();
+        F T[3] = {gather(thr, path3) * (FV.x * abs(L.z) / P), gather(thr, path3 + I(1)) * (FV.y * abs(L.z) / P),
+                  gather(thr, path3 + I(2)) * (FV.z * abs(L.z) / P)};
+        // the throughput as the path left it (a path that ends below keeps the product)
+        const int updated = movemask(go) & ((1 << lanes) - 1);
+        go = go & ((T[0] > F(0.0f)) | (T[1] > F(0.0f)) | (T[2] > F(0.0f)));
+        if (roulette) {
+            const F survive = std_min(F(0.95f), std_max(T[0], std_max(T[1], T[2])));
+            const F u = sample_uniform_lanes(w.st.sampler, load_n<N>(key), load_n<N>(index), bit_length(all), depth,
+                                             kDimRoulette);
+            const B lives = go & !(u >= survive);
+            for (int c = 0; c < 3; ++c) T[c] = select(lives, T[c] / survive, T[c]);
+            go = lives;
+        }
+        const F side = select(L.z > F(0.0f), F(w.eps), F(-w.eps));
+        const V3 Pp = load_rows(sc.pt_p.data(), q0, lanes);
+        const V3 o = Pp + side * NG;
+        alignas(64) float tt[3][N], oo[3][N], dd[3][N], pp[3][N];
+        for (int c = 0; c < 3; ++c) store_n<N>(tt[c], T[c]);
+        store_n<N>(pp[0], Pp.x), store_n<N>(pp[1], Pp.y), store_n<N>(pp[2], Pp.z);
+        store_n<N>(oo[0], o.x), store_n<N>(oo[1], o.y), store_n<N>(oo[2], o.z);
+        store_n<N>(dd[0], wl.x), store_n<N>(dd[1], wl.y), store_n<N>(dd[2], wl.z);
+        for (int bits = updated; bits; bits &= bits - 1) {
+            const int k = __builtin_ctz(static_cast<unsigned>(bits));
+            float* Tk = sc.throughput.data() + 3 * sc.pt_path[q0 + k];
+            for (int c = 0; c < 3; ++c) Tk[c] = tt[c][k];
+        }
+        for (int bits = movemask(go) & ((1 << lanes) - 1); bits; bits &= bits - 1) {
+            const int k = __builtin_ctz(static_cast<unsigned>(bits));
+            const size_t q = q0 + k;
+            const int32_t i = sc.pt_path[q];
+            for (int c = 0; c < 3; ++c) {
+                sc.org[3 * i + c] = oo[c][k];
+                sc.dir[3 * i + c] = dd[c][k];
+                sc.prev_pos[3 * i + c] = pp[c][k];
+            }
+            sc.prev_pdf[i] = pdf[q];
+            sc.next_active[m++] = i;
+        }
+    });
+    sc.next_active.resize(m);
 }
 
 // 6. BRDF sampling: each point's next direction (N points of a material at a time); the
@@ -422,28 +684,7 @@ inline void sample_bsdf(const Wavefront& w, int depth) {
     if (guided) cache::guided_directions(w);
     sc.timer.lap(Stage::ShadeSample);
     sc.next_active.clear();
-    for (size_t q = 0; q < np; ++q) {
-        const ShadingPoint& sp = sc.sorted[q];
-        const int32_t i = sp.path;
-        const Vec3f l = load_vec3(ll + 3 * q);
-        if (!(pdf[q] > 0) || l.z == 0 || depth + 1 > w.st.max_depth) continue;
-        const Vec3f wl = normalize(to_world(sp, l));
-        if (!(dot(wl, sp.ng) * l.z > 0)) continue;  // the side the local direction says
-        float* T = sc.throughput.data() + 3 * i;
-        for (int k = 0; k < 3; ++k) T[k] *= fv[3 * q + k] * std::abs(l.z) / pdf[q];
-        if (!(T[0] > 0 || T[1] > 0 || T[2] > 0)) continue;
-        if (depth + 1 >= w.st.rr_depth) {
-            const float survive = std::min(0.95f, std::max(T[0], std::max(T[1], T[2])));
-            if (sample_uniform(w.st.sampler, w.cs[i].key, w.cs[i].index, depth, kDimRoulette) >= survive) continue;
-            for (int k = 0; k < 3; ++k) T[k] /= survive;
-        }
-        const float side = l.z > 0 ? w.eps : -w.eps;
-        store_vec3(sp.p + side * sp.ng, sc.org.data() + 3 * i);
-        store_vec3(wl, sc.dir.data() + 3 * i);
-        sc.prev_pdf[i] = pdf[q];
-        store_vec3(sp.p, sc.prev_pos.data() + 3 * i);
-        sc.next_active.push_back(i);
-    }
+    if (depth + 1 <= w.st.max_depth) update_paths(w, depth, np);
     sc.timer.lap(Stage::PathUpdate);
 }
 
