@@ -76,8 +76,10 @@ struct PathScratch {
     // per path
     std::vector<float> org, dir, throughput, prev_pdf, prev_pos;
     std::vector<int32_t> active, next_active;
-    // per traced ray of a bounce
-    std::vector<float> ray_org, ray_dir, hit_t, hit_u, hit_v;
+    // per traced ray of a bounce (rays_gathered: ray_org and ray_dir hold the active paths'
+    // rays in order already), and the next bounce's rays as the paths that go on leave
+    std::vector<float> ray_org, ray_dir, hit_t, hit_u, hit_v, next_ray_org, next_ray_dir;
+    bool rays_gathered = false;
     std::vector<int32_t> hit_prim;
     // per shading point, grouped by material
     std::vector<ShadingPoint> sorted;

@@ -80,6 +80,7 @@ inline void start_paths(const Wavefront& w, size_t n) {
     grow(sc.prev_pdf, n);
     grow(sc.prev_pos, 3 * n);
     sc.active.clear();
+    sc.rays_gathered = false;
     sc.cached.clear();  // none served by the radiance cache (start_camera_paths says otherwise)
     sc.guide_of.clear();
     for (size_t i = 0; i < n; ++i) {
@@ -119,11 +120,12 @@ inline HitBatch trace_bounce(const Wavefront& w, int depth) {
     const size_t m = sc.active.size();
     float* ro = grow(sc.ray_org, 3 * m);
     float* rd = grow(sc.ray_dir, 3 * m);
-    for (size_t j = 0; j < m; ++j) {
-        const int32_t i = sc.active[j];
-        std::copy(sc.org.data() + 3 * i, sc.org.data() + 3 * i + 3, ro + 3 * j);
-        std::copy(sc.dir.data() + 3 * i, sc.dir.data() + 3 * i + 3, rd + 3 * j);
-    }
+    if (!sc.rays_gathered)  // (update_paths wrote the next bounce's rays in order already)
+        for (size_t j = 0; j < m; ++j) {
+            const int32_t i = sc.active[j];
+            std::copy(sc.org.data() + 3 * i, sc.org.data() + 3 * i + 3, ro + 3 * j);
+            std::copy(sc.dir.data() + 3 * i, sc.dir.data() + 3 * i + 3, rd + 3 * j);
+        }
     HitBatch hits{grow(sc.hit_t, m), grow(sc.hit_prim, m), grow(sc.hit_u, m), grow(sc.hit_v, m)};
     sc.timer.lap(Stage::RayGather);
     const RayBatch rays{ro, rd, 0.0f, nullptr, kInfinity};
@@ -592,6 +594,8 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
     const float* pdf = sc.pdf.data();
     const bool roulette = depth + 1 >= w.st.rr_depth;
     sc.next_active.resize(np);
+    float* next_org = grow(sc.next_ray_org, 3 * np);
+    float* next_dir = grow(sc.next_ray_dir, 3 * np);
     size_t m = 0;
     for_blocks(np, [&](size_t q0, int lanes) {
         const I path = load_path_lanes(sc.pt_path.data(), q0, lanes), path3 = path * I(3);
@@ -646,8 +650,8 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
             const size_t q = q0 + k;
             const int32_t i = sc.pt_path[q];
             for (int c = 0; c < 3; ++c) {
-                sc.org[3 * i + c] = oo[c][k];
-                sc.dir[3 * i + c] = dd[c][k];
+                sc.org[3 * i + c] = next_org[3 * m + c] = oo[c][k];
+                sc.dir[3 * i + c] = next_dir[3 * m + c] = dd[c][k];
                 sc.prev_pos[3 * i + c] = pp[c][k];
             }
             sc.prev_pdf[i] = pdf[q];
@@ -756,6 +760,10 @@ inline void run_paths(const Wavefront& w) {
         sample_bsdf(w, depth);
         resolve_shadow_rays(w);
         std::swap(sc.active, sc.next_active);
+        // the next bounce's rays, in its active order: update_paths wrote them (or none go on)
+        std::swap(sc.ray_org, sc.next_ray_org);
+        std::swap(sc.ray_dir, sc.next_ray_dir);
+        sc.rays_gathered = true;
     }
 }
 

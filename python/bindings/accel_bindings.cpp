@@ -217,13 +217,11 @@ void bind_accel(nb::module_& m) {
              "Builds the BVH now if it is not yet built (one thread); seconds its build took.")
         .def_prop_ro("bvh_stats", [](Accel& a) {
             const patina::BvhStats& st = bvh_of(a).stats;
-            nb::dict d;
-            d["nodes"] = st.nodes;
-            d["leaves"] = st.leaves;
-            d["blocks"] = st.blocks;
-            d["depth"] = st.depth;
-            d["build_seconds"] = st.build_seconds;
-            return d;
+            return dict_of({{"nodes", nb::cast(st.nodes)},
+                            {"leaves", nb::cast(st.leaves)},
+                            {"blocks", nb::cast(st.blocks)},
+                            {"depth", nb::cast(st.depth)},
+                            {"build_seconds", nb::cast(st.build_seconds)}});
         }, "The BVH's nodes, leaves, 8-triangle blocks, depth and build seconds (built if need be).")
         .def_prop_ro("triangles", &triangles_of, "(T, 3, 3) float32 corners, in the order of the indices given")
         .def("intersect", &intersect, nb::arg("origins"), nb::arg("directions"), nb::arg("tmin") = 0.0f,

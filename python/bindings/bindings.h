@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstring>
+#include <initializer_list>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -30,6 +31,13 @@ nb::ndarray<nb::numpy, T, nb::ndim<Dims>> new_array(const size_t (&shape)[Dims],
     nb::capsule owner(buffer, [](void* p) noexcept { delete[] static_cast<T*>(p); });
     *data = buffer;
     return nb::ndarray<nb::numpy, T, nb::ndim<Dims>>(buffer, Dims, shape, owner);
+}
+
+// A dict of named values (statistics handed to Python), in the order given.
+inline nb::dict dict_of(std::initializer_list<std::pair<const char*, nb::object>> items) {
+    nb::dict d;
+    for (const auto& [key, value] : items) d[key] = value;
+    return d;
 }
 
 template <class T>

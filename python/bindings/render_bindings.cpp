@@ -11,11 +11,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "bindings.h"
@@ -167,6 +169,22 @@ std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, nb::object indices
     return h;
 }
 
+// A material's or light's fields, named "<where> (<kind>)" in its errors, and its kind: the
+// key "kind" read and looked up in `names` (else the one-line error naming it).
+template <class Kind>
+Fields kind_fields(const nb::dict& d, const std::string& where, const char* what,
+                   std::initializer_list<std::pair<const char*, Kind>> names, Kind& kind) {
+    const std::string name = Fields(d, where).text("kind");
+    Fields f(d, where + " (" + name + ")");
+    f.text("kind");
+    for (const auto& [n, k] : names)
+        if (name == n) {
+            kind = k;
+            return f;
+        }
+    f.fail("unknown " + std::string(what) + " kind '" + name + "'");
+}
+
 // The keys of a material, by kind, are exactly what the renderer reads for that kind (see
 // render/scene.h's Material): a Lambert's albedo, a conductor's GGX roughness, complex
 // index and tint, a table's or mixture's tint and sampling proxy; the clear coat over any
@@ -174,18 +192,11 @@ std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, nb::object indices
 // light whose triangles it covers; a dielectric its roughness alpha_x and eta (eta[0] is read).
 int add_material(SceneHandle& h, const nb::dict& d) {
     patina::Material m;
-    const std::string where = "material " + std::to_string(h.scene.materials.size());
-    const std::string kind = Fields(d, where).text("kind");
-    Fields f(d, where + " (" + kind + ")");
-    f.text("kind");
-    if (kind == "lambert") m.kind = patina::MaterialKind::Lambert;
-    else if (kind == "conductor") m.kind = patina::MaterialKind::Conductor;
-    else if (kind == "table") m.kind = patina::MaterialKind::Table;
-    else if (kind == "mixture") m.kind = patina::MaterialKind::Mixture;
-    else if (kind == "emitter") m.kind = patina::MaterialKind::Emitter;
-    else if (kind == "dielectric") m.kind = patina::MaterialKind::Dielectric;
-    else f.fail("unknown material kind '" + kind + "'");
     using K = patina::MaterialKind;
+    Fields f = kind_fields<K>(d, "material " + std::to_string(h.scene.materials.size()), "material",
+                              {{"lambert", K::Lambert}, {"conductor", K::Conductor}, {"table", K::Table},
+                               {"mixture", K::Mixture}, {"emitter", K::Emitter}, {"dielectric", K::Dielectric}},
+                              m.kind);
     // GGX roughness: 0 (smooth) is taken as 1e-3, a very narrow lobe the same code samples
     constexpr float kSmooth = 1e-3f;
     auto roughness = [&](const char* key) {
@@ -267,17 +278,11 @@ using FloatMatrix = nb::ndarray<const float, nb::ndim<2>, nb::c_contig, nb::devi
 // (python/patina/render/prepare.py) and only checked here.
 int add_light(SceneHandle& h, const nb::dict& d) {
     patina::Light l;
-    const std::string where = "light " + std::to_string(h.scene.lights.size());
-    const std::string kind = Fields(d, where).text("kind");
-    Fields f(d, where + " (" + kind + ")");
-    f.text("kind");
-    if (kind == "point") l.kind = patina::LightKind::Point;
-    else if (kind == "quad") l.kind = patina::LightKind::Quad;
-    else if (kind == "spot") l.kind = patina::LightKind::Spot;
-    else if (kind == "sun") l.kind = patina::LightKind::Sun;
-    else if (kind == "triangles") l.kind = patina::LightKind::Triangles;
-    else if (kind == "goniometric") l.kind = patina::LightKind::Goniometric;
-    else f.fail("unknown light kind '" + kind + "'");
+    using L = patina::LightKind;
+    Fields f = kind_fields<L>(d, "light " + std::to_string(h.scene.lights.size()), "light",
+                              {{"point", L::Point}, {"quad", L::Quad}, {"spot", L::Spot}, {"sun", L::Sun},
+                               {"triangles", L::Triangles}, {"goniometric", L::Goniometric}},
+                              l.kind);
     f.vec3("power", l.power);
     auto positive = [&](const char* key) {
         const float x = f.real(key);
@@ -452,19 +457,17 @@ std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth
 
 nb::dict progress(const JobHandle& j) {
     const patina::RenderProgress p = j.job->progress();
-    nb::dict d;
-    d["items_done"] = p.items_done;
-    d["items_total"] = p.items_total;
-    d["rays"] = p.rays;
-    d["samples_done"] = p.samples_done;
-    d["seconds"] = p.seconds;
-    d["finished"] = p.finished;
-    d["cancelled"] = p.cancelled;
-    d["cache_points"] = p.cache_points;
-    d["cache_queries"] = p.cache_queries;
-    d["cache_texels_reprojected"] = p.cache_texels_reprojected;
-    d["cache_texels_traced"] = p.cache_texels_traced;
-    return d;
+    return dict_of({{"items_done", nb::cast(p.items_done)},
+                    {"items_total", nb::cast(p.items_total)},
+                    {"rays", nb::cast(p.rays)},
+                    {"samples_done", nb::cast(p.samples_done)},
+                    {"seconds", nb::cast(p.seconds)},
+                    {"finished", nb::cast(p.finished)},
+                    {"cancelled", nb::cast(p.cancelled)},
+                    {"cache_points", nb::cast(p.cache_points)},
+                    {"cache_queries", nb::cast(p.cache_queries)},
+                    {"cache_texels_reprojected", nb::cast(p.cache_texels_reprojected)},
+                    {"cache_texels_traced", nb::cast(p.cache_texels_traced)}});
 }
 
 // Seconds per integrator stage summed over the workers (render/stage_timer.h: names in stage
@@ -474,14 +477,12 @@ nb::dict stage_times(const JobHandle& j) {
     nb::dict stages;
     for (int k = 0; k < patina::kStageCount; ++k)
         stages[patina::stage_name(static_cast<patina::Stage>(k))] = 1e-9 * static_cast<double>(t.ns[k]);
-    nb::dict d;
-    d["stages"] = stages;
-    d["item_seconds"] = 1e-9 * static_cast<double>(t.item_ns);
-    d["camera_rays"] = t.camera_rays;
-    d["secondary_rays"] = t.secondary_rays;
-    d["shadow_rays"] = t.shadow_rays;
-    d["shading_points"] = t.shading_points;
-    return d;
+    return dict_of({{"stages", stages},
+                    {"item_seconds", nb::cast(1e-9 * static_cast<double>(t.item_ns))},
+                    {"camera_rays", nb::cast(t.camera_rays)},
+                    {"secondary_rays", nb::cast(t.secondary_rays)},
+                    {"shadow_rays", nb::cast(t.shadow_rays)},
+                    {"shading_points", nb::cast(t.shading_points)}});
 }
 
 nb::dict resolve(const JobHandle& j) {
@@ -571,14 +572,12 @@ nb::dict render_tiles(JobHandle& j, const std::vector<int>& tiles, int first, in
         nb::gil_scoped_release release;  // other threads render other tiles of the job meanwhile
         w = j.job->render_tiles(tiles, first, end);
     }
-    nb::dict d;
-    d["rays"] = w.rays;
-    d["samples"] = w.samples;
-    d["cache_points"] = w.cache_points;
-    d["cache_queries"] = w.cache_queries;
-    d["cache_texels_reprojected"] = w.cache_texels_reprojected;
-    d["cache_texels_traced"] = w.cache_texels_traced;
-    return d;
+    return dict_of({{"rays", nb::cast(w.rays)},
+                    {"samples", nb::cast(w.samples)},
+                    {"cache_points", nb::cast(w.cache_points)},
+                    {"cache_queries", nb::cast(w.cache_queries)},
+                    {"cache_texels_reprojected", nb::cast(w.cache_texels_reprojected)},
+                    {"cache_texels_traced", nb::cast(w.cache_texels_traced)}});
 }
 
 void check_axis(const FloatVector& a, const char* name) {

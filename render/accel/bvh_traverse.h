@@ -170,10 +170,25 @@ PATINA_INLINE uint32_t order_children(const Bvh& bvh, const BvhNode& node, int m
     return hit[n - 1].child;
 }
 
-// The traversal both queries share: nodes with L lanes over their children, nearest child first,
-// the others on the stack; a popped child is skipped once it lies beyond `tfar` (the closest hit
-// so far, which the leaf visitor may lower). `leaf(first_block, block_count)` returns true to stop.
-template <int L, typename Leaf>
+// The children hit (mask) onto the stack in slot order, unsorted; returns the first. For any
+// hit: a ray that is not blocked visits every child it enters whatever the order, so sorting
+// them by distance would be work for nothing on most shadow rays.
+PATINA_INLINE uint32_t push_children(const Bvh& bvh, const BvhNode& node, int mask, const float* near, StackEntry* stack,
+                                     int& top) {
+    const int first = __builtin_ctz(static_cast<unsigned>(mask));
+    for (mask &= mask - 1; mask; mask &= mask - 1) {
+        const int i = __builtin_ctz(static_cast<unsigned>(mask));
+        stack[top++] = StackEntry{node.child[i], near[i]};
+        prefetch_child(bvh, node.child[i]);
+    }
+    return node.child[first];
+}
+
+// The traversal both queries share: nodes with L lanes over their children, nearest child first
+// (kNearestFirst; else in slot order), the others on the stack; a popped child is skipped once it
+// lies beyond `tfar` (the closest hit so far, which the leaf visitor may lower).
+// `leaf(first_block, block_count)` returns true to stop.
+template <int L, bool kNearestFirst, typename Leaf>
 inline void traverse(const Bvh& bvh, const RayPacket<1>& r, const BoxRay& b, const float& tfar, Leaf&& leaf) {
     StackEntry stack[kStackSize];
     int top = 0;
@@ -184,7 +199,8 @@ inline void traverse(const Bvh& bvh, const RayPacket<1>& r, const BoxRay& b, con
             const BvhNode& node = bvh.nodes[cur];
             const int mask = hit_children<L>(node, b, r.tmin, tfar, near);
             if (mask == 0) goto pop;
-            cur = order_children(bvh, node, mask, near, stack, top);
+            cur = kNearestFirst ? order_children(bvh, node, mask, near, stack, top)
+                                : push_children(bvh, node, mask, near, stack, top);
         }
         if (leaf(&bvh.blocks[bvh_leaf_first(cur)], bvh_leaf_blocks(cur))) return;
     pop:
@@ -213,7 +229,7 @@ inline void bvh_intersect(const Bvh& bvh, const float* org, const float* dir, fl
     RayPacket<1> r;
     BoxRay b;
     load_ray(bvh, org, dir, tmin, tmax, r, b);
-    traverse<L>(bvh, r, b, hit.t, [&](const BvhBlock* blk, uint32_t nb) {
+    traverse<L, true>(bvh, r, b, hit.t, [&](const BvhBlock* blk, uint32_t nb) {
         for (uint32_t k = 0; k < nb; ++k, ++blk) {
             for (int c = 0; c < kBvhBlock; c += T) {
                 vfloat<T> t(0.0f), u(0.0f), v(0.0f);
@@ -244,7 +260,7 @@ inline bool bvh_occluded(const Bvh& bvh, const float* org, const float* dir, flo
     BoxRay b;
     load_ray(bvh, org, dir, tmin, tmax, r, b);
     bool occluded = false;
-    traverse<L>(bvh, r, b, r.tmax, [&](const BvhBlock* blk, uint32_t nb) {
+    traverse<L, false>(bvh, r, b, r.tmax, [&](const BvhBlock* blk, uint32_t nb) {
         for (uint32_t k = 0; k < nb; ++k, ++blk) {
             for (int c = 0; c < kBvhBlock; c += T) {
                 vfloat<T> t(0.0f), u(0.0f), v(0.0f);
