@@ -283,6 +283,12 @@ PATINA_INLINE void orthonormal_frame_lanes(const V3& n, V3& t, V3& b) {
 // operations lane by lane (interpolated normal and tangent, facing, frame), so every lane
 // has the bits the one-hit version gives. Results in lane arrays; ok: false where the path
 // ends at the hit (the back of a one-sided surface).
+PATINA_INLINE void store_lanes3(float (*dst)[N], const V3& a) {
+    store_n<N>(dst[0], a.x);
+    store_n<N>(dst[1], a.y);
+    store_n<N>(dst[2], a.z);
+}
+
 struct PointLanes {
     alignas(64) float p[3][N], ng[3][N], n[3][N], t[3][N], b[3][N], vl[3][N], eta[N];
     int ok;  // bit k: lane k is a shading point
@@ -341,18 +347,13 @@ inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t 
         ft3 = select3(has, tu, ft3);
         fb3 = select3(has, cross(n, tu), fb3);
     }
-    auto put = [](float (*dst)[N], const V3& a) {
-        store_n<N>(dst[0], a.x);
-        store_n<N>(dst[1], a.y);
-        store_n<N>(dst[2], a.z);
-    };
-    put(out.p, p);
-    put(out.ng, ng);
-    put(out.n, n);
-    put(out.t, ft3);
-    put(out.b, fb3);
+    store_lanes3(out.p, p);
+    store_lanes3(out.ng, ng);
+    store_lanes3(out.n, n);
+    store_lanes3(out.t, ft3);
+    store_lanes3(out.b, fb3);
     // the view direction in the frame: to_local(sp, -dir)
-    put(out.vl, V3{dot(wo, ft3), dot(wo, fb3), dot(wo, n)});
+    store_lanes3(out.vl, V3{dot(wo, ft3), dot(wo, fb3), dot(wo, n)});
     store_n<N>(out.eta, eta);
     out.ok = movemask(ok) & ((1 << lanes) - 1);
 }
@@ -482,12 +483,7 @@ inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
     const float* ll = sc.l_local.data();
     const float* fv = sc.f.data();
     const float* pdf = sc.pdf.data();
-    sc.shadow_path.resize(np);
-    sc.shadow_org.resize(3 * np);
-    sc.shadow_dir.resize(3 * np);
-    sc.shadow_rgb.resize(3 * np);
-    sc.shadow_tmax.resize(np);
-    sc.shadow_lux.resize(np);
+    resize_shadow_rays(sc, np);
     size_t m = 0;
     for_blocks(np, [&](size_t q0, int lanes) {
         int ok_bits = 0, delta_bits = 0;
@@ -523,8 +519,8 @@ inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
         for (int k = 0; k < 3; ++k) {
             store_n<N>(cc[k], c[k]);
         }
-        store_n<N>(oo[0], o.x), store_n<N>(oo[1], o.y), store_n<N>(oo[2], o.z);
-        store_n<N>(dd[0], d.x), store_n<N>(dd[1], d.y), store_n<N>(dd[2], d.z);
+        store_lanes3(oo, o);
+        store_lanes3(dd, d);
         store_n<N>(tt, tmax);
         store_n<N>(lx, lux);
         for (int bits = movemask(queued) & ok_bits; bits; bits &= bits - 1) {
@@ -540,12 +536,7 @@ inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
             ++m;
         }
     });
-    sc.shadow_path.resize(m);
-    sc.shadow_org.resize(3 * m);
-    sc.shadow_dir.resize(3 * m);
-    sc.shadow_rgb.resize(3 * m);
-    sc.shadow_tmax.resize(m);
-    sc.shadow_lux.resize(m);
+    resize_shadow_rays(sc, m);
 }
 
 // 5. Light sampling: one light sample per point; the BRDF evaluated for it (N points of a
@@ -637,9 +628,9 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
         const V3 o = Pp + side * NG;
         alignas(64) float tt[3][N], oo[3][N], dd[3][N], pp[3][N];
         for (int c = 0; c < 3; ++c) store_n<N>(tt[c], T[c]);
-        store_n<N>(pp[0], Pp.x), store_n<N>(pp[1], Pp.y), store_n<N>(pp[2], Pp.z);
-        store_n<N>(oo[0], o.x), store_n<N>(oo[1], o.y), store_n<N>(oo[2], o.z);
-        store_n<N>(dd[0], wl.x), store_n<N>(dd[1], wl.y), store_n<N>(dd[2], wl.z);
+        store_lanes3(pp, Pp);
+        store_lanes3(oo, o);
+        store_lanes3(dd, wl);
         for (int bits = updated; bits; bits &= bits - 1) {
             const int k = __builtin_ctz(static_cast<unsigned>(bits));
             float* Tk = sc.throughput.data() + 3 * sc.pt_path[q0 + k];

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include "core/constants.h"
@@ -45,6 +46,16 @@ inline void queue_shadow_ray(PathScratch& sc, int32_t owner, const Vec3f& p, con
     sc.shadow_rgb.insert(sc.shadow_rgb.end(), rgb, rgb + 3);
     sc.shadow_tmax.push_back(tmax);
     sc.shadow_lux.push_back(lux);
+}
+
+// The queue n rays long (a stage that writes them in place, then cuts it to the rays it wrote).
+inline void resize_shadow_rays(PathScratch& sc, size_t n) {
+    sc.shadow_path.resize(n);
+    sc.shadow_org.resize(3 * n);
+    sc.shadow_dir.resize(3 * n);
+    sc.shadow_rgb.resize(3 * n);
+    sc.shadow_tmax.resize(n);
+    sc.shadow_lux.resize(n);
 }
 
 inline void clear_shadow_rays(PathScratch& sc) {
