@@ -84,18 +84,8 @@ TEST(KdTree, ClosedMeshNeverLeaks) {
     const Mesh m = icosphere(3);
     const KdTree tree = build(m);
     // from inside, at every vertex, every edge midpoint, and at random
-    Rays rays;
     const std::array<std::array<float, 3>, 3> origins = {{{0, 0, 0}, {0.1f, -0.2f, 0.05f}, {0.5f, 0.3f, -0.2f}}};
-    for (const auto& o : origins) {
-        for (size_t k = 0; k < m.v.size() / 3; ++k)
-            rays.add(o, {m.v[3 * k] - o[0], m.v[3 * k + 1] - o[1], m.v[3 * k + 2] - o[2]});
-        for (size_t t = 0; t < m.triangles(); ++t)
-            for (int e = 0; e < 3; ++e) {
-                const float* a = &m.v[3 * size_t(m.f[3 * t + e])];
-                const float* b = &m.v[3 * size_t(m.f[3 * t + (e + 1) % 3])];
-                rays.add(o, {(a[0] + b[0]) / 2 - o[0], (a[1] + b[1]) / 2 - o[1], (a[2] + b[2]) / 2 - o[2]});
-            }
-    }
+    Rays rays = rays_through_edges(m, origins);
     const Rays random = random_rays(20000, 9, 0.3f);
     rays.o.insert(rays.o.end(), random.o.begin(), random.o.end());
     rays.d.insert(rays.d.end(), random.d.begin(), random.d.end());

@@ -102,22 +102,10 @@ void expect_exact(const Mesh& m, const Rays& rays, const char* what) {
     }
 }
 
-// Rays from inside a closed mesh through each of its vertices and edge midpoints: ties
-// between the triangles that share them.
+// Rays from inside a closed mesh through each of its vertices and edge midpoints.
 Rays rays_through_edges(const Mesh& m) {
-    Rays rays;
     const std::array<std::array<float, 3>, 2> origins = {{{0, 0, 0}, {0.1f, -0.2f, 0.05f}}};
-    for (const auto& o : origins) {
-        for (size_t k = 0; k < m.v.size() / 3; ++k)
-            rays.add(o, {m.v[3 * k] - o[0], m.v[3 * k + 1] - o[1], m.v[3 * k + 2] - o[2]});
-        for (size_t t = 0; t < m.triangles(); ++t)
-            for (int e = 0; e < 3; ++e) {
-                const float* a = &m.v[3 * size_t(m.f[3 * t + e])];
-                const float* b = &m.v[3 * size_t(m.f[3 * t + (e + 1) % 3])];
-                rays.add(o, {(a[0] + b[0]) / 2 - o[0], (a[1] + b[1]) / 2 - o[1], (a[2] + b[2]) / 2 - o[2]});
-            }
-    }
-    return rays;
+    return rays_through_edges(m, origins);
 }
 
 // A unit cube of 12 triangles amid clutter, and axis-parallel rays in and along its faces.

@@ -109,6 +109,24 @@ inline Rays camera_rays(int w, int h) {
     return r;
 }
 
+// Rays from each of `origins` (inside a closed mesh) through each of the mesh's vertices
+// and edge midpoints: ties between the triangles that share them.
+template <size_t N>
+inline Rays rays_through_edges(const Mesh& m, const std::array<std::array<float, 3>, N>& origins) {
+    Rays rays;
+    for (const auto& o : origins) {
+        for (size_t k = 0; k < m.v.size() / 3; ++k)
+            rays.add(o, {m.v[3 * k] - o[0], m.v[3 * k + 1] - o[1], m.v[3 * k + 2] - o[2]});
+        for (size_t t = 0; t < m.triangles(); ++t)
+            for (int e = 0; e < 3; ++e) {
+                const float* a = &m.v[3 * size_t(m.f[3 * t + e])];
+                const float* b = &m.v[3 * size_t(m.f[3 * t + (e + 1) % 3])];
+                rays.add(o, {(a[0] + b[0]) / 2 - o[0], (a[1] + b[1]) / 2 - o[1], (a[2] + b[2]) / 2 - o[2]});
+            }
+    }
+    return rays;
+}
+
 // Closest hit by testing every triangle (Moller-Trumbore in double).
 inline std::pair<double, int> brute_force(const Mesh& m, const float* o, const float* d) {
     double best = kInf;
