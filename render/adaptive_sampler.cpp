@@ -49,24 +49,6 @@ float aa_contrast(const AaSignal& a, const AaSignal& b) {
     return std::isfinite(c) ? c : 1.0f;
 }
 
-bool aa_differs(const AaSignal& a, const AaSignal& b, float threshold) {
-    const bool ha = std::isfinite(a.depth), hb = std::isfinite(b.depth);
-    const bool broken = 1.0f > threshold;  // what a contrast of 1 decides
-    if (ha != hb) return broken;
-    // |x - y| / (|x| + |y|) > threshold, multiplied out
-    const auto step = [&](float x, float y) {
-        if (!std::isfinite(x) || !std::isfinite(y)) return broken;
-        return std::fabs(x - y) > threshold * (std::fabs(x) + std::fabs(y));
-    };
-    for (int k = 0; k < 3; ++k)
-        if (step(a.colour[k], b.colour[k])) return true;
-    if (!ha) return false;
-    if (step(a.depth, b.depth)) return true;
-    const float d = a.normal[0] * b.normal[0] + a.normal[1] * b.normal[1] + a.normal[2] * b.normal[2];
-    if (!std::isfinite(d)) return broken;
-    return 0.5f * (1.0f - std::clamp(d, -1.0f, 1.0f)) > threshold;
-}
-
 bool aa_sample_is_signal(const RenderScene& scene, const IntegratorSettings& integrator) {
     if (integrator.max_depth != 1 || scene.camera.aperture_radius > 0 || scene.env.present) return false;
     if (scene.lights.size() != 1) return false;
@@ -136,7 +118,7 @@ void AdaptiveSampler::begin(const TileRect& tile, int pass) {
     }
 }
 
-int AdaptiveSampler::corner_of(const PixelState& p, int canonical) const {
+inline int AdaptiveSampler::corner_of(const PixelState& p, int canonical) const {
     int x = canonical % 2, y = canonical / 2;
     if (p.vertical) {
         const int u = x, v = y;  // (x, y) = (v, 1 - u): 90 degrees counter-clockwise on screen
@@ -146,7 +128,7 @@ int AdaptiveSampler::corner_of(const PixelState& p, int canonical) const {
     return (p.ty + y) * (m_tile.x1 - m_tile.x0 + 1) + p.tx + x;
 }
 
-void AdaptiveSampler::place(const PixelState& p, int s, float& fx, float& fy) const {
+inline void AdaptiveSampler::place(const PixelState& p, int s, float& fx, float& fy) const {
     const aa::Point2 q = aa::sample_point(s);
     const double x = p.vertical ? q.v : q.u, y = p.vertical ? 1.0 - q.u : q.v;
     fx = static_cast<float>(m_tile.x0 + p.tx + x);
@@ -339,7 +321,7 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
     }
 }
 
-bool AdaptiveSampler::in_spot(const PixelState& p, int s) const {
+inline bool AdaptiveSampler::in_spot(const PixelState& p, int s) const {
     if (p.spot < 0) return false;
     const AaSpot& q = m_hints->spots[static_cast<size_t>(p.spot)];
     float fx, fy;

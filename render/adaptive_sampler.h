@@ -31,7 +31,9 @@
 // the sample is the signal and nothing is traced twice.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -63,8 +65,25 @@ struct AaSignal {
 //   the normal:             (1 - a . b) / 2
 // and 1 where one ray hits and the other does not. Refine where it exceeds the threshold.
 float aa_contrast(const AaSignal& a, const AaSignal& b);
-// aa_contrast(a, b) > threshold with its divisions multiplied out: the sampler's comparisons.
-bool aa_differs(const AaSignal& a, const AaSignal& b, float threshold);
+// aa_contrast(a, b) > threshold with its divisions multiplied out: the sampler's comparisons
+// (inline: two to fourteen a pixel).
+inline bool aa_differs(const AaSignal& a, const AaSignal& b, float threshold) {
+    const bool ha = std::isfinite(a.depth), hb = std::isfinite(b.depth);
+    const bool broken = 1.0f > threshold;  // what a contrast of 1 decides
+    if (ha != hb) return broken;
+    // |x - y| / (|x| + |y|) > threshold, multiplied out
+    const auto step = [&](float x, float y) {
+        if (!std::isfinite(x) || !std::isfinite(y)) return broken;
+        return std::fabs(x - y) > threshold * (std::fabs(x) + std::fabs(y));
+    };
+    for (int k = 0; k < 3; ++k)
+        if (step(a.colour[k], b.colour[k])) return true;
+    if (!ha) return false;
+    if (step(a.depth, b.depth)) return true;
+    const float d = a.normal[0] * b.normal[0] + a.normal[1] * b.normal[1] + a.normal[2] * b.normal[2];
+    if (!std::isfinite(d)) return broken;
+    return 0.5f * (1.0f - std::clamp(d, -1.0f, 1.0f)) > threshold;
+}
 
 // Whether the integrator's sample at a position is the same for every random-number key,
 // so it can serve as the signal: direct light only (max_depth 1), a pinhole camera, one
