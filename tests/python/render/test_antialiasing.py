@@ -141,6 +141,22 @@ def test_under_one_point_light_the_sample_is_the_signal():
     assert r.camera_rays > 32 * 32 and r.rays <= 3 * r.camera_rays
 
 
+
+def test_where_the_sample_is_the_signal_the_paths_numbers_change_nothing():
+    # the render job then draws the paths' numbers independently, not from Sobol (cheaper):
+    # right only while any numbers give the same image. A second pass draws other numbers at
+    # the same positions, so two passes must give the very bits of one (on a scene with a
+    # shadow, a glossy lobe and patterns refined to level 3)
+    shapes = [
+        half_plane_left_of(13.3),
+        {"type": "sphere", "material": "gold", "radius": 0.3, "transform": {"translate": [0.4, 0.5, 0.2]}},
+    ]
+    obj = top_down(shapes)
+    obj["materials"]["gold"] = {"type": "conductor", "metal": "Au", "roughness": 0.2}
+    one, two = (render(scene_of({**obj, "render": {**obj["render"], "spp": n}}), aa="adaptive") for n in (1, 2))
+    assert np.array_equal(one.rgb, two.rgb) and (one.aa_level == 3).any()
+
+
 def test_a_line_thinner_than_the_gaps_between_the_rays_is_found_by_the_geometric_pre_pass():
     # a dark strip 0.15 pixel wide down the middle of column 10 (film x 10.425 .. 10.575, between
     # the corners and between F and G): no ray of levels 1 and 2 sees it, its edges do
