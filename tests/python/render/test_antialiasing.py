@@ -141,7 +141,6 @@ def test_under_one_point_light_the_sample_is_the_signal():
     assert r.camera_rays > 32 * 32 and r.rays <= 3 * r.camera_rays
 
 
-
 def test_where_the_sample_is_the_signal_the_paths_numbers_change_nothing():
     # the render job then draws the paths' numbers independently, not from Sobol (cheaper):
     # right only while any numbers give the same image. A second pass draws other numbers at
