@@ -94,6 +94,24 @@ PATINA_INLINE F pdf(const Environment& e, const V3& d) {
     return select(sin_theta > F(0.0f), p / (F(2.0f * kPi * kPi) * sin_theta), F(0.0f));
 }
 
+// radiance() and, where with_pdf, pdf() of the same directions, the map coordinates found
+// once for both (the same operations as each alone: the same bits); without with_pdf the
+// pdf is 0. A miss after a camera ray needs no pdf (nothing to weigh it against).
+PATINA_INLINE F radiance_and_pdf(const Environment& e, const V3& d, bool with_pdf, F& r, F& g, F& b) {
+    if (!e.present || !e.is_map) {
+        radiance(e, d, r, g, b);
+        return with_pdf ? pdf(e, d) : F(0.0f);
+    }
+    const V3 m = to_map(e, d);
+    F u, v;
+    map_uv(m, u, v);
+    radiance_uv(e, u, v, r, g, b);
+    if (!with_pdf) return F(0.0f);
+    const F sin_theta = sqrt_exact(max(F(1.0f) - m.y * m.y, F(0.0f)));
+    const F p = gather(e.pixel_pdf.data(), pixel_of(e, u, v));
+    return select(sin_theta > F(0.0f), p / (F(2.0f * kPi * kPi) * sin_theta), F(0.0f));
+}
+
 // Directions from the environment's distribution for uniforms (u1, u2), with their radiance
 // (from the sampled map coordinates: no inverse trigonometry); returns the pdf.
 PATINA_INLINE F sample(const Environment& e, F u1, F u2, V3& d, F& r, F& g, F& b) {
@@ -110,10 +128,15 @@ PATINA_INLINE F sample(const Environment& e, F u1, F u2, V3& d, F& r, F& g, F& b
     const I row = coherent_search<N>(e.row_cdf.data(), h + 1, u1, F(0.0f) == F(0.0f));
     const F r0 = gather(e.row_cdf.data(), row), r1 = gather(e.row_cdf.data(), row + I(1));
     const F fv = select(r1 > r0, clamp((u1 - r0) / (r1 - r0), F(0.0f), F(0.99999f)), F(0.5f));
-    // the column: each lane down its own row's cdf, one gather per level
+    // the column: each lane down its own row's cdf, one gather per level, between the
+    // guide's columns for u2's bucket (cdf[lo] <= u2 < cdf[hi] throughout, so the column is
+    // the last one whose cdf is <= u2: the full row's binary search gives the same)
     const I base = row * I(w + 1);
-    I lo(0), hi(w);
-    for (int widest = w; widest > 1; widest = (widest + 1) >> 1) {
+    const int nb = e.col_buckets;
+    const I bucket = min(to_int_trunc(u2 * F(float(nb))), I(nb - 1));
+    const I gi = row * I(nb + 1) + bucket;
+    I lo = gather(e.col_guide.data(), gi), hi = gather(e.col_guide.data(), gi + I(1)) + I(1);
+    while (any(hi - lo > I(1))) {
         const I mid = (lo + hi) >> 1;
         const auto right = u2 >= gather(e.col_cdf.data(), base + mid);
         lo = select(right, mid, lo);

@@ -139,8 +139,9 @@ inline HitBatch trace_bounce(const Wavefront& w, int depth) {
 }
 
 // Misses see the environment, N directions at a time: its radiance and (for MIS after a
-// BRDF sample) the density of light sampling; and the sun's disc, where they go through it.
-inline void add_environment(const Wavefront& w) {
+// BRDF sample: depth > 0) the density of light sampling; and the sun's disc, where they go
+// through it.
+inline void add_environment(const Wavefront& w, int depth) {
     const RenderScene& s = w.s;
     PathScratch& sc = w.sc;
     const size_t n = sc.misses.size();
@@ -152,12 +153,13 @@ inline void add_environment(const Wavefront& w) {
     float* lp = grow(sc.miss_pdf, n);
     for (size_t j = 0; j < n; ++j)
         std::copy(sc.dir.data() + 3 * sc.misses[j], sc.dir.data() + 3 * sc.misses[j] + 3, d + 3 * j);
+    // a path's first segment (prev_pdf 0: start_path) is not weighed against light sampling
+    const bool with_pdf = depth > 0 && w.can_sample_lights;
     if (s.env.present) for_blocks(n, [&](size_t i, int lanes) {
-        const V3 dirs = load_rows(d, i, lanes);
         F r, g, b;
-        env_w::radiance(s.env, dirs, r, g, b);
+        const F p = env_w::radiance_and_pdf(s.env, load_rows(d, i, lanes), with_pdf, r, g, b);
         store_rows(le, i, lanes, r, g, b);
-        store_lanes(lp, i, lanes, env_w::pdf(s.env, dirs));
+        store_lanes(lp, i, lanes, p);
     });
     const int env_light = static_cast<int>(s.lights.size());
     for (size_t j = 0; j < n; ++j) {
@@ -209,7 +211,7 @@ inline void add_emission_and_environment(const Wavefront& w, const HitBatch& hit
         }
         if (depth == 0) w.out[i].depth = hits.t[j];
     }
-    add_environment(w);
+    add_environment(w, depth);
 }
 
 // Whether hit j may become a shading point: a surface (not a light) while the path may
@@ -666,11 +668,15 @@ inline void sample_bsdf(const Wavefront& w, int depth) {
     float* upick = grow(sc.u_pick, np);
     float* u1 = grow(sc.u1, np);
     float* u2 = grow(sc.u2, np);
-    fill_uniforms(sc, np, depth, kDimBsdfPick, upick);
+    const bool guided = depth == 0 && w.st.mode == IntegratorMode::CacheGuided;
+    // the pick only for the groups whose sampling reads it (and the guide's, which picks too)
+    if (guided) fill_uniforms(sc, np, depth, kDimBsdfPick, upick);
+    else for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
+        if (sampling_picks(m)) fill_uniforms(sc, a, count, depth, kDimBsdfPick, upick);
+    });
     fill_uniforms(sc, np, depth, kDimBsdfU, u1);
     fill_uniforms(sc, np, depth, kDimBsdfV, u2);
     sc.timer.lap(Stage::BsdfUniforms);
-    const bool guided = depth == 0 && w.st.mode == IntegratorMode::CacheGuided;
     if (guided) cache::guided_picks(w);
     for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
         material_sample(m, vl + 3 * a, eta + a, upick + a, u1 + a, u2 + a, ll + 3 * a, pdf + a, count);

@@ -278,10 +278,12 @@ inline void sample_lights(const RenderScene& s, PathScratch& sc, int depth, size
     float* pick = grow(sc.u_pick, np);
     float* u1 = grow(sc.u1, np);
     float* u2 = grow(sc.u2, np);
-    fill_uniforms(sc, np, depth, kDimLightPick, pick);
+    const int count = light_count(s);
+    // one light (an environment alone, say) is picked whatever the number: none drawn
+    if (count > 1) fill_uniforms(sc, np, depth, kDimLightPick, pick);
+    else std::fill(pick, pick + np, 0.0f);
     fill_uniforms(sc, np, depth, kDimLightU, u1);
     fill_uniforms(sc, np, depth, kDimLightV, u2);
-    const int count = light_count(s);
     std::vector<int32_t>& chosen = sc.light_of_point;
     chosen.resize(np);
     sc.point_sel.resize(np);

@@ -159,7 +159,15 @@ inline void material_pdf(const Material& m, const float* l, const float* v, cons
     });
 }
 
-// Samples l for each v from three uniforms per point (pick, u1, u2); pdf[i] is full_pdf(l, v).
+// Whether material_sample reads the pick uniform (to choose a coat, a lobe or reflection
+// against transmission); the others sample from (u1, u2) alone.
+inline bool sampling_picks(const Material& m) {
+    return m.coat || m.kind == MaterialKind::Dielectric || m.kind == MaterialKind::Table ||
+           m.kind == MaterialKind::Mixture;
+}
+
+// Samples l for each v from three uniforms per point (pick, u1, u2; pick only where
+// sampling_picks); pdf[i] is full_pdf(l, v).
 inline void material_sample(const Material& m, const float* v, const float* eta, const float* pick, const float* u1,
                             const float* u2, float* l, float* pdf, size_t n) {
     for_blocks(n, [&](size_t i, int lanes) {

@@ -52,12 +52,17 @@ bool UniformSampler::next_batch(std::vector<CameraSample>& samples) {
     const int per_round = std::max<int>(1, static_cast<int>(m_max_batch / m_pixels.size()));
     const int s1 = std::min(m_end_sample, m_next_sample + per_round);
     const size_t np = m_corners.size();
-    samples.resize(np * static_cast<size_t>(s1 - m_next_sample));
+    m_round_samples = s1 - m_next_sample;
+    samples.resize(np * static_cast<size_t>(m_round_samples));
+    // pixel by pixel, each pixel's samples side by side: a packet of camera rays then looks
+    // through one pixel (coherent: the same few triangles, the same texels of a map), and
+    // each pixel still gets its samples in order
     CameraSample* out = samples.data();
-    for (int s = m_next_sample; s < s1; ++s, out += np) {
-        std::copy(m_corners.begin(), m_corners.end(), out);
-        for (size_t q = 0; q < np; ++q) out[q].index = static_cast<uint32_t>(s);
-    }
+    for (const CameraSample& corner : m_corners)
+        for (int s = m_next_sample; s < s1; ++s, ++out) {
+            *out = corner;
+            out->index = static_cast<uint32_t>(s);
+        }
     m_kernels.jitter_pixel_positions(m_kind, samples.data(), samples.size());
     m_next_sample = s1;
     return true;
@@ -65,10 +70,12 @@ bool UniformSampler::next_batch(std::vector<CameraSample>& samples) {
 
 void UniformSampler::take_results(const CameraSample* samples, const PathResult* results, size_t n) {
     // a box filter: every sample adds to the pixel it was shot through, in sample order (the
-    // round's samples are the pixels' in order, repeated; not recomputed from fx, fy, which
-    // round up to the next pixel at the far edge of a pixel of a wide image)
+    // round's samples are each pixel's in order, pixel after pixel; the pixel is not
+    // recomputed from fx, fy, which round up to the next pixel at the far edge of a pixel of
+    // a wide image)
     (void)samples;
-    for (size_t q = 0; q < n; ++q) m_film.add(m_pixels[q % m_pixels.size()], results[q], 1.0f);
+    const size_t per_pixel = static_cast<size_t>(m_round_samples);
+    for (size_t q = 0; q < n; ++q) m_film.add(m_pixels[q / per_pixel], results[q], 1.0f);
 }
 
 }  // namespace patina

@@ -38,7 +38,7 @@ public:
 // Samples [pass_begin[p], pass_begin[p + 1]) of every pixel, box-filtered, at positions
 // within the pixel from the sampler's first two dimensions (Sobol: stratified, a (0, 2)-
 // sequence; independent: uniform), drawn N at a time by the kernels' jitter_pixel_positions.
-// Pixels go in Morton order (2 x 2 blocks for 4-ray packets, 4 x 2 for 8); a round holds at
+// Pixels go in Morton order, each pixel's samples of a round side by side; a round holds at
 // most max_batch samples.
 class UniformSampler final : public PixelSampler {
 public:
@@ -59,6 +59,7 @@ private:
     std::vector<CameraSample> m_corners;  // theirs: top-left corner (fx, fy) and stream key; index 0
     std::vector<std::pair<uint32_t, int>> m_order;  // begin()'s sort, its memory kept
     int m_next_sample = 0, m_end_sample = 0;
+    int m_round_samples = 1;  // each pixel's samples in the last round
 };
 
 }  // namespace patina

@@ -77,6 +77,23 @@ void prepare_environment(Environment& env) {
     // pdf over (u, v): pixel weight / mean weight, so it integrates to 1 over the unit square
     for (size_t i = 0; i < env.pixel_pdf.size(); ++i)
         env.pixel_pdf[i] = total > 0 ? static_cast<float>(weight[i] * w * h / total) : 1.0f;
+    // the column search's guide: a bucket per 16 columns (a power of two, so u * buckets and
+    // b / buckets are exact in float)
+    int buckets = 1;
+    while (buckets < 1024 && buckets * 16 < w) buckets *= 2;
+    env.col_buckets = buckets;
+    env.col_guide.assign(static_cast<size_t>(h) * (buckets + 1), 0);
+    for (int r = 0; r < h; ++r) {
+        const float* cdf = &env.col_cdf[static_cast<size_t>(r) * (w + 1)];
+        int32_t* guide = &env.col_guide[static_cast<size_t>(r) * (buckets + 1)];
+        int c = 0;  // the last column (below w) whose cdf is <= b / buckets: cdf is non-decreasing
+        for (int b = 0; b < buckets; ++b) {
+            const float at = static_cast<float>(b) / static_cast<float>(buckets);
+            while (c + 1 < w && cdf[c + 1] <= at) ++c;
+            guide[b] = c;
+        }
+        guide[buckets] = w - 1;
+    }
 }
 
 void prepare_scale(RenderScene& s) {

@@ -88,6 +88,12 @@ struct Environment {
     std::vector<float> texels;   // a copy of rgb with one float of padding (the SIMD gathers load 4 floats per texel)
     std::vector<float> row_cdf;  // height + 1 values, 0 .. 1
     std::vector<float> col_cdf;  // height rows of width + 1 values, 0 .. 1
+    // Where a row's column search starts and ends: for u in [b, b + 1) / col_buckets, the
+    // column is in [col_guide[b], col_guide[b + 1]] of the row (col_guide[b] = the last
+    // column whose cdf is <= b / col_buckets), so a sample searches a few cdf values of one
+    // or two cache lines instead of the whole row. height rows of col_buckets + 1 values.
+    int col_buckets = 1;
+    std::vector<int32_t> col_guide;
     std::vector<float> pixel_pdf;  // height x width: pdf over (u, v) in [0,1]^2
     float mean_luminance = 0;
 };
