@@ -138,11 +138,12 @@ PATINA_INLINE F sample(const Environment& e, F u1, F u2, V3& d, F& r, F& g, F& b
     I lo = gather(e.col_guide.data(), gi), hi = gather(e.col_guide.data(), gi + I(1)) + I(1);
     while (any(hi - lo > I(1))) {
         const I mid = (lo + hi) >> 1;
-        const auto right = u2 >= gather(e.col_cdf.data(), base + mid);
+        const auto right = u2 >= gather(e.col_cdf_pdf.data(), (base + mid) * I(2));
         lo = select(right, mid, lo);
         hi = select(right, hi, mid);
     }
-    const F c0 = gather(e.col_cdf.data(), base + lo), c1 = gather(e.col_cdf.data(), base + lo + I(1));
+    const I at = (base + lo) * I(2);
+    const F c0 = gather(e.col_cdf_pdf.data(), at), c1 = gather(e.col_cdf_pdf.data(), at + I(2));
     const F fu = select(c1 > c0, clamp((u2 - c0) / (c1 - c0), F(0.0f), F(0.99999f)), F(0.5f));
     const F u = (to_float(lo) + fu) * F(1.0f / float(w)), v = (to_float(row) + fv) * F(1.0f / float(h));
     F sin_t, cos_t, sin_p, cos_p;
@@ -150,7 +151,7 @@ PATINA_INLINE F sample(const Environment& e, F u1, F u2, V3& d, F& r, F& g, F& b
     fast_sincos(F(2.0f * kPi) * u, sin_p, cos_p);
     d = from_map(e, V3{sin_p * sin_t, cos_t, -cos_p * sin_t});
     radiance_uv(e, u, v, r, g, b);
-    const F p = gather(e.pixel_pdf.data(), row * I(w) + lo);
+    const F p = gather(e.col_cdf_pdf.data(), at + I(1));  // pixel_pdf[row * w + lo]
     return select(sin_t > F(0.0f), p / (F(2.0f * kPi * kPi) * sin_t), F(0.0f));
 }
 

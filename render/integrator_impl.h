@@ -93,10 +93,43 @@ inline void start_paths(const Wavefront& w, size_t n) {
     }
 }
 
+// A pinhole camera's rays through the film positions of samples [0, n), N at a time:
+// camera_ray's operations lane by lane (the same bits), from the camera's position.
+inline void pinhole_rays(const Camera& c, const CameraSample* cs, size_t n, float* org, float* dir) {
+    const float aspect = static_cast<float>(c.width) / static_cast<float>(c.height);
+    const V3 right{F(c.right[0]), F(c.right[1]), F(c.right[2])}, up{F(c.up[0]), F(c.up[1]), F(c.up[2])};
+    const V3 forward{F(c.forward[0]), F(c.forward[1]), F(c.forward[2])};
+    const V3 o{F(c.position[0]), F(c.position[1]), F(c.position[2])};
+    for_blocks(n, [&](size_t i, int lanes) {
+        alignas(64) float fx[N] = {}, fy[N] = {};
+        for (int k = 0; k < lanes; ++k) {
+            fx[k] = cs[i + k].fx;
+            fy[k] = cs[i + k].fy;
+        }
+        const F sx = (F(2.0f) * load_n<N>(fx) / F(static_cast<float>(c.width)) - F(1.0f)) * F(c.tan_half_fov) *
+                     F(aspect);
+        const F sy = (F(1.0f) - F(2.0f) * load_n<N>(fy) / F(static_cast<float>(c.height))) * F(c.tan_half_fov);
+        const V3 d = forward + sx * right + sy * up;
+        const F inv = F(1.0f) / sqrt_exact(dot(d, d));
+        store_rows(org, i, lanes, o);
+        store_rows(dir, i, lanes, inv * d);
+    });
+}
+
 // The batch's camera rays, with throughput 1 and empty results; every path active.
 inline void start_camera_paths(const Wavefront& w, size_t n) {
     start_paths(w, n);
     const bool lens = w.s.camera.aperture_radius > 0;  // a pinhole draws no lens numbers
+    if (!lens) {  // start_path for every path, the rays N at a time
+        PathScratch& sc = w.sc;
+        pinhole_rays(w.s.camera, w.cs, n, sc.org.data(), sc.dir.data());
+        std::fill(sc.throughput.data(), sc.throughput.data() + 3 * n, 1.0f);
+        std::fill(sc.prev_pdf.data(), sc.prev_pdf.data() + n, 0.0f);
+        sc.active.resize(n);
+        for (size_t i = 0; i < n; ++i) sc.active[i] = static_cast<int32_t>(i);
+        if (w.st.mode == IntegratorMode::Cache) sc.cached.assign(n, 0);
+        return;
+    }
     for (size_t i = 0; i < n; ++i) {
         const CameraSample& c = w.cs[i];
         const float lu = lens ? sample_uniform(w.st.sampler, c.key, c.index, 0, kDimLensU) : 0.0f;

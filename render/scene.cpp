@@ -47,14 +47,14 @@ void prepare_environment(Environment& env) {
     env.texels.assign(env.rgb, env.rgb + 3 * static_cast<size_t>(w) * h);
     env.texels.push_back(0.0f);
     env.row_cdf.assign(h + 1, 0.0f);
-    env.col_cdf.assign(static_cast<size_t>(h) * (w + 1), 0.0f);
+    std::vector<float> col_cdf(static_cast<size_t>(h) * (w + 1), 0.0f);
     env.pixel_pdf.assign(static_cast<size_t>(h) * w, 0.0f);
     std::vector<double> row_sum(h, 0.0);
     double total = 0, lum_integral = 0;
     for (int r = 0; r < h; ++r) {
         const double sin_theta = std::sin(kPiDouble * (r + 0.5) / h);
         double acc = 0;
-        float* cdf = &env.col_cdf[static_cast<size_t>(r) * (w + 1)];
+        float* cdf = &col_cdf[static_cast<size_t>(r) * (w + 1)];
         for (int c = 0; c < w; ++c) {
             const size_t i = static_cast<size_t>(r) * w + c;
             acc += weight[i];
@@ -77,6 +77,13 @@ void prepare_environment(Environment& env) {
     // pdf over (u, v): pixel weight / mean weight, so it integrates to 1 over the unit square
     for (size_t i = 0; i < env.pixel_pdf.size(); ++i)
         env.pixel_pdf[i] = total > 0 ? static_cast<float>(weight[i] * w * h / total) : 1.0f;
+    env.col_cdf_pdf.assign(2 * static_cast<size_t>(h) * (w + 1), 0.0f);
+    for (int r = 0; r < h; ++r)
+        for (int c = 0; c <= w; ++c) {
+            const size_t i = static_cast<size_t>(r) * (w + 1) + c;
+            env.col_cdf_pdf[2 * i] = col_cdf[i];
+            env.col_cdf_pdf[2 * i + 1] = c < w ? env.pixel_pdf[static_cast<size_t>(r) * w + c] : 0.0f;
+        }
     // the column search's guide: a bucket per 16 columns (a power of two, so u * buckets and
     // b / buckets are exact in float)
     int buckets = 1;
@@ -84,7 +91,7 @@ void prepare_environment(Environment& env) {
     env.col_buckets = buckets;
     env.col_guide.assign(static_cast<size_t>(h) * (buckets + 1), 0);
     for (int r = 0; r < h; ++r) {
-        const float* cdf = &env.col_cdf[static_cast<size_t>(r) * (w + 1)];
+        const float* cdf = &col_cdf[static_cast<size_t>(r) * (w + 1)];
         int32_t* guide = &env.col_guide[static_cast<size_t>(r) * (buckets + 1)];
         int c = 0;  // the last column (below w) whose cdf is <= b / buckets: cdf is non-decreasing
         for (int b = 0; b < buckets; ++b) {

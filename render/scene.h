@@ -87,7 +87,9 @@ struct Environment {
     float cos_rotation = 1, sin_rotation = 0;
     std::vector<float> texels;   // a copy of rgb with one float of padding (the SIMD gathers load 4 floats per texel)
     std::vector<float> row_cdf;  // height + 1 values, 0 .. 1
-    std::vector<float> col_cdf;  // height rows of width + 1 values, 0 .. 1
+    // height rows of width + 1 pairs: (column c's cdf, 0 .. 1; pixel c's pdf as in pixel_pdf,
+    // 0 after the last column), so a sample's pdf is in the cache line of its cdf values
+    std::vector<float> col_cdf_pdf;
     // Where a row's column search starts and ends: for u in [b, b + 1) / col_buckets, the
     // column is in [col_guide[b], col_guide[b + 1]] of the row (col_guide[b] = the last
     // column whose cdf is <= b / col_buckets), so a sample searches a few cdf values of one
