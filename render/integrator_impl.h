@@ -195,13 +195,19 @@ inline void add_environment(const Wavefront& w, int depth) {
         store_lanes(lp, i, lanes, p);
     });
     const int env_light = static_cast<int>(s.lights.size());
+    // without local lights the selection does not depend on the point: the environment's
+    // probability computed once (the same operations as per point)
+    const bool local = std::any_of(s.selection.begin(), s.selection.end(),
+                                   [](const RenderScene::Selection& sel) { return sel.local; });
+    const float env_selection = s.env.present && !local ? selection_probability(s, Vec3f{0, 0, 0}, env_light) : 0.0f;
     for (size_t j = 0; j < n; ++j) {
         const int32_t i = sc.misses[j];
         const Vec3f from = load_vec3(sc.prev_pos.data() + 3 * i);
         const bool mis = prev_pdf[i] > 0 && w.can_sample_lights;  // after a BRDF sample (not a camera ray)
         if (s.env.present) {
-            const float wt =
-                mis ? power_heuristic(prev_pdf[i], selection_probability(s, from, env_light) * lp[j]) : 1.0f;
+            const float wt = mis ? power_heuristic(prev_pdf[i], (local ? selection_probability(s, from, env_light)
+                                                                       : env_selection) * lp[j])
+                                 : 1.0f;
             for (int k = 0; k < 3; ++k) w.out[i].rgb[k] += thr[3 * i + k] * le[3 * j + k] * wt;
         }
         for (size_t li = 0; li < s.lights.size(); ++li) {

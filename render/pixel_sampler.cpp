@@ -75,7 +75,8 @@ void UniformSampler::take_results(const CameraSample* samples, const PathResult*
     // a wide image)
     (void)samples;
     const size_t per_pixel = static_cast<size_t>(m_round_samples);
-    for (size_t q = 0; q < n; ++q) m_film.add(m_pixels[q / per_pixel], results[q], 1.0f);
+    for (size_t p = 0, q = 0; q < n; ++p)
+        for (size_t k = 0; k < per_pixel && q < n; ++k, ++q) m_film.add(m_pixels[p], results[q], 1.0f);
 }
 
 }  // namespace patina
