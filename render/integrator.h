@@ -17,6 +17,7 @@
 #include "render/cache/cache_point.h"
 #include "render/cache/cache_probe.h"
 #include "render/cache/cache_settings.h"
+#include "render/cache/region_hemisphere.h"
 #include "render/grid2.h"
 #include "render/scene.h"
 #include "render/stage_timer.h"
@@ -60,6 +61,9 @@ struct IntegratorSettings {
     SamplerKind sampler = SamplerKind::Sobol;
     IntegratorMode mode = IntegratorMode::Path;
     CacheSettings cache;
+    // the render's passes: with more than one, `cache`'s regions reconstruct hemispheres that
+    // serve them all (render/cache/region_hemisphere.h)
+    int passes = 1;
 };
 
 // A shading point of the current bounce.
@@ -125,6 +129,8 @@ struct PathScratch {
     // the cache points the batch's cache starts from: those of the regions its tile overlaps
     // (render/cache/cache_regions.h; set by the render job for each work item, held by it)
     std::vector<const CachePoint*> cache_shared;
+    // ...and the reconstructed hemispheres those regions keep (render/cache/region_hemisphere.h)
+    std::vector<const RegionHemisphere*> cache_shared_hemispheres;
     // the cache's statistics since construction
     size_t cache_points = 0, cache_queries = 0, cache_texels_reprojected = 0, cache_texels_traced = 0;
 };
@@ -153,10 +159,11 @@ struct RenderKernels {
                         const float* b, const float* nb, uint32_t seed, bool unknown_masks, CacheProbe& out);
     // The radiance cache's points for an image region (render/cache/cache_regions.h): the
     // region's pre-pass camera samples traced to their first hits, the cache points placed
-    // there as a work item places them (settings' mode and cache parameters) and built
+    // there as a work item places them (settings' mode and cache parameters) and built;
+    // for `cache`, the hemispheres of the pre-pass's queries reconstructed and kept too
     void (*build_cache_region)(const RenderScene& scene, const IntegratorSettings& settings,
                                const CameraSample* samples, size_t n, std::vector<CachePoint>& points,
-                               PathScratch& scratch);
+                               std::vector<RegionHemisphere>& hemispheres, PathScratch& scratch);
     // samples[q].fx and .fy (the pixel's corner) plus the sample's pixel-x and pixel-y numbers
     // (render/sample_numbers.h, from its key and index), q < n: the uniform sampler's jittered
     // positions, N samples at a time (a Sobol number is 13 hashes: too dear one at a time)

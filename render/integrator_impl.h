@@ -890,7 +890,7 @@ void trace_given_rays(const RenderScene& s, const IntegratorSettings& st, const 
 // An image region's cache points (integrator.h, build_cache_region): the camera rays' first
 // hits, then the cache's placement and building there (cache_stages_impl.h).
 void build_cache_region(const RenderScene& s, const IntegratorSettings& st, const CameraSample* cs, size_t n,
-                        std::vector<CachePoint>& points, PathScratch& sc) {
+                        std::vector<CachePoint>& points, std::vector<RegionHemisphere>& hemispheres, PathScratch& sc) {
     enter_kernel();
     std::vector<PathResult> out(n);
     const Wavefront w{s, st, cs, out.data(), sc, lights_emit(s), scene_has_sun(s), s.ray_offset};
@@ -908,7 +908,7 @@ void build_cache_region(const RenderScene& s, const IntegratorSettings& st, cons
     auto tracer = [&](const float* o, const float* d, const uint32_t* k, const uint32_t* idx, size_t m, PathResult* r) {
         trace_given_rays(s, inner, o, d, k, idx, m, r, cs_state.inner, cs_state.inner_samples);
     };
-    cache::build_region_points(w, tracer, points);
+    cache::build_region_points(w, tracer, points, hemispheres);
     sc.active.clear();
 }
 

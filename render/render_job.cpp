@@ -63,6 +63,7 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
                              ? 1
                              : std::clamp((settings.spp + min_passes - 1) / min_passes, 1, settings.max_pass_spp);
     const int passes = (settings.spp + per_pass - 1) / per_pass;
+    m_integrator.passes = passes;
     for (int p = 0; p <= passes; ++p)
         m_pass_begin.push_back(static_cast<int>(static_cast<int64_t>(settings.spp) * p / passes));
     const int tiles = m_tiles_x * m_tiles_y;
@@ -225,7 +226,8 @@ void RenderJob::build_cache_region(int x0, int y0, int x1, int y1, CacheRegion& 
             const uint32_t pixel = static_cast<uint32_t>(y) * static_cast<uint32_t>(m_scene.camera.width) + x;
             prepass.push_back({static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f, stream_key(seed, pixel), 0});
         }
-    m_kernels->build_cache_region(m_scene, m_integrator, prepass.data(), prepass.size(), out.points, scratch);
+    m_kernels->build_cache_region(m_scene, m_integrator, prepass.data(), prepass.size(), out.points, out.hemispheres,
+                                  scratch);
 }
 
 size_t RenderJob::run_item(const Item& item, PixelSampler& sampler, PathScratch& scratch,
@@ -239,11 +241,13 @@ size_t RenderJob::run_item(const Item& item, PixelSampler& sampler, PathScratch&
         PathScratch& sc;
         ~HeldRegions() {
             sc.cache_shared.clear();
+            sc.cache_shared_hemispheres.clear();
             held.clear();
             for (const int r : ids) regions->release(r);
         }
     } hold{m_cache_regions.get(), {}, {}, scratch};
     scratch.cache_shared.clear();
+    scratch.cache_shared_hemispheres.clear();
     if (m_cache_regions) {
         const std::vector<int> ids = m_cache_regions->overlapping(rect.x0, rect.y0, rect.x1, rect.y1);
         const CacheRegions::Build build = [&](int, int x0, int y0, int x1, int y1, CacheRegion& made) {
@@ -253,8 +257,10 @@ size_t RenderJob::run_item(const Item& item, PixelSampler& sampler, PathScratch&
             hold.held.push_back(m_cache_regions->acquire(r, build));
             hold.ids.push_back(r);
         }
-        for (const auto& region : hold.held)
+        for (const auto& region : hold.held) {
             for (const CachePoint& a : region->points) scratch.cache_shared.push_back(&a);
+            for (const RegionHemisphere& h : region->hemispheres) scratch.cache_shared_hemispheres.push_back(&h);
+        }
     }
     sampler.begin(rect, item.pass);
     size_t samples = 0;

@@ -88,6 +88,7 @@ std::shared_ptr<const CacheRegion> CacheRegions::build_into(int region, const Bu
     }
     made->bytes = 0;
     for (const CachePoint& a : made->points) made->bytes += cache_point_bytes(a);
+    for (const RegionHemisphere& h : made->hemispheres) made->bytes += region_hemisphere_bytes(h);
     std::lock_guard<std::mutex> lock(m_lock);
     Slot& s = m_slots[region];
     s.points = std::move(made);

@@ -21,15 +21,18 @@
 #include <vector>
 
 #include "render/cache/cache_point.h"
+#include "render/cache/region_hemisphere.h"
 
 namespace patina {
 
 constexpr int kCacheRegionPixels = 32;
 constexpr size_t kCacheRegionBudgetBytes = size_t{256} << 20;
 
-// One region's cache points (their build-only data dropped: cache_point_bytes).
+// One region's cache points (their build-only data dropped: cache_point_bytes) and, for
+// `cache`, its pre-pass queries' reconstructed hemispheres.
 struct CacheRegion {
     std::vector<CachePoint> points;
+    std::vector<RegionHemisphere> hemispheres;
     size_t bytes = 0;
 };
 

@@ -27,6 +27,7 @@
 #include "render/cache/error_criterion.h"
 #include "render/cache/hemisphere.h"
 #include "render/cache/radiance_cache_impl.h"
+#include "render/cache/region_hemisphere.h"
 #include "render/integrator.h"
 #include "render/material_impl.h"
 #include "render/rng.h"
@@ -133,19 +134,74 @@ inline void guide_sample(const float* cdf, int R, float pick, float u1, float u2
 //    integrates it against its own BRDF and view (turned into that frame).
 constexpr float kShareCos = 0.95f, kSharePixels = 2.0f;
 
+inline bool shares_with(const Vec3f& rep_p, const Vec3f& rep_n, const ShadingPoint& sp, float footprint) {
+    return dot(sp.n, rep_n) >= kShareCos && std::abs(dot(rep_n, sp.p - rep_p)) <= kSharePixels * footprint;
+}
 inline bool shares_with(const ShadingPoint& rep, const ShadingPoint& sp, float footprint) {
-    return dot(sp.n, rep.n) >= kShareCos && std::abs(dot(rep.n, sp.p - rep.p)) <= kSharePixels * footprint;
+    return shares_with(rep.p, rep.n, sp, footprint);
+}
+
+// The image region (cache_regions.h) of pixel (px, py): a member only takes a hemisphere its
+// own pixel's region reconstructed, so which regions an item holds (its tile's size and
+// place) does not change the image.
+inline int32_t region_of_pixel(const Camera& cam, int64_t px, int64_t py) {
+    const int64_t regions_x = (cam.width + kCacheRegionPixels - 1) / kCacheRegionPixels;
+    return static_cast<int32_t>((py / kCacheRegionPixels) * regions_x + px / kCacheRegionPixels);
+}
+
+// The block of cache.block x cache.block pixels (image-aligned) of pixel (px, py).
+inline int64_t block_of_pixel(const Camera& cam, int K, int64_t px, int64_t py) {
+    const int64_t blocks_x = (cam.width + K - 1) / K;
+    return (py / K) * blocks_x + px / K;
+}
+
+// The hemisphere a region reconstructed for point sp of pixel (px, py), as an index in
+// st.stored (added there at first use), or -1: the one the pixel's own pre-pass point took
+// if sp shares its surface (the sample lies within a pixel of that point), else the first
+// of its block and region sharing sp's surface with sp within its reach.
+template <class W>
+inline int32_t stored_hemisphere(const W& w, CacheState& st, const ShadingPoint& sp, int64_t px, int64_t py,
+                                 float footprint) {
+    auto take = [&](const RegionHemisphere& h) {
+        for (size_t s = 0; s < st.stored.size(); ++s)
+            if (st.stored[s] == &h) return static_cast<int32_t>(s);
+        st.stored.push_back(&h);
+        return static_cast<int32_t>(st.stored.size() - 1);
+    };
+    auto shares = [&](const RegionHemisphere& h) {
+        return h.material == static_cast<int32_t>(sp.material) && shares_with(h.p, h.n, sp, footprint);
+    };
+    const auto own = st.pixel_hemisphere.find(py * w.s.camera.width + px);
+    if (own != st.pixel_hemisphere.end() && shares(*w.sc.cache_shared_hemispheres[own->second]))
+        return take(*w.sc.cache_shared_hemispheres[own->second]);
+    const auto found = st.block_hemispheres.find(block_of_pixel(w.s.camera, w.st.cache.block, px, py));
+    if (found == st.block_hemispheres.end()) return -1;
+    const int32_t region = region_of_pixel(w.s.camera, px, py);
+    for (const int32_t i : found->second) {
+        const RegionHemisphere& h = *w.sc.cache_shared_hemispheres[i];
+        if (h.region == region && shares(h) && dot(sp.p - h.p, sp.p - h.p) <= h.reach * h.reach) return take(h);
+    }
+    return -1;
 }
 
 // The first-hit points the cache serves, as queries and members (CacheState); returns the
-// number of queries.
+// number of queries. With `stored`, a member takes the hemisphere its region reconstructed
+// where there is one (stored_hemisphere) and makes or joins a query only where there is not.
 template <class W, class Accept>
-inline size_t collect_queries(const W& w, CacheState& st, Accept accept) {
+inline size_t collect_queries(const W& w, CacheState& st, Accept accept, bool stored) {
     const PathScratch& sc = w.sc;
     const size_t np = sc.sorted.size();
     const Camera& cam = w.s.camera;
     const int K = w.st.cache.block;
-    const int64_t blocks_x = (cam.width + K - 1) / K;
+    st.block_hemispheres.clear();
+    st.pixel_hemisphere.clear();
+    st.stored.clear();
+    if (stored)
+        for (size_t i = 0; i < sc.cache_shared_hemispheres.size(); ++i) {
+            const RegionHemisphere& h = *sc.cache_shared_hemispheres[i];
+            st.block_hemispheres[h.block].push_back(static_cast<int32_t>(i));
+            for (const int64_t pixel : h.pixels) st.pixel_hemisphere[pixel] = static_cast<int32_t>(i);
+        }
     st.queries.clear();
     st.query_point.clear();
     st.member_point.clear();
@@ -168,18 +224,16 @@ inline size_t collect_queries(const W& w, CacheState& st, Accept accept) {
                 st.query_of[q] = found->second;
                 continue;
             }
-            // a new member: of a query of its block, or of a new one
-            std::vector<int32_t>& block = st.block_queries[(py / K) * blocks_x + px / K];
+            // a new member: of its region's hemisphere, of a query of its block, or of a new one
+            std::vector<int32_t>& block = st.block_queries[block_of_pixel(cam, K, px, py)];
             // the sample's own key (the stream key is the pixel's, shared by its samples)
             const uint32_t key = sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q]));
             const Query own{sp.p, sp.ng, sp.t, sp.b, sp.n, key, kMinReusePixels * footprint / w.st.cache.error};
-            int32_t query = -1;
-            for (const int32_t u : block)
-                if (shares_with(sc.sorted[st.query_point[u]], sp, footprint)) {
-                    query = u;
-                    break;
-                }
-            if (query < 0) {
+            const int32_t h = st.block_hemispheres.empty() ? -1 : stored_hemisphere(w, st, sp, px, py, footprint);
+            int32_t query = h >= 0 ? -1 - h : -1;
+            for (size_t i = 0; i < block.size() && h < 0 && query < 0; ++i)
+                if (shares_with(sc.sorted[st.query_point[block[i]]], sp, footprint)) query = block[i];
+            if (h < 0 && query < 0) {
                 query = static_cast<int32_t>(st.queries.size());
                 st.queries.push_back(own);
                 st.query_point.push_back(static_cast<int32_t>(q));
@@ -197,19 +251,27 @@ inline size_t collect_queries(const W& w, CacheState& st, Accept accept) {
     return st.queries.size();
 }
 
-// A member's view direction in its query's frame (the frames of the two points of a share
-// are within acos kShareCos; a view that would fall under that horizon keeps its own).
+// A member's view direction in its query's frame, or its region hemisphere's (the frames of
+// the two points of a share are within acos kShareCos; a view that would fall under that
+// horizon keeps its own).
 inline void view_in_query_frame(const PathScratch& sc, const CacheState& st, int32_t member, float* v) {
-    const int32_t q = st.member_point[member], r = st.query_point[st.member_query[member]];
+    const int32_t q = st.member_point[member], u = st.member_query[member];
     const float* own = sc.v_local.data() + 3 * q;
     std::copy(own, own + 3, v);
-    if (q == r) return;
+    if (u >= 0 && q == st.query_point[u]) return;
     const ShadingPoint& a = sc.sorted[q];
-    const ShadingPoint& b = sc.sorted[r];
+    Vec3f t, b, n;
+    if (u >= 0) {
+        const ShadingPoint& r = sc.sorted[st.query_point[u]];
+        t = r.t, b = r.b, n = r.n;
+    } else {
+        const RegionHemisphere& h = *st.stored[-1 - u];
+        t = h.t, b = h.b, n = h.n;
+    }
     const Vec3f world = own[0] * a.t + own[1] * a.b + own[2] * a.n;
-    const float z = dot(world, b.n);
+    const float z = dot(world, n);
     if (!(z > 0.01f)) return;
-    v[0] = dot(world, b.t), v[1] = dot(world, b.b), v[2] = z;
+    v[0] = dot(world, t), v[1] = dot(world, b), v[2] = z;
 }
 
 // f(l_t, v) at the texels [0, n) listed in st.l for the point's view v (st.f, RGB).
@@ -237,7 +299,8 @@ inline CacheState& start_cache_stage(const W& w) {
     CacheState& st = cache_state(w.sc);
     st.timer = &w.sc.timer;
     const int R = w.st.cache.resolution;
-    collect_queries(w, st, [&](const Material& m) { return served_by_cache(w.st.mode, m, R); });
+    collect_queries(w, st, [&](const Material& m) { return served_by_cache(w.st.mode, m, R); },
+                    w.st.mode == IntegratorMode::Cache);
     st.shared = &w.sc.cache_shared;
     st.dirs.prepare(R);
     return st;
@@ -368,7 +431,8 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
         }
         for (int c = 0; c < 3; ++c) st.sums[3 * member + c] = static_cast<float>(sum[c]);
     };
-    auto consume = [&](size_t qi, const float* radiance) {
+    // the members [begin, end) of one hemisphere (a query's or a region's)
+    auto consume_members = [&](const int32_t* begin, const int32_t* end, const float* radiance) {
         float* l = grow(st.l, 3 * T);
         float* rgb = grow(st.rgb, 3 * T);
         size_t count = 0;
@@ -380,8 +444,8 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
             ++count;
         }
         int32_t lambert = -1;  // the query's last Lambert member: its integral does not depend on the view
-        for (int32_t i = st.query_first[qi]; i < st.query_first[qi + 1]; ++i) {
-            const int32_t member = st.query_members[i];
+        for (const int32_t* i = begin; i < end; ++i) {
+            const int32_t member = *i;
             const ShadingPoint& sp = sc.sorted[st.member_point[member]];
             const Material& m = w.s.materials[sp.material];
             const bool plain = m.kind == MaterialKind::Lambert && !m.coat;
@@ -393,8 +457,19 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
             if (plain) lambert = member;
         }
     };
+    auto consume = [&](size_t qi, const float* radiance) {
+        const int32_t* m = st.query_members.data();
+        consume_members(m + st.query_first[qi], m + st.query_first[qi + 1], radiance);
+    };
     st.sums.assign(3 * st.member_point.size(), 0.0f);
-    const CacheCounts c = reconstruct_hemispheres(cfg, w.eps, true, st, trace, consume);
+    CacheCounts c = reconstruct_hemispheres(cfg, w.eps, true, st, trace, consume);
+    // the members of the regions' hemispheres
+    for (size_t s = 0; s < st.stored.size(); ++s) {
+        const int32_t* m = st.stored_members.data();
+        consume_members(m + st.stored_first[s], m + st.stored_first[s + 1], st.stored[s]->radiance.data());
+    }
+    c.queries += st.stored.size();
+    st.lap(Stage::CacheIntegrate);
     add_counts(w, c, st, rays_before);
     // every point of a member: its indirect light
     for (size_t q = 0; q < sc.sorted.size(); ++q) {
@@ -459,16 +534,50 @@ inline bool has_guides(const PathScratch& sc);
 // make of them (collect_queries: a block's close points of the materials the cache serves
 // share one) are placed in rounds as an item's are (with no shared points to start from),
 // built, and moved to `out` without their build-only data.
+// For `cache` rendered in more than one pass, the queries' hemispheres are reconstructed
+// too (holes traced, the second cache point's lookups: what an item does) and kept in
+// `hemispheres` (region_hemisphere.h) for the items' members that would make the same query.
+// In one pass they would serve one item's samples, as its own queries do, and cost more:
+// members whose samples miss every pre-pass query (edges, curved surfaces) make their own.
 template <class W, class Tracer>
-inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoint>& out) {
+inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoint>& out,
+                                std::vector<RegionHemisphere>& hemispheres) {
     PathScratch& sc = w.sc;
     CacheState& st = cache_state(sc);
     st.timer = &sc.timer;
     const CacheSettings& cfg = w.st.cache;
-    collect_queries(w, st, [&](const Material& m) { return served_by_cache(w.st.mode, m, cfg.resolution); });
+    collect_queries(w, st, [&](const Material& m) { return served_by_cache(w.st.mode, m, cfg.resolution); }, false);
     st.shared = nullptr;
     const size_t rays_before = st.inner.rays_traced;
-    place_cache_points(cfg, w.eps, st.queries.data(), st.queries.size(), st, trace);
+    hemispheres.clear();
+    if (w.st.mode == IntegratorMode::Cache && w.st.passes > 1) {
+        const Camera& cam = w.s.camera;
+        const size_t T = static_cast<size_t>(cfg.resolution) * cfg.resolution;
+        auto keep = [&](size_t qi, const float* radiance) {
+            const ShadingPoint& sp = sc.sorted[st.query_point[qi]];
+            const CameraSample& c = w.cs[sp.path];
+            const int64_t px = static_cast<int64_t>(std::floor(c.fx)), py = static_cast<int64_t>(std::floor(c.fy));
+            RegionHemisphere h;
+            h.block = block_of_pixel(cam, cfg.block, px, py);
+            h.region = region_of_pixel(cam, px, py);
+            h.material = static_cast<int32_t>(sp.material);
+            h.p = sp.p, h.n = sp.n, h.t = sp.t, h.b = sp.b;
+            h.reach = kShareError * st.pool[st.assigned[qi]]->reuse_radius;
+            h.radiance.assign(radiance, radiance + 3 * T);
+            hemispheres.push_back(std::move(h));
+        };
+        const CacheCounts c = reconstruct_hemispheres(cfg, w.eps, true, st, trace, keep);
+        // (consumed in order: hemisphere u is query u) each pre-pass pixel's
+        for (size_t m = 0; m < st.member_point.size(); ++m) {
+            const CameraSample& cm = w.cs[sc.sorted[st.member_point[m]].path];
+            const int64_t px = static_cast<int64_t>(std::floor(cm.fx)), py = static_cast<int64_t>(std::floor(cm.fy));
+            hemispheres[st.member_query[m]].pixels.push_back(py * cam.width + px);
+        }
+        sc.cache_texels_reprojected += c.reprojected + c.from_misses;
+        sc.cache_texels_traced += c.traced;
+    } else {
+        place_cache_points(cfg, w.eps, st.queries.data(), st.queries.size(), st, trace);
+    }
     out.clear();
     for (size_t a = 0; a < st.used; ++a) {
         out.push_back(std::move(st.points[a]));

@@ -32,6 +32,7 @@
 #include "render/cache/cache_settings.h"
 #include "render/cache/error_criterion.h"
 #include "render/cache/hemisphere.h"
+#include "render/cache/region_hemisphere.h"
 #include "render/cache/reprojection_impl.h"
 #include "render/cache/surfels.h"
 #include "render/integrator.h"
@@ -84,12 +85,19 @@ struct CacheState {
     std::vector<Query> queries;
     std::vector<int32_t> query_point;       // each query's shading point (its frame)
     std::vector<int32_t> member_point;      // each member's shading point (its view and BRDF)
-    std::vector<int32_t> member_query;      // each member's query
+    std::vector<int32_t> member_query;      // each member's query (-1 - s: the region's hemisphere stored[s])
     std::vector<Query> member_own;          // each member's own point, were it a query
     std::vector<int32_t> query_first, query_members;  // query u's members: [first[u], first[u + 1])
     std::vector<int32_t> query_of;          // each shading point's member (-1: none)
     std::unordered_map<int64_t, int32_t> pixel_member;  // a pixel's first member (of one material)
     std::unordered_map<int64_t, std::vector<int32_t>> block_queries;  // a block's queries (of one material)
+    // the hemispheres the item's regions reconstructed (region_hemisphere.h): by block, the
+    // indices in PathScratch::cache_shared_hemispheres, and by pixel; those the batch uses, and
+    // their members
+    std::unordered_map<int64_t, std::vector<int32_t>> block_hemispheres;
+    std::unordered_map<int64_t, int32_t> pixel_hemisphere;  // a pixel's (RegionHemisphere::pixels)
+    std::vector<const RegionHemisphere*> stored;
+    std::vector<int32_t> stored_first, stored_members;  // stored[s]'s members: [first[s], first[s + 1])
     std::vector<float> sums;                // cache: each member's indirect light (RGB)
     std::vector<float> l, v, eta, f, pdf, u0, u1, u2, rgb;  // integrating one hemisphere
     std::vector<float> lobe_l;  // a narrow lobe's sampled directions
@@ -303,15 +311,29 @@ inline void place_cache_points(const CacheSettings& cfg, float eps, const Query*
     st.lap(Stage::CachePlace);
 }
 
-// Each query's members, in order: st.query_first, st.query_members from st.member_query.
+// The members of each of n groups, in order: first[u] .. first[u + 1] in members, the
+// group of member m group(m) (negative: none of them).
+template <class Group>
+inline void index_groups(size_t n, size_t members_count, Group group, std::vector<int32_t>& first,
+                         std::vector<int32_t>& members) {
+    first.assign(n + 1, 0);
+    for (size_t m = 0; m < members_count; ++m)
+        if (group(m) >= 0) ++first[group(m) + 1];
+    for (size_t u = 0; u < n; ++u) first[u + 1] += first[u];
+    members.resize(first[n]);
+    std::vector<int32_t> fill(first.begin(), first.end() - 1);
+    for (size_t m = 0; m < members_count; ++m)
+        if (group(m) >= 0) members[fill[group(m)]++] = static_cast<int32_t>(m);
+}
+
+// Each query's members, in order (st.query_first, st.query_members), and each stored
+// region hemisphere's (st.stored_first, st.stored_members), from st.member_query.
 inline void index_members(CacheState& st) {
-    const size_t nq = st.queries.size(), nm = st.member_query.size();
-    st.query_first.assign(nq + 1, 0);
-    for (const int32_t u : st.member_query) ++st.query_first[u + 1];
-    for (size_t u = 0; u < nq; ++u) st.query_first[u + 1] += st.query_first[u];
-    st.query_members.resize(nm);
-    std::vector<int32_t> fill(st.query_first.begin(), st.query_first.end() - 1);
-    for (size_t m = 0; m < nm; ++m) st.query_members[fill[st.member_query[m]]++] = static_cast<int32_t>(m);
+    const size_t nm = st.member_query.size();
+    index_groups(st.queries.size(), nm, [&](size_t m) { return st.member_query[m]; }, st.query_first,
+                 st.query_members);
+    index_groups(st.stored.size(), nm, [&](size_t m) { return -1 - st.member_query[m]; }, st.stored_first,
+                 st.stored_members);
 }
 
 // A query's members lie within kShareError x R_A of its point (A its cache point, R_A A's

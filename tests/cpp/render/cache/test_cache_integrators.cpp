@@ -201,6 +201,32 @@ TEST(CacheIntegrators, SharedRegionsKeepTheImageIndependentOfWidthAndTileOrder) 
     }
 }
 
+// In a render of several passes the regions keep their queries' reconstructed hemispheres
+// (render/cache/region_hemisphere.h) for every pass: the texels traced for 8 passes are far
+// fewer than 8 passes reconstructing their own (what one pass traces, 8 times), and the
+// image's mean stays the path tracer's within the stated bias.
+TEST(CacheIntegrators, PassesShareTheRegionsReconstructions) {
+    const BoxScene b(32, 32);
+    auto run = [&](IntegratorMode mode, int spp, int pass_spp, size_t* traced) {
+        RenderSettings st = job_settings(mode, 2, spp);
+        st.max_pass_spp = pass_spp;
+        RenderJob job(b.scene, st);
+        job.start();
+        job.wait();
+        if (traced) *traced = job.progress().cache_texels_traced;
+        double sum = 0;
+        for (float v : resolved(b, job)) sum += v;
+        return sum;
+    };
+    size_t one = 0, eight = 0;
+    run(IntegratorMode::Cache, 1, 1, &one);
+    const double cached = run(IntegratorMode::Cache, 8, 1, &eight);
+    EXPECT_GT(one, 0u);
+    EXPECT_LT(eight, 3 * one);
+    const double path = run(IntegratorMode::Path, 64, 16, nullptr);
+    EXPECT_NEAR(cached / path, 1.0, 0.05);
+}
+
 TEST(CacheIntegrators, RadianceIsFiniteAndCachePointsAreReused) {
     const BoxScene b(16, 16);
     const std::vector<CameraSample> cs = pixel_samples(16, 16, 2, 9);
