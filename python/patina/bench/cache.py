@@ -1,7 +1,8 @@
 """`patina bench --only cache` (issue 13, item 6): the radiance-cache integrators against the
 path tracer on the bundled scenes where secondary light matters (materials/scenes/cache-*.json).
 
-Per scene, at a small size (64 pixels wide; `--quick` 16), all renders on every core:
+Per scene, at a small size (128 pixels wide: the 0.1 % of pixel errors discarded are a dozen
+pixels, not two; `--quick` 16), all renders on every core:
 
 1. A converged reference, rendered once by `path` as two halves with different seeds and
    kept on disk outside the repository (bench/convergence.py, `reference_dir()`, keyed by
@@ -10,8 +11,10 @@ Per scene, at a small size (64 pixels wide; `--quick` 16), all renders on every 
 2. The error of an image: relMSE, per pixel (x - r)^2 / (r^2 + 0.01) averaged over RGB with
    both images divided by the reference's mean, the top 0.1 % of pixel errors discarded
    (as path-guiding evaluations do, so a few fireflies do not decide a record).
-3. `path` at a ladder of spp: the median time of each and its error give error-versus-time,
-   interpolated piecewise linearly on log-log axes (extrapolated along the end segments).
+3. `path` at a ladder of spp: the median time of each and its error (the median over the
+   renders' seeds: bench/convergence.py, timed_renders) give error-versus-time, interpolated
+   piecewise linearly on log-log axes and extended beyond the ladder at Monte Carlo's rate
+   (error x time constant). Every integrator's error is the median over the same seeds.
 4. Records (docs/bench.md): `cache.<scene>.biased_vs_path` (the time `path` needs for the
    error `cache` reaches, over the time `cache` takes), `cache.<scene>.guided_vs_path` (the
    same for `cache-guided`) and `cache.<scene>.guided_equal_time` (path's error at the time
@@ -32,14 +35,16 @@ import sys
 import time
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from patina.bench.cache_mitsuba import vs_mitsuba_record
 from patina.bench.convergence import (
     ErrorCurve,
     Run,
     Sizes,
     integrator_missing,
+    median_relmse,
     reference,
-    relmse,
     sized,
     timed_renders,
 )
@@ -51,7 +56,7 @@ from patina.scene.reading import load_scene, with_overrides
 
 SCENES = ("cache-room", "cache-studio", "cache-ies-interior")
 INTEGRATORS = {"biased": "cache", "guided": "cache-guided"}
-FULL = Sizes(64, 2048, (8, 32, 128), 16)
+FULL = Sizes(128, 2048, (8, 32, 128), 16)
 QUICK = Sizes(16, 64, (2, 8), 2)
 
 
@@ -85,7 +90,7 @@ def _scene_records(
     path_prep = PreparedScene(path_scene)
     ladder = [Run(with_overrides(path_scene, spp=n), path_prep, threads) for n in sizes.ladder]
     times, images = timed_renders(ladder + candidates, repeat)
-    errors = [relmse(img, ref.image, ref.error) for img in images]
+    errors = [median_relmse(imgs, ref.image, ref.error) for imgs in images]
     n = len(sizes.ladder)
     curve = ErrorCurve(times[:n], errors[:n])
     steps = ", ".join(f"{s} spp {t:.2f} s relMSE {e:.3g}" for s, t, e in zip(sizes.ladder, times, errors))
@@ -101,7 +106,7 @@ def _scene_records(
                 Record(f"cache.{name}.guided_equal_time", what, equal_time, curve.error_at(t) / e, e, "relMSE")
             )
         else:
-            ratio = float(images[i].mean()) / float(ref.image.mean())
+            ratio = float(np.mean([img.mean() for img in images[i]])) / float(ref.image.mean())
             bias_what = f"{what}; value = (mean - reference mean) / reference mean"
             bias_base = f"the reference's image mean ({sizes.reference_spp} spp of path)"
             out.records.append(Record(f"cache.{name}.bias", bias_what, bias_base, ratio, 100 * (ratio - 1), "%"))

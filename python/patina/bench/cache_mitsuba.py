@@ -37,6 +37,7 @@ from patina.bench.convergence import (
     Run,
     Sizes,
     integrator_missing,
+    median_relmse,
     reference,
     reference_dir,
     relmse,
@@ -151,9 +152,9 @@ def _mitsuba_curve(renderer: _Mitsuba, levels: tuple[int, ...], repeat: int, ref
     renderer.render(levels[0])  # the JIT compiles its kernels on the first render: not timed
     seconds, errors = [], []
     for n in levels:
-        runs = [renderer.render(n) for _ in range(max(repeat, 1))]
+        runs = [renderer.render(n, seed) for seed in range(max(repeat, 1))]
         seconds.append(float(np.median([t for _, t in runs])))
-        errors.append(relmse(runs[0][0], ref, ref_error))
+        errors.append(median_relmse([image for image, _ in runs], ref, ref_error))
     return ErrorCurve(seconds, errors)
 
 
@@ -180,7 +181,7 @@ def vs_mitsuba_record(name: str, sizes: Sizes, repeat: int, threads: int, integr
         prep = PreparedScene(s)
         levels = sizes.ladder if integrator == "path" else cache_levels
         times, images = timed_renders([Run(with_overrides(s, spp=n), prep, threads) for n in levels], repeat)
-        patina[integrator] = ErrorCurve(times, [relmse(img, ref.image, ref.error) for img in images])
+        patina[integrator] = ErrorCurve(times, [median_relmse(imgs, ref.image, ref.error) for imgs in images])
     target = _error_at_spp(patina["path"], sizes.ladder, sizes.ladder[len(sizes.ladder) // 2])
     best, best_time = min(((k, c.seconds_for(target)) for k, c in patina.items()), key=lambda kv: kv[1])
     m_ref, m_error = _mitsuba_reference(scene_file, scene, sizes.reference_spp, renderer)

@@ -69,11 +69,17 @@ def relmse(image: np.ndarray, reference: np.ndarray, reference_error: float = 0.
 
 
 def _log_interpolate(x: float, xs: list[float], ys: list[float]) -> float:
-    """y at x, piecewise linear in (log x, log y) through the points (xs increasing), the end
-    segments extended beyond them. A segment along which the error does not fall (noise on
-    a short ladder) is taken with slope -1 instead, as Monte Carlo error falls with time."""
+    """y at x, piecewise linear in (log x, log y) through the points (xs increasing). Beyond
+    the points, and along a segment where the error does not fall (noise on a short ladder),
+    the slope is -1, Monte Carlo's rate (error x time constant for an unbiased estimator):
+    the end segments' own slopes are the noisiest of all (a firefly-carried error falls
+    slower than it should between two levels and, extended, put a record at 190 one run
+    and 350 the next)."""
     lx, ly = [math.log(v) for v in xs], [math.log(v) for v in ys]
     t = math.log(x)
+    if t <= lx[0] or t >= lx[-1]:
+        i = 0 if t <= lx[0] else len(lx) - 1
+        return math.exp(ly[i] - (t - lx[i]))
     i = 0
     while i < len(lx) - 2 and t > lx[i + 1]:
         i += 1
@@ -188,17 +194,29 @@ class Run:
     threads: int
 
 
-def timed_renders(runs: list[Run], repeat: int) -> tuple[list[float], list[np.ndarray]]:
-    """Each run's image (from a first, untimed render) and its median time over `repeat`
-    renders, interleaved so a burst of load hits all alike. The time is the render job's own
-    clock (RenderResult.seconds: from the workers' start to the last tile done), which counts
-    all the integrator does in its tiles and not the 50 ms progress polling of `render`."""
-    images = [np.asarray(render(r.scene, threads=r.threads, prepared=r.prep).rgb, np.float64) for r in runs]
+def timed_renders(runs: list[Run], repeat: int) -> tuple[list[float], list[list[np.ndarray]]]:
+    """Each run rendered 1 + `repeat` times with seeds scene seed + 0, 1, ..., interleaved so
+    a burst of load hits all alike: its median time over the last `repeat` renders (the
+    first warms up) and all its images (for the median error over seeds: median_relmse).
+    The time is the render job's own clock (RenderResult.seconds: from the workers' start
+    to the last tile done), which counts all the integrator does in its tiles and not the
+    50 ms progress polling of `render`."""
+    images: list[list[np.ndarray]] = [[] for _ in runs]
     samples: list[list[float]] = [[] for _ in runs]
-    for _ in range(repeat):
+    for k in range(1 + max(repeat, 0)):
         for i, r in enumerate(runs):
-            samples[i].append(render(r.scene, threads=r.threads, prepared=r.prep).seconds)
+            scene = with_overrides(r.scene, seed=r.scene.render.seed + k)
+            result = render(scene, threads=r.threads, prepared=r.prep)
+            images[i].append(np.asarray(result.rgb, np.float64))
+            if k > 0 or repeat <= 0:
+                samples[i].append(result.seconds)
     return [statistics.median(s) for s in samples], images
+
+
+def median_relmse(images: list[np.ndarray], reference: np.ndarray, reference_error: float = 0.0) -> float:
+    """The median over independent renders (seeds) of their relMSE: one render's error swings
+    with the few pixels a firefly lands in, the median over seeds does not."""
+    return statistics.median(relmse(img, reference, reference_error) for img in images)
 
 
 def integrator_missing(scene: Scene, name: str) -> str | None:

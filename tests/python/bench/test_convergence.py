@@ -8,7 +8,8 @@ import pytest
 
 from patina.bench import convergence as cv
 from patina.bundled import materials_path
-from patina.scene.reading import load_scene
+from patina.render.run import PreparedScene, render
+from patina.scene.reading import load_scene, with_overrides
 
 
 def test_relmse_is_the_relative_squared_error_with_the_top_tenth_of_a_percent_discarded():
@@ -41,10 +42,33 @@ def test_error_curve_interpolates_and_extrapolates_on_log_log_axes():
     assert curve.seconds_for(3.0 / 0.1) == pytest.approx(0.1)
     assert curve.error_at(4.0) == pytest.approx(0.75)
     # a segment where the error went up (noise) counts as falling with slope -1
-    noisy = cv.ErrorCurve([1.0, 2.0], [1.0, 1.2])
-    assert noisy.error_at(4.0) == pytest.approx(1.0 / 4.0)
+    noisy = cv.ErrorCurve([1.0, 2.0, 4.0], [1.0, 1.2, 0.6])
+    assert noisy.error_at(1.5) == pytest.approx(1.0 / 1.5)
+    # beyond the ladder the curve goes on at slope -1 from its end, not along the end
+    # segment's own slope (a firefly-carried error falls too slowly between two levels)
+    flat = cv.ErrorCurve([1.0, 4.0], [1.0, 0.7])
+    assert flat.error_at(8.0) == pytest.approx(0.7 / 2)
+    assert flat.seconds_for(0.07) == pytest.approx(40.0)
+    assert flat.error_at(0.5) == pytest.approx(2.0)
     with pytest.raises(ValueError):
         cv.ErrorCurve([1.0], [1.0])
+
+
+def test_the_error_over_seeds_is_the_median_of_the_renders_relmse():
+    ref = np.ones((40, 50, 3))
+    images = [ref * (1 + d) for d in (0.1, 0.3, 0.2)]
+    assert cv.median_relmse(images, ref) == pytest.approx(cv.relmse(images[2], ref))
+
+
+def test_timed_renders_renders_each_run_with_successive_seeds():
+    path = materials_path("scenes", "cache-studio.json")
+    scene = with_overrides(cv.sized(load_scene(path), 8), spp=1)
+    run = cv.Run(scene, PreparedScene(scene), 1)
+    times, images = cv.timed_renders([run], 2)
+    assert len(times) == 1 and times[0] > 0 and len(images[0]) == 3
+    assert not np.array_equal(images[0][0], images[0][1])  # another seed, another image
+    again = np.asarray(render(with_overrides(scene, seed=scene.render.seed + 1), threads=1).rgb, np.float64)
+    assert np.array_equal(images[0][1], again)
 
 
 def test_the_reference_is_rendered_once_and_kept(tmp_path):
