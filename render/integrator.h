@@ -117,11 +117,8 @@ struct PathScratch {
     size_t rays_traced = 0;  // primary, secondary and shadow rays since construction
     StageTimer timer;        // time per integrator stage since construction (stage_timer.h)
     // the radiance cache (render/cache/radiance_cache_impl.h): per path, whether its first
-    // hit's indirect light came from the cache (it then only looks for emission); per
-    // first-hit point the guide of cache-guided (an R^2 cdf, or -1) and its cdfs
+    // hit's indirect light came from the cache (it then only looks for emission)
     std::vector<uint8_t> cached;
-    std::vector<int32_t> guide_of;
-    std::vector<float> guide_cdf;
     // the cache's work memory, made by the kernels of width cache_width (no make_shared: its
     // tag object is one the width-16 units may not define, see CMakeLists.txt)
     std::unique_ptr<void, void (*)(void*)> cache{nullptr, nullptr};

@@ -24,6 +24,7 @@
 #include "core/simd/kernel_width.h"
 #include "core/vec3.h"
 #include "render/cache/cache_stages_impl.h"
+#include "render/cache/guided_stages_impl.h"
 #include "render/camera.h"
 #include "render/env_impl.h"
 #include "render/integrator.h"
@@ -82,7 +83,7 @@ inline void start_paths(const Wavefront& w, size_t n) {
     sc.active.clear();
     sc.rays_gathered = false;
     sc.cached.clear();  // none served by the radiance cache (start_camera_paths says otherwise)
-    sc.guide_of.clear();
+    if (sc.cache) cache::cache_state(sc).guides.clear();  // no guides until place_guide_points
     for (size_t i = 0; i < n; ++i) {
         PathResult& r = w.out[i];
         std::fill(r.rgb, r.rgb + 3, 0.0f);
@@ -609,7 +610,7 @@ inline void queue_light_samples(const Wavefront& w, int depth) {
         material_eval(m, ll + 3 * a, vl + 3 * a, eta + a, fv + 3 * a, count);
         material_pdf(m, ll + 3 * a, vl + 3 * a, eta + a, pdf + a, count);
     });
-    if (depth == 0 && w.st.mode == IntegratorMode::CacheGuided) cache::mix_light_pdfs(sc, w.st.cache, ll, pdf, np);
+    if (w.st.mode == IntegratorMode::CacheGuided) cache::mix_light_pdfs(sc, w.st.cache, ll, pdf, np);
     sc.timer.lap(Stage::ShadeLight);
     queue_shadow_lanes(w, depth, np);
     sc.timer.lap(Stage::ShadowQueue);
@@ -707,7 +708,7 @@ inline void sample_bsdf(const Wavefront& w, int depth) {
     float* upick = grow(sc.u_pick, np);
     float* u1 = grow(sc.u1, np);
     float* u2 = grow(sc.u2, np);
-    const bool guided = depth == 0 && w.st.mode == IntegratorMode::CacheGuided;
+    const bool guided = depth < cache::kGuidedBounces && w.st.mode == IntegratorMode::CacheGuided;
     // the pick only for the groups whose sampling reads it (and the guide's, which picks too)
     if (guided) fill_uniforms(sc, np, depth, kDimBsdfPick, upick);
     else for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
@@ -775,7 +776,7 @@ inline void run_cache_stage(const Wavefront& w) {
     if (w.st.mode == IntegratorMode::Cache)
         cache::add_cached_indirect(w, tracer);
     else
-        cache::build_guides(w, tracer);
+        cache::place_guide_points(w, tracer);
 }
 
 // The stages, bounce after bounce, until every path of the batch has ended.
@@ -792,6 +793,7 @@ inline void run_paths(const Wavefront& w) {
         sc.timer.times.shading_points += sc.sorted.size();
         sc.timer.lap(Stage::ShadingPoints);
         if (depth == 0 && w.st.mode != IntegratorMode::Path && w.st.max_depth > 1) run_cache_stage(w);
+        if (w.st.mode == IntegratorMode::CacheGuided) cache::assign_guides(w, depth);
         queue_light_samples(w, depth);
         sample_bsdf(w, depth);
         resolve_shadow_rays(w);

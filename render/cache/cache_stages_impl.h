@@ -8,11 +8,7 @@
 //                 kLookupSamples BRDF samples looked up in the texture; the path then only
 //                 looks for emission at its next hit (the direct light's BRDF-sampling half).
 //                 Glass, clear coats and near-mirrors are left to the path tracer.
-//   cache-guided  build_guides: each first-hit point's reconstructed radiance (holes at the
-//                 mean: no rays) times its BRDF and cosine as a distribution over texels; the
-//                 first bounce draws from it with probability cache.guide, else from the
-//                 BRDF, its density the mixture's (one-sample MIS), so the estimate stays
-//                 unbiased; light samples at that point weigh against the same mixture
+//   cache-guided  render/cache/guided_stages_impl.h: the cache points only, no reconstruction
 #pragma once
 
 #include <algorithm>
@@ -101,25 +97,6 @@ inline int32_t texel_of(float x, float y, float z, int R) {
     const int i = std::min(std::max(static_cast<int>(u * R), 0), R - 1);
     const int j = std::min(std::max(static_cast<int>(v * R), 0), R - 1);
     return j * R + i;
-}
-
-// The guide's density (solid angle) at local direction l; cdf holds R^2 cumulative
-// probabilities ending at 1.
-inline float guide_pdf(const float* cdf, int R, const float* l) {
-    if (!(l[2] > 0)) return 0.0f;
-    const int32_t t = texel_of(l[0], l[1], l[2], R);
-    const float p = cdf[t] - (t > 0 ? cdf[t - 1] : 0.0f);
-    return p * static_cast<float>(R * R) / (2.0f * kPi);
-}
-
-// A direction drawn from the guide: the texel by `pick`, the point in it by (u1, u2).
-inline void guide_sample(const float* cdf, int R, float pick, float u1, float u2, float* l) {
-    const int T = R * R;
-    int32_t t = static_cast<int32_t>(std::upper_bound(cdf, cdf + T, pick) - cdf);
-    t = std::min(t, T - 1);
-    while (t > 0 && !(cdf[t] > cdf[t - 1])) --t;  // never a texel of zero probability
-    const float u = (static_cast<float>(t % R) + u1) / R, v = (static_cast<float>(t / R) + u2) / R;
-    square_to_hemisphere(u, v, l[0], l[1], l[2]);
 }
 
 // Points share work at two levels when they have the same material, normals within
@@ -482,53 +459,6 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
     split_narrow_lobes(w, trace);
 }
 
-// cache-guided: a guide (an R^2 cdf in sc.guide_cdf) for every first-hit point whose lobes
-// the texels resolve.
-template <class W, class Tracer>
-inline void build_guides(const W& w, Tracer& trace) {
-    PathScratch& sc = w.sc;
-    sc.guide_of.assign(sc.sorted.size(), -1);  // no guide (below: the points of a member)
-    CacheState& st = start_cache_stage(w);
-    const CacheSettings& cfg = w.st.cache;
-    const int R = cfg.resolution;
-    const size_t T = static_cast<size_t>(R) * R;
-    float* cdf = grow(sc.guide_cdf, st.member_point.size() * T);
-    const size_t rays_before = st.inner.rays_traced;
-    float* l = grow(st.l, 3 * T);
-    for (size_t t = 0; t < T; ++t) l[3 * t] = st.dirs.x[t], l[3 * t + 1] = st.dirs.y[t], l[3 * t + 2] = st.dirs.z[t];
-    // each member of the query: its own BRDF and view against the query's radiance
-    auto consume = [&](size_t qi, const float* radiance) {
-        for (int32_t i = st.query_first[qi]; i < st.query_first[qi + 1]; ++i) {
-            const int32_t member = st.query_members[i];
-            const size_t q = st.member_point[member];
-            float v[3];
-            view_in_query_frame(sc, st, member, v);
-            eval_at_texels(w.s.materials[sc.sorted[q].material], v, sc.eta[q], st, T);
-            float* c = cdf + static_cast<size_t>(member) * T;
-            double acc = 0;
-            for (size_t t = 0; t < T; ++t) {
-                float prod[3];
-                for (int k = 0; k < 3; ++k) prod[k] = radiance[3 * t + k] * st.f[3 * t + k];
-                acc += std::max(0.0f, luminance(prod)) * l[3 * t + 2];
-                c[t] = static_cast<float>(acc);
-            }
-            if (!(acc > 0) || !std::isfinite(acc)) continue;
-            const float inv = static_cast<float>(1.0 / acc);
-            for (size_t t = 0; t < T; ++t) c[t] *= inv;
-            c[T - 1] = 1.0f;
-            sc.guide_of[q] = member;
-        }
-    };
-    const CacheCounts counts = reconstruct_hemispheres(cfg, w.eps, false, st, trace, consume);
-    add_counts(w, counts, st, rays_before);
-    // the other points of a member draw from its guide (in their own frames: another
-    // distribution, as valid, its density evaluated the same way)
-    for (size_t q = 0; q < sc.sorted.size(); ++q)
-        if (st.query_of[q] >= 0) sc.guide_of[q] = sc.guide_of[st.member_point[st.query_of[q]]];
-}
-
-inline bool has_guides(const PathScratch& sc);
-
 // The cache points of an image region (render/cache/cache_regions.h) from its pre-pass's
 // first-hit points (sc.sorted: one a pixel, at its centre): the queries a work item would
 // make of them (collect_queries: a block's close points of the materials the cache serves
@@ -585,85 +515,6 @@ inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoin
     }
     sc.cache_points += st.used;
     sc.rays_traced += st.inner.rays_traced - rays_before;
-}
-
-// cache-guided, light sampling at the first hit: the BRDF-sampling density the light
-// sample's MIS weight compares with is the mixture's.
-inline void mix_light_pdfs(const PathScratch& sc, const CacheSettings& cfg, const float* l, float* pdf, size_t n) {
-    if (!has_guides(sc)) return;
-    const int R = cfg.resolution;
-    const size_t T = static_cast<size_t>(R) * R;
-    for (size_t q = 0; q < n; ++q) {
-        if (sc.guide_of[q] < 0) continue;
-        const float g = guide_pdf(sc.guide_cdf.data() + sc.guide_of[q] * T, R, l + 3 * q);
-        pdf[q] = cfg.guide * g + (1.0f - cfg.guide) * pdf[q];
-    }
-}
-
-// Whether this bounce's points have guides (cache-guided at the first hit, built by build_guides).
-inline bool has_guides(const PathScratch& sc) { return sc.guide_of.size() == sc.sorted.size(); }
-
-// cache-guided, before BRDF sampling at the first hit: each guided point's strategy from its
-// pick uniform (the guide below cache.guide), the uniform rescaled to [0, 1) for the choice
-// made with it (the guide's texel, or the BRDF's own lobe).
-template <class W>
-inline void guided_picks(const W& w) {
-    PathScratch& sc = w.sc;
-    CacheState& st = cache_state(sc);
-    const size_t np = sc.sorted.size();
-    st.chose_guide.assign(np, 0);
-    st.guide_pick.assign(np, 0.0f);
-    if (!has_guides(sc)) return;
-    const float a = w.st.cache.guide;
-    float* pick = sc.u_pick.data();
-    for (size_t q = 0; q < np; ++q) {
-        if (sc.guide_of[q] < 0) continue;
-        if (pick[q] < a) {
-            st.chose_guide[q] = 1;
-            st.guide_pick[q] = std::min(pick[q] / a, 0x1.fffffep-1f);
-        } else {
-            pick[q] = std::min((pick[q] - a) / (1.0f - a), 0x1.fffffep-1f);
-        }
-    }
-}
-
-// cache-guided, after BRDF sampling at the first hit: the guide's directions for the points
-// that chose it, then for every guided point the BRDF value and the mixture's density.
-template <class W>
-inline void guided_directions(const W& w) {
-    PathScratch& sc = w.sc;
-    CacheState& st = cache_state(sc);
-    if (!has_guides(sc)) return;
-    const int R = w.st.cache.resolution;
-    const size_t T = static_cast<size_t>(R) * R, np = sc.sorted.size();
-    const float a = w.st.cache.guide;
-    float* ll = sc.l_local.data();
-    bool any = false;
-    for (size_t q = 0; q < np; ++q) {
-        if (sc.guide_of[q] < 0) continue;
-        any = true;
-        if (st.chose_guide[q])
-            guide_sample(sc.guide_cdf.data() + sc.guide_of[q] * T, R, st.guide_pick[q], sc.u1[q], sc.u2[q], ll + 3 * q);
-    }
-    if (!any) return;
-    const float* vl = sc.v_local.data();
-    const float* eta = sc.eta.data();
-    float* fv = sc.f.data();
-    float* pdf = sc.pdf.data();
-    for (size_t k = 0; k < w.s.materials.size(); ++k) {
-        const size_t b = sc.material_start[k], count = sc.material_start[k + 1] - b;
-        bool guided = false;
-        for (size_t q = b; q < b + count && !guided; ++q) guided = sc.guide_of[q] >= 0;
-        if (!guided) continue;
-        const Material& m = w.s.materials[k];
-        render_detail::material_eval(m, ll + 3 * b, vl + 3 * b, eta + b, fv + 3 * b, count);
-        render_detail::material_pdf(m, ll + 3 * b, vl + 3 * b, eta + b, pdf + b, count);
-    }
-    for (size_t q = 0; q < np; ++q) {
-        if (sc.guide_of[q] < 0) continue;
-        const float g = guide_pdf(sc.guide_cdf.data() + sc.guide_of[q] * T, R, ll + 3 * q);
-        pdf[q] = a * g + (1.0f - a) * pdf[q];
-    }
 }
 
 }  // namespace cache

@@ -31,6 +31,7 @@
 #include "render/cache/cache_point.h"
 #include "render/cache/cache_settings.h"
 #include "render/cache/error_criterion.h"
+#include "render/cache/guided_bounces_impl.h"
 #include "render/cache/hemisphere.h"
 #include "render/cache/region_hemisphere.h"
 #include "render/cache/reprojection_impl.h"
@@ -104,6 +105,7 @@ struct CacheState {
     std::vector<float> split_weight;  // split_narrow_lobes: each ray's f cos / (pdf K), RGB
     std::vector<uint8_t> chose_guide;  // cache-guided: per first-hit point, drawn from the guide
     std::vector<float> guide_pick;     // ...and the uniform that picks its texel
+    GuidePool guides;  // cache-guided: the batch's cache points as guides (guided_bounces_impl.h)
     std::vector<CachePoint> points;  // built by this call: [0, used)
     size_t used = 0;
     // the cache points a call starts from (the regions', PathScratch::cache_shared; none: null)

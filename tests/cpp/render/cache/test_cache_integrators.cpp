@@ -325,3 +325,29 @@ TEST(CacheIntegrators, TheMeanRadianceAgreesWithThePathTracers) {
     EXPECT_NEAR(cache / path, 1.0, 0.05);
     EXPECT_NEAR(guided / path, 1.0, 0.03);
 }
+
+// cache-guided draws first bounces from the cache points' guides (render/cache/guided_*):
+// with the same camera samples its image is not the path tracer's, and a render through the
+// job, whose items take the regions' points, agrees with path in the mean (a z-test of the
+// two images' means against their pixels' scatter).
+TEST(CacheIntegrators, CacheGuidedDrawsFromTheGuidesAndKeepsThePathTracersMean) {
+    const BoxScene b(16, 16);
+    const std::vector<CameraSample> cs = pixel_samples(16, 16, 4, 17);
+    PathScratch sp, sg;
+    const std::vector<PathResult> path = trace(b, 0, IntegratorMode::Path, cs, sp);
+    const std::vector<PathResult> guided = trace(b, 0, IntegratorMode::CacheGuided, cs, sg);
+    EXPECT_GT(sg.cache_points, 0u);
+    size_t differ = 0;
+    for (size_t i = 0; i < cs.size(); ++i) differ += path[i].rgb[0] != guided[i].rgb[0];
+    EXPECT_GT(differ, cs.size() / 4);
+    const std::vector<float> a = render_job(b, IntegratorMode::Path, 2, 32);
+    const std::vector<float> g = render_job(b, IntegratorMode::CacheGuided, 2, 32);
+    double sum = 0, sum2 = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+        const double d = static_cast<double>(g[i]) - a[i];
+        sum += d, sum2 += d * d;
+    }
+    const double n = static_cast<double>(a.size()), mean = sum / n;
+    const double se = std::sqrt((sum2 / n - mean * mean) / (n - 1));
+    EXPECT_LT(std::abs(mean) / se, 4.0) << mean;
+}
