@@ -1,8 +1,8 @@
 """`patina bench --only cache` (issue 13, item 6): the radiance-cache integrators against the
 path tracer on the bundled scenes where secondary light matters (materials/scenes/cache-*.json).
 
-Per scene, at a small size (128 pixels wide: the 0.1 % of pixel errors discarded are a dozen
-pixels, not two; `--quick` 16), all renders on every core:
+Per scene, at a small size (96 pixels wide: the 0.1 % of pixel errors discarded are 6 of the
+room's pixels, not 2 as at 64; `--quick` 16), all renders on every core:
 
 1. A converged reference, rendered once by `path` as two halves with different seeds and
    kept on disk outside the repository (bench/convergence.py, `reference_dir()`, keyed by
@@ -56,7 +56,10 @@ from patina.scene.reading import load_scene, with_overrides
 
 SCENES = ("cache-room", "cache-studio", "cache-ies-interior")
 INTEGRATORS = {"biased": "cache", "guided": "cache-guided"}
-FULL = Sizes(128, 2048, (8, 32, 128), 16)
+FULL = Sizes(96, 2048, (8, 32, 128), 16)
+# the group's repeats at most (`patina bench --repeat`, default 7): 1 + 3 seeds give the
+# medians, and every level's renders at 96 pixels wide keep the group at a few minutes
+MAX_REPEAT = 3
 QUICK = Sizes(16, 64, (2, 8), 2)
 
 
@@ -181,8 +184,9 @@ def mitsuba_missing() -> str | None:
 
 
 def bench_cache(repeat: int, quick: bool) -> list[Record]:
-    """The `cache` group (GROUPS in bench/run.py): the records, each skipped one named on stderr."""
-    result = run_cache_bench(repeat, quick)
+    """The `cache` group (GROUPS in bench/run.py), at most MAX_REPEAT repeats: the records, each
+    skipped one named on stderr."""
+    result = run_cache_bench(min(repeat, MAX_REPEAT), quick)
     for name, why in result.skipped:
         print(f"patina bench: {name} skipped: {why}", file=sys.stderr)
     return result.records
