@@ -53,7 +53,7 @@ struct GuidePool {
     int resolution = 0;
     std::vector<float> cdf;       // per point R^2 cumulative probabilities (when ready)
     std::vector<uint8_t> ready;   // 0: not built yet, 1: built, 2: no light (no guide)
-    std::vector<float> cell, f, cosz;  // scratch of guide_cdf
+    std::vector<float> cell;      // scratch of guide_cdf
     // the uniform grid: cell (i, j, k) of side h holds the points whose reach meets it
     float h = 0;
     std::unordered_map<int64_t, std::vector<int32_t>> grid;
@@ -125,13 +125,9 @@ struct GuidePool {
         const int R = resolution;
         const size_t T = static_cast<size_t>(R) * R;
         float* c = cdf.data() + static_cast<size_t>(a) * T;
-        if (ready[a] == 0) {
-            // the radiance x the cosine in the point's own frame (a white "BRDF")
-            f.assign(3 * T, 1.0f);
-            cosz.resize(3 * T);
-            for (size_t t = 0; t < T; ++t) cosz[3 * t] = dirs.z[t];
+        if (ready[a] == 0) {  // the radiance x the cosine in the point's own frame
             cell.resize(3 * T);
-            ready[a] = guide_cdf(points[a]->radiance.data(), f.data(), cosz.data(), R, cell.data(), c) ? 1 : 2;
+            ready[a] = guide_cdf(points[a]->radiance.data(), dirs.z.data(), R, cell.data(), c) ? 1 : 2;
         }
         return ready[a] == 1 ? c : nullptr;
     }

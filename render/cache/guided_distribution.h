@@ -1,12 +1,12 @@
-// cache-guided's sampling distribution over a hemisphere's texels (docs/radiance-cache.md,
-// "cache-guided"): the reconstructed incident radiance times the BRDF and the cosine, made
-// robust against the reconstruction's noise. Each texel of the reconstruction is one path
-// sample, so a texel whose sample found no light may lie where the light is; a guide that
-// trusts single texels gives such directions almost no probability, and the one-sample MIS
-// weight of a path that does find light there is then up to 1 / (1 - cache.guide) times
-// the BRDF's: fireflies (measured: single pixels 16 to 500 times path's variance). So the
-// radiance is averaged over cells of kGuideCell x kGuideCell texels before the product, and
-// every texel keeps a floor of kGuideFloor times the mean value.
+// cache-guided's sampling distribution over a cache point's texels (docs/radiance-cache.md,
+// "cache-guided"): the cached incident radiance times the cosine, made robust against the
+// cache's noise. Each texel of a cache point is one path sample, so a texel whose sample
+// found no light may lie where the light is; a guide that trusts single texels gives such
+// directions almost no probability, and the one-sample MIS weight of a path that does find
+// light there is then up to 1 / (1 - cache.guide) times the BRDF's: fireflies (measured:
+// single pixels 16 to 500 times path's variance). So the radiance is averaged over cells of
+// kGuideCell x kGuideCell texels before the product, and every texel keeps a floor of
+// kGuideFloor times the mean value.
 #pragma once
 
 #include <algorithm>
@@ -22,12 +22,11 @@ constexpr int kGuideCell = 3;
 constexpr float kGuideFloor = 0.3f;
 
 // The cumulative distribution (cdf[0 .. R^2), ending at 1) over the texels of an R x R
-// hemisphere of `radiance` (RGB per texel) times `f` (the BRDF at the texel centres, RGB)
-// times cos_z (the texel centres' cosines); `cell` scratch of R^2 x 3 floats. Returns false
-// (cdf unusable) when the product is zero or not finite everywhere.
-inline bool guide_cdf(const float* radiance, const float* f, const float* cos_z, int R, float* cell, float* cdf) {
+// hemisphere of `radiance` (RGB per texel) times cos_z (the texel centres' cosines, one per
+// texel); `cell` scratch of R^2 x 3 floats. Returns false (cdf unusable) when the product
+// is zero or not finite everywhere.
+inline bool guide_cdf(const float* radiance, const float* cos_z, int R, float* cell, float* cdf) {
     const int c = std::min(kGuideCell, R);
-    const float floor_fraction = kGuideFloor;
     const size_t T = static_cast<size_t>(R) * R;
     // the radiance averaged over its cell (cells at the edge: what is left of them)
     for (int j0 = 0; j0 < R; j0 += c)
@@ -44,13 +43,11 @@ inline bool guide_cdf(const float* radiance, const float* f, const float* cos_z,
         }
     double acc = 0;
     for (size_t t = 0; t < T; ++t) {
-        float prod[3];
-        for (int k = 0; k < 3; ++k) prod[k] = cell[3 * t + k] * f[3 * t + k];
-        acc += std::max(0.0f, luminance(prod)) * cos_z[3 * t];
+        acc += std::max(0.0f, luminance(cell + 3 * t)) * cos_z[t];
         cdf[t] = static_cast<float>(acc);
     }
     if (!(acc > 0) || !std::isfinite(acc)) return false;
-    const double floor_value = floor_fraction * acc / static_cast<double>(T);
+    const double floor_value = kGuideFloor * acc / static_cast<double>(T);
     const double total = acc + floor_value * static_cast<double>(T);
     const double inv = 1.0 / total;
     for (size_t t = 0; t < T; ++t) cdf[t] = static_cast<float>((cdf[t] + floor_value * static_cast<double>(t + 1)) * inv);
