@@ -73,8 +73,9 @@ PATINA_INLINE void load_ray(const Bvh& bvh, const float* org, const float* dir, 
     r.sy = dir[ky] * r.sz;
 }
 
-// Bit i set where the ray enters child i within [tmin, tmax]; entry distances into `near`.
-template <int L>
+// Bit i set where the ray enters child i within [tmin, tmax]; entry distances into `near`
+// (kNear: the any-hit traversal needs none).
+template <int L, bool kNear = true>
 PATINA_INLINE int hit_children(const BvhNode& node, const BoxRay& b, float tmin, float tmax, float* near) {
     using F = vfloat<L>;
     int mask = 0;
@@ -87,7 +88,7 @@ PATINA_INLINE int hit_children(const BvhNode& node, const BoxRay& b, float tmin,
             t0 = max(n, t0);
             t1 = min(f, t1);
         }
-        store_n<L>(near + c, t0);
+        if constexpr (kNear) store_n<L>(near + c, t0);
         mask |= movemask(t0 <= t1) << c;
     }
     return mask;
@@ -173,20 +174,19 @@ PATINA_INLINE uint32_t order_children(const Bvh& bvh, const BvhNode& node, int m
 // The children hit (mask) onto the stack in slot order, unsorted; returns the first. For any
 // hit: a ray that is not blocked visits every child it enters whatever the order, so sorting
 // them by distance would be work for nothing on most shadow rays.
-PATINA_INLINE uint32_t push_children(const Bvh& bvh, const BvhNode& node, int mask, const float* near, StackEntry* stack,
-                                     int& top) {
+PATINA_INLINE uint32_t push_children(const Bvh& bvh, const BvhNode& node, int mask, StackEntry* stack, int& top) {
     const int first = __builtin_ctz(static_cast<unsigned>(mask));
     for (mask &= mask - 1; mask; mask &= mask - 1) {
         const int i = __builtin_ctz(static_cast<unsigned>(mask));
-        stack[top++] = StackEntry{node.child[i], near[i]};
+        stack[top++].child = node.child[i];  // tnear unused: the any-hit pop does not test it
         prefetch_child(bvh, node.child[i]);
     }
     return node.child[first];
 }
 
 // The traversal both queries share: nodes with L lanes over their children, nearest child first
-// (kNearestFirst; else in slot order), the others on the stack; a popped child is skipped once it
-// lies beyond `tfar` (the closest hit so far, which the leaf visitor may lower).
+// (kNearestFirst; else in slot order), the others on the stack; nearest first, a popped child is
+// skipped once it lies beyond `tfar` (the closest hit so far, which the leaf visitor may lower).
 // `leaf(first_block, block_count)` returns true to stop.
 template <int L, bool kNearestFirst, typename Leaf>
 inline void traverse(const Bvh& bvh, const RayPacket<1>& r, const BoxRay& b, const float& tfar, Leaf&& leaf) {
@@ -197,17 +197,19 @@ inline void traverse(const Bvh& bvh, const RayPacket<1>& r, const BoxRay& b, con
     for (;;) {
         while (!bvh_is_leaf(cur)) {
             const BvhNode& node = bvh.nodes[cur];
-            const int mask = hit_children<L>(node, b, r.tmin, tfar, near);
+            const int mask = hit_children<L, kNearestFirst>(node, b, r.tmin, tfar, near);
             if (mask == 0) goto pop;
             cur = kNearestFirst ? order_children(bvh, node, mask, near, stack, top)
-                                : push_children(bvh, node, mask, near, stack, top);
+                                : push_children(bvh, node, mask, stack, top);
         }
         if (leaf(&bvh.blocks[bvh_leaf_first(cur)], bvh_leaf_blocks(cur))) return;
     pop:
         for (;;) {
             if (top == 0) return;
             const StackEntry& e = stack[--top];
-            if (e.tnear <= tfar) {
+            // Any hit: tfar stays r.tmax and a child is pushed only when entered by then, so the
+            // test would always pass; skipping it leaves the entry distances dead (not stored).
+            if (!kNearestFirst || e.tnear <= tfar) {
                 cur = e.child;
                 break;
             }
