@@ -112,6 +112,39 @@ PATINA_INLINE F radiance_and_pdf(const Environment& e, const V3& d, bool with_pd
     return select(sin_theta > F(0.0f), p / (F(2.0f * kPi * kPi) * sin_theta), F(0.0f));
 }
 
+// Where sample() looks for a map's pixel: its row, a coherent search over the marginal cdf
+// (lanes often agree on bright rows), and the columns [lo, hi] of that row's cdf between
+// the guide's entries for u2's bucket (cdf[lo] <= u2 < cdf[hi], so the column is the last
+// one whose cdf is <= u2: the full row's binary search gives the same).
+PATINA_INLINE void column_range(const Environment& e, F u1, F u2, I& row, I& lo, I& hi) {
+    row = coherent_search<N>(e.row_cdf.data(), e.height + 1, u1, F(0.0f) == F(0.0f));
+    const int nb = e.col_buckets;
+    const I bucket = min(to_int_trunc(u2 * F(float(nb))), I(nb - 1));
+    const I gi = row * I(nb + 1) + bucket;
+    lo = gather(e.col_guide.data(), gi), hi = gather(e.col_guide.data(), gi + I(1)) + I(1);
+}
+
+// Asks the cache for the cdf lines sample(e, u1, u2, ...) will search (the ends and middle
+// of each lane's column range), so that a later block's first gathers, one random row per
+// lane in a table larger than L2, overlap this block's work instead of waiting on memory.
+// Reads and computes nothing sample() uses: its results are the same with or without it.
+PATINA_INLINE void prefetch_sample(const Environment& e, F u1, F u2) {
+    if (!e.is_map) return;
+    I row, lo, hi;
+    column_range(e, u1, u2, row, lo, hi);
+    alignas(64) int32_t first[N], mid[N], last[N];
+    const I base = row * I(e.width + 1);
+    store_n<N>(first, (base + lo) * I(2));
+    store_n<N>(mid, (base + ((lo + hi) >> 1)) * I(2));
+    store_n<N>(last, (base + hi) * I(2));
+    const float* cdf = e.col_cdf_pdf.data();
+    for (int k = 0; k < N; ++k) {
+        __builtin_prefetch(cdf + first[k]);
+        __builtin_prefetch(cdf + mid[k]);
+        __builtin_prefetch(cdf + last[k]);
+    }
+}
+
 // Directions from the environment's distribution for uniforms (u1, u2), with their radiance
 // (from the sampled map coordinates: no inverse trigonometry); returns the pdf.
 PATINA_INLINE F sample(const Environment& e, F u1, F u2, V3& d, F& r, F& g, F& b) {
@@ -124,18 +157,11 @@ PATINA_INLINE F sample(const Environment& e, F u1, F u2, V3& d, F& r, F& g, F& b
         return F(1.0f / (4 * kPi));
     }
     const int w = e.width, h = e.height;
-    // the row: a coherent search over the marginal cdf (lanes often agree on bright rows)
-    const I row = coherent_search<N>(e.row_cdf.data(), h + 1, u1, F(0.0f) == F(0.0f));
+    I row, lo, hi;
+    column_range(e, u1, u2, row, lo, hi);
     const F r0 = gather(e.row_cdf.data(), row), r1 = gather(e.row_cdf.data(), row + I(1));
     const F fv = select(r1 > r0, clamp((u1 - r0) / (r1 - r0), F(0.0f), F(0.99999f)), F(0.5f));
-    // the column: each lane down its own row's cdf, one gather per level, between the
-    // guide's columns for u2's bucket (cdf[lo] <= u2 < cdf[hi] throughout, so the column is
-    // the last one whose cdf is <= u2: the full row's binary search gives the same)
     const I base = row * I(w + 1);
-    const int nb = e.col_buckets;
-    const I bucket = min(to_int_trunc(u2 * F(float(nb))), I(nb - 1));
-    const I gi = row * I(nb + 1) + bucket;
-    I lo = gather(e.col_guide.data(), gi), hi = gather(e.col_guide.data(), gi + I(1)) + I(1);
     while (any(hi - lo > I(1))) {
         const I mid = (lo + hi) >> 1;
         const auto right = u2 >= gather(e.col_cdf_pdf.data(), (base + mid) * I(2));

@@ -185,6 +185,10 @@ PATINA_INLINE V3 sample_triangles(const RenderScene& s, const Light& l, F u1, F 
               madd(b0, p[0].z, madd(b1, p[1].z, b2 * p[2].z))};
 }
 
+// How many blocks ahead the environment's sampling prefetches its cdf lines: far enough
+// for an L3 miss to arrive, near enough that the lines are still in L1/L2 when searched.
+constexpr size_t kEnvPrefetchBlocks = 4;
+
 // Light samples for the points that chose light `li` (every lane the same light: coherent),
 // N points at a time: inputs gathered from the points, results scattered back to sc.ls_*.
 inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, const int32_t* points, size_t n,
@@ -213,6 +217,12 @@ inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, co
         V3 w;
         F r, g, b, d, p;
         if (env) {
+            // the cdf lines of the block kEnvPrefetchBlocks ahead on their way while this one waits
+            const size_t ahead = i + kEnvPrefetchBlocks * N;
+            if (ahead < n) {
+                const int la = static_cast<int>(std::min<size_t>(N, n - ahead));
+                env_w::prefetch_sample(s.env, load_lanes(g1, ahead, la), load_lanes(g2, ahead, la));
+            }
             p = sel * env_w::sample(s.env, s1, s2, w, r, g, b);
             d = F(kInfinity);
         } else if (light->kind == LightKind::Sun) {
