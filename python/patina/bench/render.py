@@ -24,7 +24,7 @@ from collections.abc import Callable
 import numpy as np
 
 from patina.bench.mitsuba_scenes import mitsuba_scene_dict, preview_mitsuba_scene
-from patina.bench.records import Record, median_times_and_values
+from patina.bench.records import Record, median_times_and_values, simd_widths
 from patina.bundled import materials_path
 from patina.native import _core
 from patina.render.run import PreparedScene, core_depth
@@ -79,7 +79,7 @@ def preview_scene(quick: bool) -> tuple[Scene, PreparedScene, str]:
 
 
 def _simd_records(scene: Scene, prep: PreparedScene, label: str, repeat: int) -> list[Record]:
-    widths = [w for w in (4, 8) if _core.width_supported(w)]
+    widths = simd_widths()  # 16 too where the CPU runs it (PATINA_SIMD=16)
     fns = [lambda w=w: _render(prep, scene, w, 1) for w in (1, *widths)]
     times, _ = median_times_and_values(fns, repeat)
     samples = scene.camera.width * scene.camera.height * scene.render.spp

@@ -21,7 +21,7 @@ def test_quick_group_records():
     records = bench_render(1, quick=True)
     assert all(isinstance(r, Record) for r in records)
     by_name = {r.name: r for r in records}
-    expected = {f"render.preview.w{w}" for w in (4, 8) if _core.width_supported(w)}
+    expected = {f"render.preview.w{w}" for w in (4, 8, 16) if _core.width_supported(w)}
     expected |= {"render.threads", "render.vs_mitsuba", "render.preview.ld_vs_independent"}
     expected.add("render.preview.bvh_vs_kdtree")
     # the llvm records only where Mitsuba's llvm_ad_rgb runs
