@@ -49,9 +49,9 @@ const CpuFeatures& cpu_features() {
     return features;
 }
 
-// Width 16 is opt-in (PATINA_SIMD=16 or avx512) until it has run on an AVX-512 CPU: it is
-// tested bit for bit against width 1 under emulation (tools/avx512_emulation), not yet on
-// hardware, so no process takes it unless asked.
+// Width 16 is opt-in (PATINA_SIMD=16 or avx512): it passes every test on an AVX-512 CPU (and
+// bit for bit against width 1 under emulation, tools/avx512_emulation) but is not yet faster
+// than width 8 there (docs/performance.md), so no process takes it unless asked.
 static bool width16_requested() {
     const char* env = std::getenv("PATINA_SIMD");
     return env && (std::string(env) == "16" || std::string(env) == "avx512");
