@@ -164,14 +164,15 @@ inline void trace_queue(CacheState& st, Tracer& trace) {
     }
 }
 
-// The texels of cache points [first, ...) whose first hit is on a glossy material
+// The texels just traced (st.rays, st.results) whose first hit is on a glossy material
 // (st.split_material) take st.hit_paths paths from that hit -- the texel's ray traced again
 // with streams of their own -- and the mean of them: unbiased (every path is one sample of the
 // light leaving the same hit towards A), and the light such a hit sends A is where a cache
 // point's heavy tail is (docs/radiance-cache.md, "Bias"): the sun in the glossy lobe, caught
 // by one light or BRDF sample of the texel's one path, shared by every point reusing A.
-template <class Tracer>
-inline void split_glossy_hits(size_t first, size_t R2, CacheState& st, Tracer& trace) {
+// texel(where) is the radiance (RGB) of the texel of a ray's `where`, its first path's in it.
+template <class Tracer, class Texel>
+inline void split_glossy_hits(CacheState& st, Tracer& trace, Texel texel) {
     const int K = st.hit_paths;
     if (K < 2 || st.split_material.empty()) return;
     st.split_rays.clear();
@@ -188,13 +189,12 @@ inline void split_glossy_hits(size_t first, size_t R2, CacheState& st, Tracer& t
     std::swap(st.rays, st.split_rays);
     trace_queue(st, trace);
     for (size_t r = 0; r < st.rays.size(); ++r) {
-        const size_t k = st.rays.where[r] / R2, t = st.rays.where[r] % R2;
-        float* L = st.points[first + k].radiance.data() + 3 * t;
+        float* L = texel(st.rays.where[r]);
         for (int c = 0; c < 3; ++c) L[c] += st.results[r].rgb[c];
     }
     const float share = 1.0f / static_cast<float>(K);
     for (const int32_t w : st.split_texels) {
-        float* L = st.points[first + w / R2].radiance.data() + 3 * (w % R2);
+        float* L = texel(w);
         for (int c = 0; c < 3; ++c) L[c] *= share;
     }
     std::swap(st.rays, st.split_rays);
@@ -249,7 +249,7 @@ inline void build_cache_points(const CacheSettings& cfg, float eps, const Query*
         if (!(dot(m, m) > 0.5f) || dot(m, d) > 0) m = -d;
         store_vec3(m, a.hit_normal.data() + 3 * t);
     }
-    split_glossy_hits(first, T, st, trace);
+    split_glossy_hits(st, trace, [&](int32_t w) { return st.points[first + w / T].radiance.data() + 3 * (w % T); });
     st.lap(Stage::CacheBuild);  // the glossy hits' paths: building too
     for (size_t k = 0; k < st.pending.size(); ++k) {
         CachePoint& a = st.points[first + k];
