@@ -41,6 +41,7 @@ struct PathResult {
     float depth;        // first hit: distance from the camera (inf on a miss)
     float illuminance;  // first hit: illuminance on the shading normal, lux (683 lm/W x Y): direct, plus
                         // the light reflected by the scene with IntegratorSettings::indirect_illuminance
+    int32_t material;   // first hit: its material (-1 on a miss; the radiance cache's glossy hits)
 };
 
 // path: the unidirectional path tracer. cache: direct light as the path tracer takes it, the

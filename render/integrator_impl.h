@@ -91,6 +91,7 @@ inline void start_paths(const Wavefront& w, size_t n) {
         std::fill(r.normal, r.normal + 3, 0.0f);
         r.depth = kInfinity;
         r.illuminance = 0;
+        r.material = -1;
     }
 }
 
@@ -443,6 +444,7 @@ inline void make_shading_points(const Wavefront& w, const HitBatch& hits, int de
             if (depth == 0) {
                 const Material& mat = s.materials[material];
                 std::copy(mat.albedo, mat.albedo + 3, w.out[i].albedo);
+                w.out[i].material = material;
                 store_vec3(sp.n, w.out[i].normal);
                 w.out[i].depth = hits.t[j];
                 if (w.st.indirect_illuminance) sc.sensors.push_back(sp);
@@ -969,6 +971,9 @@ void cache_probe(const RenderScene& s, const IntegratorSettings& st, const float
     };
     const cache::Query q[2] = {query(pa, na, hash_u32(seed)), query(pb, nb, hash_u32(seed + 1))};
     cs.dirs.prepare(R);
+    IntegratorSettings as_cache = st;  // A's glossy texel hits split as `cache` splits them
+    as_cache.mode = IntegratorMode::Cache;
+    cache::mark_split_materials(s.materials, as_cache, cs);
     // A, then B's own hemisphere in full (the reference)
     cs.used = 0;
     cs.pending = {0, 1};

@@ -18,6 +18,10 @@ void check_cache_settings(const CacheSettings& s) {
     if (s.block < kCacheBlockMin || s.block > kCacheBlockMax)
         throw std::invalid_argument("cache.block: must be an integer from " + std::to_string(kCacheBlockMin) + " to " +
                                     std::to_string(kCacheBlockMax) + ", got " + std::to_string(s.block));
+    if (s.hit_paths < kCacheHitPathsMin || s.hit_paths > kCacheHitPathsMax)
+        throw std::invalid_argument("cache.hit_paths: must be an integer from " + std::to_string(kCacheHitPathsMin) +
+                                    " to " + std::to_string(kCacheHitPathsMax) + ", got " +
+                                    std::to_string(s.hit_paths));
 }
 
 }  // namespace patina

@@ -10,12 +10,14 @@ struct CacheSettings {
     float error = 0.5f;   // the reuse criterion's bound: B uses A when |B - A| / R_A + sqrt(1 - nA.nB) <= error
     float guide = 0.5f;   // cache-guided: the probability of drawing the first bounce from the cache
     int block = 8;        // pixels per side of the blocks whose close points share one reconstruction
+    int hit_paths = 4;    // cache: paths from a cache point's texel hit on a glossy surface (its light split)
 };
 
 constexpr int kCacheResolutionMin = 8, kCacheResolutionMax = 128;
 constexpr float kCacheErrorMin = 0.01f, kCacheErrorMax = 4.0f;
 constexpr float kCacheGuideMin = 0.05f, kCacheGuideMax = 0.95f;
 constexpr int kCacheBlockMin = 1, kCacheBlockMax = 16;
+constexpr int kCacheHitPathsMin = 1, kCacheHitPathsMax = 16;
 
 // Throws std::invalid_argument naming the key (cache.resolution, ...) and its range.
 void check_cache_settings(const CacheSettings& s);

@@ -268,6 +268,18 @@ inline void add_counts(const W& w, const CacheCounts& c, const CacheState& st, s
     w.sc.rays_traced += st.inner.rays_traced - rays_before;
 }
 
+// `cache`: the materials whose texel hits take cache.hit_paths paths (split_glossy_hits): those
+// whose lobes the texels do not resolve (glass, coats, narrow lobes: what sends a cache point
+// the sun in a glossy reflection). None for cache-guided, whose guides need the light's shape.
+inline void mark_split_materials(const std::vector<Material>& materials, const IntegratorSettings& settings,
+                                 CacheState& st) {
+    st.split_material.clear();
+    st.hit_paths = settings.cache.hit_paths;
+    if (settings.mode != IntegratorMode::Cache || st.hit_paths < 2) return;
+    for (const Material& m : materials)
+        st.split_material.push_back(m.kind != MaterialKind::Emitter && !texel_resolvable(m, settings.cache.resolution));
+}
+
 // The start of either integrator's cache stage: the worker's cache state, timed by its
 // timer, holding the batch's queries and members of the materials the cache serves, the
 // shared points of the item's regions to start from, and the texel directions.
@@ -280,6 +292,7 @@ inline CacheState& start_cache_stage(const W& w) {
                     w.st.mode == IntegratorMode::Cache);
     st.shared = &w.sc.cache_shared;
     st.dirs.prepare(R);
+    mark_split_materials(w.s.materials, w.st, st);
     return st;
 }
 
@@ -478,6 +491,7 @@ inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoin
     const CacheSettings& cfg = w.st.cache;
     collect_queries(w, st, [&](const Material& m) { return served_by_cache(w.st.mode, m, cfg.resolution); }, false);
     st.shared = nullptr;
+    mark_split_materials(w.s.materials, w.st, st);
     const size_t rays_before = st.inner.rays_traced;
     hemispheres.clear();
     if (w.st.mode == IntegratorMode::Cache && w.st.passes > 1) {

@@ -122,6 +122,12 @@ struct CacheState {
     std::vector<uint8_t> own;
     std::vector<float> textures;  // kChunk x R^2 x 3
     std::vector<int32_t> pending;
+    // per material: whether a cache point's texel hit on it takes hit_paths paths from the hit
+    // (split_glossy_hits; empty: none, as for the guides, which need the light's shape only)
+    std::vector<uint8_t> split_material;
+    int hit_paths = 1;
+    RayQueue split_rays;
+    std::vector<int32_t> split_texels;
     StageTimer* timer = nullptr;  // the worker's: the cache's stages are laps of it
     void lap(Stage s) {
         if (timer) timer->lap(s);
@@ -130,6 +136,12 @@ struct CacheState {
 
 inline uint32_t cache_point_key(uint32_t point_key) { return hash_u32(point_key ^ 0x5bd1e995u); }
 inline uint32_t hole_key(uint32_t point_key) { return hash_u32(point_key ^ 0x68e31da4u); }
+
+// The stream key of a texel's further path s from its hit (split_glossy_hits): path 0 is the
+// texel's own (the hemisphere's key), each further one a stream of its own, the texel its index.
+inline uint32_t split_path_key(uint32_t key, int s) {
+    return s == 0 ? key : hash_u32(key ^ (0x9e3779b9u * static_cast<uint32_t>(s)));
+}
 
 // The world direction of a jittered sample in texel t of the hemisphere of q.
 inline Vec3f jittered_direction(const Query& q, int R, int32_t t, uint32_t key) {
@@ -150,6 +162,42 @@ inline void trace_queue(CacheState& st, Tracer& trace) {
         trace(st.rays.org.data() + 3 * a, st.rays.dir.data() + 3 * a, st.rays.keys.data() + a,
               st.rays.indices.data() + a, m, st.results.data() + a);
     }
+}
+
+// The texels just traced (st.rays, st.results) whose first hit is on a glossy material
+// (st.split_material) take st.hit_paths paths from that hit -- the texel's ray traced again
+// with streams of their own -- and the mean of them: unbiased (every path is one sample of the
+// light leaving the same hit towards A), and the light such a hit sends A is where a cache
+// point's heavy tail is (docs/radiance-cache.md, "Bias"): the sun in the glossy lobe, caught
+// by one light or BRDF sample of the texel's one path, shared by every point reusing A.
+// texel(where) is the radiance (RGB) of the texel of a ray's `where`, its first path's in it.
+template <class Tracer, class Texel>
+inline void split_glossy_hits(CacheState& st, Tracer& trace, Texel texel) {
+    const int K = st.hit_paths;
+    if (K < 2 || st.split_material.empty()) return;
+    st.split_rays.clear();
+    st.split_texels.clear();
+    for (size_t r = 0; r < st.rays.size(); ++r) {
+        const int32_t m = st.results[r].material;
+        if (m < 0 || static_cast<size_t>(m) >= st.split_material.size() || !st.split_material[m]) continue;
+        const Vec3f o = load_vec3(st.rays.org.data() + 3 * r), d = load_vec3(st.rays.dir.data() + 3 * r);
+        for (int s = 1; s < K; ++s)
+            st.split_rays.push(o, d, split_path_key(st.rays.keys[r], s), st.rays.indices[r], st.rays.where[r]);
+        st.split_texels.push_back(st.rays.where[r]);
+    }
+    if (st.split_texels.empty()) return;
+    std::swap(st.rays, st.split_rays);
+    trace_queue(st, trace);
+    for (size_t r = 0; r < st.rays.size(); ++r) {
+        float* L = texel(st.rays.where[r]);
+        for (int c = 0; c < 3; ++c) L[c] += st.results[r].rgb[c];
+    }
+    const float share = 1.0f / static_cast<float>(K);
+    for (const int32_t w : st.split_texels) {
+        float* L = texel(w);
+        for (int c = 0; c < 3; ++c) L[c] *= share;
+    }
+    std::swap(st.rays, st.split_rays);
 }
 
 // Builds cache points at the queries st.pending (appended to st.points), tracing their
@@ -201,6 +249,8 @@ inline void build_cache_points(const CacheSettings& cfg, float eps, const Query*
         if (!(dot(m, m) > 0.5f) || dot(m, d) > 0) m = -d;
         store_vec3(m, a.hit_normal.data() + 3 * t);
     }
+    split_glossy_hits(st, trace, [&](int32_t w) { return st.points[first + w / T].radiance.data() + 3 * (w % T); });
+    st.lap(Stage::CacheBuild);  // the glossy hits' paths: building too
     for (size_t k = 0; k < st.pending.size(); ++k) {
         CachePoint& a = st.points[first + k];
         build_surfels(a);

@@ -19,7 +19,10 @@ room's pixels, not 2 as at 64; `--quick` 16), all renders on every core:
    error `cache` reaches, over the time `cache` takes), `cache.<scene>.guided_vs_path` (the
    same for `cache-guided`) and `cache.<scene>.guided_equal_time` (path's error at the time
    `cache-guided` takes, over `cache-guided`'s), `cache.<scene>.bias` (the relative bias of
-   `cache`'s image mean), `cache.threads` (`cache` on every core against one thread),
+   `cache`'s image mean: the mean over BIAS_SEEDS seeds at BIAS_SIZES' width against a
+   reference of that size, as one seed's swings with the rare bright texels a cache point
+   shares) and `cache.<scene>.bias_se` (that mean's standard error), `cache.threads`
+   (`cache` on every core against one thread),
    `cache.<scene>.vs_mitsuba_llvm` (bench/cache_mitsuba.py: Patina's fastest integrator
    against Mitsuba 3's llvm_ad_rgb path tracer on the scene's analytic counterpart).
 
@@ -40,6 +43,7 @@ import numpy as np
 from patina.bench.cache_mitsuba import vs_mitsuba_record
 from patina.bench.convergence import (
     ErrorCurve,
+    Reference,
     Run,
     Sizes,
     integrator_missing,
@@ -51,8 +55,9 @@ from patina.bench.convergence import (
 from patina.bench.records import Record
 from patina.bench.render import llvm_variant_works
 from patina.bundled import materials_path
-from patina.render.run import PreparedScene
+from patina.render.run import PreparedScene, render
 from patina.scene.reading import load_scene, with_overrides
+from patina.scene.types import Scene
 
 SCENES = ("cache-room", "cache-studio", "cache-ies-interior")
 INTEGRATORS = {"biased": "cache", "guided": "cache-guided"}
@@ -61,6 +66,13 @@ FULL = Sizes(96, 2048, (8, 32, 128), 16)
 # medians, and every level's renders at 96 pixels wide keep the group at a few minutes
 MAX_REPEAT = 3
 QUICK = Sizes(16, 64, (2, 8), 2)
+# the bias: `cache` at the candidates' spp on BIAS_SEEDS seeds at a small size (its image mean
+# swings from seed to seed with the few bright texels a cache point shares, so one seed, or
+# the four of the errors, says little: docs/radiance-cache.md, "Bias"), against a reference of
+# that size with more samples than FULL's (its own noise is part of the bias measured)
+BIAS_SEEDS = 16
+BIAS_SIZES = Sizes(32, 8192, (), 16)
+QUICK_BIAS_SIZES = Sizes(16, 64, (), 2)
 
 
 @dataclass
@@ -80,7 +92,9 @@ def _scene_records(
     for role, integrator in integrators.items():
         why = integrator_missing(scene, integrator)
         if why is not None:
-            names = ["biased_vs_path", "bias"] if role == "biased" else ["guided_vs_path", "guided_equal_time"]
+            names = (
+                ["biased_vs_path", "bias", "bias_se"] if role == "biased" else ["guided_vs_path", "guided_equal_time"]
+            )
             out.skipped += [(f"cache.{name}.{n}", why) for n in names]
             continue
         candidate = with_overrides(scene, integrator=integrator, spp=sizes.candidate_spp)
@@ -109,10 +123,48 @@ def _scene_records(
                 Record(f"cache.{name}.guided_equal_time", what, equal_time, curve.error_at(t) / e, e, "relMSE")
             )
         else:
-            ratio = float(np.mean([img.mean() for img in images[i]])) / float(ref.image.mean())
-            bias_what = f"{what}; value = (mean - reference mean) / reference mean"
-            bias_base = f"the reference's image mean ({sizes.reference_spp} spp of path)"
-            out.records.append(Record(f"cache.{name}.bias", bias_what, bias_base, ratio, 100 * (ratio - 1), "%"))
+            bias_sizes = QUICK_BIAS_SIZES if sizes == QUICK else BIAS_SIZES
+            out.records += bias_records(name, scene_file, scene, integrator, bias_sizes, threads)
+
+
+def bias_over_seeds(
+    scene_file: str, scene: Scene, integrator: str, sizes: Sizes, threads: int, seeds: int = BIAS_SEEDS
+) -> tuple[np.ndarray, Reference]:
+    """`integrator`'s image mean over the reference's, one a seed (scene seed + 0, 1, ...), at
+    `sizes`' width and candidate spp, against `path`'s reference of `sizes.reference_spp`."""
+    small = sized(scene, sizes.width)
+    ref = reference(scene_file, small, sizes.reference_spp, threads)
+    candidate = with_overrides(small, integrator=integrator, spp=sizes.candidate_spp)
+    prep = PreparedScene(candidate)
+    means = [
+        float(
+            np.mean(
+                render(with_overrides(candidate, seed=candidate.render.seed + k), threads=threads, prepared=prep).rgb
+            )
+        )
+        for k in range(seeds)
+    ]
+    return np.asarray(means) / float(ref.image.mean()), ref
+
+
+def bias_records(name: str, scene_file: str, scene: Scene, integrator: str, sizes: Sizes, threads: int) -> list[Record]:
+    """`cache.<name>.bias` (the mean over seeds of the image mean over the reference's; value
+    the relative bias in %) and `cache.<name>.bias_se` (its standard error over the seeds:
+    ratio as a ratio, value in %)."""
+    ratios, ref = bias_over_seeds(scene_file, scene, integrator, sizes, threads)
+    mean, se = float(ratios.mean()), float(ratios.std(ddof=1) / np.sqrt(len(ratios)))
+    h, w = ref.image.shape[:2]
+    what = (
+        f"{integrator}, {name} {w}x{h}, {threads} threads, {sizes.candidate_spp} spp, mean over {len(ratios)} seeds "
+        f"(bias {100 * (mean - 1):+.2f} +- {100 * se:.2f} %)"
+    )
+    base = f"the reference's image mean ({sizes.reference_spp} spp of path, {w}x{h})"
+    bias_what = f"{what}; value = (mean - reference mean) / reference mean"
+    se_what = f"{what}; value = the bias's standard error over the seeds"
+    return [
+        Record(f"cache.{name}.bias", bias_what, base, mean, 100 * (mean - 1), "%"),
+        Record(f"cache.{name}.bias_se", se_what, base, se, 100 * se, "%"),
+    ]
 
 
 def _threads_record(sizes: Sizes, repeat: int, integrator: str, out: CacheBench) -> None:

@@ -124,6 +124,7 @@ def _with_options(scene: Scene, args: argparse.Namespace) -> Scene:
         cache_error=args.cache_error,
         cache_guide=args.cache_guide,
         cache_block=args.cache_block,
+        cache_hit_paths=args.cache_hit_paths,
     )
 
 
@@ -372,10 +373,11 @@ def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help:
         ("error", float, "the cache's reuse criterion bound (larger: fewer cache points, more reuse)"),
         ("guide", float, "cache-guided: probability of drawing the first bounce from the cache"),
         ("block", int, "pixels per side of the blocks whose close points share one reconstruction"),
+        ("hit_paths", int, "cache: paths from a cache point's texel hit on a glossy surface"),
     ):
         lo, hi = CACHE_RANGES[key]
         s.add_argument(
-            f"--cache-{key}",
+            f"--cache-{key.replace('_', '-')}",
             type=kind,
             default=None,
             metavar="R" if kind is int else "X",

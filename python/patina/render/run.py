@@ -177,6 +177,7 @@ def job_settings(
         "cache_error": float(scene.render.cache.error),
         "cache_guide": float(scene.render.cache.guide),
         "cache_block": scene.render.cache.block,
+        "cache_hit_paths": scene.render.cache.hit_paths,
     }
 
 

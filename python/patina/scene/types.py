@@ -73,6 +73,7 @@ class CacheParams:
     error: float = 0.5  # the reuse criterion's bound, 0.01 to 4
     guide: float = 0.5  # cache-guided: probability of drawing the first bounce from the cache, 0.05 to 0.95
     block: int = 8  # pixels per side of the blocks whose close points share one reconstruction, 1 to 16
+    hit_paths: int = 4  # cache: paths from a cache point's texel hit on a glossy surface, 1 to 16
 
 
 @dataclass(frozen=True)

@@ -3,11 +3,15 @@
 // radiance, reuse of the cache points, and images whose mean agrees with the path tracer's.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "core/cpu.h"
 #include "render/accel/kdtree.h"
+#include "render/cache/cache_settings.h"
 #include "render/integrator.h"
 #include "render/render_job.h"
 #include "render/rng.h"
@@ -36,9 +40,11 @@ struct BoxScene {
         materials.insert(materials.end(), {material, material});
     }
 
-    BoxScene(int width, int height) {
+    // glossy_floor: the floor a narrow GGX conductor (lobes narrower than two texels at
+    // resolution 16: its texel hits take cache.hit_paths paths, split_glossy_hits)
+    BoxScene(int width, int height, bool glossy_floor = false) {
         const float s = 2.0f;
-        quad({-1, 0, -1}, {0, 0, s}, {s, 0, 0}, 0);   // floor
+        quad({-1, 0, -1}, {0, 0, s}, {s, 0, 0}, glossy_floor ? 5 : 0);   // floor
         quad({-1, 2, -1}, {s, 0, 0}, {0, 0, s}, 0);   // ceiling
         quad({-1, 0, -1}, {s, 0, 0}, {0, s, 0}, 0);   // back
         quad({-1, 0, -1}, {0, s, 0}, {0, 0, s}, 1);   // left, red
@@ -54,7 +60,7 @@ struct BoxScene {
         scene.normals = normals.data();
         scene.tri_material = materials.data();
         scene.triangle_count = indices.size() / 3;
-        Material white, red, green, emitter, glossy;
+        Material white, red, green, emitter, glossy, narrow;
         white.albedo[0] = white.albedo[1] = white.albedo[2] = 0.7f;
         red.albedo[0] = 0.6f, red.albedo[1] = red.albedo[2] = 0.06f;
         green.albedo[1] = 0.5f, green.albedo[0] = green.albedo[2] = 0.1f;
@@ -62,10 +68,14 @@ struct BoxScene {
         glossy.alpha_x = glossy.alpha_y = 0.4f;
         glossy.eta[0] = glossy.eta[1] = glossy.eta[2] = 0.2f;
         glossy.k[0] = glossy.k[1] = glossy.k[2] = 3.0f;
+        narrow.kind = MaterialKind::Conductor;  // 0.25 < 2 texels (0.31 at R = 16): split at the texel hits
+        narrow.alpha_x = narrow.alpha_y = 0.25f;
+        narrow.eta[0] = narrow.eta[1] = narrow.eta[2] = 0.2f;
+        narrow.k[0] = narrow.k[1] = narrow.k[2] = 3.0f;
         emitter.kind = MaterialKind::Emitter;
         emitter.light = 0;
-        for (Material* m : {&white, &red, &green, &emitter, &glossy}) m->two_sided = true;
-        scene.materials = {white, red, green, emitter, glossy};
+        for (Material* m : {&white, &red, &green, &emitter, &glossy, &narrow}) m->two_sided = true;
+        scene.materials = {white, red, green, emitter, glossy, narrow};
         Light l;
         l.kind = LightKind::Quad;
         const float c[3] = {0, 1.98f, 0}, u[3] = {0.25f, 0, 0}, v[3] = {0, 0, 0.25f};
@@ -96,12 +106,13 @@ std::vector<CameraSample> pixel_samples(int width, int height, int spp, uint32_t
 }
 
 std::vector<PathResult> trace(const BoxScene& b, int width, IntegratorMode mode, const std::vector<CameraSample>& cs,
-                              PathScratch& sc, int block = 1) {
+                              PathScratch& sc, int block = 1, int hit_paths = CacheSettings{}.hit_paths) {
     IntegratorSettings st;
     st.max_depth = 4;
     st.mode = mode;
     st.cache.resolution = 16;
     st.cache.block = block;
+    st.cache.hit_paths = hit_paths;
     std::vector<PathResult> out(cs.size());
     render_kernels_for(width).trace_paths(b.scene, st, cs.data(), cs.size(), out.data(), sc);
     return out;
@@ -350,4 +361,49 @@ TEST(CacheIntegrators, CacheGuidedDrawsFromTheGuidesAndKeepsThePathTracersMean) 
     const double n = static_cast<double>(a.size()), mean = sum / n;
     const double se = std::sqrt((sum2 / n - mean * mean) / (n - 1));
     EXPECT_LT(std::abs(mean) / se, 4.0) << mean;
+}
+
+// A cache point's texel whose hit is on a glossy surface (a lobe the texels do not resolve)
+// takes cache.hit_paths paths from that hit (render/cache/radiance_cache_impl.h,
+// split_glossy_hits), their mean its light: a box with a glossy floor keeps the path
+// tracer's mean within the stated bias with 1 and with 4 paths, the 4 cost rays at the
+// glossy hits only (not four paths a texel), and widths give the same bits.
+TEST(CacheIntegrators, GlossyTexelHitsKeepTheMeanAndTheBitsOfWidthOne) {
+    const BoxScene b(12, 12, true);
+    PathScratch sp, s1, s4;
+    const double path = mean_radiance(trace(b, 0, IntegratorMode::Path, pixel_samples(12, 12, 512, 21), sp));
+    const std::vector<CameraSample> cs = pixel_samples(12, 12, 8, 22);
+    const double one = mean_radiance(trace(b, 0, IntegratorMode::Cache, cs, s1, 4, 1));
+    const double four = mean_radiance(trace(b, 0, IntegratorMode::Cache, cs, s4, 4, 4));
+    EXPECT_NEAR(four / path, 1.0, 0.05);
+    EXPECT_NEAR(one / path, 1.0, 0.05);
+    EXPECT_GT(s4.rays_traced, s1.rays_traced);
+    EXPECT_LT(s4.rays_traced, 2 * s1.rays_traced);
+    const std::vector<CameraSample> few = pixel_samples(12, 12, 2, 3);
+    PathScratch r1;
+    const std::vector<PathResult> ref = trace(b, 1, IntegratorMode::Cache, few, r1, 4, 4);
+    for (int width : {4, 8, 16}) {
+        if (!width_supported(width)) continue;
+        PathScratch sw;
+        const std::vector<PathResult> got = trace(b, width, IntegratorMode::Cache, few, sw, 4, 4);
+        for (size_t i = 0; i < few.size(); ++i)
+            for (int k = 0; k < 3; ++k) {
+                ASSERT_EQ(got[i].rgb[k], ref[i].rgb[k]) << "width " << width << " sample " << i;
+                ASSERT_TRUE(std::isfinite(got[i].rgb[k]) && got[i].rgb[k] >= 0);
+            }
+    }
+}
+
+TEST(CacheIntegrators, HitPathsOutOfRangeNameTheKey) {
+    for (int bad : {0, 17}) {
+        CacheSettings s;
+        s.hit_paths = bad;
+        try {
+            check_cache_settings(s);
+            FAIL() << "hit_paths " << bad << " accepted";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find("cache.hit_paths"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("1 to 16"), std::string::npos) << e.what();
+        }
+    }
 }
