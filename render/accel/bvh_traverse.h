@@ -150,6 +150,14 @@ PATINA_INLINE uint32_t order_children(const Bvh& bvh, const BvhNode& node, int m
     const int first = __builtin_ctz(static_cast<unsigned>(mask));
     mask &= mask - 1;
     if (mask == 0) return node.child[first];
+    if ((mask & (mask - 1)) == 0) {  // two children: the farther waits, without a sorting loop
+        const int second = __builtin_ctz(static_cast<unsigned>(mask));
+        const bool swap = near[second] < near[first];
+        const int farther = swap ? first : second, nearer = swap ? second : first;
+        stack[top++] = StackEntry{node.child[farther], near[farther]};
+        prefetch_child(bvh, node.child[farther]);
+        return node.child[nearer];
+    }
     // few children are hit: insertion-sort them by entry distance, nearest last
     StackEntry hit[kBvhWidth];
     int n = 0;
