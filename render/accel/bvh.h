@@ -2,7 +2,7 @@
 // time with the SIMD lanes over a node's children (bvh_traverse.h). Each node holds its eight
 // children's boxes as structure of arrays; leaves are runs of blocks of eight triangles, also
 // structure of arrays, tested up to eight at a time (eight-triangle blocks measured about 10 %
-// faster than four-triangle ones at width 8). Built top down with the binned surface-area
+// faster than four-triangle ones at width 8); leaves of less than a block share blocks. Built top down with the binned surface-area
 // heuristic (bvh_build.cpp); the kd-tree (kdtree.h) keeps the coherent camera rays.
 #pragma once
 
@@ -36,8 +36,11 @@ struct alignas(32) BvhNode {
 static_assert(sizeof(BvhNode) == 224, "a node is seven 32-byte lines");
 
 // v[corner][axis][lane]: triangle `lane`'s corner (v0, v1, v2) on each axis; a block that is
-// not full repeats its last triangle (the same primitive, so the same hit).
-struct alignas(32) BvhBlock {
+// not full repeats its last triangle (the same primitive, so the same hit). A block may hold
+// several small leaves (bvh_build.cpp): a ray entering one tests the others' triangles too,
+// real triangles whose hits are true hits, so the closest and any hit are unchanged. 320 bytes,
+// aligned to 64: five cache lines wherever the array starts.
+struct alignas(64) BvhBlock {
     float v[3][3][kBvhBlock];
     int32_t prim[kBvhBlock];
 };

@@ -3,6 +3,7 @@
 // centroids) until the node has eight children or none is worth splitting, then each child
 // is built the same way. Deep in a degenerate input (beyond kForcedDepth) ranges are halved
 // by count instead, so no path exceeds kBvhMaxDepth nodes and the traversal stack suffices.
+// Leaves of at most a block are packed into blocks shared with other small leaves nearby.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -171,22 +172,58 @@ private:
         right = measure(mid, r.end);
     }
 
+    void set_lane(BvhBlock& blk, int lane, uint32_t prim) const {
+        blk.prim[lane] = static_cast<int32_t>(prim);
+        for (int k = 0; k < 3; ++k)
+            for (int a = 0; a < 3; ++a) blk.v[k][a][lane] = tri_[9 * size_t(prim) + 3 * k + a];
+    }
+
+    static uint32_t leaf_ref(size_t first, size_t blocks) {
+        return kBvhLeaf | static_cast<uint32_t>((blocks - 1) << kBvhBlockBits) | static_cast<uint32_t>(first);
+    }
+
     uint32_t make_leaf(const Range& r) {
         const size_t n = r.size(), nb = (n + kBvhBlock - 1) / kBvhBlock;
         const size_t first = out_.blocks.size();
         out_.blocks.resize(first + nb);
-        for (size_t b = 0; b < nb; ++b) {
-            BvhBlock& blk = out_.blocks[first + b];
-            for (int l = 0; l < kBvhBlock; ++l) {
-                const size_t i = std::min(b * kBvhBlock + l, n - 1);
-                const uint32_t prim = refs_[r.begin + i].prim;
-                blk.prim[l] = static_cast<int32_t>(prim);
-                for (int k = 0; k < 3; ++k)
-                    for (int a = 0; a < 3; ++a) blk.v[k][a][l] = tri_[9 * size_t(prim) + 3 * k + a];
-            }
-        }
+        for (size_t b = 0; b < nb; ++b)
+            for (int l = 0; l < kBvhBlock; ++l)
+                set_lane(out_.blocks[first + b], l, refs_[r.begin + std::min(b * kBvhBlock + l, n - 1)].prim);
         ++out_.stats.leaves;
-        return kBvhLeaf | static_cast<uint32_t>((nb - 1) << kBvhBlockBits) | static_cast<uint32_t>(first);
+        return leaf_ref(first, nb);
+    }
+
+    // A node's leaf children of at most a block each go into blocks shared with other small
+    // leaves: first fit (largest first) into the blocks still open (the last kOpenBlocks made,
+    // near in the tree and in memory), else a new one. A leaf's reference is its block, whose
+    // other lanes hold other leaves' triangles; a ray entering the leaf tests those too. They are
+    // real triangles, so a hit among them is a true hit and the closest (or any) hit is unchanged,
+    // while the blocks' padding (30 % of them at 5.6 triangles a leaf) shrinks.
+    void make_shared_leaves(const Range* kids, const bool* final, int count, uint32_t* child) {
+        int order[kBvhWidth], n = 0;
+        for (int i = 0; i < count; ++i)
+            if (final[i] && kids[i].size() <= static_cast<size_t>(kBvhBlock)) order[n++] = i;
+        std::stable_sort(order, order + n, [&](int a, int b) { return kids[a].size() > kids[b].size(); });
+        for (int j = 0; j < n; ++j) {
+            const Range& r = kids[order[j]];
+            OpenBlock* into = nullptr;
+            for (OpenBlock& o : open_)
+                if (o.fill + static_cast<int>(r.size()) <= kBvhBlock) {
+                    into = &o;
+                    break;
+                }
+            if (!into) {
+                if (open_.size() == kOpenBlocks) open_.erase(open_.begin());
+                open_.push_back(OpenBlock{out_.blocks.size(), 0});
+                out_.blocks.emplace_back();
+                into = &open_.back();
+            }
+            BvhBlock& blk = out_.blocks[into->block];
+            for (size_t i = r.begin; i < r.end; ++i) set_lane(blk, into->fill++, refs_[i].prim);
+            for (int l = into->fill; l < kBvhBlock; ++l) set_lane(blk, l, refs_[r.end - 1].prim);  // padding
+            child[order[j]] = leaf_ref(into->block, 1);
+            ++out_.stats.leaves;
+        }
     }
 
     bool leaf_allowed(const Range& r) const {
@@ -242,8 +279,10 @@ private:
             }
             node.child[i] = kBvhEmpty;
         }
+        make_shared_leaves(kids, final, count, node.child);
         for (int i = 0; i < count; ++i)
-            node.child[i] = final[i] ? make_leaf(kids[i]) : build_node(kids[i], depth + 1);
+            if (node.child[i] == kBvhEmpty)
+                node.child[i] = final[i] ? make_leaf(kids[i]) : build_node(kids[i], depth + 1);
         out_.nodes[index] = node;
         return static_cast<uint32_t>(index);
     }
@@ -252,6 +291,12 @@ private:
     Bvh& out_;
     const float* tri_ = nullptr;
     std::vector<PrimRef> refs_;
+    struct OpenBlock {
+        size_t block;
+        int fill;  // lanes in use; the others repeat the last triangle
+    };
+    static constexpr size_t kOpenBlocks = 4;
+    std::vector<OpenBlock> open_;
 };
 
 }  // namespace

@@ -144,12 +144,33 @@ PATINA_INLINE void prefetch_child(const Bvh& bvh, uint32_t child) {
     for (size_t line = 0; line < sizeof(BvhNode); line += 64) __builtin_prefetch(p + line);
 }
 
-// The children hit (mask) onto the stack, farthest first; returns the nearest.
+// The children hit (mask) onto the stack, farthest first; returns the nearest. Up to three
+// children hit (all but 4 % of the node tests of the box field's bounce rays) are ordered by
+// compare-and-swap, without the insertion sort's loops and their mispredicted branches.
 PATINA_INLINE uint32_t order_children(const Bvh& bvh, const BvhNode& node, int mask, const float* near, StackEntry* stack,
                                       int& top) {
     const int first = __builtin_ctz(static_cast<unsigned>(mask));
     mask &= mask - 1;
     if (mask == 0) return node.child[first];
+    const int second = __builtin_ctz(static_cast<unsigned>(mask));
+    const int rest = mask & (mask - 1);
+    if ((rest & (rest - 1)) == 0) {
+        StackEntry a{node.child[first], near[first]}, b{node.child[second], near[second]};
+        if (a.tnear < b.tnear) std::swap(a, b);
+        if (rest != 0) {
+            const int third = __builtin_ctz(static_cast<unsigned>(rest));
+            StackEntry c{node.child[third], near[third]};
+            if (b.tnear < c.tnear) std::swap(b, c);
+            if (a.tnear < b.tnear) std::swap(a, b);
+            stack[top++] = a;
+            prefetch_child(bvh, a.child);
+            a = b;
+            b = c;
+        }
+        stack[top++] = a;
+        prefetch_child(bvh, a.child);
+        return b.child;
+    }
     // few children are hit: insertion-sort them by entry distance, nearest last
     StackEntry hit[kBvhWidth];
     int n = 0;

@@ -234,3 +234,27 @@ TEST(Bvh, TreeAndHitsDoNotDependOnThreads) {
     trace_intersect(b, batch, many.batch(), rays.size(), 0, 3);
     expect_identical(one, many, "3 threads", 0);
 }
+
+// Small leaves share blocks (the lanes of a block then hold several leaves' triangles): every
+// triangle is still in a block, fewer blocks than leaves, and every width's hits stay exact.
+TEST(Bvh, SmallLeavesShareBlocks) {
+    Mesh m;  // a grid of closed cubes, 12 triangles each: leaves of a few triangles
+    const int32_t cube[36] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                              3, 7, 6, 3, 6, 2, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5};
+    for (int gx = 0; gx < 12; ++gx)
+        for (int gy = 0; gy < 12; ++gy) {
+            const int32_t base = static_cast<int32_t>(m.v.size() / 3);
+            const float x = -1.2f + 0.2f * gx, y = -1.2f + 0.2f * gy, s = 0.05f + 0.01f * float((gx * 7 + gy) % 5);
+            for (int c = 0; c < 8; ++c)
+                m.v.insert(m.v.end(), {x + ((c == 1 || c == 2 || c == 5 || c == 6) ? s : 0.0f),
+                                       y + ((c == 2 || c == 3 || c == 6 || c == 7) ? s : 0.0f), c >= 4 ? 2 * s : 0.0f});
+            for (int32_t i : cube) m.f.push_back(base + i);
+        }
+    const Bvh bvh = build(kdtree_of(m));
+    EXPECT_LT(bvh.stats.blocks, bvh.stats.leaves);
+    std::vector<int> seen(m.triangles(), 0);
+    for (const BvhBlock& b : bvh.blocks)
+        for (int32_t p : b.prim) seen[static_cast<size_t>(p)] = 1;
+    for (size_t t = 0; t < seen.size(); ++t) ASSERT_EQ(seen[t], 1) << "triangle " << t << " is in no leaf";
+    expect_exact(m, random_rays(4000, 17), "shared blocks");
+}
