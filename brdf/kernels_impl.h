@@ -64,8 +64,10 @@ void math_kernel(MathOp op, const float* a, const float* b, float* out, size_t n
 // evaluator does; the thesis's walk searches every block from the root, as the thesis did.
 template <SplitWalk Walk>
 PATINA_INLINE I search_block(const float* knots, int count, F x, SearchHint& hint) {
-    if constexpr (Walk == SplitWalk::Masked) return coherent_search_cells<N, Walk>(knots, count, x, vbool<N>(true), hint).cell;
-    else return coherent_search<N, Walk>(knots, count, x, vbool<N>(true));
+    if constexpr (Walk == SplitWalk::Masked)
+        return coherent_search_cells<N, Walk>(knots, count, x, vbool<N>(true), hint).cell;
+    else
+        return coherent_search<N, Walk>(knots, count, x, vbool<N>(true));
 }
 
 template <SplitWalk Walk>

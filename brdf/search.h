@@ -14,6 +14,18 @@
 // also a little faster on coherent input, where lanes split only near the leaves.
 // `patina bench` measures both. At N = 1 there is one lane, no split, and the search
 // is an ordinary binary search.
+//
+// At widths 8 and 16 the masked walk also keeps knots in registers. Coherent lanes split
+// low in the tree, their cells a few knots apart: when all of them lie in the 2N knots
+// around the split, those are loaded once into two registers and each level's middle knots
+// are picked from them (permute2: one vpermt2ps at width 16) instead of gathered, one load a
+// lane; the next block starts from that window when its lanes lie in it too (SearchHint),
+// skipping the walk from the root; and the cells' own values (knots, cell widths) come from
+// the same window (lookup_cells). On the AVX-512 machine of December 2026 a 16-lane gather
+// costs about as much as 16 loads, so this took the MERL evaluator's search from 60 % of
+// its width-16 time to 35 % (docs/performance.md, "Width 16 on a real AVX-512 CPU"). The
+// cells are the same bits either way: a lane's cell is the low end of the range plus the
+// number of knots inside it at or below x, whichever range holds it.
 #pragma once
 
 #include <algorithm>
@@ -71,21 +83,29 @@ PATINA_INLINE void window_descent(const float* knots, int start, int lo, int hi,
     cell = select(active, l + offset, cell);
 }
 
+// Whether every active lane (bit mask `lanes`) whose cell lies in [lo, hi - 1] has it in
+// [s, e - 1] (lo <= s < e <= hi): x >= knots[s] unless s = lo, x < knots[e] unless e = hi.
+// A NaN lane, which belongs at lo, fails the first test.
+template <int N>
+PATINA_INLINE bool lanes_within(const float* knots, int lo, int hi, int s, int e, vfloat<N> x, vbool<N> active,
+                                int lanes) {
+    vbool<N> inside = active;
+    if (s > lo) inside = inside & (x >= vfloat<N>(knots[s]));
+    if (e < hi) inside = inside & (x < vfloat<N>(knots[e]));
+    return movemask(inside) == lanes;
+}
+
 // The active lanes split at knot `mid` of [lo, hi]. Coherent lanes' cells are still close:
-// if they all lie in the 2N knots [s, e) around mid (x >= knots[s] unless s = lo, x < knots[e]
-// unless e = hi; a NaN lane, which belongs at lo, fails the first test), the descent from
-// [s, e] finds the cells [lo, hi] would (a lane's cell is lo plus the number of knots inside
-// the range at or below x) with the knots in registers. Returns false, having done nothing,
-// when a lane lies outside.
+// if they all lie within the 2N knots [s, e] around mid, the descent from [s, e] finds the
+// cells the one from [lo, hi] would (a lane's cell is the range's low end plus the number of
+// knots inside it at or below x), with the knots in registers. Returns false, having done
+// nothing, when a lane lies outside.
 template <int N>
 PATINA_INLINE bool window_split(const float* knots, int n, int lo, int mid, int hi, vfloat<N> x, vbool<N> active,
                                 int lanes, Cells<N>& range) {
     const int s = std::max(lo, std::min(mid - N, hi - 2 * N));
     const int e = std::min(hi, s + 2 * N);
-    vbool<N> inside = active;
-    if (s > lo) inside = inside & (x >= vfloat<N>(knots[s]));
-    if (e < hi) inside = inside & (x < vfloat<N>(knots[e]));
-    if (movemask(inside) != lanes) return false;
+    if (!lanes_within<N>(knots, lo, hi, s, e, x, active, lanes)) return false;
     window_descent<N>(knots, std::min(s, n - 2 * N), s, e, x, active, range.cell);
     range.lo = s;
     range.hi = e;
@@ -93,9 +113,10 @@ PATINA_INLINE bool window_split(const float* knots, int n, int lo, int mid, int 
 }
 
 // For the active lanes (bit mask `lanes`, vector mask `active`), narrows [lo, hi] (knot
-// indices into n knots; the answer is a cell in [lo, hi - 1]) and writes the cell into
-// `cell` and the range the lanes' cells lie in (the one where they first split) into
-// `range`. One movemask per level decides: all active lanes right, all left, or split.
+// indices into n knots; the answer is a cell in [lo, hi - 1]) and writes the cells into
+// range.cell and the knots they lie between (where the lanes first split, or the window)
+// into range.lo, range.hi. One movemask per level decides: all active lanes right, all left,
+// or split.
 template <int N, SplitWalk Walk>
 inline void search_range(const float* knots, int n, int lo, int hi, vfloat<N> x, vbool<N> active, int lanes,
                          Cells<N>& range) {
@@ -155,21 +176,20 @@ struct SearchHint {
     int lo = 0, hi = 0;  // knots; empty (lo == hi) before the first search
 };
 
-// coherent_search_cells, starting from the hint: when every active lane lies in the 2N knots
-// around the previous block's range, the window descent alone finds their cells (no walk from
-// the root, none of its branches); otherwise the search from the root, whose range becomes
-// the hint. The cells are the same either way.
+// coherent_search_cells, starting from the hint: when the previous block's range was narrow and
+// every active lane lies in the 2N knots around it, the window descent alone finds their cells
+// (no walk from the root, none of its branches); otherwise the search from the root, whose
+// range becomes the hint. The cells are the same either way.
 template <int N, SplitWalk Walk = SplitWalk::Masked>
 PATINA_INLINE Cells<N> coherent_search_cells(const float* knots, int n, vfloat<N> x, vbool<N> active,
                                              SearchHint& hint) {
     if constexpr (kWindowed<N>) {
         const int lanes = movemask(active);
-        if (hint.hi > hint.lo && n > 2 * N && lanes) {
+        // an empty hint (the first block) or a wide one (the last block's lanes split high in
+        // the tree: incoherent) is not tried
+        if (hint.hi > hint.lo && hint.hi - hint.lo <= 2 * N && n > 2 * N && lanes) {
             const int s = std::min(std::max((hint.lo + hint.hi) / 2 - N, 0), n - 1 - 2 * N), e = s + 2 * N;
-            vbool<N> inside = active;
-            if (s > 0) inside = inside & (x >= vfloat<N>(knots[s]));
-            if (e < n - 1) inside = inside & (x < vfloat<N>(knots[e]));
-            if (movemask(inside) == lanes) {
+            if (search_detail::lanes_within<N>(knots, 0, n - 1, s, e, x, active, lanes)) {
                 Cells<N> c{vint<N>(0), s, e};
                 search_detail::window_descent<N>(knots, s, s, e, x, active, c.cell);
                 return c;
@@ -200,7 +220,8 @@ PATINA_INLINE vfloat<N> lookup_cells(const float* a, int len, const Cells<N>& c,
         if constexpr (kWindowed<N>) {
             if (c.hi - c.lo <= 2 * N && len >= 2 * N) {
                 const int start = std::min(c.lo, len - 2 * N);
-                const vfloat<N> picked = permute2(load_n<N>(a + start), load_n<N>(a + start + N), c.cell - vint<N>(start));
+                const vfloat<N> window_lo = load_n<N>(a + start), window_hi = load_n<N>(a + start + N);
+                const vfloat<N> picked = permute2(window_lo, window_hi, c.cell - vint<N>(start));
                 return select(active, picked, vfloat<N>(a[0]));
             }
         }

@@ -336,41 +336,41 @@ TEST(Eval, MissingCellsGiveZeroNotData) {
 }
 
 TEST(Eval, SearchFindsTheCell) {
-  // 90 and 181 knots: the wide widths' window (2N knots in registers, brdf/search.h) then
-  // fits inside the axis at every width, so coherent blocks take it.
-  for (int count : {90, 181}) {
-    SCOPED_TRACE(count);
-    const std::vector<float> knots = irregular_axis(count, 0.0, kPiDouble / 2, 2.0);
-    std::vector<float> xs = {-1.0f, 0.0f, knots[1], knots[45], knots[88], knots[89], 2.0f, std::nanf("")};
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<float> u(-0.1f, 1.7f);
-    for (int i = 0; i < 10000; ++i) xs.push_back(u(rng));
-    for (int i = 0; i < 10000; ++i) xs.push_back(float(i) / 10000 * 1.6f);  // coherent
-    // coherent runs broken by the cases a window must refuse: NaN, below and above the axis,
-    // a jump across it, knots exactly at a window's edge
-    for (int i = 0; i < 4000; ++i) {
-        float x = 0.3f + float(i % 500) / 500 * 0.4f;
-        if (i % 97 == 5) x = std::nanf("");
-        if (i % 131 == 7) x = -0.5f;
-        if (i % 151 == 9) x = 3.0f;
-        if (i % 173 == 11) x = 1.5f - x;
-        if (i % 59 == 13) x = knots[(i / 59) % count];
-        xs.push_back(x);
-    }
-    for (int w : {1, 4, 8, 16}) {
-        if (!width_supported(w)) continue;
-        for (auto search : {kernels_for(w).search, kernels_for(w).search_thesis}) {
-            std::vector<int32_t> cells(xs.size(), -5);
-            search(knots.data(), int(knots.size()), xs.data(), cells.data(), xs.size());
-            for (size_t i = 0; i < xs.size(); ++i) {
-                int want = int(std::upper_bound(knots.begin(), knots.end(), xs[i]) - knots.begin()) - 1;
-                want = std::clamp(want, 0, int(knots.size()) - 2);
-                if (std::isnan(xs[i])) want = 0;
-                ASSERT_EQ(cells[i], want) << "width " << w << " x=" << xs[i];
+    // 90 and 181 knots: the wide widths' window (2N knots in registers, brdf/search.h) then
+    // fits inside the axis at every width, so coherent blocks take it.
+    for (int count : {90, 181}) {
+        SCOPED_TRACE(count);
+        const std::vector<float> knots = irregular_axis(count, 0.0, kPiDouble / 2, 2.0);
+        std::vector<float> xs = {-1.0f, 0.0f, knots[1], knots[45], knots[88], knots[89], 2.0f, std::nanf("")};
+        std::mt19937 rng(3);
+        std::uniform_real_distribution<float> u(-0.1f, 1.7f);
+        for (int i = 0; i < 10000; ++i) xs.push_back(u(rng));
+        for (int i = 0; i < 10000; ++i) xs.push_back(float(i) / 10000 * 1.6f);  // coherent
+        // coherent runs broken by the cases a window must refuse: NaN, below and above the axis,
+        // a jump across it, knots exactly at a window's edge
+        for (int i = 0; i < 4000; ++i) {
+            float x = 0.3f + float(i % 500) / 500 * 0.4f;
+            if (i % 97 == 5) x = std::nanf("");
+            if (i % 131 == 7) x = -0.5f;
+            if (i % 151 == 9) x = 3.0f;
+            if (i % 173 == 11) x = 1.5f - x;
+            if (i % 59 == 13) x = knots[(i / 59) % count];
+            xs.push_back(x);
+        }
+        for (int w : {1, 4, 8, 16}) {
+            if (!width_supported(w)) continue;
+            for (auto search : {kernels_for(w).search, kernels_for(w).search_thesis}) {
+                std::vector<int32_t> cells(xs.size(), -5);
+                search(knots.data(), int(knots.size()), xs.data(), cells.data(), xs.size());
+                for (size_t i = 0; i < xs.size(); ++i) {
+                    int want = int(std::upper_bound(knots.begin(), knots.end(), xs[i]) - knots.begin()) - 1;
+                    want = std::clamp(want, 0, int(knots.size()) - 2);
+                    if (std::isnan(xs[i])) want = 0;
+                    ASSERT_EQ(cells[i], want) << "width " << w << " x=" << xs[i];
+                }
             }
         }
     }
-  }
 }
 
 // A MERL-sized grid (90 x 46 x 181, finer than kCases' tables): at width 16 only axes of more
