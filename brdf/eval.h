@@ -164,17 +164,18 @@ PATINA_INLINE void block_angles(const TableView& t, const float* wi, const float
 
 // Pass 2: per axis the coherent search, then the fraction within the cell.
 template <int N, int D>
-PATINA_INLINE void block_cells(const TableView& t, Chunk<D>& c, int at) {
+PATINA_INLINE void block_cells(const TableView& t, Chunk<D>& c, int at, SearchHint* hints) {
     using F = vfloat<N>;
     using I = vint<N>;
     const vbool<N> above = load_n<N>(c.above + at) > F(0.5f);
     I base(0);
     for (int a = 0; a < D; ++a) {
         const F x = load_n<N>(c.coord[a] + at);
-        const I cell = coherent_search<N>(t.knots[a], t.lengths[a], x, above);
-        store_n<N>(c.frac[a] + at,
-                   clamp((x - gather(t.knots[a], cell)) * gather(t.inv_widths[a], cell), F(0.0f), F(1.0f)));
-        base += cell * I(t.strides[a]);
+        const Cells<N> cells = coherent_search_cells<N>(t.knots[a], t.lengths[a], x, above, hints[a]);
+        const F knot = lookup_cells<N>(t.knots[a], t.lengths[a], cells, above);
+        const F inv_width = lookup_cells<N>(t.inv_widths[a], t.lengths[a] - 1, cells, above);
+        store_n<N>(c.frac[a] + at, clamp((x - knot) * inv_width, F(0.0f), F(1.0f)));
+        base += cells.cell * I(t.strides[a]);
     }
     store_n<N>(c.base + at, base);
 }
@@ -265,6 +266,7 @@ inline void eval_range(const TableView& t, const float* wi, const float* wo, flo
     static_assert(kChunkPairs % N == 0, "chunks hold whole blocks");
     const int C = t.channels;
     Chunk<D> chunk;
+    SearchHint hints[D];
     for (size_t first = begin; first < end; first += kChunkPairs) {
         const int count = static_cast<int>(std::min<size_t>(kChunkPairs, end - first));
         const int whole = count / N * N;
@@ -284,7 +286,7 @@ inline void eval_range(const TableView& t, const float* wi, const float* wo, flo
             }
             block_angles<N, P, Trig, D>(t, pad_i, pad_o, chunk, whole);
         }
-        for (int at = 0; at < blocks; at += N) block_cells<N, D>(t, chunk, at);
+        for (int at = 0; at < blocks; at += N) block_cells<N, D>(t, chunk, at, hints);
         for (int at = 0; at < blocks; at += N)
             block_interpolate<N, D>(t, chunk, at, out + (first + at) * C, std::min(N, count - at));
     }

@@ -60,17 +60,27 @@ void math_kernel(MathOp op, const float* a, const float* b, float* out, size_t n
     }
 }
 
+// The masked walk starts each block from where the previous one ended (SearchHint), as the
+// evaluator does; the thesis's walk searches every block from the root, as the thesis did.
+template <SplitWalk Walk>
+PATINA_INLINE I search_block(const float* knots, int count, F x, SearchHint& hint) {
+    if constexpr (Walk == SplitWalk::Masked)
+        return coherent_search_cells<N, Walk>(knots, count, x, vbool<N>(true), hint).cell;
+    else
+        return coherent_search<N, Walk>(knots, count, x, vbool<N>(true));
+}
+
 template <SplitWalk Walk>
 void search_kernel(const float* knots, int count, const float* x, int32_t* cells, size_t n) {
     enter_kernel();
+    SearchHint hint;
     size_t i = 0;
-    for (; i + N <= n; i += N)
-        store_n<N>(cells + i, coherent_search<N, Walk>(knots, count, load_n<N>(x + i), vbool<N>(true)));
+    for (; i + N <= n; i += N) store_n<N>(cells + i, search_block<Walk>(knots, count, load_n<N>(x + i), hint));
     if (i < n) {
         float px[N] = {};
         int32_t pc[N];
         for (size_t j = i; j < n; ++j) px[j - i] = x[j];
-        store_n<N>(pc, coherent_search<N, Walk>(knots, count, load_n<N>(px), vbool<N>(true)));
+        store_n<N>(pc, search_block<Walk>(knots, count, load_n<N>(px), hint));
         for (size_t j = i; j < n; ++j) cells[j] = pc[j - i];
     }
 }

@@ -1,8 +1,8 @@
 // Which SIMD widths this CPU can run, and which one to use.
 //
 // PATINA_SIMD=1|4|8|16 (or scalar|sse4|avx2|avx512) in the environment forces a path (an
-// error if the CPU cannot run it); otherwise the widest supported path is used. Width 16
-// (AVX-512) is offered only when PATINA_SIMD asks for it: see cpu.cpp.
+// error if the CPU cannot run it); otherwise the widest supported path is used: width 16
+// on CPUs with AVX-512 (F, VL, DQ, BW) and the OS's ZMM state, width 8 without it.
 #pragma once
 
 namespace patina {
@@ -15,7 +15,7 @@ struct CpuFeatures {
 
 const CpuFeatures& cpu_features();
 
-// True if kernels of this width (1, 4, 8 or 16) can run here (16: only when PATINA_SIMD asks).
+// True if kernels of this width (1, 4, 8 or 16) can run here.
 bool width_supported(int width);
 
 // The width to use when the caller did not ask for one: PATINA_SIMD or the widest.

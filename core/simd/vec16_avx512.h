@@ -230,4 +230,10 @@ PATINA_INLINE vfloat16 gather(const float* base, vint16 idx, vbool16 active) {
     return vfloat16(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), active.m, idx.v, base, 4));
 }
 
+// A gather from a 32-float window held in two registers (lo: floats 0-15, hi: 16-31), each lane
+// taking float idx & 31: one vpermt2ps, where a gather is one load a lane (brdf/search.h).
+PATINA_INLINE vfloat16 permute2(vfloat16 lo, vfloat16 hi, vint16 idx) {
+    return vfloat16(_mm512_permutex2var_ps(lo.v, idx.v, hi.v));
+}
+
 PATINA_END_TARGET

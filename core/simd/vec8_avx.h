@@ -181,4 +181,12 @@ PATINA_INLINE vfloat8 gather(const float* base, vint8 idx, vbool8 active) {
     return vfloat8(_mm256_mask_i32gather_ps(_mm256_setzero_ps(), base, idx.v, active.m, 4));
 }
 
+// A gather from a 16-float window held in two registers (lo: floats 0-7, hi: 8-15), each lane
+// taking float idx & 15: two vpermps and a blend on bit 3, where a gather is one load a lane.
+// The coherent search's in-register lookups (brdf/search.h).
+PATINA_INLINE vfloat8 permute2(vfloat8 lo, vfloat8 hi, vint8 idx) {
+    const __m256 a = _mm256_permutevar8x32_ps(lo.v, idx.v), b = _mm256_permutevar8x32_ps(hi.v, idx.v);
+    return vfloat8(_mm256_blendv_ps(a, b, _mm256_castsi256_ps(_mm256_slli_epi32(idx.v, 28))));
+}
+
 PATINA_END_TARGET

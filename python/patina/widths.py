@@ -4,8 +4,7 @@ from __future__ import annotations
 
 from patina.native import _core
 
-# 16 is AVX-512 (F, VL, DQ, BW): accepted only where the CPU runs it and PATINA_SIMD=16 asks for
-# it (opt-in until checked on AVX-512 hardware; core/cpu.cpp).
+# 16 is AVX-512 (F, VL, DQ, BW): accepted where the CPU runs it, and the default there (core/cpu.cpp).
 WIDTHS = (1, 4, 8, 16)
 
 
@@ -17,6 +16,6 @@ def core_width(width: int | None) -> int:
     if width not in WIDTHS:
         raise ValueError(f"width: must be None, 1, 4, 8 or 16, got {width!r}")
     if not _core.width_supported(width):
-        why = " (it needs AVX-512 and PATINA_SIMD=16)" if width == 16 else ""
+        why = " (it needs AVX-512)" if width == 16 else ""
         raise ValueError(f"width: {width}-wide SIMD is not supported on this CPU{why}")
     return int(width)

@@ -336,24 +336,92 @@ TEST(Eval, MissingCellsGiveZeroNotData) {
 }
 
 TEST(Eval, SearchFindsTheCell) {
-    const std::vector<float> knots = irregular_axis(90, 0.0, kPiDouble / 2, 2.0);
-    std::vector<float> xs = {-1.0f, 0.0f, knots[1], knots[45], knots[88], knots[89], 2.0f, std::nanf("")};
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<float> u(-0.1f, 1.7f);
-    for (int i = 0; i < 10000; ++i) xs.push_back(u(rng));
-    for (int i = 0; i < 10000; ++i) xs.push_back(float(i) / 10000 * 1.6f);  // coherent
-    for (int w : {1, 4, 8, 16}) {
-        if (!width_supported(w)) continue;
-        for (auto search : {kernels_for(w).search, kernels_for(w).search_thesis}) {
-            std::vector<int32_t> cells(xs.size(), -5);
-            search(knots.data(), int(knots.size()), xs.data(), cells.data(), xs.size());
-            for (size_t i = 0; i < xs.size(); ++i) {
-                int want = int(std::upper_bound(knots.begin(), knots.end(), xs[i]) - knots.begin()) - 1;
-                want = std::clamp(want, 0, int(knots.size()) - 2);
-                if (std::isnan(xs[i])) want = 0;
-                ASSERT_EQ(cells[i], want) << "width " << w << " x=" << xs[i];
+    // 90 and 181 knots: the wide widths' window (2N knots in registers, brdf/search.h) then
+    // fits inside the axis at every width, so coherent blocks take it.
+    for (int count : {90, 181}) {
+        SCOPED_TRACE(count);
+        const std::vector<float> knots = irregular_axis(count, 0.0, kPiDouble / 2, 2.0);
+        std::vector<float> xs = {-1.0f, 0.0f, knots[1], knots[45], knots[88], knots[89], 2.0f, std::nanf("")};
+        std::mt19937 rng(3);
+        std::uniform_real_distribution<float> u(-0.1f, 1.7f);
+        for (int i = 0; i < 10000; ++i) xs.push_back(u(rng));
+        for (int i = 0; i < 10000; ++i) xs.push_back(float(i) / 10000 * 1.6f);  // coherent
+        // coherent runs broken by the cases a window must refuse: NaN, below and above the axis,
+        // a jump across it, knots exactly at a window's edge
+        for (int i = 0; i < 4000; ++i) {
+            float x = 0.3f + float(i % 500) / 500 * 0.4f;
+            if (i % 97 == 5) x = std::nanf("");
+            if (i % 131 == 7) x = -0.5f;
+            if (i % 151 == 9) x = 3.0f;
+            if (i % 173 == 11) x = 1.5f - x;
+            if (i % 59 == 13) x = knots[(i / 59) % count];
+            xs.push_back(x);
+        }
+        for (int w : {1, 4, 8, 16}) {
+            if (!width_supported(w)) continue;
+            for (auto search : {kernels_for(w).search, kernels_for(w).search_thesis}) {
+                std::vector<int32_t> cells(xs.size(), -5);
+                search(knots.data(), int(knots.size()), xs.data(), cells.data(), xs.size());
+                for (size_t i = 0; i < xs.size(); ++i) {
+                    int want = int(std::upper_bound(knots.begin(), knots.end(), xs[i]) - knots.begin()) - 1;
+                    want = std::clamp(want, 0, int(knots.size()) - 2);
+                    if (std::isnan(xs[i])) want = 0;
+                    ASSERT_EQ(cells[i], want) << "width " << w << " x=" << xs[i];
+                }
             }
         }
+    }
+}
+
+// A MERL-sized grid (90 x 46 x 181, finer than kCases' tables): at width 16 only axes of more
+// than 32 knots take the windowed search and the lookups from registers (brdf/search.h), so
+// they are checked here, on the pairs of a lit sphere scanned row by row (lanes that split
+// near the middle knot, blocks that follow each other, lanes below the horizon at its rim),
+// on slowly turning frames and on random pairs.
+TEST(Eval, FineAxesMatchScalarLaneByLane) {
+    Table t;
+    t.parametrization = Parametrization::HalfDiff;
+    t.channels = 3;
+    t.channel_kind = ChannelKind::RGB;
+    t.symmetry = kSymReciprocity;
+    t.axes = {irregular_axis(90, 0, kPiDouble / 2, 2.0), irregular_axis(46, 0, kPiDouble / 2, 1.0),
+              irregular_axis(181, 0, kPiDouble, 1.0)};
+    const size_t points = t.axes[0].size() * t.axes[1].size() * t.axes[2].size();
+    t.values.resize(points * 3);
+    for (size_t i = 0; i < points; ++i) {
+        const size_t p = i % t.axes[2].size(), d = i / t.axes[2].size() % t.axes[1].size();
+        const size_t h = i / (t.axes[2].size() * t.axes[1].size());
+        const double c[3] = {t.axes[0][h], t.axes[1][d], t.axes[2][p]};
+        for (int ch = 0; ch < 3; ++ch) t.values[i * 3 + ch] = float(smooth(t.parametrization, c, ch));
+    }
+    t.check();
+    const PreparedTable prep = prepare(t);
+    std::vector<float> wi, wo;
+    const int side = 160;
+    const double light[3] = {0.5 / 0.9844, 0.6 / 0.9844, 0.62 / 0.9844};
+    for (int row = 0; row < side; ++row)
+        for (int col = 0; col < side; ++col) {
+            const double x = (col + 0.5) / side * 2 - 1, y = 1 - (row + 0.5) / side * 2;
+            if (x * x + y * y >= 0.999) continue;
+            const double n[3] = {x, y, std::sqrt(1 - x * x - y * y)};
+            // the frame of the bench's coherent pairs: t = n x (0, 1, 0), b = n x t
+            double tx = -n[2], tz = n[0];
+            const double tl = std::sqrt(tx * tx + tz * tz);
+            tx /= tl;
+            tz /= tl;
+            const double b[3] = {n[1] * tz, n[2] * tx - n[0] * tz, -n[1] * tx};
+            const double l[3] = {tx * light[0] + tz * light[2], b[0] * light[0] + b[1] * light[1] + b[2] * light[2],
+                                 n[0] * light[0] + n[1] * light[1] + n[2] * light[2]};
+            wi.insert(wi.end(), {float(l[0]), float(l[1]), float(l[2])});
+            wo.insert(wo.end(), {float(tz), float(b[2]), float(n[2])});  // the view (0, 0, 1) in the frame
+        }
+    make_coherent_pairs(6000, wi, wo);
+    make_pairs(6000, 9, wi, wo);
+    const auto r1 = eval_with(1, prep.view, wi, wo);
+    for (int w : {4, 8, 16}) {
+        if (!width_supported(w)) continue;
+        const auto rw = eval_with(w, prep.view, wi, wo);
+        for (size_t i = 0; i < r1.size(); ++i) ASSERT_EQ(rw[i], r1[i]) << "width " << w << ", pair " << i / 3;
     }
 }
 

@@ -1,6 +1,6 @@
-"""The SIMD widths: 16 (AVX-512) is opt-in (PATINA_SIMD=16) and then chosen from CPUID at run
-time, never reached on a CPU without it; the Python side accepts exactly the widths the C++
-dispatcher does."""
+"""The SIMD widths: 16 (AVX-512) is chosen from CPUID at run time, the default where the CPU has
+it, never reached on a CPU without it (PATINA_SIMD=8 forces 8); the Python side accepts exactly
+the widths the C++ dispatcher does."""
 
 from __future__ import annotations
 
@@ -48,9 +48,9 @@ def test_width_16_is_known_everywhere():
     assert WIDTHS == (1, 4, 8, 16)
 
 
-def test_width_16_is_offered_only_when_patina_simd_asks():
+def test_width_16_is_offered_exactly_where_the_cpu_reports_avx512():
     r = _in_subprocess(None, "_core.width_supported(16)")
-    assert r.returncode == 0 and r.stdout.strip() == "False", r.stderr
+    assert r.returncode == 0 and r.stdout.strip() == str(_cpu_has_avx512()), r.stderr
 
 
 def test_width_16_supported_exactly_when_asked_and_the_cpu_reports_avx512():
@@ -61,10 +61,14 @@ def test_width_16_supported_exactly_when_asked_and_the_cpu_reports_avx512():
     assert r.stdout.split() == [str(_cpu_has_avx512()), "True"]
 
 
-def test_the_default_is_the_widest_supported_width_up_to_8():
+def test_the_default_is_the_widest_supported_width_and_patina_simd_8_forces_8():
     r = _in_subprocess(None, "_core.default_width()")
     assert r.returncode == 0, r.stderr
-    assert int(r.stdout) == max(w for w in (1, 4, 8) if _core.width_supported(w))
+    assert int(r.stdout) == max(w for w in (1, 4, 8, 16) if _core.width_supported(w))
+    if _core.width_supported(8):
+        r = _in_subprocess("8", "_core.default_width(), _core.width_supported(16)")
+        assert r.returncode == 0, r.stderr
+        assert r.stdout.split() == ["8", str(_cpu_has_avx512())]
 
 
 @pytest.mark.parametrize("value", ["16", "avx512"])

@@ -79,7 +79,7 @@ def preview_scene(quick: bool) -> tuple[Scene, PreparedScene, str]:
 
 
 def _simd_records(scene: Scene, prep: PreparedScene, label: str, repeat: int) -> list[Record]:
-    widths = simd_widths()  # 16 too where the CPU runs it (PATINA_SIMD=16)
+    widths = simd_widths()  # 16 too where the CPU runs it (AVX-512)
     fns = [lambda w=w: _render(prep, scene, w, 1) for w in (1, *widths)]
     times, _ = median_times_and_values(fns, repeat)
     samples = scene.camera.width * scene.camera.height * scene.render.spp
