@@ -18,6 +18,16 @@ void check_cache_settings(const CacheSettings& s) {
     if (s.block < kCacheBlockMin || s.block > kCacheBlockMax)
         throw std::invalid_argument("cache.block: must be an integer from " + std::to_string(kCacheBlockMin) + " to " +
                                     std::to_string(kCacheBlockMax) + ", got " + std::to_string(s.block));
+    if (s.train_passes < kCacheTrainPassesMin || s.train_passes > kCacheTrainPassesMax)
+        throw std::invalid_argument("cache.train_passes: must be an integer from " +
+                                    std::to_string(kCacheTrainPassesMin) + " to " +
+                                    std::to_string(kCacheTrainPassesMax) + ", got " + std::to_string(s.train_passes));
+    if (s.train_spp < kCacheTrainSppMin || s.train_spp > kCacheTrainSppMax)
+        throw std::invalid_argument("cache.train_spp: must be an integer from " + std::to_string(kCacheTrainSppMin) +
+                                    " to " + std::to_string(kCacheTrainSppMax) + ", got " + std::to_string(s.train_spp));
+    if (!(s.train_guide >= kCacheTrainGuideMin && s.train_guide <= kCacheTrainGuideMax))
+        throw std::invalid_argument("cache.train_guide: must be a number in [0.05, 0.95], got " +
+                                    std::to_string(s.train_guide));
 }
 
 }  // namespace patina

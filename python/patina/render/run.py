@@ -177,6 +177,9 @@ def job_settings(
         "cache_error": float(scene.render.cache.error),
         "cache_guide": float(scene.render.cache.guide),
         "cache_block": scene.render.cache.block,
+        "cache_train_passes": scene.render.cache.train_passes,
+        "cache_train_spp": scene.render.cache.train_spp,
+        "cache_train_guide": float(scene.render.cache.train_guide),
     }
 
 

@@ -192,8 +192,11 @@ CACHE_RANGES: dict[str, tuple[float, float]] = {
     "error": (0.01, 4.0),
     "guide": (0.05, 0.95),
     "block": (1, 16),
+    "train_passes": (0, 8),
+    "train_spp": (1, 16),
+    "train_guide": (0.05, 0.95),
 }
-CACHE_INTEGER_KEYS = ("resolution", "block")
+CACHE_INTEGER_KEYS = ("resolution", "block", "train_passes", "train_spp")
 
 
 def _cache_params(o: Obj) -> CacheParams:
@@ -662,6 +665,9 @@ def with_overrides(
     cache_error: float | None = None,
     cache_guide: float | None = None,
     cache_block: int | None = None,
+    cache_train_passes: int | None = None,
+    cache_train_spp: int | None = None,
+    cache_train_guide: float | None = None,
 ) -> Scene:
     """The scene with command-line settings replacing the file's; bad values are FormatErrors
     naming the option (file "command line")."""
@@ -672,11 +678,19 @@ def with_overrides(
     if integrator is not None:
         render = dataclasses.replace(render, integrator=choice(ctx, "--integrator", integrator, INTEGRATORS))
     cache = render.cache
-    given_cache = {"resolution": cache_resolution, "error": cache_error, "guide": cache_guide, "block": cache_block}
+    given_cache = {
+        "resolution": cache_resolution,
+        "error": cache_error,
+        "guide": cache_guide,
+        "block": cache_block,
+        "train_passes": cache_train_passes,
+        "train_spp": cache_train_spp,
+        "train_guide": cache_train_guide,
+    }
     for key, given in given_cache.items():
         if given is not None:
             lo, hi = CACHE_RANGES[key]
-            option = f"--cache-{key}"
+            option = f"--cache-{key.replace('_', '-')}"
             if key in CACHE_INTEGER_KEYS:
                 value = integer(ctx, option, given, lo=int(lo), hi=int(hi))
             else:

@@ -252,7 +252,9 @@ def test_cache_settings_defaults_and_overrides(folder):
     assert (c.resolution, c.block) == (32, 1)
     for kwargs, where in [({"cache_resolution": 200}, "--cache-resolution"), ({"cache_error": 5.0}, "--cache-error"),
                           ({"cache_guide": 0.0}, "--cache-guide"), ({"cache_block": 17}, "--cache-block"),
-                          ({"cache_block": 2.5}, "--cache-block")]:  # fmt: skip
+                          ({"cache_block": 2.5}, "--cache-block"), ({"cache_train_passes": 9}, "--cache-train-passes"),
+                          ({"cache_train_spp": 0}, "--cache-train-spp"),
+                          ({"cache_train_guide": 0.99}, "--cache-train-guide")]:  # fmt: skip
         with pytest.raises(FormatError) as info:
             with_overrides(scene, **kwargs)
         assert info.value.where == where and info.value.path == "command line"
@@ -297,6 +299,9 @@ ERRORS = [
     (("render", "cache"), {"error": 0}, "render.cache.error", "[0.01, 4]"),
     (("render", "cache"), {"guide": 1}, "render.cache.guide", "[0.05, 0.95]"),
     (("render", "cache"), {"block": 0}, "render.cache.block", "[1, 16]"),
+    (("render", "cache"), {"train_passes": 9}, "render.cache.train_passes", "[0, 8]"),
+    (("render", "cache"), {"train_spp": 0}, "render.cache.train_spp", "[1, 16]"),
+    (("render", "cache"), {"train_guide": 0.01}, "render.cache.train_guide", "[0.05, 0.95]"),
     (("render", "cache"), {"eror": 1}, "render.cache.eror", "did you mean 'error'"),
     (("render", "cache"), 3, "render.cache", "object"),
     (("materials", "paint", "coat", "eta"), 0.5, "materials.paint.coat.eta", "in [1, 1000]"),
