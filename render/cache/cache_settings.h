@@ -12,9 +12,9 @@ struct CacheSettings {
     int block = 8;        // pixels per side of the blocks whose close points share one reconstruction
     // cache-guided's trained guide (render/guiding/guide_training.h): its training passes
     // (0: none, the first bounce guided by the cache points alone) and their samples a pixel
-    int train_passes = 2;
+    int train_passes = 1;
     int train_spp = 1;
-    float train_guide = 0.25f;  // ...and the probability of drawing a bounce from it
+    float train_guide = 0.1f;  // ...and the probability of drawing a bounce from it
 };
 
 constexpr int kCacheResolutionMin = 8, kCacheResolutionMax = 128;

@@ -8,6 +8,7 @@
 
 #include "render/accel/kdtree.h"
 #include "render/integrator.h"
+#include "render/render_job.h"
 #include "render/rng.h"
 #include "render/scene.h"
 
@@ -89,6 +90,20 @@ inline std::vector<CameraSample> pixel_samples(int width, int height, int spp, u
                 cs.push_back(CameraSample{x + uniform(key, 0), y + uniform(key, 1), stream_key(seed, static_cast<uint32_t>(y * width + x)), static_cast<uint32_t>(s)});
             }
     return cs;
+}
+
+// A render job's settings for the box: tiles of 8 pixels, 4 segments, cache points of 16 x 16.
+inline RenderSettings box_job_settings(IntegratorMode mode, int threads, int spp, int width = 0) {
+    RenderSettings st;
+    st.spp = spp;
+    st.max_depth = 4;
+    st.seed = 5;
+    st.threads = threads;
+    st.width = width;
+    st.tile_size = 8;
+    st.mode = mode;
+    st.cache.resolution = 16;
+    return st;
 }
 
 }  // namespace patina::test

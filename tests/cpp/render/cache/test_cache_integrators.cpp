@@ -39,16 +39,8 @@ double mean_radiance(const std::vector<PathResult>& r) {
 }
 
 RenderSettings job_settings(IntegratorMode mode, int threads, int spp, int width = 0) {
-    RenderSettings st;
-    st.spp = spp;
-    st.max_depth = 4;
-    st.seed = 5;
-    st.threads = threads;
-    st.width = width;
-    st.tile_size = 8;
+    RenderSettings st = box_job_settings(mode, threads, spp, width);
     st.max_pass_spp = 1;  // a pass a sample: the regions' cache points serve every pass
-    st.mode = mode;
-    st.cache.resolution = 16;
     st.cache.train_passes = 0;  // cache-guided: the cache points guide (the trained guide: tests/cpp/render/guiding)
     return st;
 }

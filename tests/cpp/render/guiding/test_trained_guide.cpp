@@ -20,14 +20,8 @@ using namespace patina::test;
 namespace {
 
 RenderSettings trained(IntegratorMode mode, int threads, int spp, int width = 0) {
-    RenderSettings st;
-    st.spp = spp;
+    RenderSettings st = box_job_settings(mode, threads, spp, width);
     st.max_depth = 5;
-    st.seed = 9;
-    st.threads = threads;
-    st.width = width;
-    st.tile_size = 8;
-    st.mode = mode;
     st.cache.train_passes = 2;
     st.cache.train_spp = 2;
     return st;
