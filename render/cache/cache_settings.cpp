@@ -28,6 +28,10 @@ void check_cache_settings(const CacheSettings& s) {
     if (!(s.train_guide >= kCacheTrainGuideMin && s.train_guide <= kCacheTrainGuideMax))
         throw std::invalid_argument("cache.train_guide: must be a number in [0.05, 0.95], got " +
                                     std::to_string(s.train_guide));
+    if (s.train_bounces < kCacheTrainBouncesMin || s.train_bounces > kCacheTrainBouncesMax)
+        throw std::invalid_argument("cache.train_bounces: must be an integer from " +
+                                    std::to_string(kCacheTrainBouncesMin) + " to " +
+                                    std::to_string(kCacheTrainBouncesMax) + ", got " + std::to_string(s.train_bounces));
 }
 
 }  // namespace patina

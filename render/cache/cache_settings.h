@@ -14,7 +14,8 @@ struct CacheSettings {
     // (0: none, the first bounce guided by the cache points alone) and their samples a pixel
     int train_passes = 1;
     int train_spp = 1;
-    float train_guide = 0.1f;  // ...and the probability of drawing a bounce from it
+    float train_guide = 0.1f;  // ...and the probability of drawing a bounce from it...
+    int train_bounces = 1;     // ...at the first this many bounces of a path (1: the first hit's)
 };
 
 constexpr int kCacheResolutionMin = 8, kCacheResolutionMax = 128;
@@ -24,6 +25,7 @@ constexpr int kCacheBlockMin = 1, kCacheBlockMax = 16;
 constexpr int kCacheTrainPassesMin = 0, kCacheTrainPassesMax = 8;
 constexpr int kCacheTrainSppMin = 1, kCacheTrainSppMax = 16;
 constexpr float kCacheTrainGuideMin = 0.05f, kCacheTrainGuideMax = 0.95f;
+constexpr int kCacheTrainBouncesMin = 1, kCacheTrainBouncesMax = 16;
 
 // Throws std::invalid_argument naming the key (cache.resolution, ...) and its range.
 void check_cache_settings(const CacheSettings& s);

@@ -53,8 +53,8 @@ inline void place_guide_points(const W& w, Tracer& trace) {
 // neighbours') was measured on the bundled scenes at 64 pixels wide, 16 spp: the room's
 // variance fell 23 %, the studio's and the IES interior's rose 39 and 51 %, as the later
 // vertices' light is less like any cache point's; the first hit alone: -17 %, +15 %, +17 %
-// at less cost. The later bounces (and, with a trained guide, the first too: below) draw
-// from the trained guide (render/guiding/guide_field.h).
+// at less cost. With a trained guide (render/guiding/guide_field.h) the first
+// cache.train_bounces bounces draw from it instead.
 constexpr int kGuidedBounces = 1;
 
 // The materials the trained guide draws for: lobes broad enough for its cells (a narrow lobe
@@ -80,8 +80,9 @@ inline bool field_guidable(const Material& m) {
 
 // cache-guided, at every bounce before light sampling: each shading point's guide -- at the
 // first bounce its cache point (st.guides.of) where the cache points guide, for the
-// materials whose lobes the texels resolve; else its trained guide's distribution
-// (st.guides.field_of), for the materials field_guidable takes.
+// materials whose lobes the texels resolve; else, at the first cache.train_bounces bounces,
+// its trained guide's distribution (st.guides.field_of), for the materials field_guidable
+// takes.
 template <class W>
 inline void assign_guides(const W& w, int depth) {
     PathScratch& sc = w.sc;
@@ -105,7 +106,7 @@ inline void assign_guides(const W& w, int depth) {
             }
         }
     }
-    if (g.field != nullptr && !g.field->empty())
+    if (g.field != nullptr && !g.field->empty() && depth < w.st.cache.train_bounces)
         for (size_t k = 0; k < w.s.materials.size(); ++k) {
             if (!field_guidable(w.s.materials[k])) continue;
             const size_t first = sc.material_start[k], last = sc.material_start[k + 1];

@@ -127,6 +127,7 @@ def _with_options(scene: Scene, args: argparse.Namespace) -> Scene:
         cache_train_passes=args.cache_train_passes,
         cache_train_spp=args.cache_train_spp,
         cache_train_guide=args.cache_train_guide,
+        cache_train_bounces=args.cache_train_bounces,
     )
 
 
@@ -378,6 +379,7 @@ def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help:
         ("train_passes", int, "cache-guided: training passes of the trained guide (0: cache points guide)"),
         ("train_spp", int, "cache-guided: samples a pixel in each training pass"),
         ("train_guide", float, "cache-guided: probability of drawing a bounce from the trained guide"),
+        ("train_bounces", int, "cache-guided: the bounces of a path the trained guide draws (1: the first hit's)"),
     ):
         lo, hi = CACHE_RANGES[key]
         s.add_argument(

@@ -180,6 +180,7 @@ def job_settings(
         "cache_train_passes": scene.render.cache.train_passes,
         "cache_train_spp": scene.render.cache.train_spp,
         "cache_train_guide": float(scene.render.cache.train_guide),
+        "cache_train_bounces": scene.render.cache.train_bounces,
     }
 
 

@@ -195,8 +195,9 @@ CACHE_RANGES: dict[str, tuple[float, float]] = {
     "train_passes": (0, 8),
     "train_spp": (1, 16),
     "train_guide": (0.05, 0.95),
+    "train_bounces": (1, 16),
 }
-CACHE_INTEGER_KEYS = ("resolution", "block", "train_passes", "train_spp")
+CACHE_INTEGER_KEYS = ("resolution", "block", "train_passes", "train_spp", "train_bounces")
 
 
 def _cache_params(o: Obj) -> CacheParams:
@@ -668,6 +669,7 @@ def with_overrides(
     cache_train_passes: int | None = None,
     cache_train_spp: int | None = None,
     cache_train_guide: float | None = None,
+    cache_train_bounces: int | None = None,
 ) -> Scene:
     """The scene with command-line settings replacing the file's; bad values are FormatErrors
     naming the option (file "command line")."""
@@ -686,6 +688,7 @@ def with_overrides(
         "train_passes": cache_train_passes,
         "train_spp": cache_train_spp,
         "train_guide": cache_train_guide,
+        "train_bounces": cache_train_bounces,
     }
     for key, given in given_cache.items():
         if given is not None:

@@ -76,6 +76,7 @@ class CacheParams:
     train_passes: int = 1  # cache-guided: training passes of the trained guide, 0 (none) to 8
     train_spp: int = 1  # cache-guided: samples a pixel in each training pass, 1 to 16
     train_guide: float = 0.1  # cache-guided: probability of drawing a bounce from the trained guide, 0.05 to 0.95
+    train_bounces: int = 1  # cache-guided: the bounces the trained guide draws (1: the first hit's), 1 to 16
 
 
 @dataclass(frozen=True)

@@ -128,7 +128,7 @@ def test_the_cache_integrators_render_and_record_their_statistics(tmp_path, caps
     [(["--integrator", "photon"], "--integrator"), (["--cache-resolution", "4"], "--cache-resolution"),
      (["--cache-error", "9"], "--cache-error"), (["--cache-guide", "1"], "--cache-guide"),
      (["--cache-train-passes", "9"], "--cache-train-passes"), (["--cache-train-spp", "0"], "--cache-train-spp"),
-     (["--cache-train-guide", "1"], "--cache-train-guide")],
+     (["--cache-train-guide", "1"], "--cache-train-guide"), (["--cache-train-bounces", "0"], "--cache-train-bounces")],
 )  # fmt: skip
 def test_bad_cache_options_exit_2_naming_the_option(tmp_path, capsys, options, named):
     box = os.path.join(ROOT, "materials", "scenes", "area-box.json")

@@ -23,6 +23,7 @@ RenderSettings trained(IntegratorMode mode, int threads, int spp, int width = 0)
     RenderSettings st = box_job_settings(mode, threads, spp, width);
     st.max_depth = 5;
     st.cache.train_passes = 2;
+    st.cache.train_bounces = 16;  // every bounce
     st.cache.train_spp = 2;
     return st;
 }
