@@ -24,6 +24,11 @@
 
 namespace patina {
 
+namespace guiding {
+class GuideField;
+struct GuideRecordSink;
+}  // namespace guiding
+
 // Where the paths' random numbers come from (render/sample_numbers.h): Owen-scrambled
 // Sobol points, one sequence a pixel, or independent hashes of (path, dimension).
 enum class SamplerKind : uint8_t { Sobol, Independent };
@@ -129,6 +134,10 @@ struct PathScratch {
     std::vector<const CachePoint*> cache_shared;
     // ...and the reconstructed hemispheres those regions keep (render/cache/region_hemisphere.h)
     std::vector<const RegionHemisphere*> cache_shared_hemispheres;
+    // cache-guided's trained guide (render/guiding/): the field the bounces draw from (null:
+    // none), and during a training pass the sink its path vertices' records go to
+    const guiding::GuideField* guide_field = nullptr;
+    guiding::GuideRecordSink* guide_sink = nullptr;
     // the cache's statistics since construction
     size_t cache_points = 0, cache_queries = 0, cache_texels_reprojected = 0, cache_texels_traced = 0;
 };

@@ -27,6 +27,7 @@
 #include "render/cache/guided_stages_impl.h"
 #include "render/camera.h"
 #include "render/env_impl.h"
+#include "render/guiding/guide_recording_impl.h"
 #include "render/integrator.h"
 #include "render/light_sampling_impl.h"
 #include "render/material_impl.h"
@@ -710,7 +711,7 @@ inline void sample_bsdf(const Wavefront& w, int depth) {
     float* upick = grow(sc.u_pick, np);
     float* u1 = grow(sc.u1, np);
     float* u2 = grow(sc.u2, np);
-    const bool guided = depth < cache::kGuidedBounces && w.st.mode == IntegratorMode::CacheGuided;
+    const bool guided = w.st.mode == IntegratorMode::CacheGuided && cache::guided_here(sc);
     // the pick only for the groups whose sampling reads it (and the guide's, which picks too)
     if (guided) fill_uniforms(sc, np, depth, kDimBsdfPick, upick);
     else for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
@@ -788,6 +789,7 @@ inline void run_paths(const Wavefront& w) {
     for (int depth = 0; !sc.active.empty(); ++depth) {
         const HitBatch hits = trace_bounce(w, depth);
         add_emission_and_environment(w, hits, depth);
+        if (guide_recording::recording(sc)) guide_recording::note_arrivals(w);
         sc.timer.lap(Stage::Emission);
         group_by_material(w, hits, depth);
         sc.timer.lap(Stage::GroupMaterial);
@@ -798,6 +800,7 @@ inline void run_paths(const Wavefront& w) {
         if (w.st.mode == IntegratorMode::CacheGuided) cache::assign_guides(w, depth);
         queue_light_samples(w, depth);
         sample_bsdf(w, depth);
+        if (guide_recording::recording(sc)) guide_recording::note_vertices(w);
         resolve_shadow_rays(w);
         std::swap(sc.active, sc.next_active);
         // the next bounce's rays, in its active order: update_paths wrote them (or none go on)
@@ -864,7 +867,9 @@ void trace_paths(const RenderScene& s, const IntegratorSettings& st, const Camer
     sc.timer.start();
     start_camera_paths(w, n);
     sc.timer.lap(Stage::CameraRays);
+    if (guide_recording::recording(sc)) guide_recording::start_records(sc);
     run_paths(w);
+    if (guide_recording::recording(sc)) guide_recording::finish_records(w);
     // the indirect illuminance AOV: each first hit a sensor, its path one vertex shorter
     if (!st.indirect_illuminance || st.max_depth < 2 || sc.sensors.empty()) return;
     sc.sensor_samples.resize(sc.sensors.size());

@@ -71,8 +71,12 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     m_tile_passes = std::vector<std::atomic<int>>(tiles);
     for (auto& a : m_tile_passes) a.store(0);
     // the radiance cache's shared points (cache_regions.h), where the cache stage runs
-    if (settings.mode != IntegratorMode::Path && settings.max_depth > 1)
+    // (cache-guided with a trained guide: the guide's training, and no cache points)
+    const bool trained_guide = settings.mode == IntegratorMode::CacheGuided && settings.cache.train_passes > 0;
+    if (settings.mode != IntegratorMode::Path && settings.max_depth > 1 && !trained_guide)
         m_cache_regions = std::make_unique<CacheRegions>(c.width, c.height);
+    if (trained_guide && settings.max_depth > 1)
+        m_guide_training = std::make_unique<guiding::GuideTraining>(scene, m_integrator, *m_kernels, settings.seed);
     if (settings.aa == RenderSettings::Aa::Adaptive) {
         m_aa_stats.level.assign(static_cast<size_t>(c.width) * c.height, 0);
         m_aa_stats.rays.assign(static_cast<size_t>(c.width) * c.height, 0);
@@ -156,6 +160,10 @@ void RenderJob::worker() {
     std::vector<CameraSample> cs;
     std::vector<PathResult> out;
     try {
+        if (m_guide_training) {  // the guide first, with every worker (part of the render's time)
+            m_guide_training->take_part(scratch, [this] { return m_cancels.load() >= 2; });
+            scratch.guide_field = &m_guide_training->field();
+        }
         const size_t tiles = m_tile_passes.size();
         while (m_cancels.load() < 2) {
             const size_t k = m_next.fetch_add(1);
@@ -294,6 +302,12 @@ RenderJob::TileWork RenderJob::render_tiles(const std::vector<int>& tiles, int f
     thread_local std::vector<CameraSample> cs;
     thread_local std::vector<PathResult> out;
     Samplers samplers(*this);
+    // the trained guide, by the first call (each process trains the same one for itself)
+    scratch.guide_field = nullptr;
+    if (m_guide_training) {
+        m_guide_training->take_part(scratch);
+        scratch.guide_field = &m_guide_training->field();
+    }
     // (the cache's regions are not announced: later calls may want them; the budget bounds them)
     const size_t rays = scratch.rays_traced, points = scratch.cache_points, queries = scratch.cache_queries,
                  reprojected = scratch.cache_texels_reprojected, traced = scratch.cache_texels_traced;

@@ -18,6 +18,7 @@
 #include "render/adaptive_sampler.h"
 #include "render/cache/cache_regions.h"
 #include "render/film.h"
+#include "render/guiding/guide_training.h"
 #include "render/integrator.h"
 #include "render/pixel_sampler.h"
 #include "render/scene.h"
@@ -131,6 +132,9 @@ private:
     AaStats m_aa_stats;
     // the radiance cache's points shared by the items (render/cache/cache_regions.h; null: no cache stage)
     std::unique_ptr<CacheRegions> m_cache_regions;
+    // cache-guided's trained guide (render/guiding/guide_training.h; null: none), trained by
+    // the workers before their first item
+    std::unique_ptr<guiding::GuideTraining> m_guide_training;
     AaEdgeHints m_aa_hints;  // the adaptive sampler's geometric pre-pass, computed once
     std::once_flag m_aa_hints_once;  // render_tiles: computed by the first call, whichever thread
     std::atomic<size_t> m_next{0}, m_done{0}, m_rays{0}, m_samples_done{0};

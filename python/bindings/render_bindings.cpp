@@ -412,7 +412,9 @@ std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth
                                     int width, int tile_size, int passes, const std::string& aa, float aa_threshold,
                                     bool indirect_illuminance, const std::string& sampler,
                                     const std::string& stage_clock, const std::string& integrator, int cache_resolution, float cache_error,
-                                    float cache_guide, int cache_block, int cache_hit_paths) {
+                                    float cache_guide, int cache_block, int cache_hit_paths,
+                                    int cache_train_passes, int cache_train_spp,
+                                    float cache_train_guide, int cache_train_bounces) {
     SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
     check_materials(h);
     patina::prepare_light_selection(h.scene);
@@ -449,6 +451,10 @@ std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth
     st.cache.guide = cache_guide;
     st.cache.block = cache_block;
     st.cache.hit_paths = cache_hit_paths;
+    st.cache.train_passes = cache_train_passes;
+    st.cache.train_spp = cache_train_spp;
+    st.cache.train_guide = cache_train_guide;
+    st.cache.train_bounces = cache_train_bounces;
     patina::check_cache_settings(st.cache);
     auto j = std::make_unique<JobHandle>();
     j->scene_ref = scene_obj;
@@ -808,7 +814,11 @@ void bind_render(nb::module_& m) {
              nb::arg("cache_error") = patina::CacheSettings{}.error,
              nb::arg("cache_guide") = patina::CacheSettings{}.guide,
              nb::arg("cache_block") = patina::CacheSettings{}.block,
-             nb::arg("cache_hit_paths") = patina::CacheSettings{}.hit_paths)
+             nb::arg("cache_hit_paths") = patina::CacheSettings{}.hit_paths,
+             nb::arg("cache_train_passes") = patina::CacheSettings{}.train_passes,
+             nb::arg("cache_train_spp") = patina::CacheSettings{}.train_spp,
+             nb::arg("cache_train_guide") = patina::CacheSettings{}.train_guide,
+             nb::arg("cache_train_bounces") = patina::CacheSettings{}.train_bounces)
         .def("start", [](JobHandle& j) { j.job->start(); })
         .def("cancel", [](JobHandle& j) { j.job->cancel(); })
         .def("wait",

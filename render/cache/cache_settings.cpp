@@ -22,6 +22,20 @@ void check_cache_settings(const CacheSettings& s) {
         throw std::invalid_argument("cache.hit_paths: must be an integer from " + std::to_string(kCacheHitPathsMin) +
                                     " to " + std::to_string(kCacheHitPathsMax) + ", got " +
                                     std::to_string(s.hit_paths));
+    if (s.train_passes < kCacheTrainPassesMin || s.train_passes > kCacheTrainPassesMax)
+        throw std::invalid_argument("cache.train_passes: must be an integer from " +
+                                    std::to_string(kCacheTrainPassesMin) + " to " +
+                                    std::to_string(kCacheTrainPassesMax) + ", got " + std::to_string(s.train_passes));
+    if (s.train_spp < kCacheTrainSppMin || s.train_spp > kCacheTrainSppMax)
+        throw std::invalid_argument("cache.train_spp: must be an integer from " + std::to_string(kCacheTrainSppMin) +
+                                    " to " + std::to_string(kCacheTrainSppMax) + ", got " + std::to_string(s.train_spp));
+    if (!(s.train_guide >= kCacheTrainGuideMin && s.train_guide <= kCacheTrainGuideMax))
+        throw std::invalid_argument("cache.train_guide: must be a number in [0.05, 0.95], got " +
+                                    std::to_string(s.train_guide));
+    if (s.train_bounces < kCacheTrainBouncesMin || s.train_bounces > kCacheTrainBouncesMax)
+        throw std::invalid_argument("cache.train_bounces: must be an integer from " +
+                                    std::to_string(kCacheTrainBouncesMin) + " to " +
+                                    std::to_string(kCacheTrainBouncesMax) + ", got " + std::to_string(s.train_bounces));
 }
 
 }  // namespace patina

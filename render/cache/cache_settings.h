@@ -11,6 +11,12 @@ struct CacheSettings {
     float guide = 0.5f;   // cache-guided: the probability of drawing the first bounce from the cache
     int block = 8;        // pixels per side of the blocks whose close points share one reconstruction
     int hit_paths = 4;    // cache: paths from a cache point's texel hit on a glossy surface (its light split)
+    // cache-guided's trained guide (render/guiding/guide_training.h): its training passes
+    // (0: none, the first bounce guided by the cache points alone) and their samples a pixel
+    int train_passes = 1;
+    int train_spp = 1;
+    float train_guide = 0.1f;  // ...and the probability of drawing a bounce from it...
+    int train_bounces = 1;     // ...at the first this many bounces of a path (1: the first hit's)
 };
 
 constexpr int kCacheResolutionMin = 8, kCacheResolutionMax = 128;
@@ -18,6 +24,10 @@ constexpr float kCacheErrorMin = 0.01f, kCacheErrorMax = 4.0f;
 constexpr float kCacheGuideMin = 0.05f, kCacheGuideMax = 0.95f;
 constexpr int kCacheBlockMin = 1, kCacheBlockMax = 16;
 constexpr int kCacheHitPathsMin = 1, kCacheHitPathsMax = 16;
+constexpr int kCacheTrainPassesMin = 0, kCacheTrainPassesMax = 8;
+constexpr int kCacheTrainSppMin = 1, kCacheTrainSppMax = 16;
+constexpr float kCacheTrainGuideMin = 0.05f, kCacheTrainGuideMax = 0.95f;
+constexpr int kCacheTrainBouncesMin = 1, kCacheTrainBouncesMax = 16;
 
 // Throws std::invalid_argument naming the key (cache.resolution, ...) and its range.
 void check_cache_settings(const CacheSettings& s);

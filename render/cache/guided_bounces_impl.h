@@ -33,6 +33,7 @@
 #include "render/cache/guided_distribution.h"
 #include "render/cache/hemisphere.h"
 #include "render/cache/reprojection_impl.h"
+#include "render/guiding/guide_field.h"
 #include "render/integrator.h"
 
 PATINA_BEGIN_TARGET
@@ -59,7 +60,13 @@ struct GuidePool {
     std::unordered_map<int64_t, std::vector<int32_t>> grid;
     std::vector<int32_t> everywhere;  // points of unbounded reach (no hits: infinite radius)
     std::vector<int32_t> of;          // per shading point of the bounce: its guide point, or -1
-    void clear() { points.clear(), of.clear(); }
+    // the trained guide (render/guiding/guide_field.h), where there is one: per shading point
+    // of the bounce that no cache point guides, its field distribution, or -1
+    const guiding::GuideField* field = nullptr;
+    std::vector<int32_t> field_of;
+    bool any = false;  // some point of the bounce is guided
+    void clear() { points.clear(), of.clear(), field_of.clear(), any = false; }
+    bool guides(size_t q) const { return of[q] >= 0 || field_of[q] >= 0; }
 
     static int64_t key(int64_t i, int64_t j, int64_t k) {
         return ((i & 0x1fffff) << 42) | ((j & 0x1fffff) << 21) | (k & 0x1fffff);

@@ -125,6 +125,10 @@ def _with_options(scene: Scene, args: argparse.Namespace) -> Scene:
         cache_guide=args.cache_guide,
         cache_block=args.cache_block,
         cache_hit_paths=args.cache_hit_paths,
+        cache_train_passes=args.cache_train_passes,
+        cache_train_spp=args.cache_train_spp,
+        cache_train_guide=args.cache_train_guide,
+        cache_train_bounces=args.cache_train_bounces,
     )
 
 
@@ -371,9 +375,13 @@ def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help:
     for key, kind, what in (
         ("resolution", int, "texels per side of a cache point's hemisphere"),
         ("error", float, "the cache's reuse criterion bound (larger: fewer cache points, more reuse)"),
-        ("guide", float, "cache-guided: probability of drawing the first bounce from the cache"),
+        ("guide", float, "cache-guided: probability of drawing the first bounce from the cache points"),
         ("block", int, "pixels per side of the blocks whose close points share one reconstruction"),
         ("hit_paths", int, "cache: paths from a cache point's texel hit on a glossy surface"),
+        ("train_passes", int, "cache-guided: training passes of the trained guide (0: cache points guide)"),
+        ("train_spp", int, "cache-guided: samples a pixel in each training pass"),
+        ("train_guide", float, "cache-guided: probability of drawing a bounce from the trained guide"),
+        ("train_bounces", int, "cache-guided: the bounces of a path the trained guide draws (1: the first hit's)"),
     ):
         lo, hi = CACHE_RANGES[key]
         s.add_argument(

@@ -178,6 +178,10 @@ def job_settings(
         "cache_guide": float(scene.render.cache.guide),
         "cache_block": scene.render.cache.block,
         "cache_hit_paths": scene.render.cache.hit_paths,
+        "cache_train_passes": scene.render.cache.train_passes,
+        "cache_train_spp": scene.render.cache.train_spp,
+        "cache_train_guide": float(scene.render.cache.train_guide),
+        "cache_train_bounces": scene.render.cache.train_bounces,
     }
 
 

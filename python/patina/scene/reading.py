@@ -193,8 +193,12 @@ CACHE_RANGES: dict[str, tuple[float, float]] = {
     "guide": (0.05, 0.95),
     "block": (1, 16),
     "hit_paths": (1, 16),
+    "train_passes": (0, 8),
+    "train_spp": (1, 16),
+    "train_guide": (0.05, 0.95),
+    "train_bounces": (1, 16),
 }
-CACHE_INTEGER_KEYS = ("resolution", "block", "hit_paths")
+CACHE_INTEGER_KEYS = ("resolution", "block", "hit_paths", "train_passes", "train_spp", "train_bounces")
 
 
 def _cache_params(o: Obj) -> CacheParams:
@@ -664,6 +668,10 @@ def with_overrides(
     cache_guide: float | None = None,
     cache_block: int | None = None,
     cache_hit_paths: int | None = None,
+    cache_train_passes: int | None = None,
+    cache_train_spp: int | None = None,
+    cache_train_guide: float | None = None,
+    cache_train_bounces: int | None = None,
 ) -> Scene:
     """The scene with command-line settings replacing the file's; bad values are FormatErrors
     naming the option (file "command line")."""
@@ -680,6 +688,10 @@ def with_overrides(
         "guide": cache_guide,
         "block": cache_block,
         "hit_paths": cache_hit_paths,
+        "train_passes": cache_train_passes,
+        "train_spp": cache_train_spp,
+        "train_guide": cache_train_guide,
+        "train_bounces": cache_train_bounces,
     }
     for key, given in given_cache.items():
         if given is not None:

@@ -114,6 +114,7 @@ def test_the_cache_integrators_render_and_record_their_statistics(tmp_path, caps
     out = tmp_path / "c.exr"
     box = os.path.join(ROOT, "materials", "scenes", "area-box.json")
     options = ["--spp", "1", "--width", "24", "--height", "24", "--cache-resolution", "8"]
+    options += ["--cache-train-passes", "0"]  # cache-guided: the cache points guide (the trained guide has none)
     assert main(["render", box, "--integrator", integrator, "--out", str(out), "--png", "none", *options]) == 0
     assert "radiance cache:" in capsys.readouterr().out
     layers, meta = read_exr_layers(str(out))
@@ -125,7 +126,9 @@ def test_the_cache_integrators_render_and_record_their_statistics(tmp_path, caps
 @pytest.mark.parametrize(
     ("options", "named"),
     [(["--integrator", "photon"], "--integrator"), (["--cache-resolution", "4"], "--cache-resolution"),
-     (["--cache-error", "9"], "--cache-error"), (["--cache-guide", "1"], "--cache-guide")],
+     (["--cache-error", "9"], "--cache-error"), (["--cache-guide", "1"], "--cache-guide"),
+     (["--cache-train-passes", "9"], "--cache-train-passes"), (["--cache-train-spp", "0"], "--cache-train-spp"),
+     (["--cache-train-guide", "1"], "--cache-train-guide"), (["--cache-train-bounces", "0"], "--cache-train-bounces")],
 )  # fmt: skip
 def test_bad_cache_options_exit_2_naming_the_option(tmp_path, capsys, options, named):
     box = os.path.join(ROOT, "materials", "scenes", "area-box.json")

@@ -253,8 +253,11 @@ def test_cache_settings_defaults_and_overrides(folder):
     assert scene.render.cache.hit_paths == 4 and with_overrides(scene, cache_hit_paths=2).render.cache.hit_paths == 2
     for kwargs, where in [({"cache_resolution": 200}, "--cache-resolution"), ({"cache_error": 5.0}, "--cache-error"),
                           ({"cache_guide": 0.0}, "--cache-guide"), ({"cache_block": 17}, "--cache-block"),
-                          ({"cache_block": 2.5}, "--cache-block"),
-                          ({"cache_hit_paths": 0}, "--cache-hit-paths")]:  # fmt: skip
+                          ({"cache_block": 2.5}, "--cache-block"), ({"cache_hit_paths": 0}, "--cache-hit-paths"),
+                          ({"cache_train_passes": 9}, "--cache-train-passes"),
+                          ({"cache_train_spp": 0}, "--cache-train-spp"),
+                          ({"cache_train_guide": 0.99}, "--cache-train-guide"),
+                          ({"cache_train_bounces": 17}, "--cache-train-bounces")]:  # fmt: skip
         with pytest.raises(FormatError) as info:
             with_overrides(scene, **kwargs)
         assert info.value.where == where and info.value.path == "command line"
@@ -300,6 +303,10 @@ ERRORS = [
     (("render", "cache"), {"guide": 1}, "render.cache.guide", "[0.05, 0.95]"),
     (("render", "cache"), {"block": 0}, "render.cache.block", "[1, 16]"),
     (("render", "cache"), {"hit_paths": 17}, "render.cache.hit_paths", "[1, 16]"),
+    (("render", "cache"), {"train_passes": 9}, "render.cache.train_passes", "[0, 8]"),
+    (("render", "cache"), {"train_spp": 0}, "render.cache.train_spp", "[1, 16]"),
+    (("render", "cache"), {"train_guide": 0.01}, "render.cache.train_guide", "[0.05, 0.95]"),
+    (("render", "cache"), {"train_bounces": 0}, "render.cache.train_bounces", "[1, 16]"),
     (("render", "cache"), {"eror": 1}, "render.cache.eror", "did you mean 'error'"),
     (("render", "cache"), 3, "render.cache", "object"),
     (("materials", "paint", "coat", "eta"), 0.5, "materials.paint.coat.eta", "in [1, 1000]"),

@@ -1,0 +1,94 @@
+// cache-guided with its trained guide (render/guiding/guide_training.h) in the render job, on
+// the cache tests' lit box: the training records the paths' vertices and builds a field; the
+// image is the same for 1 and 2 threads, at widths 1, 8 and 16 and with the tiles rendered
+// one by one in reverse order (a distributed render's way); it draws from the guide (not the
+// path tracer's image) and agrees with the path tracer's in the mean (a z-test), with finite,
+// non-negative radiance.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "core/cpu.h"
+#include "render/guiding/guide_training.h"
+#include "render/render_job.h"
+#include "tests/cpp/render/cache/box_scene.h"
+
+using namespace patina;
+using namespace patina::test;
+
+namespace {
+
+RenderSettings trained(IntegratorMode mode, int threads, int spp, int width = 0) {
+    RenderSettings st = box_job_settings(mode, threads, spp, width);
+    st.max_depth = 5;
+    st.cache.train_passes = 2;
+    st.cache.train_bounces = 16;  // every bounce
+    st.cache.train_spp = 2;
+    return st;
+}
+
+std::vector<float> image(const RenderScene& scene, const RenderSettings& st) {
+    RenderJob job(scene, st);
+    job.start();
+    job.wait();
+    const size_t n = static_cast<size_t>(scene.camera.width) * scene.camera.height;
+    std::vector<float> rgb(3 * n), albedo(3 * n), normal(3 * n), depth(n), lux(n), samples(n);
+    job.resolve(rgb.data(), albedo.data(), normal.data(), depth.data(), lux.data(), samples.data());
+    return rgb;
+}
+
+}  // namespace
+
+TEST(TrainedGuide, TrainingRecordsTheVerticesAndBuildsAField) {
+    const BoxScene b(24, 24);
+    IntegratorSettings st;
+    st.max_depth = 5;
+    st.mode = IntegratorMode::CacheGuided;
+    st.cache.train_passes = 2;
+    guiding::GuideTraining training(b.scene, st, render_kernels_for(0), 3);
+    PathScratch sc;
+    training.take_part(sc);
+    EXPECT_TRUE(training.trained());
+    // 24 x 24 pixels, 2 passes of 1 path: more than one record a path (the box is closed)
+    EXPECT_GT(training.records(), 2u * 24 * 24);
+    EXPECT_FALSE(training.field().empty());
+    EXPECT_EQ(sc.guide_field, nullptr);  // the scratch as it was
+    EXPECT_EQ(sc.guide_sink, nullptr);
+}
+
+TEST(TrainedGuide, TheImageIsTheSameForThreadsWidthsAndTileOrder) {
+    const BoxScene b(24, 16);
+    const std::vector<float> one = image(b.scene, trained(IntegratorMode::CacheGuided, 1, 4, 1));
+    const std::vector<float> two = image(b.scene, trained(IntegratorMode::CacheGuided, 2, 4, 1));
+    for (size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], two[i]) << i;
+    for (int width : {8, 16}) {
+        if (!width_supported(width)) continue;
+        const std::vector<float> wide = image(b.scene, trained(IntegratorMode::CacheGuided, 2, 4, width));
+        for (size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], wide[i]) << "width " << width << ", " << i;
+    }
+    RenderJob job(b.scene, trained(IntegratorMode::CacheGuided, 1, 4, 1));
+    for (int tile = job.tile_count() - 1; tile >= 0; --tile) job.render_tiles({tile}, 0, job.pass_count());
+    const size_t n = one.size() / 3;
+    std::vector<float> rgb(3 * n), albedo(3 * n), normal(3 * n), depth(n), lux(n), samples(n);
+    job.resolve(rgb.data(), albedo.data(), normal.data(), depth.data(), lux.data(), samples.data());
+    for (size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], rgb[i]) << i;
+}
+
+TEST(TrainedGuide, DrawsFromTheGuideAndKeepsThePathTracersMean) {
+    const BoxScene b(16, 16);
+    const std::vector<float> path = image(b.scene, trained(IntegratorMode::Path, 2, 32));
+    const std::vector<float> guided = image(b.scene, trained(IntegratorMode::CacheGuided, 2, 32));
+    size_t differ = 0;
+    double sum = 0, sum2 = 0;
+    for (size_t i = 0; i < path.size(); ++i) {
+        ASSERT_TRUE(std::isfinite(guided[i]) && guided[i] >= 0) << i;
+        differ += path[i] != guided[i];
+        const double d = static_cast<double>(guided[i]) - path[i];
+        sum += d, sum2 += d * d;
+    }
+    EXPECT_GT(differ, path.size() / 2);
+    const double n = static_cast<double>(path.size()), mean = sum / n;
+    const double se = std::sqrt((sum2 / n - mean * mean) / (n - 1));
+    EXPECT_LT(std::abs(mean) / se, 4.0) << mean;
+}

@@ -1,0 +1,39 @@
+"""`cache-guided` variants against path's ladder (8, 32, 128 spp) in the same process, as the
+bench's `cache.<scene>.guided_vs_path` measures them (bench/cache.py: 96 pixels wide, 16 spp,
+2 threads, the converged reference kept by the bench, errors the median over the seeds
+0 .. REPEAT): per variant its median time, its relMSE and the ratio (docs/radiance-cache.md,
+"The trained guide").
+Run from the checkout: python tools/cache_measure/guided_variants.py '[{"cache_train_passes": 0}, {}]'
+(each variant: keyword arguments of with_overrides; SCENES=cache-room,... and REPEAT=3)."""
+
+import json
+import os
+import sys
+
+from patina.bench.cache import FULL
+from patina.bench.convergence import ErrorCurve, Run, median_relmse, reference, sized, timed_renders
+from patina.bundled import materials_path
+from patina.render.run import PreparedScene
+from patina.scene.reading import load_scene, with_overrides
+
+variants = json.loads(sys.argv[1]) if len(sys.argv) > 1 else [{}]
+repeat = int(os.environ.get("REPEAT", "3"))
+scenes = os.environ.get("SCENES", "cache-room,cache-studio,cache-ies-interior").split(",")
+for name in scenes:
+    f = materials_path("scenes", f"{name}.json")
+    scene = sized(load_scene(f), FULL.width)
+    ref = reference(f, scene, FULL.reference_spp, 2)
+    path_scene = with_overrides(scene, integrator="path")
+    path_prep = PreparedScene(path_scene)
+    ladder = [Run(with_overrides(path_scene, spp=n), path_prep, 2) for n in FULL.ladder]
+    candidates = []
+    for v in variants:
+        c = with_overrides(scene, integrator="cache-guided", spp=FULL.candidate_spp, **v)
+        candidates.append(Run(c, PreparedScene(c), 2))
+    times, images = timed_renders(ladder + candidates, repeat)
+    errors = [median_relmse(i, ref.image, ref.error) for i in images]
+    n = len(FULL.ladder)
+    curve = ErrorCurve(times[:n], errors[:n])
+    print(name, "path", " ".join(f"{s} spp {t:.3f} s {e:.4g}" for s, t, e in zip(FULL.ladder, times, errors)))
+    for v, t, e in zip(variants, times[n:], errors[n:]):
+        print(f"  {v}: {t:.3f} s, relMSE {e:.4g}, guided_vs_path {curve.seconds_for(e) / t:.2f}", flush=True)
