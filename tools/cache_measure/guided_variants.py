@@ -10,22 +10,18 @@ import json
 import os
 import sys
 
+from path_ladder import path_ladder
+
 from patina.bench.cache import FULL
-from patina.bench.convergence import ErrorCurve, Run, median_relmse, reference, sized, timed_renders
-from patina.bundled import materials_path
+from patina.bench.convergence import ErrorCurve, Run, median_relmse, timed_renders
 from patina.render.run import PreparedScene
-from patina.scene.reading import load_scene, with_overrides
+from patina.scene.reading import with_overrides
 
 variants = json.loads(sys.argv[1]) if len(sys.argv) > 1 else [{}]
 repeat = int(os.environ.get("REPEAT", "3"))
 scenes = os.environ.get("SCENES", "cache-room,cache-studio,cache-ies-interior").split(",")
 for name in scenes:
-    f = materials_path("scenes", f"{name}.json")
-    scene = sized(load_scene(f), FULL.width)
-    ref = reference(f, scene, FULL.reference_spp, 2)
-    path_scene = with_overrides(scene, integrator="path")
-    path_prep = PreparedScene(path_scene)
-    ladder = [Run(with_overrides(path_scene, spp=n), path_prep, 2) for n in FULL.ladder]
+    f, scene, ref, ladder = path_ladder(name)
     candidates = []
     for v in variants:
         c = with_overrides(scene, integrator="cache-guided", spp=FULL.candidate_spp, **v)

@@ -6,22 +6,18 @@ Run from the checkout: python tools/cache_measure/hit_paths.py LABEL K,K,... [sc
 
 import sys
 
+from path_ladder import path_ladder
+
 from patina.bench.cache import BIAS_SIZES, FULL, bias_over_seeds
-from patina.bench.convergence import ErrorCurve, Run, Sizes, median_relmse, reference, sized, timed_renders
-from patina.bundled import materials_path
+from patina.bench.convergence import ErrorCurve, Run, Sizes, median_relmse, timed_renders
 from patina.render.run import PreparedScene
-from patina.scene.reading import load_scene, with_overrides
+from patina.scene.reading import with_overrides
 
 label = sys.argv[1]
 values = [int(x) for x in sys.argv[2].split(",")]
 scenes = sys.argv[3].split(",") if len(sys.argv) > 3 else ["cache-room", "cache-studio", "cache-ies-interior"]
 for name in scenes:
-    f = materials_path("scenes", f"{name}.json")
-    scene = sized(load_scene(f), FULL.width)
-    ref = reference(f, scene, FULL.reference_spp, 2)
-    path_scene = with_overrides(scene, integrator="path")
-    prep = PreparedScene(path_scene)
-    ladder = [Run(with_overrides(path_scene, spp=n), prep, 2) for n in FULL.ladder]
+    f, scene, ref, ladder = path_ladder(name)
     times, images = timed_renders(ladder, 3)
     curve = ErrorCurve(times, [median_relmse(i, ref.image, ref.error) for i in images])
     for s in values:
