@@ -241,17 +241,14 @@ inline void traverse(const Bvh& bvh, const RayPacket<1>& r, const BoxRay& b, con
 
 // Closest hit (the least t, then the least primitive index) of the ray in (tmin, tmax], with L lanes over the
 // children and T over a block's triangles. hit.prim = -1 and hit.t = r.tmax on a miss.
+// The ray as load_ray prepares it (r, b: trace_kernels_bvh_rays.h prepares N at a time).
 template <int L, int T>
-inline void bvh_intersect(const Bvh& bvh, const float* org, const float* dir, float tmin, float tmax,
-                          HitPacket<1>& hit) {
+inline void bvh_intersect(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail::BoxRay& b, HitPacket<1>& hit) {
     using namespace bvh_detail;
-    hit.t = tmax;
+    hit.t = r.tmax;
     hit.u = hit.v = 0.0f;
     hit.prim = -1;
     if (bvh.root == kBvhEmpty) return;
-    RayPacket<1> r;
-    BoxRay b;
-    load_ray(bvh, org, dir, tmin, tmax, r, b);
     traverse<L, true>(bvh, r, b, hit.t, [&](const BvhBlock* blk, uint32_t nb) {
         for (uint32_t k = 0; k < nb; ++k, ++blk) {
             for (int c = 0; c < kBvhBlock; c += T) {
@@ -274,14 +271,20 @@ inline void bvh_intersect(const Bvh& bvh, const float* org, const float* dir, fl
     });
 }
 
+template <int L, int T>
+inline void bvh_intersect(const Bvh& bvh, const float* org, const float* dir, float tmin, float tmax,
+                          HitPacket<1>& hit) {
+    RayPacket<1> r;
+    bvh_detail::BoxRay b;
+    bvh_detail::load_ray(bvh, org, dir, tmin, tmax, r, b);
+    bvh_intersect<L, T>(bvh, r, b, hit);
+}
+
 // Whether the ray hits anything in (tmin, tmax).
 template <int L, int T>
-inline bool bvh_occluded(const Bvh& bvh, const float* org, const float* dir, float tmin, float tmax) {
+inline bool bvh_occluded(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
     using namespace bvh_detail;
     if (bvh.root == kBvhEmpty) return false;
-    RayPacket<1> r;
-    BoxRay b;
-    load_ray(bvh, org, dir, tmin, tmax, r, b);
     bool occluded = false;
     traverse<L, false>(bvh, r, b, r.tmax, [&](const BvhBlock* blk, uint32_t nb) {
         for (uint32_t k = 0; k < nb; ++k, ++blk) {
@@ -293,6 +296,14 @@ inline bool bvh_occluded(const Bvh& bvh, const float* org, const float* dir, flo
         return false;
     });
     return occluded;
+}
+
+template <int L, int T>
+inline bool bvh_occluded(const Bvh& bvh, const float* org, const float* dir, float tmin, float tmax) {
+    RayPacket<1> r;
+    bvh_detail::BoxRay b;
+    bvh_detail::load_ray(bvh, org, dir, tmin, tmax, r, b);
+    return bvh_occluded<L, T>(bvh, r, b);
 }
 
 PATINA_END_TARGET

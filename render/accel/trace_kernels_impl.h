@@ -8,6 +8,7 @@
 #include "render/accel/bvh_traverse.h"
 #include "render/accel/ray_recorder.h"
 #include "render/accel/trace_kernels.h"
+#include "render/accel/trace_kernels_bvh_rays.h"
 #include "render/accel/traverse.h"
 
 PATINA_BEGIN_TARGET
@@ -86,28 +87,42 @@ void occluded_kernel(const KdTree& tree, const RayBatch& rays, uint8_t* blocked,
 constexpr int kNodeLanes = N < kBvhWidth ? N : kBvhWidth;
 constexpr int kBlockLanes = N < kBvhBlock ? N : kBvhBlock;
 
+// Rays [begin, end) of the batch one at a time through the BVH, set up N at a time:
+// trace(i, r, b) for each.
+template <class Trace>
+PATINA_INLINE void for_each_bvh_ray(const Bvh& bvh, const RayBatch& rays, size_t begin, size_t end, Trace&& trace) {
+    BvhRayLanes<N> lanes_of;
+    for (size_t i = begin; i < end; i += N) {
+        const int lanes = static_cast<int>(std::min<size_t>(N, end - i));
+        load_bvh_rays<N>(bvh, rays, i, lanes, lanes_of);
+        for (int j = 0; j < lanes; ++j) {
+            RayPacket<1> r;
+            bvh_detail::BoxRay b;
+            bvh_ray_of<N>(lanes_of, j, rays.tmin, r, b);
+            trace(i + j, r, b);
+        }
+    }
+}
+
 void intersect_bvh_kernel(const Bvh& bvh, const RayBatch& rays, const HitBatch& hits, size_t begin, size_t end) {
     enter_kernel();
     if (ray_recording_on()) record_rays(rays, begin, end, false);
-    for (size_t i = begin; i < end; ++i) {
+    for_each_bvh_ray(bvh, rays, begin, end, [&](size_t i, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
         HitPacket<1> h;
-        bvh_intersect<kNodeLanes, kBlockLanes>(bvh, rays.origins + 3 * i, rays.directions + 3 * i, rays.tmin,
-                                               rays.tmax ? rays.tmax[i] : rays.tmax_all, h);
+        bvh_intersect<kNodeLanes, kBlockLanes>(bvh, r, b, h);
         hits.t[i] = h.prim >= 0 ? h.t : kInfinity;
         hits.prim[i] = h.prim;
         hits.u[i] = h.u;
         hits.v[i] = h.v;
-    }
+    });
 }
 
 void occluded_bvh_kernel(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked, size_t begin, size_t end) {
     enter_kernel();
     if (ray_recording_on()) record_rays(rays, begin, end, true);
-    for (size_t i = begin; i < end; ++i) {
-        const bool hit = bvh_occluded<kNodeLanes, kBlockLanes>(bvh, rays.origins + 3 * i, rays.directions + 3 * i,
-                                                               rays.tmin, rays.tmax ? rays.tmax[i] : rays.tmax_all);
-        blocked[i] = static_cast<uint8_t>(hit);
-    }
+    for_each_bvh_ray(bvh, rays, begin, end, [&](size_t i, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
+        blocked[i] = static_cast<uint8_t>(bvh_occluded<kNodeLanes, kBlockLanes>(bvh, r, b));
+    });
 }
 
 }  // namespace

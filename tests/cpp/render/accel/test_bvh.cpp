@@ -11,8 +11,10 @@
 
 #include "core/cpu.h"
 #include "render/accel/bvh.h"
+#include "render/accel/bvh_traverse.h"
 #include "render/accel/kdtree.h"
 #include "render/accel/trace_kernels.h"
+#include "render/accel/trace_kernels_bvh_rays.h"
 #include "render/accel/triangle_test.h"
 #include "tests/cpp/render/accel/trace_test_scenes.h"
 
@@ -257,4 +259,69 @@ TEST(Bvh, SmallLeavesShareBlocks) {
         for (int32_t p : b.prim) seen[static_cast<size_t>(p)] = 1;
     for (size_t t = 0; t < seen.size(); ++t) ASSERT_EQ(seen[t], 1) << "triangle " << t << " is in no leaf";
     expect_exact(m, random_rays(4000, 17), "shared blocks");
+}
+
+// The kernels set the rays up N at a time (trace_kernels_bvh_rays.h): every width gives the hits
+// of one ray at a time through load_ray, also for directions with components that are zero,
+// -0 or below 2^-64, for a tmin above 0, per-ray tmax and a batch that ends mid-packet.
+TEST(Bvh, RaysSetUpInLanesAreLoadRaysOwn) {
+    const Mesh m = soup(3000, 18);
+    const Bvh bvh = build(kdtree_of(m));
+    Rays rays = random_rays(1000, 19);
+    for (float tiny : {0.0f, -0.0f, 1e-30f, -1e-30f, 0x1p-64f, -0x1p-65f})
+        for (int a = 0; a < 3; ++a) {
+            std::array<float, 3> d = {0.3f, -0.5f, 0.8f};
+            d[static_cast<size_t>(a)] = tiny;
+            rays.add({0.1f, 0.2f, -2.0f}, d);
+            d[static_cast<size_t>((a + 1) % 3)] = -tiny;
+            rays.add({-0.3f, 0.1f, 2.0f}, d);
+        }
+    const size_t n = rays.size() - 5;  // the last packet partial at every width
+    std::vector<float> tmax(n);
+    for (size_t i = 0; i < n; ++i) tmax[i] = i % 3 ? 4.0f : 1.5f;
+    const float tmin = 0.25f;
+    Hits want(n);
+    std::vector<uint8_t> want_blocked(n);
+    for (size_t i = 0; i < n; ++i) {
+        HitPacket<1> h;
+        bvh_intersect<1, 1>(bvh, &rays.o[3 * i], &rays.d[3 * i], tmin, tmax[i], h);
+        want.t[i] = h.prim >= 0 ? h.t : kInf;
+        want.u[i] = h.u;
+        want.v[i] = h.v;
+        want.prim[i] = h.prim;
+        want_blocked[i] = bvh_occluded<1, 1>(bvh, &rays.o[3 * i], &rays.d[3 * i], tmin, tmax[i]);
+    }
+    const RayBatch batch{rays.o.data(), rays.d.data(), tmin, tmax.data(), 0.0f};
+    // field by field, in this file's one lane (the hits below check the wide kernels)
+    for (size_t i = 0; i < n; ++i) {
+        RayPacket<1> want_r, got_r;
+        bvh_detail::BoxRay want_b, got_b;
+        bvh_detail::load_ray(bvh, &rays.o[3 * i], &rays.d[3 * i], tmin, tmax[i], want_r, want_b);
+        BvhRayLanes<1> lanes;
+        load_bvh_rays<1>(bvh, batch, i, 1, lanes);
+        bvh_ray_of<1>(lanes, 0, tmin, got_r, got_b);
+        for (int a = 0; a < 3; ++a) {
+            ASSERT_EQ(as_bits(want_b.inv[a]), as_bits(got_b.inv[a])) << "ray " << i;
+            ASSERT_EQ(as_bits(want_b.near_offset[a]), as_bits(got_b.near_offset[a])) << "ray " << i;
+            ASSERT_EQ(as_bits(want_b.far_offset[a]), as_bits(got_b.far_offset[a])) << "ray " << i;
+            ASSERT_EQ(want_b.near_row[a], got_b.near_row[a]) << "ray " << i;
+            ASSERT_EQ(want_b.far_row[a], got_b.far_row[a]) << "ray " << i;
+        }
+        ASSERT_EQ(want_r.kx, got_r.kx);
+        ASSERT_EQ(want_r.ky, got_r.ky);
+        ASSERT_EQ(want_r.kz, got_r.kz);
+        ASSERT_EQ(as_bits(want_r.sx), as_bits(got_r.sx)) << "ray " << i;
+        ASSERT_EQ(as_bits(want_r.sy), as_bits(got_r.sy)) << "ray " << i;
+        ASSERT_EQ(as_bits(want_r.sz), as_bits(got_r.sz)) << "ray " << i;
+        ASSERT_EQ(want_r.tmax, got_r.tmax);
+    }
+    for (int w : {1, 4, 8, 16}) {
+        if (!width_supported(w)) continue;
+        Hits got(n);
+        trace_intersect(bvh, batch, got.batch(), n, w, 1);
+        expect_identical(want, got, "rays set up in lanes", w);
+        std::vector<uint8_t> blocked(n);
+        trace_occluded(bvh, batch, blocked.data(), n, w, 1);
+        for (size_t i = 0; i < n; ++i) ASSERT_EQ(blocked[i], want_blocked[i]) << "any hit, width " << w << " ray " << i;
+    }
 }
