@@ -19,3 +19,19 @@ def kill_a_busy_worker(client, killed: list[str], stop: threading.Event) -> None
                 killed.append(worker)
                 return
         time.sleep(0.02)
+
+
+def wait_for_live_workers(client, n: int = 2, timeout: float = 60.0) -> None:
+    """Until the scheduler lists `n` workers and every one of them answers. After a kill the
+    scheduler may list the dead worker for a while beside its nanny's replacement, so
+    wait_for_workers(n) can return while a scatter would still go to the dead one."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if len(client.scheduler_info()["workers"]) == n:
+            try:
+                if len(client.run(os.getpid)) == n:
+                    return
+            except Exception:  # a listed worker that is gone: wait for the scheduler to drop it
+                pass
+        time.sleep(0.1)
+    raise TimeoutError(f"fewer than {n} live Dask workers after {timeout} s")

@@ -10,7 +10,7 @@ import threading
 
 import pytest
 from batch_library import BAD, GOOD, QUICK
-from dask_workers import kill_a_busy_worker
+from dask_workers import kill_a_busy_worker, wait_for_live_workers
 
 from patina.batch import run_batch
 from patina.batch.manifest import checksum
@@ -61,7 +61,7 @@ def test_a_worker_killed_mid_task_loses_nothing(library, tmp_path, client):
         folder = os.path.join(out, "materials", name)
         assert not [n for n in os.listdir(folder) if ".tmp" in n]
         assert checksum(os.path.join(folder, "preview.png"))
-    client.wait_for_workers(2, timeout=60)  # the nanny restarted it
+    wait_for_live_workers(client)  # the nanny restarted it
     assert on_dask(library, out, client)["counts"]["tasks_run"] == 0  # and every task was complete
 
 

@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 import pytest
-from dask_workers import kill_a_busy_worker
+from dask_workers import kill_a_busy_worker, wait_for_live_workers
 
 from patina.batch import render_tiles
 from patina.bundled import materials_path
@@ -146,7 +146,7 @@ def test_write_tile_checks_what_it_is_given():
 
 @pytest.fixture
 def cluster(client):
-    client.wait_for_workers(2, timeout=60)  # another test may have killed one; its nanny restarts it
+    wait_for_live_workers(client)  # another test may have killed one; its nanny restarts it
     return client
 
 
