@@ -4,11 +4,20 @@
 // by 4 pi is a density in solid angle, and the directional quadtree (directional_tree.h)
 // partitions the sphere into cells of known solid angle. World space, not a shading frame:
 // one distribution serves every vertex of a spatial cell, whatever its normal.
+//
+// u itself needs an arc tangent (no algebraic form exists for an angle), but a lookup only
+// needs which side of a cell's boundary u lies on, and that is algebraic: u >= k / 2^L is the
+// sign of the cross product of the direction's (x, y) with the boundary's (cos, sin), which
+// AzimuthBoundaries tabulates (DirectionalTree::density_at_direction). The boundaries are
+// the same cos / sin square_to_direction evaluates, so the lookup agrees with sampling up to
+// rounding.
 // Plain inline code for the guide's .cpp files (compiled once, not per SIMD width).
 #pragma once
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 
 #include "core/constants.h"
 
@@ -30,6 +39,31 @@ inline void square_to_direction(float u, float v, float* d) {
     d[0] = r * std::cos(phi);
     d[1] = r * std::sin(phi);
     d[2] = z;
+}
+
+// The unit vectors (cos, sin)(2 pi k / 2^kLevels), k = 0 .. 2^kLevels: the azimuth
+// boundaries of the quadtree's cells down to level kLevels.
+struct AzimuthBoundaries {
+    static constexpr int kLevels = 12;
+    float cos_sin[2 * ((1 << kLevels) + 1)];
+    AzimuthBoundaries() {
+        for (int k = 0; k <= (1 << kLevels); ++k) {
+            const float phi = kTwoPi * (static_cast<float>(k) / static_cast<float>(1 << kLevels));
+            cos_sin[2 * k] = std::cos(phi);
+            cos_sin[2 * k + 1] = std::sin(phi);
+        }
+    }
+    static const AzimuthBoundaries& get() {
+        static const AzimuthBoundaries table;
+        return table;
+    }
+};
+
+// Whether direction d's u is at or above the boundary k / 2^level, given that u lies within
+// a quarter turn of it (every level below the root: cells half a turn wide or less).
+inline bool azimuth_at_or_above(const float* d, const AzimuthBoundaries& b, uint32_t k, int level) {
+    const float* cs = b.cos_sin + 2 * (static_cast<size_t>(k) << (AzimuthBoundaries::kLevels - level));
+    return cs[0] * d[1] - cs[1] * d[0] >= 0.0f;
 }
 
 }  // namespace patina::guiding
