@@ -136,7 +136,7 @@ float DirectionalTree::density_at_direction(const float* d) const {
     uint32_t cell_u = 0;  // the cell's column at `level`: u in [cell_u, cell_u + 1) / 2^level
     for (int level = 1; level <= kTopLevel; ++level)
         cell_u = 2 * cell_u + (level == 1 ? (d[1] < 0.0f || (d[1] == 0.0f && d[0] < 0.0f) ? 1u : 0u)
-                                          : (azimuth_at_or_above(d, bounds, 2 * cell_u + 1, level) ? 1u : 0u));
+                                          : (azimuth_at_or_above(d, bounds, cell_u, level) ? 1u : 0u));
     const uint32_t cell_v = static_cast<uint32_t>(v * static_cast<float>(1 << kTopLevel));
     const TopCell& top = m_top[(cell_v << kTopLevel) + cell_u];
     if (top.node < 0) return top.density;
@@ -147,7 +147,7 @@ float DirectionalTree::density_at_direction(const float* d) const {
         size *= 0.5f;
         int ix;
         if (level <= AzimuthBoundaries::kLevels)
-            ix = azimuth_at_or_above(d, bounds, 2 * cell_u + 1, level) ? 1 : 0;
+            ix = azimuth_at_or_above(d, bounds, cell_u, level) ? 1 : 0;
         else {  // deeper than the table (max_depth above its levels): the azimuth itself
             float u, unused;
             direction_to_square(d, u, unused);

@@ -41,17 +41,21 @@ inline void square_to_direction(float u, float v, float* d) {
     d[2] = z;
 }
 
-// The unit vectors (cos, sin)(2 pi k / 2^kLevels), k = 0 .. 2^kLevels: the azimuth
-// boundaries of the quadtree's cells down to level kLevels.
+// The unit vectors (cos, sin)(2 pi (2c + 1) / 2^L): the azimuth boundary a cell of column c
+// at level L - 1 splits at, for L = 1 .. kLevels, level by level as a heap (index 2^(L-1) + c)
+// so that the upper levels every lookup tests share a few cache lines.
 struct AzimuthBoundaries {
     static constexpr int kLevels = 12;
-    float cos_sin[2 * ((1 << kLevels) + 1)];
+    float cos_sin[2 << kLevels];
     AzimuthBoundaries() {
-        for (int k = 0; k <= (1 << kLevels); ++k) {
-            const float phi = kTwoPi * (static_cast<float>(k) / static_cast<float>(1 << kLevels));
-            cos_sin[2 * k] = std::cos(phi);
-            cos_sin[2 * k + 1] = std::sin(phi);
-        }
+        cos_sin[0] = cos_sin[1] = 0.0f;  // index 0: unused
+        for (int level = 1; level <= kLevels; ++level)
+            for (int c = 0; c < 1 << (level - 1); ++c) {
+                const float phi = kTwoPi * (static_cast<float>(2 * c + 1) / static_cast<float>(1 << level));
+                const size_t i = (size_t{1} << (level - 1)) + static_cast<size_t>(c);
+                cos_sin[2 * i] = std::cos(phi);
+                cos_sin[2 * i + 1] = std::sin(phi);
+            }
     }
     static const AzimuthBoundaries& get() {
         static const AzimuthBoundaries table;
@@ -59,10 +63,11 @@ struct AzimuthBoundaries {
     }
 };
 
-// Whether direction d's u is at or above the boundary k / 2^level, given that u lies within
-// a quarter turn of it (every level below the root: cells half a turn wide or less).
-inline bool azimuth_at_or_above(const float* d, const AzimuthBoundaries& b, uint32_t k, int level) {
-    const float* cs = b.cos_sin + 2 * (static_cast<size_t>(k) << (AzimuthBoundaries::kLevels - level));
+// Whether direction d's u is at or above the boundary (2 cell + 1) / 2^level, the middle of
+// column `cell` of level - 1, given that u lies within a quarter turn of it (every level
+// below the root: cells half a turn wide or less).
+inline bool azimuth_at_or_above(const float* d, const AzimuthBoundaries& b, uint32_t cell, int level) {
+    const float* cs = b.cos_sin + 2 * ((size_t{1} << (level - 1)) + cell);
     return cs[0] * d[1] - cs[1] * d[0] >= 0.0f;
 }
 
