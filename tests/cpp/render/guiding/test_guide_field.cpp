@@ -209,6 +209,29 @@ TEST(GuideField, ItsDistributionsIntegrateToOneAndSendSamplesWhereTheLightIs) {
     EXPECT_GT(near, draws / 2);
 }
 
+// The spatial lookup (a grid into the tree, then the splits that cut the point's cell) finds
+// every leaf from its own records, and points beyond the records' bounds the leaf at their
+// edge, as the tree's walk from its root would.
+TEST(GuideField, TheLookupFindsEveryLeafFromItsRecords) {
+    const float from[3] = {0.0f, 0.6f, 0.8f};
+    const std::vector<GuideRecord> records = cone_records(20000, from);
+    GuideField field;
+    field.build(records);
+    ASSERT_GT(field.distributions(), 4u);
+    std::vector<int> found(field.distributions(), 0);
+    for (const GuideRecord& r : records) {
+        const int32_t k = field.distribution_at(r.p, r.n);
+        ASSERT_GE(k, 0);
+        ASSERT_LT(static_cast<size_t>(k), found.size());
+        found[k] = 1;
+    }
+    for (size_t k = 0; k < found.size(); ++k) EXPECT_EQ(found[k], 1) << k;
+    const float beyond[3] = {2.0f, 2.0f, 2.0f}, corner[3] = {0.999f, 0.999f, 0.999f};
+    const float below[3] = {-3.0f, -3.0f, -3.0f}, origin[3] = {0.001f, 0.001f, 0.001f};
+    EXPECT_EQ(field.distribution_at(beyond, up), field.distribution_at(corner, up));
+    EXPECT_EQ(field.distribution_at(below, up), field.distribution_at(origin, up));
+}
+
 TEST(GuideField, TheSameRecordsGiveTheSameField) {
     const float from[3] = {0.0f, 0.0f, 1.0f};
     const std::vector<GuideRecord> records = cone_records(8000, from);
