@@ -51,7 +51,7 @@ private:
     // The lookup's start (density_at_direction): the square as 2^kTopLevel x 2^kTopLevel
     // cells, each the node of that level that covers it or, where a leaf is coarser, the
     // leaf's density, so a lookup walks only the levels below kTopLevel.
-    static constexpr int kTopLevel = 3;
+    static constexpr int kTopLevel = 4;
     struct TopCell {
         int32_t node;   // the node covering the cell at level kTopLevel, or -1: ...
         float density;  // ...a coarser leaf's density
