@@ -7,7 +7,8 @@
 // bright sample cannot grow a spike down to the deepest level). Every leaf keeps a floor
 // share of the energy in proportion to its area (kFloorShare): a direction the training
 // found dark may still hold light. Sampling descends the tree with two uniforms, each
-// level's choice rescaling them; the density is the leaf's energy over its area.
+// level's choice rescaling them; the density is the leaf's energy over its area, looked up
+// from a direction by sign tests alone (density_at_direction: no arc tangent).
 #pragma once
 
 #include <cstddef>
@@ -33,6 +34,10 @@ public:
     void sample(float u1, float u2, float& u, float& v) const;
     // The density at (u, v) with respect to area on the unit square (integrates to 1).
     float density(float u, float v) const;
+    // The same density at the point of the square a unit world direction d maps to
+    // (sphere_square.h), without computing its azimuth: the descent's azimuth tests are
+    // algebraic (azimuth_at_or_above).
+    float density_at_direction(const float* d) const;
     size_t nodes() const { return m_nodes.size(); }
 
 private:
@@ -43,7 +48,17 @@ private:
     int32_t build_node(std::vector<uint32_t>& idx, size_t begin, size_t end, float x0, float y0, float size,
                        int depth, double total, const float* uv, const float* w, const DirectionalTreeParams& p);
     double add_floor(int32_t node, double area, double per_area, float keep);
+    // The lookup's start (density_at_direction): the square as 2^kTopLevel x 2^kTopLevel
+    // cells, each the node of that level that covers it or, where a leaf is coarser, the
+    // leaf's density, so a lookup walks only the levels below kTopLevel.
+    static constexpr int kTopLevel = 4;
+    struct TopCell {
+        int32_t node;   // the node covering the cell at level kTopLevel, or -1: ...
+        float density;  // ...a coarser leaf's density
+    };
+    void fill_top(int32_t node, int depth, uint32_t cx, uint32_t cy);
     std::vector<Node> m_nodes;
+    std::vector<TopCell> m_top;  // row (v) major
     float m_total = 0;
 };
 

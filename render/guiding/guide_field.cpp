@@ -68,6 +68,7 @@ int32_t GuideField::build_node(std::vector<uint32_t>& idx, size_t begin, size_t 
 void GuideField::build(const std::vector<GuideRecord>& records, const GuideFieldParams& params) {
     m_nodes.clear();
     m_trees.clear();
+    m_grid.clear();
     m_leaves = 0;
     if (records.empty()) return;
     float lo[3], hi[3];
@@ -77,18 +78,46 @@ void GuideField::build(const std::vector<GuideRecord>& records, const GuideField
     std::vector<uint32_t> idx(records.size());
     for (size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<uint32_t>(i);
     build_node(idx, 0, idx.size(), lo, hi, 0, records, params);
+    for (int a = 0; a < 3; ++a) {
+        m_lo[a] = lo[a];
+        m_cells_per_unit[a] = hi[a] > lo[a] ? kGridSide / (hi[a] - lo[a]) : 0.0f;
+    }
+    build_grid();
 }
 
-int normal_class(const float* n) {
-    int axis = 0;
-    for (int a = 1; a < 3; ++a)
-        if (std::abs(n[a]) > std::abs(n[axis])) axis = a;
-    return 2 * axis + (n[axis] < 0 ? 1 : 0);
+void GuideField::build_grid() {
+    m_grid.assign(static_cast<size_t>(kGridSide) * kGridSide * kGridSide, 0);
+    for (int k = 0; k < kGridSide; ++k)
+        for (int j = 0; j < kGridSide; ++j)
+            for (int i = 0; i < kGridSide; ++i) {
+                const int c[3] = {i, j, k};
+                float lo[3], hi[3];
+                for (int a = 0; a < 3; ++a) {
+                    const float unit = m_cells_per_unit[a] > 0 ? 1.0f / m_cells_per_unit[a] : 0.0f;
+                    lo[a] = m_lo[a] + c[a] * unit;
+                    hi[a] = m_lo[a] + (c[a] + 1) * unit;
+                }
+                int32_t node = 0;
+                for (;;) {  // down while the split leaves the whole cell on one side
+                    const Node& n = m_nodes[node];
+                    if (n.axis < 0) break;
+                    if (hi[n.axis] <= n.split) node = n.child[0];
+                    else if (lo[n.axis] >= n.split) node = n.child[1];
+                    else break;
+                }
+                m_grid[(static_cast<size_t>(k) * kGridSide + j) * kGridSide + i] = node;
+            }
 }
 
 int32_t GuideField::distribution_at(const float* p, const float* n) const {
     if (m_nodes.empty()) return -1;
-    int32_t node = 0;
+    size_t cell = 0;
+    for (int a = 2; a >= 0; --a) {
+        const float x = (p[a] - m_lo[a]) * m_cells_per_unit[a];
+        const int c = x >= 0.0f ? static_cast<int>(std::min(x, static_cast<float>(kGridSide - 1))) : 0;
+        cell = cell * kGridSide + static_cast<size_t>(c);
+    }
+    int32_t node = m_grid[cell];
     while (m_nodes[node].axis >= 0) {
         const Node& n = m_nodes[node];
         node = n.child[p[n.axis] < n.split ? 0 : 1];
@@ -103,9 +132,7 @@ void GuideField::sample(int32_t k, float u1, float u2, float* d) const {
 }
 
 float GuideField::pdf(int32_t k, const float* d) const {
-    float u, v;
-    direction_to_square(d, u, v);
-    return m_trees[k].density(u, v) * (1.0f / kSphereArea);
+    return m_trees[k].density_at_direction(d) * (1.0f / kSphereArea);
 }
 
 }  // namespace patina::guiding

@@ -23,7 +23,11 @@ namespace patina::guiding {
 // it receives are different hemispheres of the same sphere, and each distribution holds
 // radiance x the cosine of its own surfaces (no mass under their horizon).
 inline constexpr int kNormalClasses = 6;
-int normal_class(const float* n);
+inline int normal_class(const float* n) {  // inline: every guided vertex asks
+    const float ax = n[0] < 0 ? -n[0] : n[0], ay = n[1] < 0 ? -n[1] : n[1], az = n[2] < 0 ? -n[2] : n[2];
+    const int axis = az > (ay > ax ? ay : ax) ? 2 : (ay > ax ? 1 : 0);
+    return 2 * axis + (n[axis] < 0 ? 1 : 0);
+}
 
 struct GuideFieldParams {
     size_t max_leaf_records = 2000;
@@ -52,10 +56,17 @@ private:
         int32_t child[2];  // below, above the split (an inner node)
         int32_t tree[kNormalClasses];  // a leaf's distribution per normal class, or -1
     };
+    // The lookup's start: a kGridSide^3 grid over the records' bounds, each cell holding the
+    // deepest node whose box holds the whole cell, so a lookup walks only the splits that
+    // cut its cell (docs/radiance-cache.md, "The trained guide").
+    static constexpr int kGridSide = 16;
+    void build_grid();
     int32_t build_node(std::vector<uint32_t>& idx, size_t begin, size_t end, const float* lo, const float* hi,
                        int depth, const std::vector<GuideRecord>& records, const GuideFieldParams& params);
     std::vector<Node> m_nodes;
     std::vector<DirectionalTree> m_trees;
+    std::vector<int32_t> m_grid;  // kGridSide^3 start nodes, x fastest
+    float m_lo[3] = {0, 0, 0}, m_cells_per_unit[3] = {0, 0, 0};
     size_t m_leaves = 0;
 };
 

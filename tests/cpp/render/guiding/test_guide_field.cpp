@@ -6,6 +6,7 @@
 // same field, bit for bit.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -103,6 +104,38 @@ TEST(DirectionalTree, NothingToSampleWithoutEnergy) {
     EXPECT_EQ(tree.density(0.5f, 0.5f), 0.0f);
 }
 
+// The lookup by direction (its top table, then sign tests against the cells' azimuth
+// boundaries) finds the leaf the azimuth finds: the densities agree but within rounding of a
+// boundary. A tree coarser than the top table, one as deep as the defaults allow (cells of
+// 1/1024 a side where the light is), and one deeper than the boundaries' table (its last
+// levels by the azimuth).
+TEST(DirectionalTree, TheLookupByDirectionIsTheLookupByAzimuth) {
+    for (const int depth : {2, 10, AzimuthBoundaries::kLevels + 3}) {
+        std::vector<float> uv, w;
+        skewed_samples(200000, 0.5f, uv, w);
+        for (size_t i = 0; i < w.size(); i += 7) uv[2 * i] = 0.5f + 1e-4f * test_uniform(4, static_cast<uint32_t>(i));
+        DirectionalTree tree;
+        DirectionalTreeParams p;
+        p.max_depth = depth;
+        p.split_fraction = 0.001f;
+        tree.build(uv.data(), w.data(), w.size(), p);
+        int differ = 0;
+        const int n = 200000;
+        for (int k = 0; k < n; ++k) {
+            float d[3], u, v;
+            // half the directions near the tree's finest cells, around u = 0.5 (the root's
+            // boundary, its half-turn test) and the bright square
+            const float su = k % 2 ? test_uniform(5, k) : (k % 4 ? 0.5f + 2e-4f * (test_uniform(5, k) - 0.5f)
+                                                                 : 0.68f + 0.04f * test_uniform(5, k));
+            square_to_direction(su, test_uniform(6, k), d);
+            direction_to_square(d, u, v);
+            if (tree.density_at_direction(d) != tree.density(u, v)) ++differ;
+        }
+        EXPECT_LT(differ, n / 5000) << depth;
+    }
+    EXPECT_EQ(DirectionalTree().density_at_direction(std::array<float, 3>{0, 0, 1}.data()), 0.0f);
+}
+
 TEST(SphereSquare, TheMapAndItsInverseAgree) {
     for (int k = 0; k < 1000; ++k) {
         float d[3], u, v, e[3];
@@ -174,6 +207,29 @@ TEST(GuideField, ItsDistributionsIntegrateToOneAndSendSamplesWhereTheLightIs) {
     }
     EXPECT_NEAR(inv / draws / (4 * kPi), 1.0, 0.02);
     EXPECT_GT(near, draws / 2);
+}
+
+// The spatial lookup (a grid into the tree, then the splits that cut the point's cell) finds
+// every leaf from its own records, and points beyond the records' bounds the leaf at their
+// edge, as the tree's walk from its root would.
+TEST(GuideField, TheLookupFindsEveryLeafFromItsRecords) {
+    const float from[3] = {0.0f, 0.6f, 0.8f};
+    const std::vector<GuideRecord> records = cone_records(20000, from);
+    GuideField field;
+    field.build(records);
+    ASSERT_GT(field.distributions(), 4u);
+    std::vector<int> found(field.distributions(), 0);
+    for (const GuideRecord& r : records) {
+        const int32_t k = field.distribution_at(r.p, r.n);
+        ASSERT_GE(k, 0);
+        ASSERT_LT(static_cast<size_t>(k), found.size());
+        found[k] = 1;
+    }
+    for (size_t k = 0; k < found.size(); ++k) EXPECT_EQ(found[k], 1) << k;
+    const float beyond[3] = {2.0f, 2.0f, 2.0f}, corner[3] = {0.999f, 0.999f, 0.999f};
+    const float below[3] = {-3.0f, -3.0f, -3.0f}, origin[3] = {0.001f, 0.001f, 0.001f};
+    EXPECT_EQ(field.distribution_at(beyond, up), field.distribution_at(corner, up));
+    EXPECT_EQ(field.distribution_at(below, up), field.distribution_at(origin, up));
 }
 
 TEST(GuideField, TheSameRecordsGiveTheSameField) {
