@@ -13,21 +13,13 @@
 
 #include "render/accel/bvh_traverse.h"
 #include "render/accel/old_bvh_traverse.h"
+#include "tools/ab_common/ab_timing.h"
 
 using namespace patina;
+using ab::cpu_seconds;
+using ab::median;
 
 namespace {
-double cpu_seconds() {
-    timespec t;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
-
 void read_or_die(FILE* f, void* p, size_t size, size_t count, const char* path) {
     if (std::fread(p, size, count, f) != count) {
         std::fprintf(stderr, "%s: cannot read\n", path);

@@ -8,19 +8,16 @@
 #include <vector>
 
 #include "render/accel/kdtree.h"
+#include "tools/ab_common/ab_timing.h"
 
 namespace patina {
 KdTree build_kdtree_old(const float*, size_t, const int32_t*, size_t, const KdBuildOptions&);
 }
 using namespace patina;
+using ab::cpu_seconds;
+using ab::median;
 
 namespace {
-double cpu_seconds() {
-    timespec t;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
 // The SAH cost of the tree as the builder defines it: traversal 1 per interior node and 1.5
 // per triangle reference, each weighted by its cell's area relative to the root's.
 double sah(const KdTree& t, uint32_t i, Box3 box, double root) {
@@ -38,11 +35,6 @@ bool same_tree(const KdTree& a, const KdTree& b) {
     for (size_t k = 0; k < a.nodes.size(); ++k)
         if (a.nodes[k].bits != b.nodes[k].bits || a.nodes[k].first != b.nodes[k].first) return false;
     return true;
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
 }
 }  // namespace
 
