@@ -114,6 +114,7 @@ struct CacheState {
     TexelDirections dirs;
     ReprojectScratch rs;
     Reprojection rep, rep2;  // a query's reprojection, and its second cache point's (fill_holes)
+    BitMask128 holes_around;  // the texels the second cache point is wanted in (fill_holes)
     std::vector<float> texture2;  // the second cache point's reprojected texture (R^2 x 3)
     std::vector<int32_t> second;  // per query: the cache point that fills its holes (in pool), or -1
     RayQueue rays;
@@ -288,8 +289,21 @@ inline int fill_holes(const CachePoint& a2, const Receiver& b, const TexelDirect
     int holes = 0;
     for (int y = 0; y < R; ++y) holes += row_count(r.to_trace.rows[y] & ~r.filled.rows[y]);
     if (holes < kMinHolesForSecond) return 0;
+    // the second point is wanted in the holes only, and, for its cracks' test, their neighbours
+    BitMask128& wanted = st.holes_around;
+    wanted.clear();
+    const Row128 full = span_bits(0, R);
+    for (int y = 0; y < R; ++y) {
+        const Row128 h = r.to_trace.rows[y] & ~r.filled.rows[y];
+        if (row_empty(h)) continue;
+        const Row128 left = {h[0] << 1, (h[1] << 1) | (h[0] >> 63)};
+        const Row128 right = {(h[0] >> 1) | (h[1] << 63), h[1] >> 1};
+        wanted.rows[y] |= (h | left | right) & full;
+        if (y > 0) wanted.rows[y - 1] |= h;
+        if (y + 1 < R) wanted.rows[y + 1] |= h;
+    }
     float* tex2 = grow(st.texture2, 3 * static_cast<size_t>(R) * R);
-    reproject(a2, b, dirs, tex2, st.rep2, st.rs);
+    reproject(a2, b, dirs, tex2, st.rep2, st.rs, true, &wanted);
     int taken = 0;
     for (int y = 0; y < R; ++y) {
         const Row128 take = r.to_trace.rows[y] & ~r.filled.rows[y] & st.rep2.filled.rows[y] & ~st.rep2.to_trace.rows[y];

@@ -65,6 +65,8 @@ struct ReprojectScratch {
     std::vector<float> px, py;          // outline points in B's texel coordinates, (point, surfel)
     std::vector<int32_t> texels;        // candidate texels of one surfel
     std::vector<float> cx, cy, cz, out_i, out_j, out_ok;
+    std::vector<float> sx, sy, corner;  // silhouettes' shadow corners in B's texel coordinates (project_silhouettes)
+    BitMask128 region;                  // the texels wanted by the reprojection under way
 };
 
 // Where a world point lands in B's square, in texel coordinates (N points at a time).
@@ -133,10 +135,127 @@ inline void lookup_surfel(const CachePoint& a, const Surfel& sf, const Receiver&
     });
 }
 
+// Whether the convex hull of n points (texel coordinates) may cover a texel of `region`
+// not in `taken`: false when a point is not finite (raster_convex draws nothing then) or
+// when every texel of the points' bounding box, widened by a texel against rounding, is
+// taken or outside the region. What such a hull would rasterize changes nothing, so the
+// reprojection skips its hull and rows: most of a far layer's surfels lie behind nearer
+// ones, most shadows of the second cache point fall outside the holes it is wanted in.
+PATINA_INLINE bool touches_open(const float* qx, const float* qy, int n, int resolution, const BitMask128& taken,
+                                const BitMask128& region, const BitMask128* also_taken = nullptr) {
+    float xlo = qx[0], xhi = qx[0], ylo = qy[0], yhi = qy[0];
+    for (int k = 0; k < n; ++k) {
+        if (!std::isfinite(qx[k]) || !std::isfinite(qy[k])) return false;
+        xlo = std::min(xlo, qx[k]), xhi = std::max(xhi, qx[k]);
+        ylo = std::min(ylo, qy[k]), yhi = std::max(yhi, qy[k]);
+    }
+    const float side = static_cast<float>(resolution);
+    if (!(xhi >= -1.0f && xlo <= side + 1.0f && yhi >= -1.0f && ylo <= side + 1.0f)) return false;
+    const int x0 = std::max(0, static_cast<int>(std::floor(xlo)) - 1);
+    const int x1 = std::min(resolution, static_cast<int>(std::ceil(xhi)) + 1);
+    const int y0 = std::max(0, static_cast<int>(std::floor(ylo)) - 1);
+    const int y1 = std::min(resolution, static_cast<int>(std::ceil(yhi)) + 1);
+    if (x0 >= x1) return false;
+    const Row128 span = span_bits(x0, x1);
+    for (int y = y0; y < y1; ++y) {
+        Row128 open = span & region.rows[y] & ~taken.rows[y];
+        if (also_taken != nullptr) open = open & ~also_taken->rows[y];
+        if (!row_empty(open)) return true;
+    }
+    return false;
+}
+
+// The shadow corners of every silhouette of A in B's texel coordinates, N silhouettes at a
+// time (the same bits as one at a time: the map's polynomials are the same at every width):
+// corner k of silhouette e at (sx, sy)[k * stride + e], k = 0, 1 its edge's end points, 2, 3
+// the directions from A past its end points 1, 0 (the shadow's far side, at infinity).
+inline void project_silhouettes(const CachePoint& a, const Receiver& b, float scale, ReprojectScratch& rs) {
+    const size_t ne = a.silhouettes.size();
+    const size_t stride = (ne + N - 1) / N * N;
+    float* sx = grow(rs.sx, 4 * stride);
+    float* sy = grow(rs.sy, 4 * stride);
+    float* c = grow(rs.corner, 12 * stride);  // the corners' world points or directions, (coordinate, silhouette)
+    for (size_t e = 0; e < ne; ++e) {
+        const Silhouette& sil = a.silhouettes[e];
+        const Vec3f v[4] = {sil.e0 - b.p, sil.e1 - b.p, sil.d1, sil.d0};
+        for (int k = 0; k < 4; ++k) {
+            c[(3 * k + 0) * stride + e] = v[k].x;
+            c[(3 * k + 1) * stride + e] = v[k].y;
+            c[(3 * k + 2) * stride + e] = v[k].z;
+        }
+    }
+    for (int k = 0; k < 4; ++k)
+        for_blocks(ne, [&](size_t e, int lanes) {
+            V3 d{load_lanes(c + (3 * k + 0) * stride, e, lanes), load_lanes(c + (3 * k + 1) * stride, e, lanes),
+                 load_lanes(c + (3 * k + 2) * stride, e, lanes)};
+            if (k < 2) {  // normalize() of a point's offset, component by component
+                const F len = sqrt_exact(d.x * d.x + d.y * d.y + d.z * d.z);
+                const auto ok = len > F(0.0f);
+                d = V3{select(ok, d.x / len, d.x), select(ok, d.y / len, d.y), select(ok, d.z / len, d.z)};
+            }
+            F u, v;
+            hemisphere_to_square(d.x * F(b.t.x) + d.y * F(b.t.y) + d.z * F(b.t.z),
+                                 d.x * F(b.b.x) + d.y * F(b.b.y) + d.z * F(b.b.z),
+                                 d.x * F(b.n.x) + d.y * F(b.n.y) + d.z * F(b.n.z), u, v);
+            store_n<N>(sx + k * stride + e, u * F(scale));
+            store_n<N>(sy + k * stride + e, v * F(scale));
+        });
+}
+
+// Silhouettes e0 .. e1's shadows (projected by project_silhouettes) into `shadows`, rows
+// [ylo, yhi) touched. With a region (the second cache point's), a shadow over no wanted
+// texel that is neither filled nor unknown yet is left out: it could forbid nothing, so
+// only the unknown mask's bits differ, on texels already decided or not wanted.
+inline void add_shadows(const CachePoint& a, int32_t e0, int32_t e1, int R, const ReprojectScratch& rs,
+                        const Reprojection& r, const BitMask128* region, BitMask128& shadows, int& ylo, int& yhi) {
+    const size_t stride = (a.silhouettes.size() + N - 1) / N * N;
+    for (int32_t e = e0; e < e1; ++e) {
+        float qx[4], qy[4];
+        for (int k = 0; k < 4; ++k) qx[k] = rs.sx[k * stride + e], qy[k] = rs.sy[k * stride + e];
+        if (region != nullptr && !touches_open(qx, qy, 4, R, r.filled, *region, &r.unknown)) continue;
+        raster_convex(qx, qy, 4, R, [&](int y, Row128 span) {
+            shadows.rows[y] |= span;
+            ylo = std::min(ylo, y), yhi = std::max(yhi, y + 1);
+        });
+    }
+}
+
+// The misses: a wanted open texel whose direction A saw nothing in (nor around it) has no
+// indirect radiance.
+inline void fill_misses(const CachePoint& a, const Receiver& b, const TexelDirections& dirs, float* radiance,
+                        Reprojection& r, const BitMask128& wanted, int R) {
+    const float scale = static_cast<float>(R);
+    for (int y = 0; y < R; ++y) {
+        const Row128 open = wanted.rows[y] & ~r.filled.rows[y] & ~r.unknown.rows[y];
+        for_each_bit(open, [&](int x) {
+            const size_t t = static_cast<size_t>(y) * R + x;
+            const Vec3f d = dirs.x[t] * b.t + dirs.y[t] * b.b + dirs.z[t] * b.n;
+            const float az = dot(d, a.n);
+            if (!(az > 0)) return;
+            float u, v;
+            hemisphere_to_square(dot(d, a.t), dot(d, a.b), az, u, v);
+            const int i = std::min(std::max(static_cast<int>(u * scale), 0), R - 1);
+            const int j = std::min(std::max(static_cast<int>(v * scale), 0), R - 1);
+            const int nb[5][2] = {{i, j}, {i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
+            for (const auto& q : nb) {
+                if (q[0] < 0 || q[1] < 0 || q[0] >= R || q[1] >= R) continue;
+                if (a.kind[static_cast<size_t>(q[1]) * R + q[0]] != kTexelMiss) return;
+            }
+            std::fill(radiance + 3 * t, radiance + 3 * t + 3, 0.0f);
+            r.filled.set(x, y);
+            ++r.from_misses;
+        });
+    }
+}
 // Reprojects A into B: radiance (R^2 x 3, B's texels) where filled, the masks in `r`.
 // unknown_masks false leaves the silhouettes out (for the tests and pictures: the leak).
+// region (nullptr: every texel): the texels wanted. Outside it the texels stay as if A had
+// nothing there (not filled, to be traced); inside it everything is as without a region
+// when it holds each wanted texel's four neighbours too (a crack's test reads them): the
+// second cache point, wanted only in the first one's holes (fill_holes), costs their share.
 inline void reproject(const CachePoint& a, const Receiver& b, const TexelDirections& dirs, float* radiance,
-                      Reprojection& r, ReprojectScratch& rs, bool unknown_masks = true) {
+                      Reprojection& r, ReprojectScratch& rs, bool unknown_masks = true,
+                      const BitMask128* region = nullptr) {
     const int R = a.resolution;
     const float scale = static_cast<float>(R);
     r.filled.clear();
@@ -160,6 +279,13 @@ inline void reproject(const CachePoint& a, const Receiver& b, const TexelDirecti
             store_n<N>(py + k * stride + s, v);
         });
     }
+    if (unknown_masks) project_silhouettes(a, b, scale, rs);
+    BitMask128& wanted = rs.region;
+    if (region != nullptr) {
+        wanted = *region;
+    } else {
+        wanted.fill_square(R);
+    }
     BitMask128 layer_unknown;
     layer_unknown.clear();
     for (int layer = 0; layer < kMaxLayers; ++layer) {
@@ -167,10 +293,11 @@ inline void reproject(const CachePoint& a, const Receiver& b, const TexelDirecti
             const Surfel& sf = a.surfels[s];
             float qx[kOutlinePoints], qy[kOutlinePoints];
             for (int k = 0; k < kOutlinePoints; ++k) qx[k] = px[k * stride + s], qy[k] = py[k * stride + s];
+            if (!touches_open(qx, qy, kOutlinePoints, R, r.filled, wanted, &r.unknown)) continue;
             const bool front = dot(sf.normal, b.p - sf.point) > 0;
             rs.texels.clear();
             raster_convex(qx, qy, kOutlinePoints, R, [&](int y, Row128 span) {
-                const Row128 avail = span & ~r.filled.rows[y] & ~r.unknown.rows[y];
+                const Row128 avail = span & wanted.rows[y] & ~r.filled.rows[y] & ~r.unknown.rows[y];
                 if (row_empty(avail)) return;
                 if (!front) {  // its back: A never saw it, but it hides what lies behind
                     r.filled.rows[y] |= avail;
@@ -195,46 +322,14 @@ inline void reproject(const CachePoint& a, const Receiver& b, const TexelDirecti
         const int32_t e0 = a.silhouette_start[layer], e1 = a.silhouette_start[layer + 1];
         if (e0 == e1 || !unknown_masks) continue;
         int ylo = R, yhi = 0;
-        for (int32_t e = e0; e < e1; ++e) {
-            const Silhouette& sil = a.silhouettes[e];
-            float qx[4], qy[4];
-            project_direction(b, normalize(sil.e0 - b.p), scale, qx[0], qy[0]);
-            project_direction(b, normalize(sil.e1 - b.p), scale, qx[1], qy[1]);
-            project_direction(b, sil.d1, scale, qx[2], qy[2]);
-            project_direction(b, sil.d0, scale, qx[3], qy[3]);
-            raster_convex(qx, qy, 4, R, [&](int y, Row128 span) {
-                layer_unknown.rows[y] |= span;
-                ylo = std::min(ylo, y), yhi = std::max(yhi, y + 1);
-            });
-        }
+        add_shadows(a, e0, e1, R, rs, r, region, layer_unknown, ylo, yhi);
         for (int y = ylo; y < yhi; ++y) {
             r.unknown.rows[y] |= layer_unknown.rows[y];
             layer_unknown.rows[y] = Row128{0, 0};
         }
     }
-    // the misses: a direction A saw nothing in (nor around it) has no indirect radiance
     const Row128 full = span_bits(0, R);
-    for (int y = 0; y < R; ++y) {
-        const Row128 open = full & ~r.filled.rows[y] & ~r.unknown.rows[y];
-        for_each_bit(open, [&](int x) {
-            const size_t t = static_cast<size_t>(y) * R + x;
-            const Vec3f d = dirs.x[t] * b.t + dirs.y[t] * b.b + dirs.z[t] * b.n;
-            const float az = dot(d, a.n);
-            if (!(az > 0)) return;
-            float u, v;
-            hemisphere_to_square(dot(d, a.t), dot(d, a.b), az, u, v);
-            const int i = std::min(std::max(static_cast<int>(u * scale), 0), R - 1);
-            const int j = std::min(std::max(static_cast<int>(v * scale), 0), R - 1);
-            const int nb[5][2] = {{i, j}, {i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
-            for (const auto& q : nb) {
-                if (q[0] < 0 || q[1] < 0 || q[0] >= R || q[1] >= R) continue;
-                if (a.kind[static_cast<size_t>(q[1]) * R + q[0]] != kTexelMiss) return;
-            }
-            std::fill(radiance + 3 * t, radiance + 3 * t + 3, 0.0f);
-            r.filled.set(x, y);
-            ++r.from_misses;
-        });
-    }
+    fill_misses(a, b, dirs, radiance, r, wanted, R);
     // cracks: a hole between surfels (not unknown) whose four neighbours all took radiance
     // takes their mean instead of a ray (the neighbours as they were before any crack)
     rs.texels.clear();
@@ -245,7 +340,7 @@ inline void reproject(const CachePoint& a, const Receiver& b, const TexelDirecti
         // bit x set where x - 1 and x + 1 are known: the row shifted by one each way
         const Row128 left = {known[0] << 1, (known[1] << 1) | (known[0] >> 63)};
         const Row128 right = {(known[0] >> 1) | (known[1] << 63), known[1] >> 1};
-        const Row128 crack = full & ~r.filled.rows[y] & ~r.unknown.rows[y] & known_above & known_below & left & right;
+        const Row128 crack = wanted.rows[y] & ~r.filled.rows[y] & ~r.unknown.rows[y] & known_above & known_below & left & right;
         for_each_bit(crack, [&](int x) { rs.texels.push_back(y * R + x); });
     }
     for (const int32_t t : rs.texels) {

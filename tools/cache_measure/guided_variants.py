@@ -4,7 +4,8 @@ bench's `cache.<scene>.guided_vs_path` measures them (bench/cache.py: 96 pixels 
 0 .. REPEAT): per variant its median time, its relMSE and the ratio (docs/radiance-cache.md,
 "The trained guide").
 Run from the checkout: python tools/cache_measure/guided_variants.py '[{"cache_train_passes": 0}, {}]'
-(each variant: keyword arguments of with_overrides; SCENES=cache-room,... and REPEAT=3)."""
+(each variant: keyword arguments of with_overrides; SCENES=cache-room,... and REPEAT=3;
+INTEGRATOR=cache for `cache`'s variants, its ratio the bench's `biased_vs_path`)."""
 
 import json
 import os
@@ -19,12 +20,14 @@ from patina.scene.reading import with_overrides
 
 variants = json.loads(sys.argv[1]) if len(sys.argv) > 1 else [{}]
 repeat = int(os.environ.get("REPEAT", "3"))
+integrator = os.environ.get("INTEGRATOR", "cache-guided")
+key = "guided_vs_path" if integrator == "cache-guided" else "biased_vs_path"
 scenes = os.environ.get("SCENES", "cache-room,cache-studio,cache-ies-interior").split(",")
 for name in scenes:
     f, scene, ref, ladder = path_ladder(name)
     candidates = []
     for v in variants:
-        c = with_overrides(scene, integrator="cache-guided", spp=FULL.candidate_spp, **v)
+        c = with_overrides(scene, integrator=integrator, spp=FULL.candidate_spp, **v)
         candidates.append(Run(c, PreparedScene(c), 2))
     times, images = timed_renders(ladder + candidates, repeat)
     errors = [median_relmse(i, ref.image, ref.error) for i in images]
@@ -32,4 +35,4 @@ for name in scenes:
     curve = ErrorCurve(times[:n], errors[:n])
     print(name, "path", " ".join(f"{s} spp {t:.3f} s {e:.4g}" for s, t, e in zip(FULL.ladder, times, errors)))
     for v, t, e in zip(variants, times[n:], errors[n:]):
-        print(f"  {v}: {t:.3f} s, relMSE {e:.4g}, guided_vs_path {curve.seconds_for(e) / t:.2f}", flush=True)
+        print(f"  {v}: {t:.3f} s, relMSE {e:.4g}, {key} {curve.seconds_for(e) / t:.2f}", flush=True)

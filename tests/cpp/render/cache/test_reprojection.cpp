@@ -321,3 +321,54 @@ TEST(CacheReprojection, ASurfelSeenFromBehindIsTracedAndHidesTheFarLayers) {
     EXPECT_GT(behind, 40);
     EXPECT_LE(through, behind / 20);  // only at the panel's edge, within a texel
 }
+
+// Reprojected into a region (the second cache point, wanted in the first one's holes: the
+// holes and their four neighbours), every texel of the holes ends as in the reprojection
+// of the whole hemisphere: filled or to trace alike, the same radiance. Outside the region
+// nothing is filled.
+TEST(CacheReprojection, AReprojectionIntoARegionAgreesWithTheWholeOneInside) {
+    const int R = 64;
+    const float w = 0.05f, z0 = 0.3f, z1 = 0.9f;  // the occluder of the test above: shadows matter
+    const std::vector<Rect> scene{
+        Rect{2, 1.0f, {-4, -4}, {4, 4}, {1, 0.5f, 0.25f}, {0.3f, 0.2f, 0.1f}},
+        Rect{2, z0, {-w, -w}, {w, w}, {0.01f, 0.01f, 0.01f}},
+        Rect{0, w, {-w, z0}, {w, z1}, {0, 0, 0}},
+        Rect{0, -w, {-w, z0}, {w, z1}, {0, 0, 0}},
+        Rect{1, w, {z0, -w}, {z1, w}, {0, 0, 0}},
+        Rect{1, -w, {z0, -w}, {z1, w}, {0, 0, 0}},
+    };
+    const Vec3f n{0, 0, 1};
+    const CachePoint a = build(scene, {0, 0, 0}, n, R);
+    const Result whole = reproject_into(a, {0.3f, 0.0f, 0.0f}, n);
+    // wanted: every 7th texel (and, as fill_holes asks, its four neighbours)
+    BitMask128 holes, region;
+    holes.clear(), region.clear();
+    for (int t = 0; t < R * R; t += 7) {
+        const int x = t % R, y = t / R;
+        holes.set(x, y);
+        const int nb[5][2] = {{x, y}, {x - 1, y}, {x + 1, y}, {x, y - 1}, {x, y + 1}};
+        for (const auto& q : nb)
+            if (q[0] >= 0 && q[1] >= 0 && q[0] < R && q[1] < R) region.set(q[0], q[1]);
+    }
+    Result part;
+    part.b = whole.b;
+    part.dirs.prepare(R);
+    part.radiance.assign(3 * R * R, -1.0f);
+    ReprojectScratch rs;
+    reproject(a, part.b, part.dirs, part.radiance.data(), part.rep, rs, true, &region);
+    int taken = 0;
+    for (int y = 0; y < R; ++y)
+        for (int x = 0; x < R; ++x) {
+            if (!region.test(x, y)) {
+                EXPECT_FALSE(part.rep.filled.test(x, y));
+                continue;
+            }
+            if (!holes.test(x, y)) continue;
+            ASSERT_EQ(part.rep.filled.test(x, y), whole.rep.filled.test(x, y)) << x << " " << y;
+            ASSERT_EQ(part.rep.to_trace.test(x, y), whole.rep.to_trace.test(x, y)) << x << " " << y;
+            if (!whole.rep.filled.test(x, y) || whole.rep.to_trace.test(x, y)) continue;
+            ++taken;
+            for (int k = 0; k < 3; ++k) EXPECT_EQ(part.radiance[3 * (y * R + x) + k], whole.radiance[3 * (y * R + x) + k]);
+        }
+    EXPECT_GT(taken, R * R / 14);  // most of the wanted texels were reprojected
+}
