@@ -10,8 +10,10 @@
 //   sphere is small or far (b^2 and a c' nearly equal), only where the ray grazes it;
 // - the roots as q / a and c' / q with q = -(b + sign(b) sqrt(a disc)): no cancellation in
 //   -b +- sqrt(...) for either root.
-// The root c' / q is the one nearer t = 0. Its rounding comes from c' (a few float ulps of
-// f.f + r^2); where |c'| is within that bound the origin lies on the sphere as far as float
+// The root c' / q is the one nearer t = 0, and c' ~ 2 r (distance of the origin from the
+// surface). A point on the sphere stored in float is off it by the rounding of its
+// coordinates (up to 2^-23 (|c|_1 + 3 r) for c + r n), and c' itself is rounded (a few ulps of
+// f.f + r^2); where |c'| is within those bounds the origin lies on the sphere as far as float
 // can tell (a secondary or shadow ray leaving the surface without an offset), and that root is
 // dropped (pbrt-v4 likewise rejects a root whose error interval holds 0): such a ray does not
 // hit the sphere at its own origin, yet leaving inwards it still finds the far side. The
@@ -28,8 +30,10 @@
 PATINA_BEGIN_TARGET
 
 namespace sphere_detail {
-// 8 float ulps (2^-21) of f.f + r^2: more than c' = f.f - r^2's rounding (f's three
-// differences, the squares and sums, r^2 and the difference: at most 6 ulps to first order).
+// 2^-21 of f.f + r^2: more than c' = f.f - r^2's rounding (f's three differences, the squares
+// and sums, r^2 and the difference: at most 6 ulps of 2^-24 to first order); and 2^-21 of
+// r (|o|_1 + 6 r): twice 2 r times a stored surface point's distance from the sphere
+// (|c|_1 <= |o|_1 + 3 r there).
 constexpr float kOnSurface = 0x1p-21f;
 
 // Where K rays meet sphere k (the discriminant >= 0) and their two distances: `outer` = q / a
@@ -54,7 +58,8 @@ PATINA_INLINE vbool<K> sphere_roots(const SphereSet& s, size_t k, const vfloat<K
     const F q = F(0.0f) - (b + copysign(root, b));
     outer = q / a;
     inner = c / q;
-    inner_ok = abs(c) > F(kOnSurface) * (f2 + r2);
+    const F reach = abs(org[0]) + abs(org[1]) + abs(org[2]) + F(6.0f) * r;
+    inner_ok = abs(c) > F(kOnSurface) * ((f2 + r2) + r * reach);
     return meets;
 }
 }  // namespace sphere_detail

@@ -162,7 +162,9 @@ class _Spheres:
         with np.errstate(all="ignore"):
             reach = np.abs(centre).max() + radius
         if not (np.isfinite(reach) and reach <= MAX_LENGTH and np.float32(radius) > 0):
-            raise FormatError(scene.path, where, f"placed by its transform it reaches beyond {MAX_LENGTH:g} m: {OVERFLOWS}")
+            raise FormatError(
+                scene.path, where, f"placed by its transform it reaches beyond {MAX_LENGTH:g} m: {OVERFLOWS}"
+            )
         self.rows.append([*centre.tolist(), radius])
         self.frames.append((m[:3, :3] / s).T)
         self.materials.append(material)

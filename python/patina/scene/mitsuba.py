@@ -23,7 +23,6 @@ each renderer against its own reference, uses it.
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np

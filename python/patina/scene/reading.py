@@ -400,7 +400,9 @@ SHAPE_KINDS = ("sphere", "plane", "ball", "panel", "mesh")
 
 def _shape(o: Obj, materials: dict[str, Material]) -> Shape:
     kind = o.read("type", choice, options=SHAPE_KINDS)
-    params = {"sphere": ("radius", "analytic"), "plane": ("size",), "ball": (), "panel": ("size",), "mesh": ("file",)}[kind]
+    params = {"sphere": ("radius", "analytic"), "plane": ("size",), "ball": (), "panel": ("size",), "mesh": ("file",)}[
+        kind
+    ]
     o.allow(("type", "material", "transform", *params), f"a {kind} shape")
     material = o.read("material", _string)
     if material not in materials:
