@@ -13,6 +13,7 @@ from __future__ import annotations
 import os
 
 from patina.bench import render as R
+from patina.bench.mitsuba_scenes import triangle_spheres
 from patina.render.run import PreparedScene
 from patina.scene.reading import load_scene, with_overrides
 
@@ -21,7 +22,7 @@ def main() -> None:
     threads = os.cpu_count() or 1
     levels, ref_spp, repeat = [32, 128, 512], 8192, 3
     scene = with_overrides(load_scene(R._scene_path("conductor-sphere")), width=128, height=96, seed=0)
-    tri = R.triangle_spheres(scene)
+    tri = triangle_spheres(scene)
     print("load", os.getloadavg())
     reference, reference_mse = R._own_reference(R._mitsuba_renderer(scene, "llvm_ad_rgb", threads), ref_spp)
 

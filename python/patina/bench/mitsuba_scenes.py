@@ -15,6 +15,7 @@ renderer's error against its own converged image (bench/render.py).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from typing import Any
@@ -71,6 +72,12 @@ def stand_in_bsdf(material: CarpaintMaterial, where: str) -> dict[str, Any]:
             "clearcoat_gloss": 1.0 - coat.roughness,
         }
     raise ValueError(f"{where}: no Mitsuba stand-in for a car paint over a {base.type} base")
+
+
+def triangle_spheres(scene: Scene) -> Scene:
+    """The scene with every analytic sphere tessellated again (Patina's default triangles)."""
+    shapes = tuple(dataclasses.replace(s, analytic=False) if isinstance(s, SphereShape) else s for s in scene.shapes)
+    return dataclasses.replace(scene, shapes=shapes)
 
 
 def mitsuba_scene_dict(scene: Scene, variant: str, analytic: bool = False) -> dict[str, Any]:

@@ -14,7 +14,6 @@ Renders are timed from job start to resolved image, calling the C++ job directly
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import os
 import statistics
@@ -24,14 +23,14 @@ from collections.abc import Callable
 
 import numpy as np
 
-from patina.bench.mitsuba_scenes import mitsuba_scene_dict, preview_mitsuba_scene
+from patina.bench.mitsuba_scenes import mitsuba_scene_dict, preview_mitsuba_scene, triangle_spheres
 from patina.bench.records import Record, median_times_and_values, simd_widths
 from patina.bundled import materials_path
 from patina.native import _core
 from patina.render.run import PreparedScene, core_depth
 from patina.scene.mitsuba import to_mitsuba
 from patina.scene.reading import load_scene, with_overrides
-from patina.scene.types import Scene, SphereShape
+from patina.scene.types import Scene
 
 TARGET_RMSE = 0.02  # per-pixel RMSE relative to the reference's image mean: a clean preview
 # Mitsuba 3's sampler in render.vs_mitsuba*: of independent, multijitter and ldsampler (its
@@ -276,12 +275,6 @@ def llvm_variant_works(timeout: float = 300.0) -> bool:
     except (OSError, subprocess.TimeoutExpired):
         return False
     return done.returncode == 0
-
-
-def triangle_spheres(scene: Scene) -> Scene:
-    """The scene with every analytic sphere tessellated again (Patina's default triangles)."""
-    shapes = tuple(dataclasses.replace(s, analytic=False) if isinstance(s, SphereShape) else s for s in scene.shapes)
-    return dataclasses.replace(scene, shapes=shapes)
 
 
 def _vs_mitsuba_records(repeat: int, quick: bool, llvm: bool) -> list[Record]:

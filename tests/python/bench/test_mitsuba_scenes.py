@@ -44,7 +44,7 @@ def test_preview_mitsuba_renders_near_patinas_image():
 
 
 def test_the_gold_sphere_is_analytic_on_both_sides_and_triangles_on_both_for_its_triangles_record():
-    from patina.bench.render import triangle_spheres
+    from patina.bench.mitsuba_scenes import triangle_spheres
     from patina.bundled import materials_path
     from patina.scene.reading import load_scene
 
