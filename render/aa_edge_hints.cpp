@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "render/accel/trace_kernels.h"
+#include "render/aa_sphere_silhouettes.h"
 #include "render/adaptive_pattern.h"
 
 namespace patina {
@@ -302,11 +303,11 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
     const Camera& c = s.camera;
     h.resize(c.width, c.height);
     const size_t pixels = static_cast<size_t>(c.width) * c.height;
-    if (s.tree == nullptr || s.indices == nullptr || s.triangle_count == 0 ||
-        s.tree->triangle_count() != s.triangle_count)
-        return h;
+    const bool triangles = s.tree != nullptr && s.indices != nullptr && s.triangle_count > 0 &&
+                           s.tree->triangle_count() == s.triangle_count;
+    if (!triangles && (s.tree == nullptr || s.tree->spheres.empty())) return h;
     const float* tri = s.tree->triangles.data();  // corner e of triangle t at tri + 9 t + 3 e
-    const std::shared_ptr<const MeshEdges> mesh = mesh_edges(s);
+    const std::shared_ptr<const MeshEdges> mesh = triangles ? mesh_edges(s) : std::make_shared<const MeshEdges>();
     const std::vector<EdgeUse>& edges = mesh->edges;
     const V3 eye = load(c.position), fwd = load(c.forward), right = load(c.right), up = load(c.up);
     const double tan_y = c.tan_half_fov, tan_x = tan_y * c.width / c.height;
@@ -429,6 +430,11 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
         workers.emplace_back([&, k] { walk(bound(k), bound(k + 1), part[k - 1]); });
     }
     walk(0, bound(1), h);
+    // the analytic spheres' silhouettes, which have no triangle edges (their cast shadows are
+    // left to the signal)
+    for_each_silhouette_piece(s.tree->spheres, c.position, [&](const double* a, const double* b) {
+        project(h, V3{a[0], a[1], a[2]}, V3{b[0], b[1], b[2]});
+    });
     for (auto& w : workers) w.join();
     for (const AaEdgeHints& o : part)
         for (size_t i = 0; i < pixels; ++i) {

@@ -53,9 +53,10 @@ float sharpest_alpha(const Material& m) {
 
 std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
     std::vector<AaSpot> pieces;
-    if (s.tree == nullptr || s.indices == nullptr || s.triangle_count == 0 ||
-        s.tree->triangle_count() != s.triangle_count)
-        return pieces;
+    const bool triangles = s.tree != nullptr && s.indices != nullptr && s.triangle_count > 0 &&
+                           s.tree->triangle_count() == s.triangle_count;
+    if (!triangles && (s.tree == nullptr || s.tree->spheres.empty())) return pieces;
+    const size_t triangle_count = triangles ? s.triangle_count : 0;
     const Camera& c = s.camera;
     const V3 eye = load(c.position), fwd = load(c.forward), right = load(c.right), up = load(c.up);
     const double tan_y = c.tan_half_fov, tan_x = tan_y * c.width / c.height;
@@ -97,6 +98,57 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
                 light.kind == LightKind::Sun ? 0.5 * std::acos(std::clamp<double>(light.cos_sun, -1, 1)) : 0;
             const auto to_light = [&](V3 p) { return local ? unit(lp - p) : unit(sun); };
             const auto half = [&](V3 p) { return unit(to_light(p) + unit(eye - p)); };
+            // the spot at p, a point where the shading normal is the half-vector (ngp: the geometric
+            // normal there, facing the camera; normal_at(x, y, q, n): the point q and shading normal n
+            // where the camera ray through film position (x, y) meets the surface, false for none)
+            const auto place = [&](V3 p, V3 ngp, double alpha, const auto& normal_at) {
+                const V3 l = to_light(p), v = unit(eye - p);
+                if (dot(ngp, l) <= 0 || dot(ngp, v) <= 0) return;
+                if (light.kind == LightKind::Spot && dot(-1.0 * l, load(light.direction)) < light.cos_outer) return;
+                // seen: the camera's ray towards p hits nothing before it
+                const double dist = std::sqrt(dot(p - eye, p - eye));
+                const double slack = 1e-4 * dist + 10 * double(s.ray_offset);
+                const float inf = std::numeric_limits<float>::infinity();
+                if (first_hit(eye, unit(p - eye), 0.0f, inf) < dist - slack) return;
+                // lit: nothing between p and the light
+                const double to_lp = local ? std::sqrt(dot(lp - p, lp - p)) : std::numeric_limits<double>::infinity();
+                const V3 o = p + (2 * double(s.ray_offset)) * ngp;
+                const float tmax = local ? float(to_lp * (1 - 1e-4)) : std::numeric_limits<float>::infinity();
+                if (std::isfinite(first_hit(o, l, s.ray_offset, tmax))) return;
+                double fx, fy;
+                if (!film(p, fx, fy)) return;
+                // the spot's size: the normal's offset from the half-vector, a 2-vector in a frame
+                // across h, as the film position moves (the camera ray meets the triangle's plane
+                // there); the lobe's footprint is where that offset is within kAaSpotWidths lobe
+                // widths: an ellipse J q <= r on the film, bounded by a box of half-widths
+                // r sqrt((J^T J)^-1) on its diagonal
+                const V3 h0 = half(p);
+                const V3 t1 = unit(cross(h0, std::fabs(h0.x) < 0.9 ? V3{1, 0, 0} : V3{0, 1, 0})), t2 = cross(h0, t1);
+                const auto offset = [&](double x, double y, double o2[2]) {
+                    V3 q, n;
+                    if (!normal_at(x, y, q, n)) return false;
+                    // the normal against the half-vector, in the frame across h0
+                    const V3 h = half(q);
+                    const V3 r = n - h;
+                    o2[0] = dot(r, t1);
+                    o2[1] = dot(r, t2);
+                    return true;
+                };
+                constexpr double kStep = 0.25;  // pixels: near the spot, where the offset is about linear
+                double ax[2], bx[2], ay[2], by[2];
+                if (!offset(fx + kStep, fy, ax) || !offset(fx - kStep, fy, bx) || !offset(fx, fy + kStep, ay) ||
+                    !offset(fx, fy - kStep, by))
+                    return;
+                const double j00 = (ax[0] - bx[0]) / (2 * kStep), j10 = (ax[1] - bx[1]) / (2 * kStep);
+                const double j01 = (ay[0] - by[0]) / (2 * kStep), j11 = (ay[1] - by[1]) / (2 * kStep);
+                const double m00 = j00 * j00 + j10 * j10, m01 = j00 * j01 + j10 * j11, m11 = j01 * j01 + j11 * j11;
+                const double mdet = m00 * m11 - m01 * m01;
+                if (!(mdet > 0)) return;  // the normal does not turn across the film: no spot
+                const double r = kAaSpotWidths * alpha;
+                const double hx = r * std::sqrt(m11 / mdet), hy = r * std::sqrt(m00 / mdet);
+                if (!(hx <= kAaSpotMaxHalf && hy <= kAaSpotMaxHalf)) return;  // not sub-pixel: the pattern sees it
+                spots.push_back({fx - hx, fy - hy, fx + hx, fy + hy});
+            };
             for (size_t t = t_begin; t < t_end; ++t) {
                 const size_t mi = s.tri_material != nullptr ? static_cast<size_t>(s.tri_material[t]) : 0;
                 if (mi >= s.materials.size()) continue;  // no material: nothing to place
@@ -165,65 +217,54 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
                     found = std::min({b[0], b[1], b[2]}) >= -1e-7;
                 }
                 if (!found) continue;
-                const V3 l = to_light(p), v = unit(eye - p);
-                if (dot(T.ng, l) <= 0 || dot(T.ng, v) <= 0) continue;
-                if (light.kind == LightKind::Spot && dot(-1.0 * l, load(light.direction)) < light.cos_outer) continue;
-                // seen: the camera's ray towards p hits nothing before it
-                const double dist = std::sqrt(dot(p - eye, p - eye));
-                const double slack = 1e-4 * dist + 10 * double(s.ray_offset);
-                const float inf = std::numeric_limits<float>::infinity();
-                if (first_hit(eye, unit(p - eye), 0.0f, inf) < dist - slack) continue;
-                // lit: nothing between p and the light
-                const double to_lp = local ? std::sqrt(dot(lp - p, lp - p)) : std::numeric_limits<double>::infinity();
-                const V3 o = p + (2 * double(s.ray_offset)) * T.ng;
-                const float tmax = local ? float(to_lp * (1 - 1e-4)) : std::numeric_limits<float>::infinity();
-                if (std::isfinite(first_hit(o, l, s.ray_offset, tmax))) continue;
-                double fx, fy;
-                if (!film(p, fx, fy)) continue;
-                // the spot's size: the normal's offset from the half-vector, a 2-vector in a frame
-                // across h, as the film position moves (the camera ray meets the triangle's plane
-                // there); the lobe's footprint is where that offset is within kAaSpotWidths lobe
-                // widths: an ellipse J q <= r on the film, bounded by a box of half-widths
-                // r sqrt((J^T J)^-1) on its diagonal
-                const V3 h0 = half(p);
-                const V3 t1 = unit(cross(h0, std::fabs(h0.x) < 0.9 ? V3{1, 0, 0} : V3{0, 1, 0})), t2 = cross(h0, t1);
-                const auto offset = [&](double x, double y, double o2[2]) {
+                place(p, T.ng, alpha, [&](double x, double y, V3& q, V3& n) {
                     const V3 d = ray_dir(x, y);
                     const double dn = dot(d, T.ng);
                     if (dn == 0) return false;
-                    const V3 q = eye + (dot(T.p[0] - eye, T.ng) / dn) * d;
+                    q = eye + (dot(T.p[0] - eye, T.ng) / dn) * d;
                     double bq[3];
                     barycentric(T, q, bq);
-                    const V3 n = shading_normal(T, bq), h = half(q);
-                    // the normal against the half-vector, in the frame across h0
-                    const V3 r = n - h;
-                    o2[0] = dot(r, t1);
-                    o2[1] = dot(r, t2);
+                    n = shading_normal(T, bq);
                     return true;
-                };
-                constexpr double kStep = 0.25;  // pixels: near the spot, where the offset is about linear
-                double ax[2], bx[2], ay[2], by[2];
-                if (!offset(fx + kStep, fy, ax) || !offset(fx - kStep, fy, bx) || !offset(fx, fy + kStep, ay) ||
-                    !offset(fx, fy - kStep, by))
-                    continue;
-                const double j00 = (ax[0] - bx[0]) / (2 * kStep), j10 = (ax[1] - bx[1]) / (2 * kStep);
-                const double j01 = (ay[0] - by[0]) / (2 * kStep), j11 = (ay[1] - by[1]) / (2 * kStep);
-                const double m00 = j00 * j00 + j10 * j10, m01 = j00 * j01 + j10 * j11, m11 = j01 * j01 + j11 * j11;
-                const double mdet = m00 * m11 - m01 * m01;
-                if (!(mdet > 0)) continue;  // the normal does not turn across the film: no spot
-                const double r = kAaSpotWidths * alpha;
-                const double hx = r * std::sqrt(m11 / mdet), hy = r * std::sqrt(m00 / mdet);
-                if (!(hx <= kAaSpotMaxHalf && hy <= kAaSpotMaxHalf)) continue;  // not sub-pixel: the pattern sees it
-                spots.push_back({fx - hx, fy - hy, fx + hx, fy + hy});
+                });
+            }
+            // the analytic spheres (render/accel/spheres.h), with the first part's triangles: the
+            // point whose exact normal is the half-vector, by rounds n <- h(c + r n) (a contraction
+            // of about r over the distances to the camera and the light)
+            const SphereSet& balls = s.tree->spheres;
+            for (size_t k = 0; t_begin == 0 && k < balls.size(); ++k) {
+                const size_t mi = static_cast<size_t>(s.tri_material[balls.prim_base + static_cast<int32_t>(k)]);
+                if (mi >= s.materials.size()) continue;
+                const double alpha = double(sharpest_alpha(s.materials[mi])) + sun_spread;
+                if (!(alpha < 0.5)) continue;
+                const V3 centre{balls.cx[k], balls.cy[k], balls.cz[k]};
+                const double radius = balls.radius[k];
+                if (!(dot(eye - centre, eye - centre) > radius * radius)) continue;  // the camera inside it
+                V3 n = unit(eye - centre);
+                bool found = false;
+                for (int round = 0; round < 64 && !found; ++round) {
+                    const V3 next = half(centre + radius * n);
+                    found = dot(next - n, next - n) < 1e-20;
+                    n = next;
+                }
+                if (!found) continue;
+                place(centre + radius * n, n, alpha, [&](double x, double y, V3& q, V3& nq) {
+                    const V3 d = ray_dir(x, y), f = eye - centre;
+                    const double a = dot(d, d), b = dot(f, d), disc = b * b - a * (dot(f, f) - radius * radius);
+                    if (!(disc >= 0)) return false;
+                    q = eye + ((-b - std::sqrt(disc)) / a) * d;
+                    nq = unit(q - centre);
+                    return true;
+                });
             }
         }
     };
     // the triangles split among threads (the pieces are merged by pixel below: the same for any count)
     const size_t parts = std::clamp<size_t>(static_cast<size_t>(std::max(threads, 1)), 1,
-                                            std::max<size_t>(1, s.triangle_count / 4096));
+                                            std::max<size_t>(1, triangle_count / 4096));
     std::vector<std::vector<Rect>> found(parts);
     std::vector<std::thread> workers;
-    const auto bound = [&](size_t k) { return s.triangle_count * k / parts; };
+    const auto bound = [&](size_t k) { return triangle_count * k / parts; };
     for (size_t k = 1; k < parts; ++k) workers.emplace_back([&, k] { search(bound(k), bound(k + 1), found[k]); });
     search(0, bound(1), found[0]);
     for (auto& w : workers) w.join();

@@ -4,7 +4,8 @@
 // or misses it by luck, and its radiance is hundreds of times the image's. Its place is known
 // from the geometry, as the shadow edges' are: the point of a mesh where the shading normal
 // is the half-vector of the light and the camera (the mirror direction of the light meets the
-// camera). Each such point is found per triangle, checked for visibility from the camera and
+// camera). Each such point is found per triangle (and per analytic sphere, where its exact
+// normal is the half-vector), checked for visibility from the camera and
 // the light, and projected; the lobe's roughness and how fast the normal turns away from the
 // half-vector across the film give the spot's size in pixels. A spot smaller than a pixel
 // gets a dense grid of rays over its neighbourhood (the pieces below), which the sampler adds

@@ -35,6 +35,7 @@
 #include "render/sample_numbers.h"
 #include "render/scene.h"
 #include "render/shadow_rays_impl.h"
+#include "render/sphere_points.h"
 #include "render/uniforms_impl.h"
 
 PATINA_BEGIN_TARGET
@@ -266,6 +267,17 @@ inline bool may_shade(const Wavefront& w, const HitBatch& hits, size_t j, int de
            depth < w.st.max_depth && !cached;
 }
 
+// Hit j's geometric normal (from the winding; an analytic sphere's outwards), as
+// make_shading_lanes has it before facing the viewer.
+inline Vec3f hit_normal(const Wavefront& w, const HitBatch& hits, size_t j, const float* tn) {
+    const int32_t prim = hits.prim[j];
+    const SphereSet& spheres = w.s.tree->spheres;
+    if (!spheres.owns(prim)) return load_vec3(tn + 3 * static_cast<size_t>(prim));
+    const int32_t i = w.sc.active[j];
+    return sphere_normal<1>(spheres, prim - spheres.prim_base, load_vec3(w.sc.org.data() + 3 * i),
+                            load_vec3(w.sc.dir.data() + 3 * i), hits.t[j]);
+}
+
 // 3. Grouping by material before the points exist: the hits that become shading points
 //    (not the back of a one-sided surface, where the path ends) in sc.shade_hits, counted
 //    per material (sc.material_start: each group's first slot in sc.sorted), so
@@ -294,7 +306,7 @@ inline void group_by_material(const Wavefront& w, const HitBatch& hits, int dept
         // groups have no gaps)
         if (!(sc.material_two_sided[material] > 0.0f)) {
             const Vec3f wo = -load_vec3(sc.dir.data() + 3 * sc.active[j]);
-            if (dot(load_vec3(tn + 3 * static_cast<size_t>(prim)), wo) < 0.0f) {
+            if (dot(hit_normal(w, hits, j, tn), wo) < 0.0f) {
                 if (depth == 0) w.out[sc.active[j]].depth = hits.t[j];
                 continue;
             }
@@ -347,7 +359,11 @@ inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t 
         for (int k = 0; k < N; ++k) hit[k] = sc.shade_hits[h0 + (k < lanes ? k : 0)];
     const I J = load_n<N>(lanes < N ? hit : sc.shade_hits.data() + h0);
     const I pr = gather(hits.prim, J), material = gather(s.tri_material, pr);
-    const I pa3 = gather(sc.active.data(), J) * I(3), pr3 = pr * I(3);
+    // analytic-sphere hits get their geometry from sphere_points; the triangles' gathers read triangle 0 there
+    const SphereSet& spheres = s.tree->spheres;
+    const B on_sphere = sphere_lanes<N>(spheres, pr);
+    const bool triangles = !all(on_sphere);
+    const I pa3 = gather(sc.active.data(), J) * I(3), pr3 = select(on_sphere, I(0), pr) * I(3);
     const F fu = gather(hits.u, J), fv = gather(hits.v, J), ft = gather(hits.t, J);
     // per material (group_by_material's tables): eta, 1 if dielectric, 1 if either side shades
     const F ein = gather(sc.material_eta.data(), material);
@@ -355,7 +371,7 @@ inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t 
     const B two_sided = gather(sc.material_two_sided.data(), material) > F(0.0f);
     const F w0 = F(1.0f) - fu - fv;
     I vert[3];
-    for (int c = 0; c < 3; ++c) vert[c] = gather(s.indices, pr3 + I(c)) * I(3);
+    for (int c = 0; c < 3; ++c) vert[c] = triangles ? gather(s.indices, pr3 + I(c)) * I(3) : I(0);
     // a per-vertex attribute interpolated at the hits
     auto interpolate = [&](const float* a) {
         V3 x[3];
@@ -368,9 +384,14 @@ inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t 
     const V3 o{gather(org, pa3), gather(org, pa3 + I(1)), gather(org, pa3 + I(2))};
     const V3 dir{gather(dirs, pa3), gather(dirs, pa3 + I(1)), gather(dirs, pa3 + I(2))};
     const float* tn = s.tree->normals.data();
-    V3 ng{gather(tn, pr3), gather(tn, pr3 + I(1)), gather(tn, pr3 + I(2))};
-    const V3 p = o + ft * dir;
-    V3 n = normalize_lanes(interpolate(s.normals));
+    const V3 zero{F(0.0f), F(0.0f), F(0.0f)};
+    V3 ng = zero, n = zero, sphere_tangent = zero;
+    if (triangles) {
+        ng = V3{gather(tn, pr3), gather(tn, pr3 + I(1)), gather(tn, pr3 + I(2))};
+        n = normalize_lanes(interpolate(s.normals));
+    }
+    V3 p = o + ft * dir;
+    if (any(on_sphere)) sphere_points<N>(spheres, on_sphere, pr, o, dir, ft, p, ng, n, sphere_tangent);
     const V3 wo = -dir;
     const B back = dot(ng, wo) < F(0.0f);
     // the geometric normal (from the winding) points out of a closed dielectric
@@ -383,8 +404,8 @@ inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t 
     n = select3(!(dot(n, wo) > F(0.0f)), ng, n);
     V3 ft3, fb3;
     orthonormal_frame_lanes(n, ft3, fb3);
-    if (s.tangents != nullptr) {
-        V3 tangent = interpolate(s.tangents);
+    if (s.tangents != nullptr || any(on_sphere)) {
+        V3 tangent = select3(on_sphere, sphere_tangent, triangles && s.tangents ? interpolate(s.tangents) : zero);
         tangent = tangent - dot(tangent, n) * n;
         const B has = dot(tangent, tangent) > F(1e-12f);
         const V3 tu = normalize_lanes(tangent);

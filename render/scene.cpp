@@ -104,13 +104,22 @@ void prepare_environment(Environment& env) {
 }
 
 void prepare_scale(RenderScene& s) {
-    const Box3& b = s.tree->bounds;
+    Box3 b = s.tree->bounds;
+    const SphereSet& spheres = s.tree->spheres;
+    if (!spheres.empty()) {  // the triangles' box and the analytic spheres'
+        Box3 round;
+        sphere_bounds(spheres, round.lo, round.hi);
+        for (int k = 0; k < 3; ++k) {
+            b.lo[k] = s.triangle_count > 0 ? std::min(b.lo[k], round.lo[k]) : round.lo[k];
+            b.hi[k] = s.triangle_count > 0 ? std::max(b.hi[k], round.hi[k]) : round.hi[k];
+        }
+    }
     float r2 = 0, extent = 0;
     for (int k = 0; k < 3; ++k) {
         r2 += 0.25f * (b.hi[k] - b.lo[k]) * (b.hi[k] - b.lo[k]);
         extent = std::max({extent, std::abs(b.lo[k]), std::abs(b.hi[k])});
     }
-    s.scene_radius = s.triangle_count > 0 ? std::max(std::sqrt(r2), 1e-3f) : 1.0f;
+    s.scene_radius = s.triangle_count > 0 || !spheres.empty() ? std::max(std::sqrt(r2), 1e-3f) : 1.0f;
     // far enough off a surface for float positions at the scene's largest coordinate
     s.ray_offset = std::max(1e-5f, 2e-5f * std::max(extent, s.scene_radius));
 }

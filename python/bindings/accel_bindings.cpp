@@ -26,7 +26,40 @@ using Indices = nb::ndarray<const int32_t, nb::shape<-1, 3>, nb::c_contig, nb::d
 using Rays3 = nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
 using FloatVector = nb::ndarray<const float, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 
-std::unique_ptr<Accel> make_accel(Vertices vertices, Indices indices, int max_leaf, int max_depth, int threads) {
+using SphereRows = nb::ndarray<const float, nb::shape<-1, 4>, nb::c_contig, nb::device::cpu>;
+using SphereFrames = nb::ndarray<const float, nb::shape<-1, 3, 3>, nb::c_contig, nb::device::cpu>;
+
+// The analytic spheres (S, 4: centre, radius) and their object frames (S, 3, 3: the object's
+// x, y, z axes in the world, rows; identity when None), primitives triangle_count() on.
+patina::SphereSet sphere_set(nb::object spheres, nb::object frames, size_t triangle_count) {
+    patina::SphereSet set;
+    set.prim_base = static_cast<int32_t>(triangle_count);
+    if (spheres.is_none()) {
+        if (!frames.is_none()) throw std::invalid_argument("sphere_frames given without spheres");
+        return set;
+    }
+    const SphereRows rows = nb::cast<SphereRows>(spheres);
+    const size_t ns = rows.shape(0);
+    const float* fr = nullptr;
+    if (!frames.is_none()) {
+        const SphereFrames f = nb::cast<SphereFrames>(frames);
+        if (f.shape(0) != ns) throw std::invalid_argument("sphere_frames needs one frame per sphere");
+        fr = f.data();
+    }
+    if (triangle_count + ns >= (size_t(1) << 30)) throw std::invalid_argument("more than 2^30 primitives");
+    const float identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    for (size_t k = 0; k < ns; ++k) {
+        try {
+            set.add(rows.data() + 4 * k, rows.data()[4 * k + 3], fr ? fr + 9 * k : identity);
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument("sphere " + std::to_string(k) + ": " + e.what());
+        }
+    }
+    return set;
+}
+
+std::unique_ptr<Accel> make_accel(Vertices vertices, Indices indices, int max_leaf, int max_depth, int threads,
+                                  nb::object spheres, nb::object sphere_frames) {
     const size_t nv = vertices.shape(0), nt = indices.shape(0);
     const float* v = vertices.data();
     for (size_t i = 0; i < 3 * nv; ++i)
@@ -38,6 +71,7 @@ std::unique_ptr<Accel> make_accel(Vertices vertices, Indices indices, int max_le
             throw std::invalid_argument("triangle " + std::to_string(i / 3) + " refers to vertex " +
                                         std::to_string(f[i]) + ", the mesh has " + std::to_string(nv));
     if (nt >= (size_t(1) << 30)) throw std::invalid_argument("more than 2^30 triangles");
+    patina::SphereSet set = sphere_set(spheres, sphere_frames, nt);
     patina::KdBuildOptions opt;
     if (max_leaf > 0) opt.max_leaf = max_leaf;
     if (max_depth > 0) opt.max_depth = std::min(max_depth, 100);
@@ -47,6 +81,7 @@ std::unique_ptr<Accel> make_accel(Vertices vertices, Indices indices, int max_le
         nb::gil_scoped_release release;
         accel->tree = patina::build_kdtree(v, nv, f, nt, opt);
     }
+    accel->tree.spheres = std::move(set);
     return accel;
 }
 
@@ -57,6 +92,7 @@ const patina::Bvh& bvh_of(Accel& a) {
     nb::gil_scoped_release release;
     std::call_once(a.bvh_once, [&] {
         a.bvh = std::make_unique<patina::Bvh>(patina::build_bvh(a.tree.triangles.data(), a.tree.triangle_count()));
+        a.bvh->spheres = a.tree.spheres;
     });
     return *a.bvh;
 }
@@ -133,7 +169,7 @@ nb::tuple intersect(Accel& a, Rays3 origins, Rays3 directions, float tmin, nb::o
         const patina::HitBatch hits{t, prim, u, v};
         if (wide) patina::trace_intersect(*wide, rays, hits, n, width, threads);
         else patina::trace_intersect(a.tree, rays, hits, n, width, threads);
-        patina::hit_normals(a.tree, prim, normal, n);
+        patina::hit_normals(a.tree, rays, t, prim, normal, n);
     }
     return result;
 }
@@ -204,8 +240,13 @@ void bind_accel(nb::module_& m) {
                       "A SAH kd-tree over triangles with single-ray and 4/8-ray packet traversal, and an 8-wide "
                       "BVH over the same triangles for incoherent rays (built on first use).")
         .def(nb::new_(&make_accel), nb::arg("vertices"), nb::arg("indices"), nb::arg("max_leaf") = 0,
-             nb::arg("max_depth") = 0, nb::arg("threads") = 0,
-             "Builds the tree from float32 (V, 3) vertices and int32 (T, 3) indices; 0 means the default.")
+             nb::arg("max_depth") = 0, nb::arg("threads") = 0, nb::arg("spheres") = nb::none(),
+             nb::arg("sphere_frames") = nb::none(),
+             "Builds the tree from float32 (V, 3) vertices and int32 (T, 3) indices; 0 means the default. "
+             "spheres: float32 (S, 4) analytic spheres (centre, radius), traced beside the triangles as "
+             "primitives T .. T + S - 1; sphere_frames: float32 (S, 3, 3), each sphere's object x, y, z axes "
+             "in the world (its tangents run about y), identity by default.")
+        .def_prop_ro("sphere_count", [](const Accel& a) { return a.tree.spheres.size(); })
         .def_prop_ro("triangle_count", [](const Accel& a) { return a.tree.triangle_count(); })
         .def_prop_ro("node_count", [](const Accel& a) { return a.tree.nodes.size(); })
         .def_prop_ro("leaf_count", [](const Accel& a) { return a.tree.stats.leaves; })

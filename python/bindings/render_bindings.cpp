@@ -132,7 +132,8 @@ std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, nb::object indices
     if (accel.tree.triangle_count() != nt)
         throw std::invalid_argument("indices has " + std::to_string(nt) + " triangles, the accel " +
                                     std::to_string(accel.tree.triangle_count()));
-    if (tri_material.shape(0) != nt) throw std::invalid_argument("tri_material needs one entry per triangle");
+    if (tri_material.shape(0) != nt + accel.tree.spheres.size())
+        throw std::invalid_argument("tri_material needs one entry per triangle, then one per analytic sphere");
     const size_t nv = normals.shape(0);
     for (size_t i = 0; i < 3 * nt; ++i)
         if (indices.data()[i] < 0 || static_cast<size_t>(indices.data()[i]) >= nv)

@@ -65,6 +65,7 @@ struct Bvh {
     // Per axis, the largest |coordinate| of the geometry: box-test rounding margins scale with it.
     float extent[3] = {0, 0, 0};
     BvhStats stats;
+    SphereSet spheres;  // analytic spheres, traced beside the hierarchy (a copy of the kd-tree's)
 };
 
 // triangles: 9 floats each (v0, v1, v2), e.g. KdTree::triangles; primitive i is triangle i.

@@ -22,6 +22,7 @@
 #include <utility>
 
 #include "render/accel/bvh.h"
+#include "render/accel/sphere_test.h"
 #include "render/accel/triangle_test.h"
 
 PATINA_BEGIN_TARGET
@@ -239,15 +240,12 @@ inline void traverse(const Bvh& bvh, const RayPacket<1>& r, const BoxRay& b, con
 }
 }  // namespace bvh_detail
 
-// Closest hit (the least t, then the least primitive index) of the ray in (tmin, tmax], with L lanes over the
-// children and T over a block's triangles. hit.prim = -1 and hit.t = r.tmax on a miss.
-// The ray as load_ray prepares it (r, b: trace_kernels_bvh_rays.h prepares N at a time).
+// The triangles' closest hit, from `hit`: a miss (prim -1, t = r.tmax) or the analytic
+// spheres' hit, which the triangles' traversal then only searches in front of.
 template <int L, int T>
-inline void bvh_intersect(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail::BoxRay& b, HitPacket<1>& hit) {
+inline void bvh_intersect_triangles(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail::BoxRay& b,
+                                    HitPacket<1>& hit) {
     using namespace bvh_detail;
-    hit.t = r.tmax;
-    hit.u = hit.v = 0.0f;
-    hit.prim = -1;
     if (bvh.root == kBvhEmpty) return;
     traverse<L, true>(bvh, r, b, hit.t, [&](const BvhBlock* blk, uint32_t nb) {
         for (uint32_t k = 0; k < nb; ++k, ++blk) {
@@ -271,6 +269,19 @@ inline void bvh_intersect(const Bvh& bvh, const RayPacket<1>& r, const bvh_detai
     });
 }
 
+// Closest hit (the least t, then the least primitive index) of the ray in (tmin, tmax], with L lanes over the
+// children and T over a block's triangles, the analytic spheres (bvh.spheres) included.
+// hit.prim = -1 and hit.t = r.tmax on a miss. The ray as load_ray prepares it (r, b:
+// trace_kernels_bvh_rays.h prepares N at a time, and tests their spheres N at a time).
+template <int L, int T>
+inline void bvh_intersect(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail::BoxRay& b, HitPacket<1>& hit) {
+    hit.t = r.tmax;
+    hit.u = hit.v = 0.0f;
+    hit.prim = -1;
+    if (!bvh.spheres.empty()) intersect_spheres<1>(bvh.spheres, r.org, r.dir, r.tmin, hit.t, hit.prim);
+    bvh_intersect_triangles<L, T>(bvh, r, b, hit);
+}
+
 template <int L, int T>
 inline void bvh_intersect(const Bvh& bvh, const float* org, const float* dir, float tmin, float tmax,
                           HitPacket<1>& hit) {
@@ -280,9 +291,9 @@ inline void bvh_intersect(const Bvh& bvh, const float* org, const float* dir, fl
     bvh_intersect<L, T>(bvh, r, b, hit);
 }
 
-// Whether the ray hits anything in (tmin, tmax).
+// Whether the ray hits a triangle in (tmin, tmax).
 template <int L, int T>
-inline bool bvh_occluded(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
+inline bool bvh_occluded_triangles(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
     using namespace bvh_detail;
     if (bvh.root == kBvhEmpty) return false;
     bool occluded = false;
@@ -296,6 +307,13 @@ inline bool bvh_occluded(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail
         return false;
     });
     return occluded;
+}
+
+// Whether the ray hits anything in (tmin, tmax), the analytic spheres included.
+template <int L, int T>
+inline bool bvh_occluded(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
+    if (!bvh.spheres.empty() && occluded_by_spheres<1>(bvh.spheres, r.org, r.dir, r.tmin, r.tmax)) return true;
+    return bvh_occluded_triangles<L, T>(bvh, r, b);
 }
 
 template <int L, int T>

@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "render/accel/spheres.h"
+
 namespace patina {
 
 struct Box3 {
@@ -56,8 +58,9 @@ struct KdTree {
     std::vector<uint32_t> leaf_prims;
     std::vector<float> triangles;  // 9 floats per triangle: v0, v1, v2
     std::vector<float> normals;    // 3 floats per triangle: unit cross(v1 - v0, v2 - v0), 0 if degenerate
-    Box3 bounds;
+    Box3 bounds;  // the triangles'
     KdTreeStats stats;
+    SphereSet spheres;  // analytic spheres, traced beside the tree (primitives triangle_count() on)
 
     size_t triangle_count() const { return triangles.size() / 9; }
 };

@@ -62,11 +62,23 @@ void trace_occluded(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked, size
     run_kernel(&TraceKernels::occluded_bvh, bvh, rays, blocked, n, width, threads);
 }
 
-void hit_normals(const KdTree& tree, const int32_t* prim, float* normals, size_t n) {
+void hit_normals(const KdTree& tree, const RayBatch& rays, const float* t, const int32_t* prim, float* normals,
+                 size_t n) {
+    const SphereSet& spheres = tree.spheres;
     for (size_t i = 0; i < n; ++i) {
         float* out = normals + 3 * i;
         if (prim[i] < 0) {
             out[0] = out[1] = out[2] = 0.0f;
+        } else if (spheres.owns(prim[i])) {
+            const size_t k = static_cast<size_t>(prim[i] - spheres.prim_base);
+            const float c[3] = {spheres.cx[k], spheres.cy[k], spheres.cz[k]};
+            float len2 = 0.0f;
+            for (int a = 0; a < 3; ++a) {
+                out[a] = rays.origins[3 * i + a] + t[i] * rays.directions[3 * i + a] - c[a];
+                len2 += out[a] * out[a];
+            }
+            const float len = std::sqrt(len2);
+            for (int a = 0; a < 3; ++a) out[a] = len > 0.0f ? out[a] / len : 0.0f;
         } else {
             const float* nrm = &tree.normals[3 * size_t(prim[i])];
             out[0] = nrm[0];

@@ -50,6 +50,9 @@ void trace_intersect(const KdTree& tree, const RayBatch& rays, const HitBatch& h
 void trace_occluded(const KdTree& tree, const RayBatch& rays, uint8_t* blocked, size_t n, int width, int threads);
 void trace_intersect(const Bvh& bvh, const RayBatch& rays, const HitBatch& hits, size_t n, int width, int threads);
 void trace_occluded(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked, size_t n, int width, int threads);
-void hit_normals(const KdTree& tree, const int32_t* prim, float* normals, size_t n);
+// Unit geometric normals of hits (t, prim) of the batch's rays: a triangle's from its winding,
+// an analytic sphere's outwards at the hit; 0 on a miss.
+void hit_normals(const KdTree& tree, const RayBatch& rays, const float* t, const int32_t* prim, float* normals,
+                 size_t n);
 
 }  // namespace patina

@@ -17,7 +17,7 @@ using namespace kernel_width;  // N rays per packet: the traversal's K is N here
 
 TreeView view_of(const KdTree& tree) {
     return TreeView{tree.nodes.empty() ? nullptr : tree.nodes.data(), tree.leaf_prims.data(), tree.triangles.data(),
-                    tree.bounds};
+                    tree.bounds, &tree.spheres};
 }
 
 // Loads rays [i, i + lanes) as one packet; missing lanes get an empty interval.
@@ -88,18 +88,21 @@ constexpr int kNodeLanes = N < kBvhWidth ? N : kBvhWidth;
 constexpr int kBlockLanes = N < kBvhBlock ? N : kBvhBlock;
 
 // Rays [begin, end) of the batch one at a time through the BVH, set up N at a time:
-// trace(i, r, b) for each.
-template <class Trace>
-PATINA_INLINE void for_each_bvh_ray(const Bvh& bvh, const RayBatch& rays, size_t begin, size_t end, Trace&& trace) {
+// spheres(lanes_of) for each N (the analytic spheres' tests, in the lanes), then trace(i, j, r, b)
+// for each ray (i in the batch, lane j).
+template <class Spheres, class Trace>
+PATINA_INLINE void for_each_bvh_ray(const Bvh& bvh, const RayBatch& rays, size_t begin, size_t end, Spheres&& spheres,
+                                    Trace&& trace) {
     BvhRayLanes<N> lanes_of;
     for (size_t i = begin; i < end; i += N) {
         const int lanes = static_cast<int>(std::min<size_t>(N, end - i));
         load_bvh_rays<N>(bvh, rays, i, lanes, lanes_of);
+        spheres(lanes_of);
         for (int j = 0; j < lanes; ++j) {
             RayPacket<1> r;
             bvh_detail::BoxRay b;
             bvh_ray_of<N>(lanes_of, j, rays.tmin, r, b);
-            trace(i + j, r, b);
+            trace(i + j, j, r, b);
         }
     }
 }
@@ -107,22 +110,45 @@ PATINA_INLINE void for_each_bvh_ray(const Bvh& bvh, const RayBatch& rays, size_t
 void intersect_bvh_kernel(const Bvh& bvh, const RayBatch& rays, const HitBatch& hits, size_t begin, size_t end) {
     enter_kernel();
     if (ray_recording_on()) record_rays(rays, begin, end, false);
-    for_each_bvh_ray(bvh, rays, begin, end, [&](size_t i, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
-        HitPacket<1> h;
-        bvh_intersect<kNodeLanes, kBlockLanes>(bvh, r, b, h);
-        hits.t[i] = h.prim >= 0 ? h.t : kInfinity;
-        hits.prim[i] = h.prim;
-        hits.u[i] = h.u;
-        hits.v[i] = h.v;
-    });
+    alignas(64) float sphere_t[N];
+    alignas(64) int32_t sphere_prim[N];
+    const auto spheres = [&](const BvhRayLanes<N>& l) {
+        F t = load_n<N>(l.tmax);
+        I prim(-1);
+        if (!bvh.spheres.empty()) {
+            const F org[3] = {load_n<N>(l.org[0]), load_n<N>(l.org[1]), load_n<N>(l.org[2])};
+            const F dir[3] = {load_n<N>(l.dir[0]), load_n<N>(l.dir[1]), load_n<N>(l.dir[2])};
+            intersect_spheres<N>(bvh.spheres, org, dir, F(rays.tmin), t, prim);
+        }
+        store_n<N>(sphere_t, t);
+        store_n<N>(sphere_prim, prim);
+    };
+    for_each_bvh_ray(bvh, rays, begin, end, spheres,
+                     [&](size_t i, int j, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
+                         HitPacket<1> h{sphere_t[j], 0.0f, 0.0f, sphere_prim[j]};
+                         bvh_intersect_triangles<kNodeLanes, kBlockLanes>(bvh, r, b, h);
+                         hits.t[i] = h.prim >= 0 ? h.t : kInfinity;
+                         hits.prim[i] = h.prim;
+                         hits.u[i] = h.u;
+                         hits.v[i] = h.v;
+                     });
 }
 
 void occluded_bvh_kernel(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked, size_t begin, size_t end) {
     enter_kernel();
     if (ray_recording_on()) record_rays(rays, begin, end, true);
-    for_each_bvh_ray(bvh, rays, begin, end, [&](size_t i, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
-        blocked[i] = static_cast<uint8_t>(bvh_occluded<kNodeLanes, kBlockLanes>(bvh, r, b));
-    });
+    int by_sphere = 0;  // bit j: lane j's ray is blocked by a sphere
+    const auto spheres = [&](const BvhRayLanes<N>& l) {
+        if (bvh.spheres.empty()) return;
+        const F org[3] = {load_n<N>(l.org[0]), load_n<N>(l.org[1]), load_n<N>(l.org[2])};
+        const F dir[3] = {load_n<N>(l.dir[0]), load_n<N>(l.dir[1]), load_n<N>(l.dir[2])};
+        by_sphere = movemask(occluded_by_spheres<N>(bvh.spheres, org, dir, F(rays.tmin), load_n<N>(l.tmax)));
+    };
+    for_each_bvh_ray(bvh, rays, begin, end, spheres,
+                     [&](size_t i, int j, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
+                         blocked[i] = static_cast<uint8_t>(((by_sphere >> j) & 1) ||
+                                                           bvh_occluded_triangles<kNodeLanes, kBlockLanes>(bvh, r, b));
+                     });
 }
 
 }  // namespace

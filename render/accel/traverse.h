@@ -17,6 +17,7 @@
 #include <limits>
 
 #include "render/accel/kdtree.h"
+#include "render/accel/sphere_test.h"
 #include "render/accel/triangle_test.h"
 
 PATINA_BEGIN_TARGET
@@ -26,6 +27,7 @@ struct TreeView {
     const uint32_t* leaf_prims;
     const float* triangles;
     Box3 bounds;
+    const SphereSet* spheres;  // tested before the tree: their hits bound its traversal
 };
 
 namespace traverse_detail {
@@ -246,6 +248,7 @@ PATINA_INLINE void intersect_packet(const TreeView& tree, const RayPacket<K>& r,
     hit.u = vfloat<K>(0.0f);
     hit.v = vfloat<K>(0.0f);
     hit.prim = vint<K>(-1);
+    if (!tree.spheres->empty()) intersect_spheres<K>(*tree.spheres, r.org, r.dir, r.tmin, hit.t, hit.prim);
     if (!tree.nodes) return;
     vfloat<K> t0, t1;
     traverse_detail::clip_to_box<K>(r, tree.bounds, t0, t1);
@@ -257,10 +260,14 @@ template <int K>
 PATINA_INLINE vbool<K> occluded_packet(const TreeView& tree, const RayPacket<K>& r) {
     HitPacket<K> hit;
     hit.t = r.tmax;
-    if (!tree.nodes) return vbool<K>(false);
+    const vbool<K> by_sphere = tree.spheres->empty() ? vbool<K>(false)
+                                                     : occluded_by_spheres<K>(*tree.spheres, r.org, r.dir, r.tmin, r.tmax);
+    if (!tree.nodes || all(by_sphere)) return by_sphere;
     vfloat<K> t0, t1;
     traverse_detail::clip_to_box<K>(r, tree.bounds, t0, t1);
-    return traverse_from<K, true>(tree, r, 0, t0, t1, hit);
+    // lanes a sphere blocks already have their answer: an empty interval skips them
+    t0 = select(by_sphere, vfloat<K>(std::numeric_limits<float>::infinity()), t0);
+    return by_sphere | traverse_from<K, true>(tree, r, 0, t0, t1, hit);
 }
 
 PATINA_END_TARGET

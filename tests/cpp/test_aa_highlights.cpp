@@ -170,4 +170,21 @@ TEST(AaHighlights, OnASmoothSphereTheSpotIsWhereTheNormalBisectsLightAndCamera) 
     EXPECT_NEAR(b.y, 64.0, 0.05);
     EXPECT_LT(b.hx, 0.5);
     EXPECT_LT(b.hy, 0.5);
+    // the same sphere analytic (render/accel/spheres.h, no triangles): the spot where the exact
+    // normal bisects, of the tessellated one's size
+    patina::KdTree exact = patina::build_kdtree(nullptr, 0, nullptr, 0, patina::KdBuildOptions{});
+    const float centre[3] = {0, 0, -2}, frame[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    exact.spheres.add(centre, 1.0f, frame);
+    const std::vector<int32_t> none, one = {0};
+    const std::vector<float> no_normals;
+    patina::RenderScene a = aa_test::looking_down(exact, none, no_normals, one, 128, 128);
+    a.materials = s.materials;
+    a.lights = s.lights;
+    const std::vector<patina::AaSpot> round = patina::find_highlight_spots(a);
+    ASSERT_FALSE(round.empty());
+    const Box e = bounds(round, 128);
+    EXPECT_NEAR(e.x, film_x, 0.005);
+    EXPECT_NEAR(e.y, 64.0, 0.005);
+    EXPECT_NEAR(e.hx, b.hx, 0.1 * b.hx);
+    EXPECT_NEAR(e.hy, b.hy, 0.1 * b.hy);
 }

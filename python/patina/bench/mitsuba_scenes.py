@@ -15,6 +15,7 @@ renderer's error against its own converged image (bench/render.py).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from typing import Any
@@ -23,7 +24,7 @@ from patina.bundled import materials_path
 from patina.render.prepare import shape_mesh
 from patina.scene.mitsuba import to_mitsuba
 from patina.scene.reading import load_scene, with_overrides
-from patina.scene.types import CarpaintMaterial, FitMaterial, LambertMaterial, Scene
+from patina.scene.types import CarpaintMaterial, FitMaterial, LambertMaterial, Scene, Shape, SphereShape
 
 
 def preview_mitsuba_scene(width: int, height: int) -> Scene:
@@ -73,10 +74,21 @@ def stand_in_bsdf(material: CarpaintMaterial, where: str) -> dict[str, Any]:
     raise ValueError(f"{where}: no Mitsuba stand-in for a car paint over a {base.type} base")
 
 
+def triangle_spheres(scene: Scene) -> Scene:
+    """The scene with every analytic sphere tessellated again (Patina's default triangles)."""
+    shapes = tuple(dataclasses.replace(s, analytic=False) if isinstance(s, SphereShape) else s for s in scene.shapes)
+    return dataclasses.replace(scene, shapes=shapes)
+
+
 def mitsuba_scene_dict(scene: Scene, variant: str, analytic: bool = False) -> dict[str, Any]:
     """The scene for `mi.load_dict` with Patina's own triangles for every shape (analytic: spheres
-    and planes as Mitsuba's analytic shapes instead) and stand-ins for its car paints."""
-    meshes = {i: shape_mesh(s) for i, s in enumerate(scene.shapes) if not (analytic and s.type in ("sphere", "plane"))}
+    and planes as Mitsuba's analytic shapes instead; a sphere Patina traces analytically is
+    always Mitsuba's analytic one) and stand-ins for its car paints."""
+
+    def exact(s: Shape) -> bool:
+        return (analytic and s.type in ("sphere", "plane")) or (isinstance(s, SphereShape) and s.analytic)
+
+    meshes = {i: shape_mesh(s) for i, s in enumerate(scene.shapes) if not exact(s)}
     bsdfs = {
         name: stand_in_bsdf(m, f"materials.{name}")
         for name, m in scene.materials.items()

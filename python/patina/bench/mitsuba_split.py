@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from patina.bench.mitsuba_scenes import mitsuba_scene_dict, preview_mitsuba_scene
+from patina.bench.mitsuba_scenes import mitsuba_scene_dict, preview_mitsuba_scene, triangle_spheres
 from patina.bench.records import Record
 from patina.bundled import materials_path
 from patina.scene.mitsuba import to_mitsuba
@@ -74,8 +74,8 @@ def _scene_dict(spec: dict[str, Any]) -> dict[str, Any]:
     if spec["scene"] == "preview-mitsuba":
         return mitsuba_scene_dict(preview_mitsuba_scene(w, h), VARIANT)
     scene = with_overrides(load_scene(materials_path("scenes", f"{spec['scene']}.json")), width=w, height=h, seed=0)
-    if spec["mesh"]:
-        return mitsuba_scene_dict(scene, VARIANT)
+    if spec["mesh"]:  # Patina's triangles of the sphere, though the scene has Patina trace it analytically
+        return mitsuba_scene_dict(triangle_spheres(scene), VARIANT)
     return to_mitsuba(scene, variant=VARIANT)
 
 

@@ -23,7 +23,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from patina.bench.mitsuba_scenes import mitsuba_scene_dict, preview_mitsuba_scene
+from patina.bench.mitsuba_scenes import mitsuba_scene_dict, preview_mitsuba_scene, triangle_spheres
 from patina.bench.records import Record, median_times_and_values, simd_widths
 from patina.bundled import materials_path
 from patina.native import _core
@@ -297,9 +297,12 @@ def _vs_mitsuba_records(repeat: int, quick: bool, llvm: bool) -> list[Record]:
        points around it (_seconds_to_error). No 1 / spp law is assumed: a low-discrepancy
        sampler converges faster, by an amount that depends on the scene.
        ratio = Mitsuba's time / Patina's time, value = Patina's time.
-    4. `render.vs_mitsuba_llvm.triangles`: llvm_ad_rgb again, on Patina's own triangles of the
-       sphere (bench/mitsuba_scenes.py) instead of the analytic sphere to_mitsuba gives it, so
-       both trace the same geometry; same reference.
+    The sphere is analytic on both sides (the scene's `"analytic": true`: Patina's exact sphere,
+    Mitsuba's `sphere` plugin).
+    4. `render.vs_mitsuba_llvm.triangles`: both renderers on Patina's own triangles of the
+       sphere instead (the scene with `analytic` off; Mitsuba given those triangles,
+       bench/mitsuba_scenes.py), Patina's error curve and target measured again on them; same
+       reference.
 
     Patina's GGX uses the height-correlated Smith term and Mitsuba's the separable one
     (0.2 % brighter image mean on this scene, tests/python/render/test_against_mitsuba.py): that
@@ -316,19 +319,27 @@ def _vs_mitsuba_records(repeat: int, quick: bool, llvm: bool) -> list[Record]:
     ref_render = _mitsuba_renderer(scene, "llvm_ad_rgb" if llvm else "scalar_rgb", threads)
     reference, reference_mse = _own_reference(ref_render, ref_spp)
 
-    patina = _error_curve(lambda n: _render(prep, scene, 0, threads, n), levels, reference, reference_mse, repeat)
-    tp, target = patina[-1]
-    # (record name, variant, Mitsuba on Patina's triangles of the sphere instead of its analytic one)
+    def patina_curve(s: Scene) -> list[tuple[float, float]]:
+        p = prep if s is scene else PreparedScene(s)
+        return _error_curve(lambda n: _render(p, s, 0, threads, n), levels, reference, reference_mse, repeat)
+
+    # (record name, variant, both on Patina's triangles of the sphere instead of the analytic one)
     runs = [("render.vs_mitsuba", "scalar_rgb", False)]
     if llvm:
         runs += [("render.vs_mitsuba_llvm", "llvm_ad_rgb", False)]
         runs += [("render.vs_mitsuba_llvm.triangles", "llvm_ad_rgb", True)]
+    curves = {False: patina_curve(scene)}
     records = []
     for name, variant, triangles in runs:
-        render_at = _mitsuba_renderer(scene, variant, threads, stand_ins=triangles, sampler=MITSUBA_SAMPLER)
+        if triangles not in curves:
+            curves[triangles] = patina_curve(triangle_spheres(scene))
+        patina = curves[triangles]
+        tp, target = patina[-1]
+        shown = triangle_spheres(scene) if triangles else scene
+        render_at = _mitsuba_renderer(shown, variant, threads, stand_ins=triangles, sampler=MITSUBA_SAMPLER)
         other = _error_curve(render_at, levels, reference, reference_mse, repeat)
         tm = _seconds_to_error(other, target)
-        shape = "Patina's triangles of the sphere, as Patina" if triangles else "its analytic sphere"
+        shape = "Patina's triangles of the sphere, as Patina" if triangles else "its analytic sphere, as Patina"
         records.append(
             Record(
                 name,

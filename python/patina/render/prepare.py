@@ -29,7 +29,7 @@ from patina.native import _core
 from patina.photometry.luminaire import load_luminaire
 from patina.render.images import read_image
 from patina.render.materials import core_material
-from patina.scene.reading import MAX_EMISSION, MAX_LENGTH, OVERFLOWS
+from patina.scene.reading import MAX_EMISSION, MAX_LENGTH, OVERFLOWS, similarity_scale
 from patina.scene.types import (
     BallShape,
     ConstantEnvironment,
@@ -142,6 +142,40 @@ def _place(mesh: Any, m: np.ndarray) -> tuple[np.ndarray, ...]:
     if np.linalg.det(lin) < 0:
         f = f[:, [0, 2, 1]]
     return v, f, n, t
+
+
+@dataclass
+class _Spheres:
+    """The analytic spheres, as `_core.Accel` takes them: (S, 4) centre and radius, (S, 3, 3)
+    object frames (rows: the object's x, y, z axes in the world), and their materials."""
+
+    rows: list[list[float]] = field(default_factory=list)
+    frames: list[np.ndarray] = field(default_factory=list)
+    materials: list[int] = field(default_factory=list)
+
+    def add(self, scene: Scene, where: str, shape: SphereShape, material: int) -> None:
+        m = shape.transform
+        s = similarity_scale(m[:3, :3])
+        if s is None:  # the reader lets none through
+            raise FormatError(scene.path, where, "an analytic sphere's transform must be a similarity")
+        centre, radius = m[:3, 3], shape.radius * s
+        with np.errstate(all="ignore"):
+            reach = np.abs(centre).max() + radius
+        if not (np.isfinite(reach) and reach <= MAX_LENGTH and np.float32(radius) > 0):
+            raise FormatError(
+                scene.path, where, f"placed by its transform it reaches beyond {MAX_LENGTH:g} m: {OVERFLOWS}"
+            )
+        self.rows.append([*centre.tolist(), radius])
+        self.frames.append((m[:3, :3] / s).T)
+        self.materials.append(material)
+
+    def accel_arguments(self) -> dict[str, np.ndarray]:
+        if not self.rows:
+            return {}
+        return {
+            "spheres": np.asarray(self.rows, np.float32),
+            "sphere_frames": np.ascontiguousarray(np.asarray(self.frames), np.float32),
+        }
 
 
 def _quad_triangles(light: QuadLight) -> tuple[np.ndarray, ...]:
@@ -439,7 +473,11 @@ class PreparedScene:
         names = list(scene.materials)
         cache: dict[str, Any] = {}
         core_materials = [core_material(scene.materials[name], cache) for name in names]
+        spheres = _Spheres()
         for i, shape in enumerate(scene.shapes):
+            if isinstance(shape, SphereShape) and shape.analytic:
+                spheres.add(scene, f"shapes[{i}]", shape, names.index(shape.material))
+                continue
             try:
                 placed = _place(shape_mesh(shape), shape.transform)
             except ValueError as e:  # a shape too small to tessellate
@@ -473,11 +511,14 @@ class PreparedScene:
             lights.append(entry)
         vertices, indices, normals, tangents, tri_material = geometry.arrays()
         self.triangles = len(indices)
+        self.spheres = len(spheres.rows)
+        # primitives: the triangles, then the analytic spheres (render/accel/spheres.h)
+        tri_material = np.concatenate([tri_material, np.asarray(spheres.materials, np.int32)])
         # what was handed to C++, kept for inspection and tests (the core keeps its own copies)
         self.core_materials = core_materials
         self.core_lights = lights
         self.arrays = (indices, normals, tangents, tri_material)
-        self.accel = _core.Accel(vertices, indices)
+        self.accel = _core.Accel(vertices, indices, **spheres.accel_arguments())
         self.core = _core.RenderScene(self.accel, indices, normals, tangents, tri_material, camera_dict(scene))
         for m in core_materials:
             self.core.add_material(m)

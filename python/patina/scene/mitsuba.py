@@ -23,11 +23,11 @@ each renderer against its own reference, uses it.
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 
+from patina.scene.reading import similarity_scale
 from patina.scene.types import (
     Camera,
     CarpaintMaterial,
@@ -184,22 +184,13 @@ def mitsuba_mesh(mi: Any, name: str, mesh: MeshArrays, transform: np.ndarray, bs
     return out
 
 
-def _similarity_scale(m: np.ndarray) -> float | None:
-    """The uniform scale of a rotation-and-uniform-scale 3x3 matrix, None for any other."""
-    gram = m.T @ m
-    s2 = float(np.trace(gram)) / 3
-    if s2 > 0 and np.allclose(gram, s2 * np.eye(3), rtol=0, atol=1e-9 * s2) and np.linalg.det(m) > 0:
-        return math.sqrt(s2)
-    return None
-
-
 PLANE_TO_RECTANGLE = np.array([[0.5, 0, 0, 0], [0, 0, 1, 0], [0, -0.5, 0, 0], [0, 0, 0, 1]])  # times diag(w, d)
 
 
 def _analytic_shape(mi: Any, shape: Any, where: str, bsdf_object: Any) -> dict[str, Any]:
     m = shape.transform
     if isinstance(shape, SphereShape):
-        s = _similarity_scale(m[:3, :3])
+        s = similarity_scale(m[:3, :3])
         if s is None:
             raise MitsubaConversionError(where, "a sphere under a non-uniform scale or mirror needs a mesh")
         return {"type": "sphere", "center": m[:3, 3].tolist(), "radius": shape.radius * s, "bsdf": bsdf_object}

@@ -15,7 +15,8 @@ def preview_scene_dict(material: str, env: str, shape: str, coat: bool) -> dict[
         obj: dict[str, Any] = {"type": "ball"}
         camera = {"position": [0, 1.7, 5.6], "look_at": [0, 0.95, 0], "fov": 30}
     elif shape == "sphere":
-        obj = {"type": "sphere", "radius": 1, "transform": {"translate": [0, 1, 0]}}
+        # the exact sphere: a material preview without facets in its highlights
+        obj = {"type": "sphere", "radius": 1, "analytic": True, "transform": {"translate": [0, 1, 0]}}
         camera = {"position": [0, 1.5, 5.0], "look_at": [0, 1, 0], "fov": 30}
     elif shape == "panel":
         obj = {"type": "panel", "transform": {"translate": [0, 1, 0]}}

@@ -400,7 +400,9 @@ SHAPE_KINDS = ("sphere", "plane", "ball", "panel", "mesh")
 
 def _shape(o: Obj, materials: dict[str, Material]) -> Shape:
     kind = o.read("type", choice, options=SHAPE_KINDS)
-    params = {"sphere": ("radius",), "plane": ("size",), "ball": (), "panel": ("size",), "mesh": ("file",)}[kind]
+    params = {"sphere": ("radius", "analytic"), "plane": ("size",), "ball": (), "panel": ("size",), "mesh": ("file",)}[
+        kind
+    ]
     o.allow(("type", "material", "transform", *params), f"a {kind} shape")
     material = o.read("material", _string)
     if material not in materials:
@@ -408,7 +410,14 @@ def _shape(o: Obj, materials: dict[str, Material]) -> Shape:
         o.ctx.fail(o.at("material"), f"undefined material '{material[:40]}' (materials: {known})")
     transform = _transform(o.obj("transform")) if o.has("transform") else _identity()
     if kind == "sphere":
-        return SphereShape(material, transform, o.read("radius", length, 1.0))
+        analytic = o.read("analytic", boolean, False)
+        if analytic and similarity_scale(transform[:3, :3]) is None:
+            o.ctx.fail(
+                o.at("analytic"),
+                "an analytic sphere takes only translate, rotate and a uniform positive scale "
+                "(its transform is not a similarity: a non-uniform scale, a mirror or a shear needs the triangles)",
+            )
+        return SphereShape(material, transform, o.read("radius", length, 1.0), analytic)
     if kind == "plane":
         return PlaneShape(material, transform, o.read("size", _positive_pair, (2.0, 2.0)))
     if kind == "ball":
@@ -416,6 +425,16 @@ def _shape(o: Obj, materials: dict[str, Material]) -> Shape:
     if kind == "panel":
         return PanelShape(material, transform, o.read("size", _positive_pair, (2.0, 1.2)))
     return MeshShape(material, transform, o.read("file", _file, suffixes=MESH_SUFFIXES))
+
+
+def similarity_scale(lin: np.ndarray) -> float | None:
+    """The uniform scale s of a 3x3 matrix that is a rotation times s > 0 (L^T L = s^2 I within
+    1e-9 s^2, det > 0), None for any other (a mirror, shear or non-uniform scale)."""
+    gram = np.asarray(lin, np.float64).T @ np.asarray(lin, np.float64)
+    s2 = float(np.trace(gram)) / 3
+    if s2 > 0 and np.allclose(gram, s2 * np.eye(3), rtol=0, atol=1e-9 * s2) and np.linalg.det(lin) > 0:
+        return math.sqrt(s2)
+    return None
 
 
 def _identity() -> np.ndarray:

@@ -203,7 +203,12 @@ class _Placed:
 
 @dataclass(frozen=True, eq=False)
 class SphereShape(_Placed):
+    """A sphere of `radius` about the origin, placed by its transform: triangles
+    (`patina.geometry.shapes.sphere`), or with `analytic` the exact sphere the tracer
+    intersects as such (its transform then a similarity)."""
+
     radius: float
+    analytic: bool = False
     type: str = field(default="sphere", init=False)
 
 

@@ -41,3 +41,18 @@ def test_preview_mitsuba_renders_near_patinas_image():
     assert theirs.shape == ours.shape
     # the same scene up to the stand-ins' few percent (and 64 spp of noise on 432 pixels)
     assert float(ours.mean()) / float(theirs.mean()) == pytest.approx(1.0, abs=0.12)
+
+
+def test_the_gold_sphere_is_analytic_on_both_sides_and_triangles_on_both_for_its_triangles_record():
+    from patina.bench.mitsuba_scenes import triangle_spheres
+    from patina.bundled import materials_path
+    from patina.scene.reading import load_scene
+
+    scene = with_overrides(load_scene(materials_path("scenes", "conductor-sphere.json")), width=16, height=12)
+    assert [s.analytic for s in scene.shapes] == [True]
+    exact = mitsuba_scene_dict(scene, "scalar_rgb")
+    assert exact["shape_0"]["type"] == "sphere"  # a dict: Mitsuba's analytic sphere
+    tri = triangle_spheres(scene)
+    assert [s.analytic for s in tri.shapes] == [False] and tri.materials == scene.materials
+    assert PreparedScene(tri).triangles > 10000 and PreparedScene(scene).triangles == 0
+    assert not isinstance(mitsuba_scene_dict(tri, "scalar_rgb")["shape_0"], dict)  # a mi.Mesh of the triangles

@@ -25,3 +25,11 @@ def test_a_child_renders_at_the_width_and_mode_asked_for():
     # the switches change how Mitsuba computes, not what: the same samples, the same image (to rounding)
     assert four["mean"] == pytest.approx(default["mean"], rel=1e-4)
     assert {s[0] for s in SWITCHES} == {"w8_vs_w4", "megakernel_vs_wavefront", "analytic_vs_mesh"}
+
+
+def test_the_mesh_switch_gives_mitsuba_the_triangles_of_the_analytic_gold_sphere():
+    from patina.bench.mitsuba_split import _scene_dict
+
+    spec = {"scene": "conductor-sphere", "size": [16, 12]}
+    assert _scene_dict({**spec, "mesh": False})["shape_0"]["type"] == "sphere"
+    assert not isinstance(_scene_dict({**spec, "mesh": True})["shape_0"], dict)  # a mi.Mesh

@@ -73,6 +73,10 @@ GOOD = {
         ({"materials": {"m": {"type": "lambert", "albedo": -1}}}, "materials.m.albedo"),
         ({"shapes": [{"type": "mesh", "material": "m", "file": "missing.obj"}]}, "shapes[0].file"),
         ({"shapes": [{"type": "sphere", "material": "nope"}]}, "shapes[0].material"),
+        (
+            {"shapes": [{"type": "sphere", "material": "m", "analytic": True, "transform": {"scale": [1, 2, 1]}}]},
+            "shapes[0].analytic",
+        ),
         ({"environment": {"type": "map", "file": "missing.exr"}}, "environment.file"),
     ],
 )

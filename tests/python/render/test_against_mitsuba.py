@@ -63,7 +63,11 @@ class Case:
 
 CASES = [
     Case("diffuse-sphere", 2048, 4096, 0.01, 0.045, 0.007),
-    Case("conductor-sphere", 2048, 4096, 0.01, 0.09, 0.013),
+    # the gold sphere is analytic on both sides (its scene's "analytic": true): measured at these
+    # settings (seed pairs 1/2, 3/4, 5/6) mean 0.19-0.29 %, RMSE 0.041-0.045, blocks 0.0038-0.0045
+    # (with Patina's triangles 0.15-0.23 %, 0.041-0.045, 0.0035-0.0040: their facets are below the
+    # noise at 64 x 48); bounds 1.3x and 1.65x the largest
+    Case("conductor-sphere", 2048, 4096, 0.01, 0.06, 0.0075),
     Case("area-box", 1024, 2048, 0.01, 0.145, 0.008),
     # smooth glass (Mitsuba's exact dielectric against Patina's GGX at alpha 1e-3), refraction
     # and total internal reflection through the sphere; measured at these settings: mean 0.4 %,

@@ -280,6 +280,25 @@ _DELETE = object()
 ERRORS = [
     # (key path in FULL, new value, expected where, words in the problem)
     (("camera", "fvo"), 3, "camera.fvo", "did you mean 'fov'"),
+    (("shapes", 0, "analytic"), 1, "shapes[0].analytic", "true or false"),
+    (
+        ("shapes", 0),
+        {"type": "sphere", "material": "l", "analytic": True, "transform": {"scale": [2, 1, 1]}},
+        "shapes[0].analytic",
+        "not a similarity",
+    ),
+    (
+        ("shapes", 0),
+        {
+            "type": "sphere",
+            "material": "l",
+            "analytic": True,
+            "transform": {"matrix": [[-1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]},
+        },
+        "shapes[0].analytic",
+        "mirror",
+    ),
+    (("shapes", 1, "analytic"), True, "shapes[1].analytic", "unknown key"),
     (("camera", "fov"), 180, "camera.fov", "(0, 180)"),
     (("camera", "fov"), 0, "camera.fov", "(0, 180)"),
     (("camera", "fov"), "30", "camera.fov", "must be a number"),
