@@ -132,6 +132,13 @@ PATINA_INLINE vbool<T> block_lanes(const RayPacket<1>& r, const BvhBlock& blk, i
     return valid & (t <= F(best));
 }
 
+// The root node's children a ray enters (bit c: child c) and their entry distances, as
+// hit_children gives them, when found before the traversal.
+struct RootHits {
+    int mask;
+    const float* near;  // kBvhWidth entry distances (read where mask has a bit)
+};
+
 struct StackEntry {
     uint32_t child;
     float tnear;
@@ -208,13 +215,21 @@ PATINA_INLINE uint32_t push_children(const Bvh& bvh, const BvhNode& node, int ma
 // The traversal both queries share: nodes with L lanes over their children, nearest child first
 // (kNearestFirst; else in slot order), the others on the stack; nearest first, a popped child is
 // skipped once it lies beyond `tfar` (the closest hit so far, which the leaf visitor may lower).
-// `leaf(first_block, block_count)` returns true to stop.
+// `leaf(first_block, block_count)` returns true to stop. With a `root` given, the root node's
+// children were tested already (RootHits: for N rays at once, trace_kernels_bvh_rays.h).
 template <int L, bool kNearestFirst, typename Leaf>
-inline void traverse(const Bvh& bvh, const RayPacket<1>& r, const BoxRay& b, const float& tfar, Leaf&& leaf) {
+inline void traverse(const Bvh& bvh, const RayPacket<1>& r, const BoxRay& b, const float& tfar, Leaf&& leaf,
+                     const RootHits* root = nullptr) {
     StackEntry stack[kStackSize];
     int top = 0;
     uint32_t cur = bvh.root;
     alignas(32) float near[kBvhWidth];
+    if (root != nullptr) {
+        if (root->mask == 0) return;
+        const BvhNode& node = bvh.nodes[cur];
+        cur = kNearestFirst ? order_children(bvh, node, root->mask, root->near, stack, top)
+                            : push_children(bvh, node, root->mask, stack, top);
+    }
     for (;;) {
         while (!bvh_is_leaf(cur)) {
             const BvhNode& node = bvh.nodes[cur];
@@ -242,8 +257,10 @@ inline void traverse(const Bvh& bvh, const RayPacket<1>& r, const BoxRay& b, con
 // Closest hit (the least t, then the least primitive index) of the ray in (tmin, tmax], with L lanes over the
 // children and T over a block's triangles. hit.prim = -1 and hit.t = r.tmax on a miss.
 // The ray as load_ray prepares it (r, b: trace_kernels_bvh_rays.h prepares N at a time).
+// `root`: the root node's children tested already (an interior root only).
 template <int L, int T>
-inline void bvh_intersect(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail::BoxRay& b, HitPacket<1>& hit) {
+inline void bvh_intersect(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail::BoxRay& b, HitPacket<1>& hit,
+                          const bvh_detail::RootHits* root = nullptr) {
     using namespace bvh_detail;
     hit.t = r.tmax;
     hit.u = hit.v = 0.0f;
@@ -268,7 +285,7 @@ inline void bvh_intersect(const Bvh& bvh, const RayPacket<1>& r, const bvh_detai
             }
         }
         return false;
-    });
+    }, root);
 }
 
 template <int L, int T>
@@ -282,7 +299,8 @@ inline void bvh_intersect(const Bvh& bvh, const float* org, const float* dir, fl
 
 // Whether the ray hits anything in (tmin, tmax).
 template <int L, int T>
-inline bool bvh_occluded(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
+inline bool bvh_occluded(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail::BoxRay& b,
+                         const bvh_detail::RootHits* root = nullptr) {
     using namespace bvh_detail;
     if (bvh.root == kBvhEmpty) return false;
     bool occluded = false;
@@ -294,7 +312,7 @@ inline bool bvh_occluded(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail
             }
         }
         return false;
-    });
+    }, root);
     return occluded;
 }
 

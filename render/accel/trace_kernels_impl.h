@@ -87,19 +87,31 @@ void occluded_kernel(const KdTree& tree, const RayBatch& rays, uint8_t* blocked,
 constexpr int kNodeLanes = N < kBvhWidth ? N : kBvhWidth;
 constexpr int kBlockLanes = N < kBvhBlock ? N : kBvhBlock;
 
-// Rays [begin, end) of the batch one at a time through the BVH, set up N at a time:
-// trace(i, r, b) for each.
-template <class Trace>
-PATINA_INLINE void for_each_bvh_ray(const Bvh& bvh, const RayBatch& rays, size_t begin, size_t end, Trace&& trace) {
+// Rays [begin, end) of the batch one at a time through the BVH, set up N at a time, and the
+// root node's children tested for the N rays at once: trace(i, r, b, root) for each (root null
+// when the root is not an interior node); miss(i) instead for a ray that enters none of them.
+template <class Trace, class Miss>
+PATINA_INLINE void for_each_bvh_ray(const Bvh& bvh, const RayBatch& rays, size_t begin, size_t end, Trace&& trace,
+                                    Miss&& miss) {
     BvhRayLanes<N> lanes_of;
+    BvhRootLanes<N> root_of;
+    const bool interior_root = bvh.root != kBvhEmpty && !bvh_is_leaf(bvh.root);
     for (size_t i = begin; i < end; i += N) {
         const int lanes = static_cast<int>(std::min<size_t>(N, end - i));
         load_bvh_rays<N>(bvh, rays, i, lanes, lanes_of);
+        if (interior_root) test_root_children<N>(bvh, lanes_of, rays.tmin, root_of);
         for (int j = 0; j < lanes; ++j) {
+            alignas(32) float near[kBvhWidth];
+            bvh_detail::RootHits root{interior_root ? root_of.mask[j] : 0, near};
+            if (interior_root && root.mask == 0) {
+                miss(i + j);
+                continue;
+            }
+            for (int c = 0; c < kBvhWidth; ++c) near[c] = root_of.near[c][j];
             RayPacket<1> r;
             bvh_detail::BoxRay b;
             bvh_ray_of<N>(lanes_of, j, rays.tmin, r, b);
-            trace(i + j, r, b);
+            trace(i + j, r, b, interior_root ? &root : nullptr);
         }
     }
 }
@@ -107,22 +119,32 @@ PATINA_INLINE void for_each_bvh_ray(const Bvh& bvh, const RayBatch& rays, size_t
 void intersect_bvh_kernel(const Bvh& bvh, const RayBatch& rays, const HitBatch& hits, size_t begin, size_t end) {
     enter_kernel();
     if (ray_recording_on()) record_rays(rays, begin, end, false);
-    for_each_bvh_ray(bvh, rays, begin, end, [&](size_t i, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
-        HitPacket<1> h;
-        bvh_intersect<kNodeLanes, kBlockLanes>(bvh, r, b, h);
-        hits.t[i] = h.prim >= 0 ? h.t : kInfinity;
-        hits.prim[i] = h.prim;
-        hits.u[i] = h.u;
-        hits.v[i] = h.v;
-    });
+    for_each_bvh_ray(
+        bvh, rays, begin, end,
+        [&](size_t i, const RayPacket<1>& r, const bvh_detail::BoxRay& b, const bvh_detail::RootHits* root) {
+            HitPacket<1> h;
+            bvh_intersect<kNodeLanes, kBlockLanes>(bvh, r, b, h, root);
+            hits.t[i] = h.prim >= 0 ? h.t : kInfinity;
+            hits.prim[i] = h.prim;
+            hits.u[i] = h.u;
+            hits.v[i] = h.v;
+        },
+        [&](size_t i) {  // bvh_intersect's miss
+            hits.t[i] = kInfinity;
+            hits.prim[i] = -1;
+            hits.u[i] = hits.v[i] = 0.0f;
+        });
 }
 
 void occluded_bvh_kernel(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked, size_t begin, size_t end) {
     enter_kernel();
     if (ray_recording_on()) record_rays(rays, begin, end, true);
-    for_each_bvh_ray(bvh, rays, begin, end, [&](size_t i, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
-        blocked[i] = static_cast<uint8_t>(bvh_occluded<kNodeLanes, kBlockLanes>(bvh, r, b));
-    });
+    for_each_bvh_ray(
+        bvh, rays, begin, end,
+        [&](size_t i, const RayPacket<1>& r, const bvh_detail::BoxRay& b, const bvh_detail::RootHits* root) {
+            blocked[i] = static_cast<uint8_t>(bvh_occluded<kNodeLanes, kBlockLanes>(bvh, r, b, root));
+        },
+        [&](size_t i) { blocked[i] = 0; });
 }
 
 }  // namespace
