@@ -84,10 +84,12 @@ void prepare_environment(Environment& env) {
             env.col_cdf_pdf[2 * i] = col_cdf[i];
             env.col_cdf_pdf[2 * i + 1] = c < w ? env.pixel_pdf[static_cast<size_t>(r) * w + c] : 0.0f;
         }
-    // the column search's guide: a bucket per 16 columns (a power of two, so u * buckets and
-    // b / buckets are exact in float)
+    // the column search's guide: a bucket per 4 columns (a power of two, so u * buckets and
+    // b / buckets are exact in float). Not one per 16: a block of 16 lanes searches until its
+    // last lane is done, and samples in dim stretches of a row (wide buckets) kept it at about 6
+    // levels of dependent gathers on the studio map; with 4 columns a bucket, about 4.
     int buckets = 1;
-    while (buckets < 1024 && buckets * 16 < w) buckets *= 2;
+    while (buckets < 1024 && buckets * 4 < w) buckets *= 2;
     env.col_buckets = buckets;
     env.col_guide.assign(static_cast<size_t>(h) * (buckets + 1), 0);
     for (int r = 0; r < h; ++r) {

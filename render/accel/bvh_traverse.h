@@ -133,6 +133,13 @@ PATINA_INLINE vbool<T> block_lanes(const RayPacket<1>& r, const BvhBlock& blk, i
     return valid & (t <= F(best));
 }
 
+// The root node's children a ray enters (bit c: child c) and their entry distances, as
+// hit_children gives them, when found before the traversal.
+struct RootHits {
+    int mask;
+    const float* near;  // kBvhWidth entry distances (read where mask has a bit)
+};
+
 struct StackEntry {
     uint32_t child;
     float tnear;
@@ -209,13 +216,21 @@ PATINA_INLINE uint32_t push_children(const Bvh& bvh, const BvhNode& node, int ma
 // The traversal both queries share: nodes with L lanes over their children, nearest child first
 // (kNearestFirst; else in slot order), the others on the stack; nearest first, a popped child is
 // skipped once it lies beyond `tfar` (the closest hit so far, which the leaf visitor may lower).
-// `leaf(first_block, block_count)` returns true to stop.
+// `leaf(first_block, block_count)` returns true to stop. With a `root` given, the root node's
+// children were tested already (RootHits: for N rays at once, trace_kernels_bvh_rays.h).
 template <int L, bool kNearestFirst, typename Leaf>
-inline void traverse(const Bvh& bvh, const RayPacket<1>& r, const BoxRay& b, const float& tfar, Leaf&& leaf) {
+inline void traverse(const Bvh& bvh, const RayPacket<1>& r, const BoxRay& b, const float& tfar, Leaf&& leaf,
+                     const RootHits* root = nullptr) {
     StackEntry stack[kStackSize];
     int top = 0;
     uint32_t cur = bvh.root;
     alignas(32) float near[kBvhWidth];
+    if (root != nullptr) {
+        if (root->mask == 0) return;
+        const BvhNode& node = bvh.nodes[cur];
+        cur = kNearestFirst ? order_children(bvh, node, root->mask, root->near, stack, top)
+                            : push_children(bvh, node, root->mask, stack, top);
+    }
     for (;;) {
         while (!bvh_is_leaf(cur)) {
             const BvhNode& node = bvh.nodes[cur];
@@ -242,9 +257,10 @@ inline void traverse(const Bvh& bvh, const RayPacket<1>& r, const BoxRay& b, con
 
 // The triangles' closest hit, from `hit`: a miss (prim -1, t = r.tmax) or the analytic
 // spheres' hit, which the triangles' traversal then only searches in front of.
+// `root`: the root node's children tested already (an interior root only).
 template <int L, int T>
 inline void bvh_intersect_triangles(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail::BoxRay& b,
-                                    HitPacket<1>& hit) {
+                                    HitPacket<1>& hit, const bvh_detail::RootHits* root = nullptr) {
     using namespace bvh_detail;
     if (bvh.root == kBvhEmpty) return;
     traverse<L, true>(bvh, r, b, hit.t, [&](const BvhBlock* blk, uint32_t nb) {
@@ -266,7 +282,7 @@ inline void bvh_intersect_triangles(const Bvh& bvh, const RayPacket<1>& r, const
             }
         }
         return false;
-    });
+    }, root);
 }
 
 // Closest hit (the least t, then the least primitive index) of the ray in (tmin, tmax], with L lanes over the
@@ -293,7 +309,8 @@ inline void bvh_intersect(const Bvh& bvh, const float* org, const float* dir, fl
 
 // Whether the ray hits a triangle in (tmin, tmax).
 template <int L, int T>
-inline bool bvh_occluded_triangles(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
+inline bool bvh_occluded_triangles(const Bvh& bvh, const RayPacket<1>& r, const bvh_detail::BoxRay& b,
+                                   const bvh_detail::RootHits* root = nullptr) {
     using namespace bvh_detail;
     if (bvh.root == kBvhEmpty) return false;
     bool occluded = false;
@@ -305,7 +322,7 @@ inline bool bvh_occluded_triangles(const Bvh& bvh, const RayPacket<1>& r, const 
             }
         }
         return false;
-    });
+    }, root);
     return occluded;
 }
 

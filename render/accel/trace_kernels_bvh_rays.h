@@ -60,6 +60,48 @@ PATINA_INLINE void load_bvh_rays(const Bvh& bvh, const RayBatch& rays, size_t i,
     store_n<N>(out.tmax, rays.tmax ? rows::load1<N>(rays.tmax, i, lanes) : F(rays.tmax_all));
 }
 
+// The root node's children against N rays at once, the lanes over the rays (a single ray's
+// test, hit_children, has them over the children): incoherent rays enter the tree at the same
+// node, so its eight boxes are tested once for the whole group, with hit_children's operations
+// per (ray, child) in the same order (the same masks and entry distances), and a ray that
+// enters none of them is done without a traversal.
+template <int N>
+struct BvhRootLanes {
+    alignas(64) float near[kBvhWidth][N];  // near[c][j]: ray j's entry distance into child c
+    alignas(64) int32_t mask[N];           // bit c: ray j enters child c within [tmin, tmax]
+};
+
+// Only for a root that is an interior node (bvh.root = node 0).
+template <int N>
+PATINA_INLINE void test_root_children(const Bvh& bvh, const BvhRayLanes<N>& l, float tmin, BvhRootLanes<N>& out) {
+    using F = vfloat<N>;
+    using I = vint<N>;
+    const BvhNode& node = bvh.nodes[bvh.root];
+    vbool<N> positive[3];
+    F inv[3], near_offset[3], far_offset[3];
+    for (int a = 0; a < 3; ++a) {
+        positive[a] = load_n<N>(l.positive[a]) == I(1);
+        inv[a] = load_n<N>(l.inv[a]);
+        near_offset[a] = load_n<N>(l.near_offset[a]);
+        far_offset[a] = load_n<N>(l.far_offset[a]);
+    }
+    const F tmax = load_n<N>(l.tmax);
+    I mask(0);
+    for (int c = 0; c < kBvhWidth; ++c) {
+        F t0(tmin), t1 = tmax;
+        for (int a = 0; a < 3; ++a) {
+            const F lo(node.box[2 * a][c]), hi(node.box[2 * a + 1][c]);
+            const F n = fmadd(select(positive[a], lo, hi), inv[a], -near_offset[a]);
+            const F f = fmadd(select(positive[a], hi, lo), inv[a], -far_offset[a]);
+            t0 = max(n, t0);
+            t1 = min(f, t1);
+        }
+        store_n<N>(out.near[c], t0);
+        mask = select(t0 <= t1, mask | I(1 << c), mask);
+    }
+    store_n<N>(out.mask, mask);
+}
+
 // Lane j as load_ray would have prepared it.
 template <int N>
 PATINA_INLINE void bvh_ray_of(const BvhRayLanes<N>& l, int j, float tmin, RayPacket<1>& r, bvh_detail::BoxRay& b) {

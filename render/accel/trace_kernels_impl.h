@@ -88,21 +88,33 @@ constexpr int kNodeLanes = N < kBvhWidth ? N : kBvhWidth;
 constexpr int kBlockLanes = N < kBvhBlock ? N : kBvhBlock;
 
 // Rays [begin, end) of the batch one at a time through the BVH, set up N at a time:
-// spheres(lanes_of) for each N (the analytic spheres' tests, in the lanes), then trace(i, j, r, b)
-// for each ray (i in the batch, lane j).
-template <class Spheres, class Trace>
+// spheres(lanes_of) for each N (the analytic spheres' tests, in the lanes), and the root node's
+// children tested for the N rays at once; then trace(i, j, r, b, root) for each ray (i in the
+// batch, lane j; root null when the root is not an interior node), or miss(i, j) instead for a
+// ray that enters none of the root's children (its spheres' result is all it has).
+template <class Spheres, class Trace, class Miss>
 PATINA_INLINE void for_each_bvh_ray(const Bvh& bvh, const RayBatch& rays, size_t begin, size_t end, Spheres&& spheres,
-                                    Trace&& trace) {
+                                    Trace&& trace, Miss&& miss) {
     BvhRayLanes<N> lanes_of;
+    BvhRootLanes<N> root_of;
+    const bool interior_root = bvh.root != kBvhEmpty && !bvh_is_leaf(bvh.root);
     for (size_t i = begin; i < end; i += N) {
         const int lanes = static_cast<int>(std::min<size_t>(N, end - i));
         load_bvh_rays<N>(bvh, rays, i, lanes, lanes_of);
         spheres(lanes_of);
+        if (interior_root) test_root_children<N>(bvh, lanes_of, rays.tmin, root_of);
         for (int j = 0; j < lanes; ++j) {
+            alignas(32) float near[kBvhWidth];
+            bvh_detail::RootHits root{interior_root ? root_of.mask[j] : 0, near};
+            if (interior_root && root.mask == 0) {
+                miss(i + j);
+                continue;
+            }
+            for (int c = 0; c < kBvhWidth; ++c) near[c] = root_of.near[c][j];
             RayPacket<1> r;
             bvh_detail::BoxRay b;
             bvh_ray_of<N>(lanes_of, j, rays.tmin, r, b);
-            trace(i + j, j, r, b);
+            trace(i + j, j, r, b, interior_root ? &root : nullptr);
         }
     }
 }
@@ -123,15 +135,20 @@ void intersect_bvh_kernel(const Bvh& bvh, const RayBatch& rays, const HitBatch& 
         store_n<N>(sphere_t, t);
         store_n<N>(sphere_prim, prim);
     };
-    for_each_bvh_ray(bvh, rays, begin, end, spheres,
-                     [&](size_t i, int j, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
-                         HitPacket<1> h{sphere_t[j], 0.0f, 0.0f, sphere_prim[j]};
-                         bvh_intersect_triangles<kNodeLanes, kBlockLanes>(bvh, r, b, h);
-                         hits.t[i] = h.prim >= 0 ? h.t : kInfinity;
-                         hits.prim[i] = h.prim;
-                         hits.u[i] = h.u;
-                         hits.v[i] = h.v;
-                     });
+    const auto write = [&](size_t i, const HitPacket<1>& h) {
+        hits.t[i] = h.prim >= 0 ? h.t : kInfinity;
+        hits.prim[i] = h.prim;
+        hits.u[i] = h.u;
+        hits.v[i] = h.v;
+    };
+    for_each_bvh_ray(
+        bvh, rays, begin, end, spheres,
+        [&](size_t i, int j, const RayPacket<1>& r, const bvh_detail::BoxRay& b, const bvh_detail::RootHits* root) {
+            HitPacket<1> h{sphere_t[j], 0.0f, 0.0f, sphere_prim[j]};
+            bvh_intersect_triangles<kNodeLanes, kBlockLanes>(bvh, r, b, h, root);
+            write(i, h);
+        },
+        [&](size_t i, int j) { write(i, HitPacket<1>{sphere_t[j], 0.0f, 0.0f, sphere_prim[j]}); });
 }
 
 void occluded_bvh_kernel(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked, size_t begin, size_t end) {
@@ -144,11 +161,13 @@ void occluded_bvh_kernel(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked,
         const F dir[3] = {load_n<N>(l.dir[0]), load_n<N>(l.dir[1]), load_n<N>(l.dir[2])};
         by_sphere = movemask(occluded_by_spheres<N>(bvh.spheres, org, dir, F(rays.tmin), load_n<N>(l.tmax)));
     };
-    for_each_bvh_ray(bvh, rays, begin, end, spheres,
-                     [&](size_t i, int j, const RayPacket<1>& r, const bvh_detail::BoxRay& b) {
-                         blocked[i] = static_cast<uint8_t>(((by_sphere >> j) & 1) ||
-                                                           bvh_occluded_triangles<kNodeLanes, kBlockLanes>(bvh, r, b));
-                     });
+    for_each_bvh_ray(
+        bvh, rays, begin, end, spheres,
+        [&](size_t i, int j, const RayPacket<1>& r, const bvh_detail::BoxRay& b, const bvh_detail::RootHits* root) {
+            blocked[i] = static_cast<uint8_t>(((by_sphere >> j) & 1) ||
+                                              bvh_occluded_triangles<kNodeLanes, kBlockLanes>(bvh, r, b, root));
+        },
+        [&](size_t i, int j) { blocked[i] = static_cast<uint8_t>((by_sphere >> j) & 1); });
 }
 
 }  // namespace
