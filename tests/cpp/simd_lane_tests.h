@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/simd/fastmath.h"
+#include "core/simd/weighted_rows.h"
 #include "lane_width_fixture.h"
 #include "test_values.h"
 
@@ -193,6 +194,51 @@ LANE_TEST(GatherReadsEveryLane) {
         for (int j = 0; j < N; ++j) {
             EXPECT_EQ(patina::lane(g, j), table[idx[j]]);
             EXPECT_EQ(patina::lane(gm, j), active_f[j] > 0.5f ? table[idx[j]] : 0.0f);
+        }
+    }
+}
+
+// The RGB corner interpolation (weighted_rows3): every lane the width-1 sum's bits, for 4, 8 and
+// 16 corners, rows anywhere in the array (the last one against its padding float), weights
+// that are 0, 1, subnormal or negative, and every count of lanes written.
+LANE_TEST(WeightedRowsMatchScalar) {
+    constexpr int kRows = 300;
+    std::vector<float> values(3 * kRows + 1);
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> u(-2.0f, 2.0f);
+    for (auto& v : values) v = u(rng);
+    values.back() = std::numeric_limits<float>::quiet_NaN();  // the padding float: read, never used
+    const float odd_weights[] = {0.0f, 1.0f, -0.0f, 1e-40f, -3.5f};
+    for (int corners : {4, 8, 16}) {
+        for (int rep = 0; rep < 100; ++rep) {
+            int32_t offset[16], row[N];
+            float weight[16][N], norm[N];
+            for (int k = 0; k < corners; ++k) offset[k] = 3 * int32_t(rng() % 40);
+            for (int j = 0; j < N; ++j) {
+                row[j] = 3 * int32_t(rng() % (kRows - 40));
+                if (rep == 0 && j == 0) row[j] = 3 * (kRows - 40);  // corner 39 rows on: the last row
+                norm[j] = u(rng);
+                for (int k = 0; k < corners; ++k) weight[k][j] = rng() % 4 ? u(rng) : odd_weights[rng() % 5];
+            }
+            if (rep == 0) offset[0] = 3 * 39;
+            F w[16];
+            for (int k = 0; k < corners; ++k) w[k] = load_n<N>(weight[k]);
+            const int lanes = rep % 3 == 1 ? 1 + int(rng() % N) : N;
+            std::vector<float> out(3 * N + 1, -7.0f);
+            weighted_rows3<N>(values.data(), load_n<N>(row), offset, w, corners, load_n<N>(norm), out.data(), lanes);
+            for (int j = 0; j < N; ++j)
+                for (int c = 0; c < 3; ++c) {
+                    float want = 0.0f;
+                    for (int k = 0; k < corners; ++k) want = weight[k][j] * values[row[j] + offset[k] + c] + want;
+                    want = want * norm[j];
+                    const float got = out[3 * j + c];
+                    if (j < lanes)
+                        ASSERT_TRUE(same_float(got, want))
+                            << corners << " corners, lane " << j << " channel " << c << ": " << got << " want " << want;
+                    else
+                        ASSERT_EQ(got, -7.0f) << "lane " << j << " beyond the " << lanes << " written";
+                }
+            ASSERT_EQ(out[3 * N], -7.0f);
         }
     }
 }
