@@ -45,6 +45,12 @@ struct Cells {
     int lo, hi;
 };
 
+// Where the previous block's search ended, for the next block's to start from: coherent blocks
+// follow each other closely (row-scanned pixels, sorted samples).
+struct SearchHint {
+    int lo = 0, hi = 0;  // knots; empty (lo == hi) before the first search
+};
+
 // Widths whose vector types have permute2 (a gather from a 2N-float window in two registers).
 template <int N>
 inline constexpr bool kWindowed = N == 8 || N == 16;
@@ -112,6 +118,17 @@ PATINA_INLINE bool window_split(const float* knots, int n, int lo, int mid, int 
     return true;
 }
 
+// When every active lane (bit mask `lanes`) has the same cell, narrows c's range to that cell,
+// and the hint with it: the next block tries that one cell first.
+template <int N>
+PATINA_INLINE void narrow_to_shared_cell(Cells<N>& c, int lanes, SearchHint& hint) {
+    if (c.hi - c.lo == 1 || !lanes) return;
+    const int first = lane(c.cell, __builtin_ctz(static_cast<unsigned>(lanes)));
+    if ((movemask(c.cell == vint<N>(first)) & lanes) != lanes) return;
+    c.lo = hint.lo = first;
+    c.hi = hint.hi = first + 1;
+}
+
 // For the active lanes (bit mask `lanes`, vector mask `active`), narrows [lo, hi] (knot
 // indices into n knots; the answer is a cell in [lo, hi - 1]) and writes the cells into
 // range.cell and the knots they lie between (where the lanes first split, or the window)
@@ -170,12 +187,6 @@ PATINA_INLINE Cells<N> coherent_search_cells(const float* knots, int n, vfloat<N
     return c;
 }
 
-// Where the previous block's search ended, for the next block's to start from: coherent blocks
-// follow each other closely (row-scanned pixels, sorted samples).
-struct SearchHint {
-    int lo = 0, hi = 0;  // knots; empty (lo == hi) before the first search
-};
-
 // coherent_search_cells, starting from the hint: when the previous block's range was narrow and
 // every active lane lies in the 2N knots around it, the window descent alone finds their cells
 // (no walk from the root, none of its branches); otherwise the search from the root, whose
@@ -185,6 +196,11 @@ PATINA_INLINE Cells<N> coherent_search_cells(const float* knots, int n, vfloat<N
                                              SearchHint& hint) {
     if constexpr (kWindowed<N>) {
         const int lanes = movemask(active);
+        // the last block's lanes shared one cell and these lie in it too (an axis that varies
+        // slowly, or not at all, over the block): no descent, and lookups are broadcasts
+        if (hint.hi - hint.lo == 1 && lanes && search_detail::lanes_within<N>(knots, 0, n - 1, hint.lo, hint.hi, x,
+                                                                               active, lanes))
+            return Cells<N>{select(active, vint<N>(hint.lo), vint<N>(0)), hint.lo, hint.hi};
         // an empty hint (the first block) or a wide one (the last block's lanes split high in
         // the tree: incoherent) is not tried
         if (hint.hi > hint.lo && hint.hi - hint.lo <= 2 * N && n > 2 * N && lanes) {
@@ -192,13 +208,15 @@ PATINA_INLINE Cells<N> coherent_search_cells(const float* knots, int n, vfloat<N
             if (search_detail::lanes_within<N>(knots, 0, n - 1, s, e, x, active, lanes)) {
                 Cells<N> c{vint<N>(0), s, e};
                 search_detail::window_descent<N>(knots, s, s, e, x, active, c.cell);
+                search_detail::narrow_to_shared_cell<N>(c, lanes, hint);
                 return c;
             }
         }
     }
-    const Cells<N> c = coherent_search_cells<N, Walk>(knots, n, x, active);
+    Cells<N> c = coherent_search_cells<N, Walk>(knots, n, x, active);
     hint.lo = c.lo;
     hint.hi = c.hi;
+    if constexpr (kWindowed<N>) search_detail::narrow_to_shared_cell<N>(c, movemask(active), hint);
     return c;
 }
 
