@@ -222,7 +222,7 @@ PATINA_INLINE void block_interpolate(const TableView& t, const Chunk<D>& c, int 
         // written as rows (core/simd/weighted_rows.h)
         int32_t row_offset[kCorners];
         for (int k = 0; k < kCorners; ++k) row_offset[k] = offset[k] * C;
-        weighted_rows3<N>(t.values, row, row_offset, weight, kCorners, norm, out, lanes);
+        weighted_rows3<N, kCorners>(t.values, row, row_offset, weight, norm, out, lanes);
         return;
     }
     I corner[kCorners];  // index of each corner's first channel

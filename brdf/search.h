@@ -213,10 +213,10 @@ PATINA_INLINE Cells<N> coherent_search_cells(const float* knots, int n, vfloat<N
             }
         }
     }
-    Cells<N> c = coherent_search_cells<N, Walk>(knots, n, x, active);
+    // (from the root, lanes that share a cell never split: its range is that cell already)
+    const Cells<N> c = coherent_search_cells<N, Walk>(knots, n, x, active);
     hint.lo = c.lo;
     hint.hi = c.hi;
-    if constexpr (kWindowed<N>) search_detail::narrow_to_shared_cell<N>(c, movemask(active), hint);
     return c;
 }
 

@@ -43,13 +43,14 @@ PATINA_INLINE __m512i compact_index(int o) {
     return _mm512_load_si512(idx);
 }
 
-PATINA_INLINE void weighted_rows3_w16(const float* values, vint16 row, const int32_t* offset, const vfloat16* weight,
-                                      int corners, vfloat16 norm, float* out, int lanes) {
+template <int K>
+PATINA_INLINE void weighted_rows3_w16(const float* values, vint16 row, const int32_t (&offset)[K],
+                                      const vfloat16 (&weight)[K], vfloat16 norm, float* out, int lanes) {
     alignas(64) int32_t at[16];
     row.store(at);
     __m512 sum[4];
     for (int q = 0; q < 4; ++q) sum[q] = _mm512_setzero_ps();
-    for (int k = 0; k < corners; ++k) {
+    for (int k = 0; k < K; ++k) {
         const float* v = values + offset[k];
         for (int q = 0; q < 4; ++q) {
             const int* a = at + 4 * q;
@@ -71,21 +72,24 @@ PATINA_INLINE void weighted_rows3_w16(const float* values, vint16 row, const int
 #endif
 
 // Writes `lanes` rows of out (all N but in a batch's last block). offset[k] is corner k's
-// float offset from row (the same for every lane), weight[k] its weights.
-template <int N>
-PATINA_INLINE void weighted_rows3(const float* values, vint<N> row, const int32_t* offset, const vfloat<N>* weight,
-                                  int corners, vfloat<N> norm, float* out, int lanes) {
+// float offset from row (the same for every lane), weight[k] its weights. K is a constant, so
+// the loops unroll and the weights stay in registers.
+template <int N, int K>
+PATINA_INLINE void weighted_rows3(const float* values, vint<N> row, const int32_t (&offset)[K],
+                                  const vfloat<N> (&weight)[K], vfloat<N> norm, float* out, int lanes) {
 #if defined(PATINA_HAS_AVX512)
     if constexpr (N == 16) {
-        weighted_rows_detail::weighted_rows3_w16(values, row, offset, weight, corners, norm, out, lanes);
+        weighted_rows_detail::weighted_rows3_w16<K>(values, row, offset, weight, norm, out, lanes);
         return;
     }
 #endif
     using F = vfloat<N>;
+    vint<N> corner[K];  // all computed first, as GCC then keeps gather3's index extraction in memory
+    for (int k = 0; k < K; ++k) corner[k] = row + vint<N>(offset[k]);
     F r(0.0f), g(0.0f), b(0.0f);
-    for (int k = 0; k < corners; ++k) {
+    for (int k = 0; k < K; ++k) {
         F cr, cg, cb;
-        gather3(values, row + vint<N>(offset[k]), cr, cg, cb);
+        gather3(values, corner[k], cr, cg, cb);
         r = madd(weight[k], cr, r);
         g = madd(weight[k], cg, g);
         b = madd(weight[k], cb, b);

@@ -201,46 +201,55 @@ LANE_TEST(GatherReadsEveryLane) {
 // The RGB corner interpolation (weighted_rows3): every lane the width-1 sum's bits, for 4, 8 and
 // 16 corners, rows anywhere in the array (the last one against its padding float), weights
 // that are 0, 1, subnormal or negative, and every count of lanes written.
-LANE_TEST(WeightedRowsMatchScalar) {
+namespace {
+template <int K>
+void check_weighted_rows(std::mt19937& rng) {
     constexpr int kRows = 300;
     std::vector<float> values(3 * kRows + 1);
-    std::mt19937 rng(17);
     std::uniform_real_distribution<float> u(-2.0f, 2.0f);
     for (auto& v : values) v = u(rng);
     values.back() = std::numeric_limits<float>::quiet_NaN();  // the padding float: read, never used
     const float odd_weights[] = {0.0f, 1.0f, -0.0f, 1e-40f, -3.5f};
-    for (int corners : {4, 8, 16}) {
-        for (int rep = 0; rep < 100; ++rep) {
-            int32_t offset[16], row[N];
-            float weight[16][N], norm[N];
-            for (int k = 0; k < corners; ++k) offset[k] = 3 * int32_t(rng() % 40);
-            for (int j = 0; j < N; ++j) {
-                row[j] = 3 * int32_t(rng() % (kRows - 40));
-                if (rep == 0 && j == 0) row[j] = 3 * (kRows - 40);  // corner 39 rows on: the last row
-                norm[j] = u(rng);
-                for (int k = 0; k < corners; ++k) weight[k][j] = rng() % 4 ? u(rng) : odd_weights[rng() % 5];
-            }
-            if (rep == 0) offset[0] = 3 * 39;
-            F w[16];
-            for (int k = 0; k < corners; ++k) w[k] = load_n<N>(weight[k]);
-            const int lanes = rep % 3 == 1 ? 1 + int(rng() % N) : N;
-            std::vector<float> out(3 * N + 1, -7.0f);
-            weighted_rows3<N>(values.data(), load_n<N>(row), offset, w, corners, load_n<N>(norm), out.data(), lanes);
-            for (int j = 0; j < N; ++j)
-                for (int c = 0; c < 3; ++c) {
-                    float want = 0.0f;
-                    for (int k = 0; k < corners; ++k) want = weight[k][j] * values[row[j] + offset[k] + c] + want;
-                    want = want * norm[j];
-                    const float got = out[3 * j + c];
-                    if (j < lanes)
-                        ASSERT_TRUE(same_float(got, want))
-                            << corners << " corners, lane " << j << " channel " << c << ": " << got << " want " << want;
-                    else
-                        ASSERT_EQ(got, -7.0f) << "lane " << j << " beyond the " << lanes << " written";
-                }
-            ASSERT_EQ(out[3 * N], -7.0f);
+    for (int rep = 0; rep < 100; ++rep) {
+        int32_t offset[K], row[N];
+        float weight[K][N], norm[N];
+        for (int k = 0; k < K; ++k) offset[k] = 3 * int32_t(rng() % 40);
+        for (int j = 0; j < N; ++j) {
+            row[j] = 3 * int32_t(rng() % (kRows - 40));
+            norm[j] = u(rng);
+            for (int k = 0; k < K; ++k) weight[k][j] = rng() % 4 ? u(rng) : odd_weights[rng() % 5];
         }
+        if (rep == 0) {  // corner 0 of lane 0 on the last row
+            row[0] = 3 * (kRows - 40);
+            offset[0] = 3 * 39;
+        }
+        F w[K];
+        for (int k = 0; k < K; ++k) w[k] = load_n<N>(weight[k]);
+        const int lanes = rep % 3 == 1 ? 1 + int(rng() % N) : N;
+        std::vector<float> out(3 * N + 1, -7.0f);
+        weighted_rows3<N, K>(values.data(), load_n<N>(row), offset, w, load_n<N>(norm), out.data(), lanes);
+        for (int j = 0; j < N; ++j)
+            for (int c = 0; c < 3; ++c) {
+                float want = 0.0f;
+                for (int k = 0; k < K; ++k) want = weight[k][j] * values[row[j] + offset[k] + c] + want;
+                want = want * norm[j];
+                const float got = out[3 * j + c];
+                if (j < lanes)
+                    ASSERT_TRUE(same_float(got, want))
+                        << K << " corners, lane " << j << " channel " << c << ": " << got << " want " << want;
+                else
+                    ASSERT_EQ(got, -7.0f) << "lane " << j << " beyond the " << lanes << " written";
+            }
+        ASSERT_EQ(out[3 * N], -7.0f);
     }
+}
+}  // namespace
+
+LANE_TEST(WeightedRowsMatchScalar) {
+    std::mt19937 rng(17);
+    check_weighted_rows<4>(rng);
+    check_weighted_rows<8>(rng);
+    check_weighted_rows<16>(rng);
 }
 
 LANE_TEST(FastMathMatchesScalar) {
