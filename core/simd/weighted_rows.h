@@ -49,11 +49,12 @@ PATINA_INLINE void weighted_rows3_w16(const float* values, vint16 row, const int
     alignas(64) int32_t at[16];
     row.store(at);
     __m512 sum[4];
-    for (int q = 0; q < 4; ++q) sum[q] = _mm512_setzero_ps();
-    for (int k = 0; k < K; ++k) {
-        const float* v = values + offset[k];
-        for (int q = 0; q < 4; ++q) {
-            const int* a = at + 4 * q;
+    for (int q = 0; q < 4; ++q) {
+        // four lanes at a time: their four row indices and the K corners' bases stay in registers
+        const int* a = at + 4 * q;
+        sum[q] = _mm512_setzero_ps();
+        for (int k = 0; k < K; ++k) {
+            const float* v = values + offset[k];
             __m512 rows = _mm512_castps128_ps512(_mm_loadu_ps(v + a[0]));
             rows = _mm512_mask_broadcast_f32x4(rows, 0x00F0, _mm_loadu_ps(v + a[1]));
             rows = _mm512_mask_broadcast_f32x4(rows, 0x0F00, _mm_loadu_ps(v + a[2]));
