@@ -10,10 +10,13 @@
 // load a lane and a 4x4 transpose), sum them and interleave the result into rows (store_xyz).
 // Width 16 does not transpose: each register holds four lanes' rows as loaded (r g b and one
 // float ignored), the lanes' weights are spread to match (one vpermps per four lanes), and the
-// sums come out as rows already. On Zen 4, which runs 512-bit shuffles as two 256-bit halves,
-// the transposes were the interpolation's cost: 25 shuffles a corner (gather3 on both halves
-// and the joins) against 4 here, the rows going in with masked broadcasts (load and blend, no
-// shuffle).
+// sums come out as rows already (three vpermt2ps drop the ignored floats). On Zen 4, which runs
+// 512-bit shuffles as two 256-bit halves, the transposes were the interpolation's cost: 25
+// shuffles a corner (gather3 on both halves and the joins) against 4 here, the rows going in
+// with masked broadcasts (load and blend, no shuffle). The four lanes of a register go through
+// all K corners before the next four, so their row indices and the corners' base pointers stay
+// in general registers (all sixteen lanes a corner at a time spilled them: 10.5 against 9
+// cycles a pair).
 #pragma once
 
 #include <cstdint>
@@ -65,7 +68,8 @@ PATINA_INLINE void weighted_rows3_w16(const float* values, vint16 row, const int
     for (int q = 0; q < 4; ++q) sum[q] = _mm512_mul_ps(sum[q], spread_quarter(norm.v, q));
     alignas(64) float rows[48];
     float* dst = lanes == 16 ? out : rows;
-    for (int o = 0; o < 3; ++o) _mm512_storeu_ps(dst + 16 * o, _mm512_permutex2var_ps(sum[o], compact_index(o), sum[o + 1]));
+    for (int o = 0; o < 3; ++o)
+        _mm512_storeu_ps(dst + 16 * o, _mm512_permutex2var_ps(sum[o], compact_index(o), sum[o + 1]));
     if (lanes < 16)
         for (int j = 0; j < 3 * lanes; ++j) out[j] = rows[j];
 }
