@@ -118,17 +118,6 @@ PATINA_INLINE bool window_split(const float* knots, int n, int lo, int mid, int 
     return true;
 }
 
-// When every active lane (bit mask `lanes`) has the same cell, narrows c's range to that cell,
-// and the hint with it: the next block tries that one cell first.
-template <int N>
-PATINA_INLINE void narrow_to_shared_cell(Cells<N>& c, int lanes, SearchHint& hint) {
-    if (c.hi - c.lo == 1 || !lanes) return;
-    const int first = lane(c.cell, __builtin_ctz(static_cast<unsigned>(lanes)));
-    if ((movemask(c.cell == vint<N>(first)) & lanes) != lanes) return;
-    c.lo = hint.lo = first;
-    c.hi = hint.hi = first + 1;
-}
-
 // For the active lanes (bit mask `lanes`, vector mask `active`), narrows [lo, hi] (knot
 // indices into n knots; the answer is a cell in [lo, hi - 1]) and writes the cells into
 // range.cell and the knots they lie between (where the lanes first split, or the window)
@@ -196,8 +185,9 @@ PATINA_INLINE Cells<N> coherent_search_cells(const float* knots, int n, vfloat<N
                                              SearchHint& hint) {
     if constexpr (kWindowed<N>) {
         const int lanes = movemask(active);
-        // the last block's lanes shared one cell and these lie in it too (an axis that varies
-        // slowly, or not at all, over the block): no descent, and lookups are broadcasts
+        // the lanes of the last block searched from the root shared one cell, and these lie in
+        // it too (an axis that varies slowly, or not at all, over the blocks): no descent, and
+        // the lookups are broadcasts
         if (hint.hi - hint.lo == 1 && lanes && search_detail::lanes_within<N>(knots, 0, n - 1, hint.lo, hint.hi, x,
                                                                                active, lanes))
             return Cells<N>{select(active, vint<N>(hint.lo), vint<N>(0)), hint.lo, hint.hi};
@@ -208,12 +198,12 @@ PATINA_INLINE Cells<N> coherent_search_cells(const float* knots, int n, vfloat<N
             if (search_detail::lanes_within<N>(knots, 0, n - 1, s, e, x, active, lanes)) {
                 Cells<N> c{vint<N>(0), s, e};
                 search_detail::window_descent<N>(knots, s, s, e, x, active, c.cell);
-                search_detail::narrow_to_shared_cell<N>(c, lanes, hint);
                 return c;
             }
         }
     }
-    // (from the root, lanes that share a cell never split: its range is that cell already)
+    // (lanes that share a cell never split: the range a search from the root gives them is
+    // that cell, the hint the first test above takes)
     const Cells<N> c = coherent_search_cells<N, Walk>(knots, n, x, active);
     hint.lo = c.lo;
     hint.hi = c.hi;
