@@ -18,6 +18,7 @@
 #include "brdf/table.h"
 #include "core/constants.h"
 #include "core/simd/fastmath.h"
+#include "core/simd/weighted_rows.h"
 #include "core/vec3.h"
 
 PATINA_BEGIN_TARGET
@@ -215,32 +216,17 @@ PATINA_INLINE void block_interpolate(const TableView& t, const Chunk<D>& c, int 
     }
 
     const int C = t.channels;
-    I corner[kCorners];  // index of each corner's first channel
-    const I row = base * I(C);
-    for (int k = 0; k < kCorners; ++k) corner[k] = row + I(offset[k] * C);
+    const I row = base * I(C);  // index of each pair's lower corner's first channel
     if (C == 3) {
-        // the common RGB case: each corner's three channels in one load per lane, and
-        // three vectors out to 3N contiguous floats in one go
-        F r(0.0f), g(0.0f), b(0.0f);
-        for (int k = 0; k < kCorners; ++k) {
-            F cr, cg, cb;
-            gather3(t.values, corner[k], cr, cg, cb);
-            r = madd(weight[k], cr, r);
-            g = madd(weight[k], cg, g);
-            b = madd(weight[k], cb, b);
-        }
-        r = r * norm;
-        g = g * norm;
-        b = b * norm;
-        if (N == 1 || lanes == N) {
-            store_xyz(out, r, g, b);
-        } else {
-            alignas(32) float rows[3 * N];
-            store_xyz(rows, r, g, b);
-            for (int j = 0; j < 3 * lanes && j < 3 * N; ++j) out[j] = rows[j];
-        }
+        // the common RGB case: each corner's three channels in one load per lane, the sums
+        // written as rows (core/simd/weighted_rows.h)
+        int32_t row_offset[kCorners];
+        for (int k = 0; k < kCorners; ++k) row_offset[k] = offset[k] * C;
+        weighted_rows3<N, kCorners>(t.values, row, row_offset, weight, norm, out, lanes);
         return;
     }
+    I corner[kCorners];  // index of each corner's first channel
+    for (int k = 0; k < kCorners; ++k) corner[k] = row + I(offset[k] * C);
     for (int ch = 0; ch < C; ++ch) {
         const float* channel = t.values + ch;
         F acc(0.0f);

@@ -45,6 +45,12 @@ struct Cells {
     int lo, hi;
 };
 
+// Where the previous block's search ended, for the next block's to start from: coherent blocks
+// follow each other closely (row-scanned pixels, sorted samples).
+struct SearchHint {
+    int lo = 0, hi = 0;  // knots; empty (lo == hi) before the first search
+};
+
 // Widths whose vector types have permute2 (a gather from a 2N-float window in two registers).
 template <int N>
 inline constexpr bool kWindowed = N == 8 || N == 16;
@@ -170,12 +176,6 @@ PATINA_INLINE Cells<N> coherent_search_cells(const float* knots, int n, vfloat<N
     return c;
 }
 
-// Where the previous block's search ended, for the next block's to start from: coherent blocks
-// follow each other closely (row-scanned pixels, sorted samples).
-struct SearchHint {
-    int lo = 0, hi = 0;  // knots; empty (lo == hi) before the first search
-};
-
 // coherent_search_cells, starting from the hint: when the previous block's range was narrow and
 // every active lane lies in the 2N knots around it, the window descent alone finds their cells
 // (no walk from the root, none of its branches); otherwise the search from the root, whose
@@ -185,6 +185,12 @@ PATINA_INLINE Cells<N> coherent_search_cells(const float* knots, int n, vfloat<N
                                              SearchHint& hint) {
     if constexpr (kWindowed<N>) {
         const int lanes = movemask(active);
+        // the lanes of the last block searched from the root shared one cell, and these lie in
+        // it too (an axis that varies slowly, or not at all, over the blocks): no descent, and
+        // the lookups are broadcasts
+        if (hint.hi - hint.lo == 1 && lanes && search_detail::lanes_within<N>(knots, 0, n - 1, hint.lo, hint.hi, x,
+                                                                               active, lanes))
+            return Cells<N>{select(active, vint<N>(hint.lo), vint<N>(0)), hint.lo, hint.hi};
         // an empty hint (the first block) or a wide one (the last block's lanes split high in
         // the tree: incoherent) is not tried
         if (hint.hi > hint.lo && hint.hi - hint.lo <= 2 * N && n > 2 * N && lanes) {
@@ -196,6 +202,8 @@ PATINA_INLINE Cells<N> coherent_search_cells(const float* knots, int n, vfloat<N
             }
         }
     }
+    // (lanes that share a cell never split: the range a search from the root gives them is
+    // that cell, the hint the first test above takes)
     const Cells<N> c = coherent_search_cells<N, Walk>(knots, n, x, active);
     hint.lo = c.lo;
     hint.hi = c.hi;

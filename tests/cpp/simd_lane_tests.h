@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/simd/fastmath.h"
+#include "core/simd/weighted_rows.h"
 #include "lane_width_fixture.h"
 #include "test_values.h"
 
@@ -195,6 +196,60 @@ LANE_TEST(GatherReadsEveryLane) {
             EXPECT_EQ(patina::lane(gm, j), active_f[j] > 0.5f ? table[idx[j]] : 0.0f);
         }
     }
+}
+
+// The RGB corner interpolation (weighted_rows3): every lane the width-1 sum's bits, for 4, 8 and
+// 16 corners, rows anywhere in the array (the last one against its padding float), weights
+// that are 0, 1, subnormal or negative, and every count of lanes written.
+namespace {
+template <int K>
+void check_weighted_rows(std::mt19937& rng) {
+    constexpr int kRows = 300;
+    std::vector<float> values(3 * kRows + 1);
+    std::uniform_real_distribution<float> u(-2.0f, 2.0f);
+    for (auto& v : values) v = u(rng);
+    values.back() = std::numeric_limits<float>::quiet_NaN();  // the padding float: read, never used
+    const float odd_weights[] = {0.0f, 1.0f, -0.0f, 1e-40f, -3.5f};
+    for (int rep = 0; rep < 100; ++rep) {
+        int32_t offset[K], row[N];
+        float weight[K][N], norm[N];
+        for (int k = 0; k < K; ++k) offset[k] = 3 * int32_t(rng() % 40);
+        for (int j = 0; j < N; ++j) {
+            row[j] = 3 * int32_t(rng() % (kRows - 40));
+            norm[j] = u(rng);
+            for (int k = 0; k < K; ++k) weight[k][j] = rng() % 4 ? u(rng) : odd_weights[rng() % 5];
+        }
+        if (rep == 0) {  // corner 0 of lane 0 on the last row
+            row[0] = 3 * (kRows - 40);
+            offset[0] = 3 * 39;
+        }
+        F w[K];
+        for (int k = 0; k < K; ++k) w[k] = load_n<N>(weight[k]);
+        const int lanes = rep % 3 == 1 ? 1 + int(rng() % N) : N;
+        std::vector<float> out(3 * N + 1, -7.0f);
+        weighted_rows3<N, K>(values.data(), load_n<N>(row), offset, w, load_n<N>(norm), out.data(), lanes);
+        for (int j = 0; j < N; ++j)
+            for (int c = 0; c < 3; ++c) {
+                float want = 0.0f;
+                for (int k = 0; k < K; ++k) want = weight[k][j] * values[row[j] + offset[k] + c] + want;
+                want = want * norm[j];
+                const float got = out[3 * j + c];
+                if (j < lanes)
+                    ASSERT_TRUE(same_float(got, want))
+                        << K << " corners, lane " << j << " channel " << c << ": " << got << " want " << want;
+                else
+                    ASSERT_EQ(got, -7.0f) << "lane " << j << " beyond the " << lanes << " written";
+            }
+        ASSERT_EQ(out[3 * N], -7.0f);
+    }
+}
+}  // namespace
+
+LANE_TEST(WeightedRowsMatchScalar) {
+    std::mt19937 rng(17);
+    check_weighted_rows<4>(rng);
+    check_weighted_rows<8>(rng);
+    check_weighted_rows<16>(rng);
 }
 
 LANE_TEST(FastMathMatchesScalar) {

@@ -357,6 +357,16 @@ TEST(Eval, SearchFindsTheCell) {
             if (i % 59 == 13) x = knots[(i / 59) % count];
             xs.push_back(x);
         }
+        // runs inside one cell (the search then tries that cell first) left by one lane: at the
+        // cell's upper knot, at its lower one (inside), NaN, below and above the axis (inside
+        // the end cells)
+        for (int c : {0, 1, count / 2, count - 2}) {
+            const float mid = 0.5f * (knots[c] + knots[c + 1]);
+            for (float odd : {knots[c + 1], knots[c], std::nanf(""), -1.0f, 2.0f}) {
+                for (int i = 0; i < 32; ++i) xs.push_back(mid);
+                for (int i = 0; i < 16; ++i) xs.push_back(i == 5 ? odd : mid);
+            }
+        }
         for (int w : {1, 4, 8, 16}) {
             if (!width_supported(w)) continue;
             for (auto search : {kernels_for(w).search, kernels_for(w).search_thesis}) {
