@@ -75,7 +75,8 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     const bool trained_guide = settings.mode == IntegratorMode::CacheGuided && settings.cache.train_passes > 0;
     if (settings.mode != IntegratorMode::Path && settings.max_depth > 1 && !trained_guide)
         m_cache_regions = std::make_unique<CacheRegions>(c.width, c.height);
-    if (trained_guide && settings.max_depth > 1)
+    const int train_depth = settings.cache.train_max_depth > 0 ? settings.cache.train_max_depth : settings.max_depth;
+    if (trained_guide && train_depth > 1)
         m_guide_training = std::make_unique<guiding::GuideTraining>(scene, m_integrator, *m_kernels, settings.seed);
     if (settings.aa == RenderSettings::Aa::Adaptive) {
         m_aa_stats.level.assign(static_cast<size_t>(c.width) * c.height, 0);

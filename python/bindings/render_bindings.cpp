@@ -415,7 +415,8 @@ std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth
                                     const std::string& stage_clock, const std::string& integrator, int cache_resolution, float cache_error,
                                     float cache_guide, int cache_block, int cache_hit_paths,
                                     int cache_train_passes, int cache_train_spp,
-                                    float cache_train_guide, int cache_train_bounces) {
+                                    float cache_train_guide, int cache_train_bounces,
+                                    int cache_train_max_depth) {
     SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
     check_materials(h);
     patina::prepare_light_selection(h.scene);
@@ -456,6 +457,7 @@ std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth
     st.cache.train_spp = cache_train_spp;
     st.cache.train_guide = cache_train_guide;
     st.cache.train_bounces = cache_train_bounces;
+    st.cache.train_max_depth = cache_train_max_depth;
     patina::check_cache_settings(st.cache);
     auto j = std::make_unique<JobHandle>();
     j->scene_ref = scene_obj;
@@ -819,7 +821,8 @@ void bind_render(nb::module_& m) {
              nb::arg("cache_train_passes") = patina::CacheSettings{}.train_passes,
              nb::arg("cache_train_spp") = patina::CacheSettings{}.train_spp,
              nb::arg("cache_train_guide") = patina::CacheSettings{}.train_guide,
-             nb::arg("cache_train_bounces") = patina::CacheSettings{}.train_bounces)
+             nb::arg("cache_train_bounces") = patina::CacheSettings{}.train_bounces,
+             nb::arg("cache_train_max_depth") = patina::CacheSettings{}.train_max_depth)
         .def("start", [](JobHandle& j) { j.job->start(); })
         .def("cancel", [](JobHandle& j) { j.job->cancel(); })
         .def("wait",

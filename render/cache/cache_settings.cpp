@@ -36,6 +36,11 @@ void check_cache_settings(const CacheSettings& s) {
         throw std::invalid_argument("cache.train_bounces: must be an integer from " +
                                     std::to_string(kCacheTrainBouncesMin) + " to " +
                                     std::to_string(kCacheTrainBouncesMax) + ", got " + std::to_string(s.train_bounces));
+    if (s.train_max_depth < kCacheTrainMaxDepthMin || s.train_max_depth > kCacheTrainMaxDepthMax)
+        throw std::invalid_argument("cache_train_max_depth: must be an integer from " +
+                                    std::to_string(kCacheTrainMaxDepthMin) + " to " +
+                                    std::to_string(kCacheTrainMaxDepthMax) + ", got " +
+                                    std::to_string(s.train_max_depth));
 }
 
 }  // namespace patina

@@ -17,6 +17,10 @@ struct CacheSettings {
     int train_spp = 1;
     float train_guide = 0.1f;  // ...and the probability of drawing a bounce from it...
     int train_bounces = 1;     // ...at the first this many bounces of a path (1: the first hit's)
+    // the training paths' max_depth (IntegratorSettings' count; 0: the render's). A measuring
+    // knob of the low-level binding only (tools/cache_measure/variance_split.py: a render cut
+    // to direct light that samples the guide trained on full paths)
+    int train_max_depth = 0;
 };
 
 constexpr int kCacheResolutionMin = 8, kCacheResolutionMax = 128;
@@ -28,6 +32,7 @@ constexpr int kCacheTrainPassesMin = 0, kCacheTrainPassesMax = 8;
 constexpr int kCacheTrainSppMin = 1, kCacheTrainSppMax = 16;
 constexpr float kCacheTrainGuideMin = 0.05f, kCacheTrainGuideMax = 0.95f;
 constexpr int kCacheTrainBouncesMin = 1, kCacheTrainBouncesMax = 16;
+constexpr int kCacheTrainMaxDepthMin = 0, kCacheTrainMaxDepthMax = 64;
 
 // Throws std::invalid_argument naming the key (cache.resolution, ...) and its range.
 void check_cache_settings(const CacheSettings& s);

@@ -7,9 +7,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "core/cpu.h"
+#include "render/cache/cache_settings.h"
 #include "render/guiding/guide_training.h"
 #include "render/render_job.h"
 #include "tests/cpp/render/cache/box_scene.h"
@@ -91,4 +94,41 @@ TEST(TrainedGuide, DrawsFromTheGuideAndKeepsThePathTracersMean) {
     const double n = static_cast<double>(path.size()), mean = sum / n;
     const double se = std::sqrt((sum2 / n - mean * mean) / (n - 1));
     EXPECT_LT(std::abs(mean) / se, 4.0) << mean;
+}
+
+// cache.train_max_depth (the low-level binding's measuring knob): a render cut to direct light
+// (max_depth 1) samples the guide trained on paths of 5 vertices, so its first vertex is the
+// full render's -- the cut image is the full one's first part, below it in every pixel -- and
+// not the path tracer's direct light (the guide draws some first bounces that hit the light).
+TEST(TrainedGuide, ACutRenderSamplesTheGuideTrainedOnFullPaths) {
+    const BoxScene b(16, 16);
+    RenderSettings cut = trained(IntegratorMode::CacheGuided, 2, 8);
+    cut.cache.train_bounces = 1;
+    RenderSettings full = cut;
+    cut.max_depth = 1;
+    cut.cache.train_max_depth = full.max_depth;
+    RenderSettings untrained = cut;
+    untrained.cache.train_max_depth = 0;  // trained on the cut paths: no indirect records, no guide
+    const std::vector<float> first = image(b.scene, cut), whole = image(b.scene, full);
+    const std::vector<float> direct = image(b.scene, untrained);
+    size_t differ = 0;
+    for (size_t i = 0; i < first.size(); ++i) {
+        ASSERT_LE(first[i], whole[i] + 1e-5f * whole[i]) << i;
+        differ += first[i] != direct[i];
+    }
+    EXPECT_GT(differ, 0u);
+}
+
+TEST(TrainedGuide, TrainMaxDepthOutOfRangeNamesTheSetting) {
+    for (int bad : {-1, 65}) {
+        CacheSettings s;
+        s.train_max_depth = bad;
+        try {
+            check_cache_settings(s);
+            FAIL() << "train_max_depth " << bad << " accepted";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find("cache_train_max_depth"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("0 to 64"), std::string::npos) << e.what();
+        }
+    }
 }
