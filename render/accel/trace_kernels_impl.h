@@ -107,7 +107,7 @@ PATINA_INLINE void for_each_bvh_ray(const Bvh& bvh, const RayBatch& rays, size_t
             alignas(32) float near[kBvhWidth];
             bvh_detail::RootHits root{interior_root ? root_of.mask[j] : 0, near};
             if (interior_root && root.mask == 0) {
-                miss(i + j);
+                miss(i + j, j);
                 continue;
             }
             for (int c = 0; c < kBvhWidth; ++c) near[c] = root_of.near[c][j];
