@@ -19,6 +19,11 @@ struct BvhRayLanes {
     alignas(64) int32_t positive[3][N];  // 1 where inv[a] >= +0 (the box's low plane is the near one)
     alignas(64) int32_t kx[N], ky[N], kz[N];
     alignas(64) float sx[N], sy[N], sz[N], tmax[N];
+
+    // The lanes' origins and directions as registers (the analytic spheres' tests take them so).
+    PATINA_INLINE void rays(vfloat<N> (&o)[3], vfloat<N> (&d)[3]) const {
+        for (int a = 0; a < 3; ++a) o[a] = load_n<N>(org[a]), d[a] = load_n<N>(dir[a]);
+    }
 };
 
 // Rays [i, i + lanes) of the batch into the lanes: load_ray's arithmetic, N rays at once.

@@ -128,8 +128,8 @@ void intersect_bvh_kernel(const Bvh& bvh, const RayBatch& rays, const HitBatch& 
         F t = load_n<N>(l.tmax);
         I prim(-1);
         if (!bvh.spheres.empty()) {
-            const F org[3] = {load_n<N>(l.org[0]), load_n<N>(l.org[1]), load_n<N>(l.org[2])};
-            const F dir[3] = {load_n<N>(l.dir[0]), load_n<N>(l.dir[1]), load_n<N>(l.dir[2])};
+            F org[3], dir[3];
+            l.rays(org, dir);
             intersect_spheres<N>(bvh.spheres, org, dir, F(rays.tmin), t, prim);
         }
         store_n<N>(sphere_t, t);
@@ -157,8 +157,8 @@ void occluded_bvh_kernel(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked,
     int by_sphere = 0;  // bit j: lane j's ray is blocked by a sphere
     const auto spheres = [&](const BvhRayLanes<N>& l) {
         if (bvh.spheres.empty()) return;
-        const F org[3] = {load_n<N>(l.org[0]), load_n<N>(l.org[1]), load_n<N>(l.org[2])};
-        const F dir[3] = {load_n<N>(l.dir[0]), load_n<N>(l.dir[1]), load_n<N>(l.dir[2])};
+        F org[3], dir[3];
+        l.rays(org, dir);
         by_sphere = movemask(occluded_by_spheres<N>(bvh.spheres, org, dir, F(rays.tmin), load_n<N>(l.tmax)));
     };
     for_each_bvh_ray(
