@@ -7,8 +7,9 @@ The counterpart (`analytic_counterpart`): each `table` or `fit` material becomes
 Lambert fit of its BRDF -- the albedo the renderer reports for it (directional, light
 from 30 degrees, `render.materials.directional_albedo`) times its scale and tint, at most 1
 -- and a car paint keeps its coat over the Lambert fit of its base (Mitsuba's `plastic`,
-scene/mitsuba.py). A scene with a light Mitsuba has no equivalent for (an IES
-luminaire) is skipped with the reason.
+scene/mitsuba.py); a luminaire becomes Mitsuba's `spot` projecting its candela table as a
+texture (scene/mitsuba.py). A scene with a light Mitsuba has no equivalent for (a luminaire lit
+to its horizon, a type B one) is skipped with the reason.
 
 Each renderer is measured against its own converged reference of the counterpart scene
 (Patina's `path` and Mitsuba's `path`, each as two halves kept on disk as bench/cache.py

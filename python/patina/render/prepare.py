@@ -22,11 +22,12 @@ from typing import Any
 
 import numpy as np
 
-from patina.colour_constants import LUMINOUS_EFFICACY, photometric_to_rgb
+from patina.colour_constants import LUMINOUS_EFFICACY
 from patina.errors import FormatError
 from patina.geometry import shapes
 from patina.native import _core
 from patina.photometry.luminaire import load_luminaire
+from patina.photometry.placement import luminaire_axes, rgb_per_candela, tilt_factor
 from patina.render.images import read_image
 from patina.render.materials import core_material
 from patina.scene.reading import MAX_EMISSION, MAX_LENGTH, OVERFLOWS, similarity_scale
@@ -309,35 +310,11 @@ def _core_light(light: Light) -> dict[str, Any]:
     raise ValueError(f"light type '{light.type}' is not rendered yet")
 
 
-def luminaire_axes(aim: Any, rotation_deg: float, kind: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The luminaire's x, y, z axes in the world. Type C: the nadir (-z) along `aim`; type B:
-    the beam axis (+z) along `aim`. x is the world's +x (or +z, when aim is along x) made
-    perpendicular to the axis, then turned by `rotation` degrees about it; y = z x x."""
-    a = np.asarray(aim, np.float64) / np.linalg.norm(aim)
-    z = -a if kind == "C" else a
-    ref = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 0.0, 1.0])
-    x = ref - (ref @ z) * z
-    x /= np.linalg.norm(x)
-    y = np.cross(z, x)
-    t = math.radians(rotation_deg)
-    x, y = math.cos(t) * x + math.sin(t) * y, -math.sin(t) * x + math.cos(t) * y
-    return x, y, z
-
-
 def _luminaire(light: LuminaireLight) -> dict[str, Any]:
     lum = load_luminaire(light.file)
     kind, h, v, candela = lum.grid()
     x, y, z = luminaire_axes(light.aim, light.rotation, kind)
-    # an IES TILT table: the lamp's output against its tilt from the nadir-down position the
-    # file was measured in, here the angle between `aim` and straight down
-    tilt = lum.photometry.tilt
-    factor = 1.0
-    if tilt is not None and len(tilt.angles_deg):
-        aim = np.asarray(light.aim, np.float64) / np.linalg.norm(light.aim)
-        angle = math.degrees(math.acos(max(-1.0, min(1.0, -aim[1]))))
-        factor = float(np.interp(angle, tilt.angles_deg, tilt.factors))
-    # candela -> W/sr of Patina's radiometric RGB (683 lm/W of luminance), coloured
-    per_cd = list(photometric_to_rgb(light.multiplier * factor, light.color))
+    per_cd = list(rgb_per_candela(lum, light.aim, light.multiplier, light.color))
     peak = float(np.max(candela, initial=0.0)) * max(per_cd)
     if not peak <= MAX_EMISSION:
         raise FormatError(
@@ -354,7 +331,7 @@ def _luminaire(light: LuminaireLight) -> dict[str, Any]:
         "type_b": kind == "B",
         "candela": _core.Grid2(h, v, np.ascontiguousarray(candela, np.float32)),
         "power": per_cd,
-        "power_estimate": lum.flux() * light.multiplier * factor / LUMINOUS_EFFICACY,
+        "power_estimate": lum.flux() * light.multiplier * tilt_factor(lum, light.aim) / LUMINOUS_EFFICACY,
     }
 
 

@@ -9,7 +9,9 @@ renders are compared against, so this converter must mean exactly what docs/scen
 says: the pinhole camera is Mitsuba's `perspective` with `fov_axis: "y"` (the same ray
 through every film position), the lat-long map is Mitsuba's `envmap` (the same
 convention) turned by the rotation as its `to_world`, a quad light is a `rectangle` whose
-`to_world` takes [-1, 1]^2 to center + s u + t v, with a black BSDF. Shapes are Mitsuba
+`to_world` takes [-1, 1]^2 to center + s u + t v, with a black BSDF, and a type C luminaire
+whose light ends before 85 degrees from its nadir is a `spot` projecting its candela table
+(`luminaire_spot`: exact up to the texture's bilinear filter). Shapes are Mitsuba
 meshes built from the arrays given for them (vertex normals included); spheres and
 planes without arrays become Mitsuba's analytic `sphere` and `rectangle`. Materials
 Mitsuba has no equivalent for (tabulated, fitted, car paint over a table or a fit) raise
@@ -23,10 +25,13 @@ each renderer against its own reference, uses it.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
 
+from patina.photometry.luminaire import load_luminaire
+from patina.photometry.placement import luminaire_axes, rgb_per_candela
 from patina.scene.reading import similarity_scale
 from patina.scene.types import (
     Camera,
@@ -35,6 +40,7 @@ from patina.scene.types import (
     ConstantEnvironment,
     DielectricMaterial,
     LambertMaterial,
+    LuminaireLight,
     MapEnvironment,
     Material,
     PlaneShape,
@@ -216,6 +222,52 @@ def quad_to_world(light: QuadLight, flip: bool = False) -> np.ndarray:
     return m
 
 
+# A luminaire becomes Mitsuba's `spot` with its candela table as the projected `texture`: the
+# spot projects a texture over the plane z = 1 of its frame, |x|, |y| <= tan(cutoff_angle), so a
+# type C table whose light ends before 90 degrees from the nadir is that texture exactly, up to
+# the texels' bilinear filter (TEXELS a side). Type B tables and light at 90 degrees or more
+# from the nadir have no such equivalent.
+LUMINAIRE_TEXELS = 1024
+LUMINAIRE_MAX_CUTOFF_DEG = 85.0
+
+
+def luminaire_spot(mi: Any, light: LuminaireLight, where: str) -> dict[str, Any]:
+    """Mitsuba's `spot` for a type C luminaire: the cone to the first gamma past the table's last
+    lit angle, each texel the light's RGB intensity towards it (W/sr, TILT and colour included)."""
+    lum = load_luminaire(light.file)
+    kind, _, v, candela = lum.grid()
+    if kind != "C":
+        raise MitsubaConversionError(where, "a type B luminaire has no Mitsuba 3 equivalent here")
+    lit = np.nonzero(np.asarray(candela).max(axis=0) > 0)[0]
+    cutoff = float(v[min(lit[-1] + 1, len(v) - 1)]) if len(lit) else math.radians(1.0)
+    if math.degrees(cutoff) > LUMINAIRE_MAX_CUTOFF_DEG:
+        problem = f"a luminaire lit to {math.degrees(cutoff):g} degrees from its nadir has no Mitsuba 3 equivalent here"
+        raise MitsubaConversionError(where, problem + f" (a spot's cone ends before {LUMINAIRE_MAX_CUTOFF_DEG:g})")
+    x, y, z = luminaire_axes(light.aim, light.rotation, kind)
+    # the spot's frame: +z the nadir (-z of the luminaire), x the luminaire's x, y = z x x
+    frame = np.eye(4)
+    frame[:3, 0], frame[:3, 1], frame[:3, 2], frame[:3, 3] = x, -y, -z, light.position
+    # texel (row j, column i) at u = (i + 0.5) / n, v = (j + 0.5) / n: the direction
+    # ((2u - 1) tan, (2v - 1) tan, 1) of the spot's frame, (x, -y, -z) of the luminaire's
+    n = LUMINAIRE_TEXELS
+    t = (2 * (np.arange(n) + 0.5) / n - 1) * math.tan(cutoff)
+    sx, sy = np.meshgrid(t, t)
+    local = np.stack([sx, -sy, -np.ones_like(sx)], -1)
+    local /= np.linalg.norm(local, axis=-1, keepdims=True)
+    cd = np.asarray(lum.intensity_at(local.reshape(-1, 3)), np.float64).reshape(n, n)
+    rgb = np.asarray(rgb_per_candela(lum, light.aim, light.multiplier, light.color), np.float64)
+    texture = np.ascontiguousarray(cd[..., None] * rgb, np.float32)
+    angle = math.degrees(cutoff)
+    return {
+        "type": "spot",
+        "to_world": _matrix(mi, frame),
+        "cutoff_angle": angle,
+        "beam_width": angle - 1e-3,  # no falloff of its own (the table is the falloff), but a nonzero width
+        "intensity": 1.0,
+        "texture": {"type": "bitmap", "bitmap": mi.Bitmap(texture), "raw": True, "filter_type": "bilinear"},
+    }
+
+
 def _lights(mi: Any, scene: Scene) -> dict[str, Any]:
     out: dict[str, Any] = {}
     black = {"type": "diffuse", "reflectance": _rgb((0.0, 0.0, 0.0))}
@@ -235,6 +287,8 @@ def _lights(mi: Any, scene: Scene) -> dict[str, Any]:
                     "bsdf": black,
                     "emitter": {"type": "area", "radiance": _rgb(light.radiance)},
                 }
+        elif isinstance(light, LuminaireLight):
+            out[f"light_{index}"] = luminaire_spot(mi, light, where)
         else:
             raise MitsubaConversionError(where, f"a {light.type} light has no Mitsuba 3 equivalent here")
     env = scene.environment

@@ -7,13 +7,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from patina.bench.cache_mitsuba import analytic_counterpart, lambert_fit, vs_mitsuba_record
-from patina.bench.convergence import Sizes
+from patina.bench.cache_mitsuba import analytic_counterpart, lambert_fit
 from patina.bundled import materials_path
 from patina.render.prepare import shape_mesh
 from patina.scene.mitsuba import to_mitsuba
 from patina.scene.reading import load_scene
-from patina.scene.types import BallShape, CarpaintMaterial, LambertMaterial, TableMaterial
+from patina.scene.types import BallShape, CarpaintMaterial, LambertMaterial, PanelShape, TableMaterial
 
 
 def test_tables_become_their_lambert_fits_and_the_car_paint_keeps_its_coat():
@@ -36,11 +35,14 @@ def test_tables_become_their_lambert_fits_and_the_car_paint_keeps_its_coat():
     assert np.allclose(np.array(tinted) / np.array(wall), [1.2, 6, 9], rtol=1e-4)
 
 
-def test_the_counterparts_convert_to_mitsuba_and_luminaires_are_named():
+def test_the_counterparts_convert_to_mitsuba():
     pytest.importorskip("mitsuba")
-    for name in ("cache-room", "cache-studio"):
+    for name in ("cache-room", "cache-studio", "cache-ies-interior"):
         scene = analytic_counterpart(load_scene(materials_path("scenes", f"{name}.json")))
-        meshes = {i: shape_mesh(s) for i, s in enumerate(scene.shapes) if isinstance(s, BallShape)}
-        assert to_mitsuba(scene, meshes, variant="scalar_rgb")["type"] == "scene"
-    why = vs_mitsuba_record("cache-ies-interior", Sizes(8, 8, (2, 4), 2), 1, 1, [])
-    assert why == "no Mitsuba 3 equivalent: lights[0]: a luminaire light has no Mitsuba 3 equivalent here"
+        meshes = {i: shape_mesh(s) for i, s in enumerate(scene.shapes) if isinstance(s, BallShape | PanelShape)}
+        converted = to_mitsuba(scene, meshes, variant="scalar_rgb")
+        assert converted["type"] == "scene"
+        # the interior's four downlights are Mitsuba spots projecting their tables
+        assert sum(v.get("type") == "spot" for v in converted.values() if isinstance(v, dict)) == (
+            4 if name == "cache-ies-interior" else 0
+        )

@@ -218,7 +218,7 @@ def test_bad_lights_name_the_key(light, where):
 )
 def test_luminaire_illuminance_is_its_candela_times_cosine_over_distance_squared(file, aim, rotation):
     from patina.photometry.luminaire import load_luminaire
-    from patina.render.prepare import luminaire_axes
+    from patina.photometry.placement import luminaire_axes
 
     path = os.path.join(ROOT, "materials", "luminaires", file)
     position = np.array([0.4, 3.0, -0.3])

@@ -276,6 +276,11 @@ def test_unsupported_parts_are_named(tmp_path):
     s = scene(tmp_path, materials={"l": {"type": "lambert"}}, shapes=[stretched])
     with pytest.raises(MitsubaConversionError, match="non-uniform"):
         to_mitsuba(s)
+    # a luminaire lit to its horizon (the street light, to 87.5 degrees) is no spot's cone
+    street = os.path.join(ROOT, "materials", "luminaires", "streetlight.ies")
+    s = scene(tmp_path, lights=[{"type": "luminaire", "file": street, "position": [0, 5, 0]}])
+    with pytest.raises(MitsubaConversionError, match=r"lights\[0\]: a luminaire lit to 90 degrees"):
+        to_mitsuba(s)
 
 
 def test_carpaint_over_lambert_is_mitsubas_plastic():
@@ -288,3 +293,60 @@ def test_carpaint_over_lambert_is_mitsubas_plastic():
     assert rough["bsdf"]["alpha"] == 0.05 and rough["bsdf"]["distribution"] == "ggx"
     with pytest.raises(MitsubaConversionError, match="thickness_tint"):
         bsdf(CarpaintMaterial(base, Coat(1.5, 0.0, (0.9, 1.0, 1.0)), False))
+
+
+def _asymmetric_ies(path) -> str:
+    """A type C table of no symmetry (brightest towards C = 34 degrees), dark past 70 degrees
+    from the nadir: a mirrored or turned texture shows."""
+    from patina.photometry.writers import format_ies
+
+    h = np.arange(0.0, 361.0, 30.0)
+    v = np.arange(0.0, 91.0, 10.0)
+    by_plane = 300 + 150 * np.cos(np.radians(h)) + 100 * np.sin(np.radians(h))
+    candela = by_plane[:, None] * np.cos(np.radians(v))[None, :] ** 2
+    candela[:, v >= 70] = 0.0
+    path.write_text(format_ies(h, v, candela))
+    return str(path)
+
+
+@pytest.mark.parametrize(
+    "file, aim, rotation",
+    [("downlight.ies", [0.0, -1.0, 0.0], 0.0), ("asymmetric", [0.3, -1.0, 0.2], 40.0)],
+)
+def test_lambert_plane_under_a_luminaire(tmp_path, file, aim, rotation):
+    """A luminaire is Mitsuba's spot projecting its candela table: a Lambert floor's radiance is
+    albedo / pi * I(direction) cos / d^2 with I from the table, orientation and TILT included."""
+    from patina.photometry.luminaire import load_luminaire
+    from patina.photometry.placement import luminaire_axes, rgb_per_candela
+
+    path = (
+        _asymmetric_ies(tmp_path / "a.ies")
+        if file == "asymmetric"
+        else os.path.join(ROOT, "materials", "luminaires", file)
+    )
+    position = np.array([0.3, 2.0, -0.2])
+    s = scene(
+        tmp_path,
+        camera={"position": [0, 5, 3], "look_at": [0, 0, 0], "fov": 60, "width": 32, "height": 24},
+        render={"spp": 256, "integrator": "direct"},
+        materials={"grey": {"type": "lambert", "albedo": 0.5}},
+        shapes=[{"type": "plane", "material": "grey", "size": [40, 40]}],
+        lights=[{"type": "luminaire", "file": path, "position": position.tolist(), "aim": aim, "rotation": rotation}],
+    )
+    image = render(s)
+    lum = load_luminaire(path)
+    x, y, z = luminaire_axes(aim, rotation, lum.kind)
+    points, valid = _plane_hits(s, 8)
+    assert valid.all()
+    out = points - position
+    d2 = (out**2).sum(-1)
+    w = out / np.sqrt(d2)[..., None]
+    candela = lum.intensity_at(np.stack([w @ x, w @ y, w @ z], -1).reshape(-1, 3)).reshape(d2.shape)
+    rgb = np.asarray(rgb_per_candela(lum, aim, 1.0, (1.0, 1.0, 1.0)))
+    expected = (0.5 / math.pi * (candela * -w[..., 1] / d2)[..., None] * rgb).mean(axis=2)
+    lit = expected[..., 1] > 0.05 * expected[..., 1].max()
+    assert lit.sum() > 100
+    relative = np.abs(image[lit] / expected[lit] - 1)
+    # pixels across the cut-off's edge are partly lit: the median and the mean say the texture is right
+    assert np.median(relative) < 0.01 and relative.mean() < 0.03
+    assert abs(image.sum() / expected.sum() - 1) < 0.01
