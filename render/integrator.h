@@ -108,7 +108,8 @@ struct PathScratch {
     // the points grouped by the light they chose, and one group's inputs and results
     std::vector<int32_t> light_of_point, light_start, light_fill, light_points;
     std::vector<float> group_pos, group_u1, group_u2, group_dir, group_rgb, group_dist, group_pdf, group_sel;
-    std::vector<float> point_sel, selection_scratch;  // each point's probability of its light; weights
+    std::vector<float> point_sel;  // each point's probability of its light
+    std::vector<float> selection_pos, selection_weights;  // the points' positions; their lights' weights
     // one light sample per shading point
     std::vector<float> ls_dir, ls_rgb, ls_dist, ls_pdf;
     std::vector<uint8_t> ls_delta, ls_ok;
@@ -160,6 +161,10 @@ struct RenderKernels {
                                         int samples, uint32_t seed, float* lux, PathScratch& scratch);
     // out[i] = the 2-D table at (x[i], y[i]), bilinear, clamped to the axes
     void (*grid2_eval)(const Grid2View& grid, const float* x, const float* y, float* out, size_t n);
+    // The light selection at points[q], q < n: the probability that a shading point there picks
+    // light k (the environment last; count = scene.selection.size()) as light sampling's pick
+    // computes it, into pick[q * count + k], and as an MIS weight does, into mis
+    void (*light_selection)(const RenderScene& scene, const float* points, size_t n, float* pick, float* mis);
     // The radiance cache at point a (unit normal na) reprojected into point b (normal nb),
     // with the settings' cache parameters and depth (render/cache/cache_probe.h)
     void (*cache_probe)(const RenderScene& scene, const IntegratorSettings& settings, const float* a, const float* na,

@@ -199,10 +199,9 @@ inline void add_environment(const Wavefront& w, int depth) {
         store_lanes(lp, i, lanes, p);
     });
     const int env_light = static_cast<int>(s.lights.size());
-    // without local lights the selection does not depend on the point: the environment's
-    // probability computed once (the same operations as per point)
-    const bool local = std::any_of(s.selection.begin(), s.selection.end(),
-                                   [](const RenderScene::Selection& sel) { return sel.local; });
+    // without local lights (or with the environment alone) the selection does not depend on
+    // the point: the environment's probability computed once (the same operations as per point)
+    const bool local = selection_is_local(s);
     const float env_selection = s.env.present && !local ? selection_probability(s, Vec3f{0, 0, 0}, env_light) : 0.0f;
     for (size_t j = 0; j < n; ++j) {
         const int32_t i = sc.misses[j];

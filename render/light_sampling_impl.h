@@ -1,10 +1,10 @@
 // Coherent light sampling (the thesis's coherent light sources; docs/render.md): one light
 // sample per shading point. Each point picks a light in proportion to its estimated
-// irradiance there (the selection); the points are grouped by the light they picked, so
-// every SIMD lane of a group samples the same light with the same code (coherent), N points
-// at a time; their shadow rays are traced as packets (shadow_rays_impl.h). The densities
-// here are also what the integrator's MIS weights need when a BRDF-sampled ray reaches a
-// light.
+// irradiance there (the selection, light_selection_impl.h); the points are grouped by the
+// light they picked, so every SIMD lane of a group samples the same light with the same code
+// (coherent), N points at a time; their shadow rays are traced as packets
+// (shadow_rays_impl.h). The densities here are also what the integrator's MIS weights need
+// when a BRDF-sampled ray reaches a light.
 #pragma once
 
 #include <algorithm>
@@ -17,8 +17,8 @@
 #include "core/simd/kernel_width.h"
 #include "core/vec3.h"
 #include "render/env_impl.h"
-#include "render/grid2_impl.h"
 #include "render/integrator.h"
+#include "render/light_selection_impl.h"
 #include "render/rng.h"
 #include "render/scene.h"
 #include "render/uniforms_impl.h"
@@ -26,61 +26,6 @@
 PATINA_BEGIN_TARGET
 namespace render_detail {
 using namespace kernel_width;
-
-// --- selection: which light a point samples, and with what probability ---
-
-// Each light's estimated irradiance at point p (the selection weights); returns their sum.
-inline float selection_weights(const RenderScene& s, const Vec3f& p, float* w) {
-    float sum = 0;
-    for (size_t k = 0; k < s.selection.size(); ++k) {
-        const RenderScene::Selection& sel = s.selection[k];
-        float wk = sel.weight;
-        if (sel.local) {
-            const Vec3f d = load_vec3(sel.center) - p;
-            wk = sel.weight / (4.0f * kPi * std::max(dot(d, d), sel.size2));
-        }
-        w[k] = wk;
-        sum += wk;
-    }
-    return sum;
-}
-
-// The probability that a shading point at p picks light k.
-inline float selection_probability(const RenderScene& s, const Vec3f& p, int k) {
-    float w[64];
-    std::vector<float> many;
-    float* weights = w;
-    if (s.selection.size() > 64) {
-        many.resize(s.selection.size());
-        weights = many.data();
-    }
-    const float sum = selection_weights(s, p, weights);
-    return sum > 0 ? weights[k] / sum : 0.0f;
-}
-inline int light_count(const RenderScene& s) { return static_cast<int>(s.selection.size()); }
-
-// The light a point at p picks with uniform `pick`, by its selection weights (into w), and
-// the probability of that pick.
-inline int pick_light(const RenderScene& s, const Vec3f& p, float pick, float* w, float& probability) {
-    const int count = light_count(s);
-    const float sum = selection_weights(s, p, w);
-    float acc = 0, target = pick * sum;
-    int k = 0;
-    for (; k < count - 1; ++k) {
-        if (target < acc + w[k]) break;
-        acc += w[k];
-    }
-    while (k > 0 && !(w[k] > 0)) --k;  // never a light of zero weight (rounding at the top)
-    probability = sum > 0 ? w[k] / sum : 0.0f;
-    return k;
-}
-
-// Whether any light (or the environment) can light anything.
-inline bool lights_emit(const RenderScene& s) {
-    for (const RenderScene::Selection& sel : s.selection)
-        if (sel.weight > 0) return true;
-    return false;
-}
 
 // --- MIS: light sampling against BRDF sampling ---
 
@@ -122,31 +67,6 @@ inline LightSample load_light_sample(const PathScratch& sc, size_t q) {
 }
 
 // --- sampling: N points of one light at a time ---
-
-// A point light's relative intensity towards unit direction `out` (from the light): 1 for
-// a point light, the smooth cone of a spot, the candela table of a goniometric luminaire.
-PATINA_INLINE F delta_intensity(const Light& l, const V3& out) {
-    if (l.kind == LightKind::Spot) {
-        const F c = out.x * F(l.direction[0]) + out.y * F(l.direction[1]) + out.z * F(l.direction[2]);
-        const F t = clamp((c - F(l.cos_outer)) / F(std::max(l.cos_inner - l.cos_outer, 1e-6f)), F(0.0f), F(1.0f));
-        return t * t * nmadd(F(2.0f), t, F(3.0f));  // smoothstep
-    }
-    if (l.kind == LightKind::Goniometric) {
-        const F x = out.x * F(l.axis_x[0]) + out.y * F(l.axis_x[1]) + out.z * F(l.axis_x[2]);
-        const F y = out.x * F(l.axis_y[0]) + out.y * F(l.axis_y[1]) + out.z * F(l.axis_y[2]);
-        const F z = out.x * F(l.axis_z[0]) + out.y * F(l.axis_z[1]) + out.z * F(l.axis_z[2]);
-        if (l.type_b) {
-            // type B (docs/luminaires.md): H = asin(-x) within the plane, V = atan2(y, z) about x
-            return grid2_w::eval(l.candela, fast_asin(clamp(-x, F(-1.0f), F(1.0f))), fast_atan2(y, z));
-        }
-        // photometric type C: gamma from the nadir (-axis_z), C from axis_x towards axis_y
-        const F gamma = fast_acos(clamp(-z, F(-1.0f), F(1.0f)));
-        F c = fast_atan2(y, x);
-        c = select(c < F(0.0f), c + F(2.0f * kPi), c);
-        return grid2_w::eval(l.candela, c, gamma);
-    }
-    return F(1.0f);
-}
 
 // The sun: a direction uniform in its disc's cone (pdf 1 / (2 pi (1 - cos))), its radiance.
 PATINA_INLINE F sample_sun(const Light& l, F u1, F u2, V3& w, F& r, F& g, F& b) {
@@ -252,7 +172,7 @@ inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, co
                 r = F(light->power[0]), g = F(light->power[1]), b = F(light->power[2]);
                 p = select((cos_l > F(0.0f)) & (dist2 > F(0.0f)), sel * dist2 / (F(light->area) * cos_l), F(0.0f));
             } else {  // delta lights: intensity towards the point / distance^2
-                const F scale = delta_intensity(*light, V3{-w.x, -w.y, -w.z}) / dist2;
+                const F scale = delta_intensity<N>(*light, V3{-w.x, -w.y, -w.z}) / dist2;
                 r = F(light->power[0]) * scale, g = F(light->power[1]) * scale, b = F(light->power[2]) * scale;
                 p = select(dist2 > F(0.0f), sel, F(0.0f));
             }
@@ -298,10 +218,16 @@ inline void sample_lights(const RenderScene& s, PathScratch& sc, int depth, size
     chosen.resize(np);
     sc.point_sel.resize(np);
     sc.light_start.assign(count + 1, 0);
-    std::vector<float>& w = sc.selection_scratch;
-    w.resize(count + 1);
+    float* pos = nullptr;  // the points' positions, when a weight depends on them
+    if (selection_is_local(s)) {
+        pos = grow(sc.selection_pos, 3 * np);
+        for (size_t q = 0; q < np; ++q) store_vec3(sc.sorted[q].p, pos + 3 * q);
+    }
+    float* w = grow(sc.selection_weights, (count + 1) * np);  // count rows of weights, then the sums
+    float* sum = w + count * np;
+    points_selection_weights(s, pos, np, w, sum);
     for (size_t q = 0; q < np; ++q) {
-        chosen[q] = pick_light(s, sc.sorted[q].p, pick[q], w.data(), sc.point_sel[q]);
+        chosen[q] = pick_light(w + q, np, count, sum[q], pick[q], sc.point_sel[q]);
         ++sc.light_start[chosen[q] + 1];
     }
     // grouped by light (a counting sort, each group in the points' order), then sampled group by group

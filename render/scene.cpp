@@ -126,23 +126,18 @@ void prepare_scale(RenderScene& s) {
     s.ray_offset = std::max(1e-5f, 2e-5f * std::max(extent, s.scene_radius));
 }
 
-// A local light's flux (W of luminance), for its selection weight.
-static double light_flux(const Light& l) {
-    if (l.power_estimate >= 0) return l.power_estimate;
-    const double lum = std::max(0.0, luminance<double>(l.power));
-    switch (l.kind) {
-        case LightKind::Point: return 4 * kPiDouble * lum;
-        case LightKind::Spot: return 2 * kPiDouble * (1 - 0.5 * (l.cos_inner + l.cos_outer)) * lum;
-        default: return l.area * kPiDouble * lum * (l.two_sided ? 2 : 1);  // quads and triangles
-    }
+// An area light's flux (W of luminance), for its selection weight.
+static double area_light_flux(const Light& l) {
+    return l.area * kPiDouble * std::max(0.0, luminance<double>(l.power)) * (l.two_sided ? 2 : 1);
 }
 
 void prepare_light_selection(RenderScene& s) {
-    // local lights by flux and distance, infinite ones (sun, environment) by irradiance
+    // area lights by flux and distance, delta lights by intensity (towards the point, when
+    // selecting) and distance, infinite ones (sun, environment) by irradiance
     s.selection.clear();
     const float small2 = 1e-4f * s.scene_radius * s.scene_radius;
     for (const Light& l : s.lights) {
-        RenderScene::Selection sel{true, 0, {l.position[0], l.position[1], l.position[2]}, small2};
+        RenderScene::Selection sel{true, false, 0, {l.position[0], l.position[1], l.position[2]}, small2};
         if (l.kind == LightKind::Sun) {
             // uniform radiance over a cone of half-angle d: irradiance pi sin^2 d L facing it
             sel.local = false;
@@ -151,26 +146,30 @@ void prepare_light_selection(RenderScene& s) {
             s.selection.push_back(sel);
             continue;
         }
-        sel.weight = static_cast<float>(light_flux(l));
-        if (l.kind == LightKind::Quad || l.kind == LightKind::Triangles) {
-            sel.size2 = std::max(small2, static_cast<float>(l.area / kPiDouble));
-            if (l.kind == LightKind::Triangles) {  // the area-weighted centroid
-                double c[3] = {0, 0, 0}, prev = 0;
-                for (size_t t = 0; t < l.triangles.size(); ++t) {
-                    const float* v = s.tree->triangles.data() + 9 * static_cast<size_t>(l.triangles[t]);
-                    const double w = l.area_cdf[t + 1] - prev;
-                    prev = l.area_cdf[t + 1];
-                    for (int k = 0; k < 3; ++k) c[k] += w * (v[k] + v[3 + k] + v[6 + k]) / 3;
-                }
-                for (int k = 0; k < 3; ++k) sel.center[k] = static_cast<float>(c[k]);
+        if (l.kind == LightKind::Point || l.kind == LightKind::Spot || l.kind == LightKind::Goniometric) {
+            sel.delta = true;
+            sel.weight = static_cast<float>(std::max(0.0, luminance<double>(l.power)));
+            s.selection.push_back(sel);
+            continue;
+        }
+        sel.weight = static_cast<float>(area_light_flux(l));  // quads and triangles
+        sel.size2 = std::max(small2, static_cast<float>(l.area / kPiDouble));
+        if (l.kind == LightKind::Triangles) {  // the area-weighted centroid
+            double c[3] = {0, 0, 0}, prev = 0;
+            for (size_t t = 0; t < l.triangles.size(); ++t) {
+                const float* v = s.tree->triangles.data() + 9 * static_cast<size_t>(l.triangles[t]);
+                const double w = l.area_cdf[t + 1] - prev;
+                prev = l.area_cdf[t + 1];
+                for (int k = 0; k < 3; ++k) c[k] += w * (v[k] + v[3 + k] + v[6 + k]) / 3;
             }
+            for (int k = 0; k < 3; ++k) sel.center[k] = static_cast<float>(c[k]);
         }
         s.selection.push_back(sel);
     }
     if (s.env.present) {  // a uniform environment of mean luminance Y gives irradiance pi Y
         const double mean = s.env.is_map ? s.env.mean_luminance
                                          : std::max(0.0, luminance<double>(s.env.constant)) * s.env.intensity;
-        s.selection.push_back({false, static_cast<float>(kPiDouble * mean), {0, 0, 0}, 0});
+        s.selection.push_back({false, false, static_cast<float>(kPiDouble * mean), {0, 0, 0}, 0});
     }
 }
 

@@ -123,11 +123,15 @@ struct RenderScene {
     float scene_radius = 1;              // bounding-sphere radius of the geometry (environment power)
     float ray_offset = 1e-4f;            // secondary-ray origin offset, scaled by the scene's size
     // Light selection, per shading point in proportion to each light's estimated irradiance
-    // there: a local light's flux / (4 pi max(d^2, size^2)) (d to its centre), an infinite
-    // one's (sun, environment) irradiance. Lights first, then the environment.
+    // there (render/light_selection_impl.h): an area light's flux / (4 pi max(d^2, size^2))
+    // (d to its centre), a delta light's intensity towards the point / max(d^2, size^2) (its
+    // spot cone or candela table included), an infinite one's (sun, environment) irradiance.
+    // Lights first (selection[k] is lights[k]'s), then the environment.
     struct Selection {
         bool local;
-        float weight;     // local: flux (W, luminance); infinite: irradiance (W/m^2, luminance)
+        bool delta;       // a point, spot or goniometric light: weighed by its intensity towards the point
+        float weight;     // area: flux (W); delta: intensity (W/sr; goniometric: per candela);
+                          // infinite: irradiance (W/m^2); all of luminance
         float center[3];
         float size2;      // local: a squared size below which distance does not count
     };
