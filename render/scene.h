@@ -70,7 +70,6 @@ struct Light {
     float axis_x[3] = {1, 0, 0}, axis_y[3] = {0, 1, 0}, axis_z[3] = {0, 0, 1};
     Grid2View candela{};
     bool type_b = false;  // Goniometric: photometric type B (beam along axis_z, axis_y up) instead of C
-    float power_estimate = -1;  // W (luminance-weighted), when known better than from `power`
 };
 
 // A lat-long environment (Mitsuba 3's convention: u -> phi = 2 pi u, v -> theta = pi v,

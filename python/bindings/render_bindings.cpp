@@ -352,8 +352,6 @@ int add_light(SceneHandle& h, const nb::dict& d) {
                 f.fail("'candela' must be a patina._core.Grid2");
             l.candela = g->view();
             h.keep.push_back(grid);
-            l.power_estimate = f.real("power_estimate");
-            if (!(l.power_estimate >= 0)) f.fail("'power_estimate' must be >= 0");
             break;
         }
         default: break;

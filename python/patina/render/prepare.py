@@ -22,12 +22,11 @@ from typing import Any
 
 import numpy as np
 
-from patina.colour_constants import LUMINOUS_EFFICACY
 from patina.errors import FormatError
 from patina.geometry import shapes
 from patina.native import _core
 from patina.photometry.luminaire import load_luminaire
-from patina.photometry.placement import luminaire_axes, rgb_per_candela, tilt_factor
+from patina.photometry.placement import luminaire_axes, rgb_per_candela
 from patina.render.images import read_image
 from patina.render.materials import core_material
 from patina.scene.reading import MAX_EMISSION, MAX_LENGTH, OVERFLOWS, similarity_scale
@@ -331,7 +330,6 @@ def _luminaire(light: LuminaireLight) -> dict[str, Any]:
         "type_b": kind == "B",
         "candela": _core.Grid2(h, v, np.ascontiguousarray(candela, np.float32)),
         "power": per_cd,
-        "power_estimate": lum.flux() * light.multiplier * tilt_factor(lum, light.aim) / LUMINOUS_EFFICACY,
     }
 
 
