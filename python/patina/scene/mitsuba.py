@@ -225,7 +225,7 @@ def quad_to_world(light: QuadLight, flip: bool = False) -> np.ndarray:
 # A luminaire becomes Mitsuba's `spot` with its candela table as the projected `texture`: the
 # spot projects a texture over the plane z = 1 of its frame, |x|, |y| <= tan(cutoff_angle), so a
 # type C table whose light ends before 90 degrees from the nadir is that texture exactly, up to
-# the texels' bilinear filter (TEXELS a side). Type B tables and light at 90 degrees or more
+# the texels' bilinear filter (LUMINAIRE_TEXELS a side). Type B tables and light at 90 degrees or more
 # from the nadir have no such equivalent.
 LUMINAIRE_TEXELS = 1024
 LUMINAIRE_MAX_CUTOFF_DEG = 85.0
