@@ -6,12 +6,12 @@ from __future__ import annotations
 import json
 import os
 import signal
-import subprocess
 import sys
 
 import numpy as np
 import pytest
 
+from interrupts import start_interruptible
 from patina.cli import main
 from patina.render.images import read_exr_layers
 from repo_paths import ROOT
@@ -146,7 +146,7 @@ def test_ctrl_c_writes_a_valid_partial_image_and_exits_130(tmp_path):
     scene = write_scene(tmp_path, {**GOOD, "camera": {**GOOD["camera"], "width": 64, "height": 48}})
     out = tmp_path / "partial.exr"
     cmd = [sys.executable, "-m", "patina.cli", "render", scene, "--out", str(out), "--spp", "1000000"]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = start_interruptible(cmd)
     try:
         assert proc.stdout is not None and proc.stdout.readline().startswith("rendering")
         import time

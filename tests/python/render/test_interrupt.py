@@ -16,6 +16,7 @@ import time
 import numpy as np
 import pytest
 
+from interrupts import start_interruptible
 from patina.cli import main
 from patina.render.images import read_exr_layers
 from repo_paths import ROOT
@@ -29,7 +30,7 @@ def start(out, *options: str) -> subprocess.Popen:
     # signal sent as the render starts arrives inside the first pass
     cmd = [sys.executable, "-m", "patina.cli", "render", BALL, "--out", str(out), "--spp", "1000000"]
     cmd += ["--width", "128", "--threads", "1", *options]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = start_interruptible(cmd)
     assert proc.stdout is not None and proc.stdout.readline().startswith("rendering")
     return proc
 
