@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from conftest import WIDTHS
+from luminaire_field import floor_illuminance
 from patina.errors import FormatError
 from patina.render.run import PreparedScene, render
 from patina.scene.reading import parse_scene
@@ -229,9 +230,6 @@ def test_bad_lights_name_the_key(light, where):
     ],
 )
 def test_luminaire_illuminance_is_its_candela_times_cosine_over_distance_squared(file, aim, rotation):
-    from patina.photometry.luminaire import load_luminaire
-    from patina.photometry.placement import luminaire_axes
-
     path = luminaire_file(file)
     position = np.array([0.4, 3.0, -0.3])
     scene = plane_scene(
@@ -239,15 +237,8 @@ def test_luminaire_illuminance_is_its_candela_times_cosine_over_distance_squared
         spp=64,
     )
     r = render(scene)
-    lum = load_luminaire(path)
-    x, y, z = luminaire_axes(aim, rotation, lum.kind)
     p, box = plane_points(scene)
-    out = p - position  # from the luminaire to the floor
-    d2 = (out**2).sum(-1)
-    w = out / np.sqrt(d2)[..., None]
-    local = np.stack([w @ x, w @ y, w @ z], -1).reshape(-1, 3)
-    candela = lum.intensity_at(local).reshape(d2.shape)
-    lux = box(candela * (-w[..., 1]) / d2)  # E = I cos / d^2, cos against the floor's normal +y
+    lux = box(floor_illuminance(path, position, aim, rotation, p))
     lit = lux > 0.02 * lux.max()
     rel = np.abs(r.illuminance[lit] / lux[lit] - 1)
     assert np.median(rel) < 0.01 and abs(r.illuminance.sum() / lux.sum() - 1) < 0.01
@@ -256,9 +247,6 @@ def test_luminaire_illuminance_is_its_candela_times_cosine_over_distance_squared
 def test_luminaires_and_a_spot_picked_by_their_profiles_add_up_to_their_illuminance():
     # each point picks a light by its intensity towards the point: the downlights' cut-off at
     # 60 degrees and the spot's cone make it pick only those that light it; the sum stays exact
-    from patina.photometry.luminaire import load_luminaire
-    from patina.photometry.placement import luminaire_axes
-
     lights = [
         ("downlight.ies", [-1.5, 2.5, -1.0], [0.0, -1.0, 0.0], 0.0),
         ("downlight.ies", [1.5, 2.5, 1.0], [0.0, -1.0, 0.0], 0.0),
@@ -284,15 +272,7 @@ def test_luminaires_and_a_spot_picked_by_their_profiles_add_up_to_their_illumina
     )
     r = render(scene)
     p, box = plane_points(scene)
-    lux = np.zeros(p.shape[:2])
-    for f, at, aim, rotation in lights:
-        lum = load_luminaire(luminaire_file(f))
-        x, y, z = luminaire_axes(aim, rotation, lum.kind)
-        out = p - np.array(at)
-        d2 = (out**2).sum(-1)
-        w = out / np.sqrt(d2)[..., None]
-        candela = lum.intensity_at(np.stack([w @ x, w @ y, w @ z], -1).reshape(-1, 3)).reshape(d2.shape)
-        lux += candela * (-w[..., 1]) / d2
+    lux = sum(floor_illuminance(luminaire_file(f), at, aim, rotation, p) for f, at, aim, rotation in lights)
     out = p - np.array(spot["position"])
     d2 = (out**2).sum(-1)
     w = out / np.sqrt(d2)[..., None]

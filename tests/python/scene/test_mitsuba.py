@@ -16,6 +16,7 @@ mi = pytest.importorskip("mitsuba")
 
 import trimesh  # noqa: E402
 
+from luminaire_field import floor_illuminance  # noqa: E402
 from patina.scene.mitsuba import MitsubaConversionError, bsdf, quad_to_world, to_mitsuba  # noqa: E402
 from patina.scene.reading import load_scene, parse_scene, with_overrides  # noqa: E402
 from patina.scene.types import CarpaintMaterial, Coat, LambertMaterial  # noqa: E402
@@ -317,7 +318,7 @@ def test_lambert_plane_under_a_luminaire(tmp_path, file, aim, rotation):
     """A luminaire is Mitsuba's spot projecting its candela table: a Lambert floor's radiance is
     albedo / pi * I(direction) cos / d^2 with I from the table, orientation and TILT included."""
     from patina.photometry.luminaire import load_luminaire
-    from patina.photometry.placement import luminaire_axes, rgb_per_candela
+    from patina.photometry.placement import rgb_per_candela
 
     path = (
         _asymmetric_ies(tmp_path / "a.ies")
@@ -334,16 +335,11 @@ def test_lambert_plane_under_a_luminaire(tmp_path, file, aim, rotation):
         lights=[{"type": "luminaire", "file": path, "position": position.tolist(), "aim": aim, "rotation": rotation}],
     )
     image = render(s)
-    lum = load_luminaire(path)
-    x, y, z = luminaire_axes(aim, rotation, lum.kind)
     points, valid = _plane_hits(s, 8)
     assert valid.all()
-    out = points - position
-    d2 = (out**2).sum(-1)
-    w = out / np.sqrt(d2)[..., None]
-    candela = lum.intensity_at(np.stack([w @ x, w @ y, w @ z], -1).reshape(-1, 3)).reshape(d2.shape)
-    rgb = np.asarray(rgb_per_candela(lum, aim, 1.0, (1.0, 1.0, 1.0)))
-    expected = (0.5 / math.pi * (candela * -w[..., 1] / d2)[..., None] * rgb).mean(axis=2)
+    lux = floor_illuminance(path, position, aim, rotation, points)
+    rgb = np.asarray(rgb_per_candela(load_luminaire(path), aim, 1.0, (1.0, 1.0, 1.0)))
+    expected = (0.5 / math.pi * lux[..., None] * rgb).mean(axis=2)
     lit = expected[..., 1] > 0.05 * expected[..., 1].max()
     assert lit.sum() > 100
     relative = np.abs(image[lit] / expected[lit] - 1)
