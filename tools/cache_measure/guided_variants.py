@@ -4,8 +4,9 @@ bench's `cache.<scene>.guided_vs_path` measures them (bench/cache.py: 96 pixels 
 0 .. REPEAT): per variant its median time, its relMSE and the ratio (docs/radiance-cache.md,
 "The trained guide").
 Run from the checkout: python tools/cache_measure/guided_variants.py '[{"cache_train_passes": 0}, {}]'
-(each variant: keyword arguments of with_overrides; SCENES=cache-room,... and REPEAT=3;
-INTEGRATOR=cache for `cache`'s variants, its ratio the bench's `biased_vs_path`)."""
+(each variant: keyword arguments of with_overrides, `spp` among them to replace the bench's 16;
+SCENES=cache-room,... and REPEAT=3; INTEGRATOR=cache for `cache`'s variants, its ratio the
+bench's `biased_vs_path`)."""
 
 import json
 import os
@@ -27,7 +28,7 @@ for name in scenes:
     f, scene, ref, ladder = path_ladder(name)
     candidates = []
     for v in variants:
-        c = with_overrides(scene, integrator=integrator, spp=FULL.candidate_spp, **v)
+        c = with_overrides(scene, integrator=integrator, **{"spp": FULL.candidate_spp, **v})
         candidates.append(Run(c, PreparedScene(c), 2))
     times, images = timed_renders(ladder + candidates, repeat)
     errors = [median_relmse(i, ref.image, ref.error) for i in images]
