@@ -370,8 +370,7 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
         // projected into the image like the feature edges
         const TraceKernels& kernels = trace_kernels_w1();  // one width: the same hits for every SIMD width
         for (const Light& light : s.lights) {
-            const bool local = light.kind == LightKind::Point || light.kind == LightKind::Spot ||
-                               light.kind == LightKind::Goniometric;
+            const bool local = is_delta_light(light);
             if (!local && light.kind != LightKind::Sun) continue;  // area lights and environments: soft shadows
             const V3 lp = load(light.position), sun = load(light.direction);
             const auto towards_light = [&](V3 p) { return local ? sub(lp, p) : sun; };

@@ -89,8 +89,7 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
     // the spots on triangles [t_begin, t_end) into `spots`
     const auto search = [&](size_t t_begin, size_t t_end, std::vector<Rect>& spots) {
         for (const Light& light : s.lights) {
-            const bool local = light.kind == LightKind::Point || light.kind == LightKind::Spot ||
-                               light.kind == LightKind::Goniometric;
+            const bool local = is_delta_light(light);
             if (!local && light.kind != LightKind::Sun) continue;  // area lights and environments: broad highlights
             const V3 lp = load(light.position), sun = load(light.direction);
             // the sun is a disc: its mirror image is spread over half its angular radius of normals

@@ -182,8 +182,7 @@ inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, co
         store_lanes(dist, i, lanes, d);
         store_lanes(pdf, i, lanes, p);
     });
-    const bool delta = light != nullptr && (light->kind == LightKind::Point || light->kind == LightKind::Spot ||
-                                            light->kind == LightKind::Goniometric);
+    const bool delta = light != nullptr && is_delta_light(*light);
     for (size_t j = 0; j < n; ++j) {
         const int32_t q = points[j];
         std::copy(dir + 3 * j, dir + 3 * j + 3, sc.ls_dir.data() + 3 * q);

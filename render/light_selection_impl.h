@@ -70,6 +70,7 @@ inline float selection_probability(const RenderScene& s, const Vec3f& p, int k) 
     const float sum = selection_weights(s, p, weights);
     return selection_share(weights[k], sum);
 }
+
 inline int light_count(const RenderScene& s) { return static_cast<int>(s.selection.size()); }
 
 // Whether a point's selection depends on where it is: with several lights, one of them local
@@ -81,9 +82,10 @@ inline bool selection_is_local(const RenderScene& s) {
     return false;
 }
 
-// The selection weights of np points at `pos` ((np, 3) rows, read when selection_is_local),
-// N points at a time, as selection_weights computes them: light k's weight of point q at
-// w[k * np + q], and their sum at sum[q], added in the same order (the same bits).
+// The selection weights of np points at `pos` ((np, 3) rows; null when not
+// selection_is_local, as no weight then reads a position), N points at a time, as
+// selection_weights computes them: light k's weight of point q at w[k * np + q], and their
+// sum at sum[q], added in the same order (the same bits).
 inline void points_selection_weights(const RenderScene& s, const float* pos, size_t np, float* w, float* sum) {
     const size_t count = s.selection.size();
     if (count == 1) {
@@ -91,9 +93,8 @@ inline void points_selection_weights(const RenderScene& s, const float* pos, siz
         std::fill(sum, sum + np, 1.0f);
         return;
     }
-    const bool local = selection_is_local(s);
     for_blocks(np, [&](size_t i, int lanes) {
-        const V3 p = local ? load_rows(pos, i, lanes) : V3{F(0.0f), F(0.0f), F(0.0f)};
+        const V3 p = pos ? load_rows(pos, i, lanes) : V3{F(0.0f), F(0.0f), F(0.0f)};
         F total(0.0f);
         for (size_t k = 0; k < count; ++k) {
             const F wk = selection_weight<N>(s, k, p);

@@ -146,7 +146,7 @@ void prepare_light_selection(RenderScene& s) {
             s.selection.push_back(sel);
             continue;
         }
-        if (l.kind == LightKind::Point || l.kind == LightKind::Spot || l.kind == LightKind::Goniometric) {
+        if (is_delta_light(l)) {
             sel.delta = true;
             sel.weight = static_cast<float>(std::max(0.0, luminance<double>(l.power)));
             s.selection.push_back(sel);

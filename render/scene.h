@@ -72,6 +72,12 @@ struct Light {
     bool type_b = false;  // Goniometric: photometric type B (beam along axis_z, axis_y up) instead of C
 };
 
+// A light of one point (point, spot, goniometric luminaire): its intensity towards a direction,
+// not a radiance over an area or a cone.
+inline bool is_delta_light(const Light& l) {
+    return l.kind == LightKind::Point || l.kind == LightKind::Spot || l.kind == LightKind::Goniometric;
+}
+
 // A lat-long environment (Mitsuba 3's convention: u -> phi = 2 pi u, v -> theta = pi v,
 // d = (sin phi sin theta, cos theta, -cos phi sin theta), y up) or a constant radiance.
 // Importance sampled by luminance x sin(theta), piecewise constant per pixel.
