@@ -23,7 +23,6 @@ import numpy as np
 
 from patina.bench import render as R
 from patina.render.run import PreparedScene
-from patina.scene.mitsuba import to_mitsuba
 from patina.scene.reading import load_scene, with_overrides
 
 REF_SPP, SEEDS = 16384, 4
@@ -35,21 +34,19 @@ def rel_mse(render_at, spp: int, reference: np.ndarray, reference_mse: float) ->
 
 
 def mitsuba_renderer(scene, sampler: str, emitter_samples: int = 1, bsdf_samples: int = 1):
-    import drjit as dr
+    """The bench's llvm_ad_rgb renderer of the scene with Mitsuba's `direct` integrator."""
+    integrator = {"type": "direct", "emitter_samples": emitter_samples, "bsdf_samples": bsdf_samples}
+    return R._mitsuba_renderer(scene, "llvm_ad_rgb", os.cpu_count() or 1, sampler=sampler, integrator=integrator)
+
+
+def rendered_spp(sampler: str | None, spp: int) -> int:
+    """The count Mitsuba's `sampler` renders for `spp` (multijitter and ldsampler round it up);
+    Patina's samplers (None) render it as asked."""
+    if sampler is None:
+        return spp
     import mitsuba as mi
 
-    dr.set_thread_count(os.cpu_count() or 1)
-    d = to_mitsuba(scene, variant="llvm_ad_rgb")
-    d["integrator"] = {"type": "direct", "emitter_samples": emitter_samples, "bsdf_samples": bsdf_samples}
-    d["sensor"]["sampler"]["type"] = sampler
-    loaded = mi.load_dict(d)
-
-    def render_at(spp: int, seed: int) -> np.ndarray:
-        image = np.asarray(mi.render(loaded, spp=spp, seed=seed), np.float64)
-        render_at.spp = loaded.sensors()[0].sampler().sample_count()  # rounded up by the sampler
-        return image
-
-    return render_at
+    return mi.load_dict({"type": sampler, "sample_count": spp}).sample_count()
 
 
 def main() -> None:
@@ -63,23 +60,32 @@ def main() -> None:
 
     patina_ref = R._own_reference(patina("independent"), REF_SPP)
     mitsuba_ref = R._own_reference(mitsuba_renderer(scene, "independent"), REF_SPP)
+    # name: (renderer, its own reference, the Mitsuba sampler that may round the count)
     runs = {
-        "Patina sobol": (patina("sobol"), patina_ref),
-        "Patina independent": (patina("independent"), patina_ref),
-        "Mitsuba multijitter": (mitsuba_renderer(scene, "multijitter"), mitsuba_ref),
-        "Mitsuba ldsampler": (mitsuba_renderer(scene, "ldsampler"), mitsuba_ref),
-        "Mitsuba independent": (mitsuba_renderer(scene, "independent"), mitsuba_ref),
-        "Mitsuba multijitter, light samples only": (mitsuba_renderer(scene, "multijitter", 1, 0), mitsuba_ref),
-        "Mitsuba multijitter, BRDF samples only": (mitsuba_renderer(scene, "multijitter", 0, 1), mitsuba_ref),
+        "Patina sobol": (patina("sobol"), patina_ref, None),
+        "Patina independent": (patina("independent"), patina_ref, None),
+        "Mitsuba multijitter": (mitsuba_renderer(scene, "multijitter"), mitsuba_ref, "multijitter"),
+        "Mitsuba ldsampler": (mitsuba_renderer(scene, "ldsampler"), mitsuba_ref, "ldsampler"),
+        "Mitsuba independent": (mitsuba_renderer(scene, "independent"), mitsuba_ref, "independent"),
+        "Mitsuba multijitter, light samples only": (
+            mitsuba_renderer(scene, "multijitter", 1, 0),
+            mitsuba_ref,
+            "multijitter",
+        ),
+        "Mitsuba multijitter, BRDF samples only": (
+            mitsuba_renderer(scene, "multijitter", 0, 1),
+            mitsuba_ref,
+            "multijitter",
+        ),
     }
     print("load", os.getloadavg(), "references' own relMSE", patina_ref[1] / patina_ref[0].mean() ** 2,
           mitsuba_ref[1] / mitsuba_ref[0].mean() ** 2)  # fmt: skip
     print("| sampler | " + " | ".join(f"{n} spp" for n in levels) + " |")
-    for name, (render_at, (reference, reference_mse)) in runs.items():
+    for name, (render_at, (reference, reference_mse), sampler) in runs.items():
         cells = []
         for n in levels:
             error = rel_mse(render_at, n, reference, reference_mse)
-            actual = getattr(render_at, "spp", n)
+            actual = rendered_spp(sampler, n)
             cells.append(f"{error:.2e}" + (f" ({actual})" if actual != n else ""))
         print(f"| {name} | " + " | ".join(cells) + " |", flush=True)
 

@@ -20,6 +20,7 @@ import statistics
 import subprocess
 import sys
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -239,12 +240,18 @@ def _seconds_to_error(curve: list[tuple[float, float]], mse: float) -> float:
 
 
 def _mitsuba_renderer(
-    scene: Scene, variant: str, threads: int, stand_ins: bool = False, sampler: str | None = None
+    scene: Scene,
+    variant: str,
+    threads: int,
+    stand_ins: bool = False,
+    sampler: str | None = None,
+    integrator: dict[str, Any] | None = None,
 ) -> Callable[..., np.ndarray]:
     """Renders of the scene by Mitsuba's `variant` on `threads` threads: spp (and seed) -> image.
     stand_ins: Patina's triangles for every shape and Mitsuba's nearest BSDFs for car paints
     (bench/mitsuba_scenes.py); else the exact conversion (analytic spheres and planes).
-    sampler: a Mitsuba sampler plugin instead of the conversion's independent one."""
+    sampler: a Mitsuba sampler plugin instead of the conversion's independent one; integrator: a
+    Mitsuba integrator (a plugin's dict) instead of the conversion's."""
     import drjit as dr
     import mitsuba as mi
 
@@ -253,6 +260,8 @@ def _mitsuba_renderer(
     scene_dict = mitsuba_scene_dict(scene, variant) if stand_ins else to_mitsuba(scene, variant=variant)
     if sampler is not None:
         scene_dict["sensor"]["sampler"]["type"] = sampler
+    if integrator is not None:
+        scene_dict["integrator"] = integrator
     loaded = mi.load_dict(scene_dict)
 
     def render_at(spp: int, seed: int = 0) -> np.ndarray:
