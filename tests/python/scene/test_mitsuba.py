@@ -17,6 +17,9 @@ mi = pytest.importorskip("mitsuba")
 import trimesh  # noqa: E402
 
 from luminaire_field import floor_illuminance  # noqa: E402
+from patina.photometry.luminaire import load_luminaire  # noqa: E402
+from patina.photometry.placement import rgb_per_candela  # noqa: E402
+from patina.photometry.writers import format_ies  # noqa: E402
 from patina.scene.mitsuba import MitsubaConversionError, bsdf, quad_to_world, to_mitsuba  # noqa: E402
 from patina.scene.reading import load_scene, parse_scene, with_overrides  # noqa: E402
 from patina.scene.types import CarpaintMaterial, Coat, LambertMaterial  # noqa: E402
@@ -299,8 +302,6 @@ def test_carpaint_over_lambert_is_mitsubas_plastic():
 def _asymmetric_ies(path) -> str:
     """A type C table of no symmetry (brightest towards C = 34 degrees), dark past 70 degrees
     from the nadir: a mirrored or turned texture shows."""
-    from patina.photometry.writers import format_ies
-
     h = np.arange(0.0, 361.0, 30.0)
     v = np.arange(0.0, 91.0, 10.0)
     by_plane = 300 + 150 * np.cos(np.radians(h)) + 100 * np.sin(np.radians(h))
@@ -317,9 +318,6 @@ def _asymmetric_ies(path) -> str:
 def test_lambert_plane_under_a_luminaire(tmp_path, file, aim, rotation):
     """A luminaire is Mitsuba's spot projecting its candela table: a Lambert floor's radiance is
     albedo / pi * I(direction) cos / d^2 with I from the table, orientation and TILT included."""
-    from patina.photometry.luminaire import load_luminaire
-    from patina.photometry.placement import rgb_per_candela
-
     path = (
         _asymmetric_ies(tmp_path / "a.ies")
         if file == "asymmetric"
