@@ -7,7 +7,7 @@
 #include <string>
 
 #include "core/parallel.h"
-#include "render/rng.h"
+#include "render/samplers/rng.h"
 
 namespace patina {
 namespace {

@@ -15,12 +15,12 @@
 #include <thread>
 #include <vector>
 
-#include "render/adaptive_sampler.h"
+#include "render/antialiasing/adaptive_sampler.h"
 #include "render/cache/cache_regions.h"
-#include "render/film.h"
+#include "render/camera/film.h"
+#include "render/camera/pixel_sampler.h"
 #include "render/guiding/guide_training.h"
-#include "render/integrator.h"
-#include "render/pixel_sampler.h"
+#include "render/integrators/integrator.h"
 #include "render/scene.h"
 
 namespace patina {
@@ -37,13 +37,13 @@ struct RenderSettings {
     int passes = 8;     // a pixel's samples are split into at least this many passes (fewer if spp is smaller)...
     int max_pass_spp = 16;  // ...of at most this many samples, so a cancel never waits long for a pass
     // The pixel sampler: uniform (spp jittered samples a pixel) or the adaptive antialiasing
-    // (render/adaptive_sampler.h; spp patterns a pixel, one a pass, each of 1 to 25 rays).
+    // (render/antialiasing/adaptive_sampler.h; spp patterns a pixel, one a pass, each of 1 to 25 rays).
     enum class Aa { Uniform, Adaptive } aa = Aa::Uniform;
     float aa_threshold = kDefaultAaThreshold;  // the adaptive sampler's contrast threshold, >= 0
     bool indirect_illuminance = false;  // the illuminance AOV counts reflected light (IntegratorSettings)
-    // The paths' numbers (render/sample_numbers.h): Owen-scrambled Sobol or independent.
+    // The paths' numbers (render/samplers/sample_numbers.h): Owen-scrambled Sobol or independent.
     SamplerKind sampler = SamplerKind::Sobol;
-    bool stage_cpu_time = false;  // stage timers on each thread's CPU time, not wall time (stage_timer.h)
+    bool stage_cpu_time = false;  // stage timers on each thread's CPU time, not wall time (render/integrators/stage_timer.h)
     IntegratorMode mode = IntegratorMode::Path;  // path, or the radiance cache's (docs/radiance-cache.md)
     CacheSettings cache;
 };
@@ -78,11 +78,11 @@ public:
     // The image, each pixel the mean of its samples (H x W x 3 etc.); samples: per pixel.
     // Call after wait() (a cancelled job: the passes that finished).
     void resolve(float* rgb, float* albedo, float* normal, float* depth, float* lux, float* samples) const;
-    // The adaptive sampler's per-pixel level and rays (render/adaptive_sampler.h; empty for
+    // The adaptive sampler's per-pixel level and rays (render/antialiasing/adaptive_sampler.h; empty for
     // the uniform sampler). Call after wait().
     const AaStats& aa_stats() const { return m_aa_stats; }
     // Time per integrator stage summed over the workers, and their time in work items
-    // (render/stage_timer.h). Call after wait().
+    // (render/integrators/stage_timer.h). Call after wait().
     StageTimes stage_times() const;
 
     // A distributed render (python/patina/batch/render_tiles.py): processes render chosen

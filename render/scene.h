@@ -12,8 +12,8 @@
 #include "fit/lobe_kernels.h"
 #include "render/accel/bvh.h"
 #include "render/accel/kdtree.h"
-#include "render/camera.h"
-#include "render/grid2.h"
+#include "render/camera/camera.h"
+#include "render/lights/grid2.h"
 
 namespace patina {
 
@@ -128,7 +128,7 @@ struct RenderScene {
     float scene_radius = 1;              // bounding-sphere radius of the geometry (environment power)
     float ray_offset = 1e-4f;            // secondary-ray origin offset, scaled by the scene's size
     // Light selection, per shading point in proportion to each light's estimated irradiance
-    // there (render/light_selection_impl.h): an area light's flux / (4 pi max(d^2, size^2))
+    // there (render/lights/selection_impl.h): an area light's flux / (4 pi max(d^2, size^2))
     // (d to its centre), a delta light's intensity towards the point / max(d^2, size^2) (its
     // spot cone or candela table included), an infinite one's (sun, environment) irradiance.
     // Lights first (selection[k] is lights[k]'s), then the environment.

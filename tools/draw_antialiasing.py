@@ -1,5 +1,5 @@
 """Draws the adaptive antialiasing's fixed pattern (docs/antialiasing.md) from the data the
-renderer uses (patina.native._core.aa_pattern, i.e. render/adaptive_pattern.h), so the
+renderer uses (patina.native._core.aa_pattern, i.e. render/antialiasing/adaptive_pattern.h), so the
 drawings cannot drift from the code.
 
     .venv/bin/python tools/draw_antialiasing.py [--out docs/images]

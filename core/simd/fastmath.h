@@ -6,7 +6,7 @@
 // regenerated. They are near-minimax: a double-precision Remez fit of the same forms agrees
 // with them to 2-5 significant digits (atan_unit, asin_small), not to the printed digits. Treat
 // them as given; the bounds below, not their provenance, are what the tests enforce.
-// Maximum errors, enforced by tests/cpp/simd_lane_tests.h against double precision
+// Maximum errors, enforced by tests/cpp/core/simd/simd_lane_tests.h against double precision
 // over dense sweeps (2^22 + 2^17 points in [-1, 1], 2^20 over 80 binades, 1.3M atan2
 // pairs); measured maxima in parentheses. All widths give bit-identical results (madd
 // rounds twice everywhere), so the bounds hold for every width alike.

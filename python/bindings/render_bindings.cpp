@@ -21,12 +21,12 @@
 #include <vector>
 
 #include "bindings.h"
-#include "render/grid2.h"
-#include "render/integrator.h"
-#include "render/render_job.h"
-#include "render/sample_numbers.h"
-#include "render/scene.h"
 #include "core/parallel.h"
+#include "render/integrators/integrator.h"
+#include "render/lights/grid2.h"
+#include "render/render_job.h"
+#include "render/samplers/sample_numbers.h"
+#include "render/scene.h"
 
 namespace nb = nanobind;
 
@@ -478,7 +478,7 @@ nb::dict progress(const JobHandle& j) {
                     {"cache_texels_traced", nb::cast(p.cache_texels_traced)}});
 }
 
-// Seconds per integrator stage summed over the workers (render/stage_timer.h: names in stage
+// Seconds per integrator stage summed over the workers (render/integrators/stage_timer.h: names in stage
 // order), the workers' seconds in work items, and the rays and shading points counted.
 nb::dict stage_times(const JobHandle& j) {
     const patina::StageTimes t = j.job->stage_times();
@@ -515,7 +515,7 @@ nb::dict resolve(const JobHandle& j) {
     d["depth"] = a_depth;
     d["illuminance"] = a_lux;
     d["samples"] = a_samples;
-    // the adaptive sampler: each pixel's level (1-3) and its own rays (see adaptive_sampler.h)
+    // the adaptive sampler: each pixel's level (1-3) and its own rays (see render/antialiasing/adaptive_sampler.h)
     const patina::AaStats& aa = j.job->aa_stats();
     if (!aa.level.empty()) {
         float *level, *rays;
@@ -597,11 +597,11 @@ void check_axis(const FloatVector& a, const char* name) {
     }
 }
 
-// The adaptive sampler's fixed data (render/adaptive_pattern.h), for the drawings of
+// The adaptive sampler's fixed data (render/antialiasing/adaptive_pattern.h), for the drawings of
 // tools/draw_antialiasing.py and the tests: positions in the canonical frame, the three
 // fours of compared sample pairs, the zone tables, the weights per refined-zone set.
 // The first uses of a stream's samples [first, first + n) as the sampler draws them
-// (render/sample_numbers.h), for the tests of stratification and convergence: out[i][c] is
+// (render/samplers/sample_numbers.h), for the tests of stratification and convergence: out[i][c] is
 // use c of the sample's path, in the order pixel x, y, lens u, v, then seven a bounce (light
 // pick, u, v, BRDF pick, u, v, roulette; bounce 0: columns 4-10, bounce 1: 11-17, ...).
 // sobol with scramble=false: the plain Sobol points, out[i][d] dimension d of the table.

@@ -1,4 +1,4 @@
-// The radiance cache's stages in the wavefront integrator (integrator_impl.h calls them at
+// The radiance cache's stages in the wavefront integrator (render/integrators/cache_impl.h calls them at
 // the first hit; docs/radiance-cache.md), compiled once per width. Templates over the
 // integrator's Wavefront, whose stages they sit between, and over its path tracer for the
 // cache's own rays.
@@ -24,9 +24,9 @@
 #include "render/cache/hemisphere.h"
 #include "render/cache/radiance_cache_impl.h"
 #include "render/cache/region_hemisphere.h"
-#include "render/integrator.h"
-#include "render/material_impl.h"
-#include "render/rng.h"
+#include "render/integrators/integrator.h"
+#include "render/materials/material_impl.h"
+#include "render/samplers/rng.h"
 #include "render/scene.h"
 
 PATINA_BEGIN_TARGET

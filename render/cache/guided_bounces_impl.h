@@ -34,7 +34,7 @@
 #include "render/cache/hemisphere.h"
 #include "render/cache/reprojection_impl.h"
 #include "render/guiding/guide_field.h"
-#include "render/integrator.h"
+#include "render/integrators/integrator.h"
 
 PATINA_BEGIN_TARGET
 namespace cache {

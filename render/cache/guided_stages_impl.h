@@ -1,4 +1,4 @@
-// cache-guided's stages in the wavefront integrator (integrator_impl.h calls them), compiled
+// cache-guided's stages in the wavefront integrator (render/integrators/cache_guided_impl.h calls them), compiled
 // once per width: at the first hit the batch's cache points where they guide (the regions'
 // shared points, and points of its own for first hits none of them serves:
 // place_cache_points), then at every bounce each shading point's guide (a cache point's,
@@ -16,8 +16,8 @@
 #include "render/cache/cache_stages_impl.h"
 #include "render/cache/guided_bounces_impl.h"
 #include "render/cache/radiance_cache_impl.h"
-#include "render/integrator.h"
-#include "render/material_impl.h"
+#include "render/integrators/integrator.h"
+#include "render/materials/material_impl.h"
 
 PATINA_BEGIN_TARGET
 namespace cache {

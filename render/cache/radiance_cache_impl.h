@@ -1,5 +1,5 @@
 // The radiance cache at work on one batch of shading points (docs/radiance-cache.md),
-// compiled once per width (included by integrator_impl.h). The batch is one (tile, pass)
+// compiled once per width (included by render/integrators/kernels_impl.h). The batch is one (tile, pass)
 // work item's camera samples; the cache points it starts from are those of the image
 // regions its tile overlaps (render/cache/cache_regions.h: built by a pre-pass of their
 // own, read only), and the points it builds itself live for the call, so the image
@@ -36,9 +36,9 @@
 #include "render/cache/region_hemisphere.h"
 #include "render/cache/reprojection_impl.h"
 #include "render/cache/surfels.h"
-#include "render/integrator.h"
-#include "render/rng.h"
-#include "render/stage_timer.h"
+#include "render/integrators/integrator.h"
+#include "render/integrators/stage_timer.h"
+#include "render/samplers/rng.h"
 
 PATINA_BEGIN_TARGET
 namespace cache {

@@ -1,5 +1,5 @@
 // Reprojecting a cache point A into a nearby point B's hemisphere (docs/radiance-cache.md),
-// compiled once per width (included by integrator_impl.h):
+// compiled once per width (included by render/integrators/kernels_impl.h):
 //   - every surfel's outline points are projected into B's parametrization N surfels at a
 //     time (SIMD over surfels);
 //   - layer by layer, near to far, each surfel is rasterized (render/cache/raster.h) and

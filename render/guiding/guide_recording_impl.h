@@ -19,7 +19,7 @@
 #include "core/constants.h"
 #include "core/simd/target.h"
 #include "render/guiding/guide_record.h"
-#include "render/integrator.h"
+#include "render/integrators/integrator.h"
 
 PATINA_BEGIN_TARGET
 namespace guide_recording {

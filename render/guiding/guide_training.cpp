@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "render/rng.h"
+#include "render/samplers/rng.h"
 
 namespace patina::guiding {
 

@@ -19,10 +19,10 @@
 #include <mutex>
 #include <vector>
 
+#include "render/camera/pixel_sampler.h"
 #include "render/guiding/guide_field.h"
 #include "render/guiding/guide_record.h"
-#include "render/integrator.h"
-#include "render/pixel_sampler.h"
+#include "render/integrators/integrator.h"
 #include "render/scene.h"
 
 namespace patina::guiding {

@@ -1,5 +1,5 @@
 // Compiled with the baseline flags only: see lane_width_fixture.h.
-#include "lane_width_fixture.h"
+#include "tests/cpp/lane_width_fixture.h"
 
 #include "core/cpu.h"
 

@@ -125,3 +125,35 @@ def test_every_cited_tool_exists():
                 if not os.path.exists(os.path.join(ROOT, tool.decode())):
                     missing.add(f"{name}: {tool.decode()}")
     assert sorted(missing) == []
+
+
+SOURCE_FOLDERS = ("core", "brdf", "fit", "render", "python/bindings")
+
+
+def tracked(*folders: str) -> list[str]:
+    listed = subprocess.run(["git", "ls-files", "-z", *folders], cwd=ROOT, capture_output=True, check=False)
+    if listed.returncode != 0:
+        pytest.skip("not a git checkout")
+    return [name for name in listed.stdout.decode().split("\0") if name]
+
+
+def test_every_cpp_source_is_named_in_the_architecture_page():
+    """A newcomer finds every C++ file of the engine in docs/architecture.md: one added without
+    its line there fails here."""
+    named = {path for path, _planned in named_paths(read("docs/architecture.md"))}
+    sources = [name for name in tracked(*SOURCE_FOLDERS) if name.endswith((".h", ".cpp"))]
+    assert sources, "no C++ sources found"
+    assert sorted(name for name in sources if name not in named) == []
+
+
+def test_the_cpp_tests_mirror_the_source_tree():
+    """tests/cpp/X/test_y.cpp tests a part in X/: the folder exists in the source tree (the
+    shared harness stays at the top of tests/cpp)."""
+    misplaced = []
+    for name in tracked("tests/cpp"):
+        folder = os.path.dirname(os.path.relpath(name, "tests/cpp"))
+        if folder and not os.path.isdir(os.path.join(ROOT, folder)):
+            misplaced.append(name)
+        elif not folder and re.fullmatch(r"test_\w+\.cpp", os.path.basename(name)) and name != "tests/cpp/test_main.cpp":
+            misplaced.append(name)
+    assert misplaced == []

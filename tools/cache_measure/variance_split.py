@@ -5,7 +5,7 @@ light) and the rest (the light after the second bounce), and each part's share o
 relMSE (docs/radiance-cache.md, "Where the variance is").
 
 The split is exact per sample: a render cut to `max_depth` 2 (or 3) with the same seed draws
-the same numbers at the vertices it keeps (sample_numbers.h: they are functions of stream,
+the same numbers at the vertices it keeps (render/samplers/sample_numbers.h: they are functions of stream,
 index, bounce and use), so it is the full render's first part (first two parts) and the
 differences are the others. For `cache-guided` the cut renders sample the guide trained on full
 paths (the low-level binding's `cache_train_max_depth`), so their vertices are the full

@@ -1,6 +1,6 @@
 """`patina bench --only profile`: where a preview render's time goes, stage by stage, per SIMD width.
 
-The wavefront integrator times each of its stages per thread (render/stage_timer.h,
+The wavefront integrator times each of its stages per thread (render/integrators/stage_timer.h,
 `RenderJob.stage_times()`). This group renders the bench's preview scene (the same as
 `render.preview.w*`) on one thread at width 1 and at each wide width, runs interleaved,
 and takes each stage's median time. Records: per stage and per kind of work (traversal,

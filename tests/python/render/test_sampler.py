@@ -1,4 +1,4 @@
-"""The paths' random numbers (render/sample_numbers.h, docs/render.md): Owen-scrambled Sobol
+"""The paths' random numbers (render/samplers/sample_numbers.h, docs/render.md): Owen-scrambled Sobol
 points against SciPy's Sobol generator, their stratification (2-D discrepancy) and Monte
 Carlo convergence against independent numbers; the sampler's scene key, option, argument
 and EXR record; both samplers deterministic over widths and thread counts."""

@@ -1,5 +1,5 @@
 // Scenes, rays and a double-precision brute-force reference shared by the tracer's tests
-// (the kd-tree's in tests/cpp/test_kdtree.cpp, the BVH's beside this file).
+// (the kd-tree's in tests/cpp/render/accel/test_kdtree.cpp, the BVH's beside this file).
 #pragma once
 
 #include <gtest/gtest.h>

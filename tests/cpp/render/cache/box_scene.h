@@ -1,4 +1,4 @@
-// The cache integrators' test scene (tests/cpp/render/cache/test_cache_integrators.cpp, and
+// The cache integrators' test scene (tests/cpp/render/integrators/test_cache_integrators.cpp, and
 // the trained guide's, tests/cpp/render/guiding/): a small closed box lit by a quad light
 // under its ceiling, with coloured walls, an occluder, and camera samples for its pixels.
 #pragma once
@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "render/accel/kdtree.h"
-#include "render/integrator.h"
+#include "render/integrators/integrator.h"
 #include "render/render_job.h"
-#include "render/rng.h"
+#include "render/samplers/rng.h"
 #include "render/scene.h"
 
 namespace patina::test {

@@ -11,7 +11,7 @@
 #include "core/constants.h"
 #define PATINA_KERNEL_WIDTH 1
 #include "render/cache/guided_bounces_impl.h"
-#include "render/rng.h"
+#include "render/samplers/rng.h"
 
 using namespace patina;
 using namespace patina::cache;

@@ -15,7 +15,7 @@
 #include "render/guiding/directional_tree.h"
 #include "render/guiding/guide_field.h"
 #include "render/guiding/sphere_square.h"
-#include "render/rng.h"
+#include "render/samplers/rng.h"
 
 using namespace patina;
 using namespace patina::guiding;

@@ -1,0 +1,383 @@
+#include "render/antialiasing/adaptive_sampler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "render/samplers/rng.h"
+
+namespace patina {
+namespace {
+
+constexpr uint32_t kCornerSalt = 0x6a09e667u;  // corners' random streams apart from the pixels'
+constexpr uint32_t kSignalSalt = 0xbb67ae85u;  // the signal's one shared stream
+constexpr uint32_t kSpotSalt = 0x3c6ef372u;    // the highlights' grids
+constexpr int kSpotRays = kAaSpotGrid * kAaSpotGrid;
+
+uint32_t morton(uint32_t x, uint32_t y) {
+    uint32_t m = 0;
+    for (int b = 0; b < 16; ++b) m |= ((x >> b) & 1u) << (2 * b) | ((y >> b) & 1u) << (2 * b + 1);
+    return m;
+}
+
+// |a - b| / (|a| + |b|): scale-free, so a step of 20 % counts the same at 0.01 and at 100
+float relative(float a, float b) {
+    if (!std::isfinite(a) || !std::isfinite(b)) return 1.0f;  // a broken signal is refined, never trusted
+    const float s = std::fabs(a) + std::fabs(b);
+    return s > 0 ? std::fabs(a - b) / s : 0.0f;
+}
+
+int zone_count(uint8_t zones) {
+    int n = 0;
+    for (; zones != 0; zones &= zones - 1) ++n;
+    return n;
+}
+
+}  // namespace
+
+float aa_contrast(const AaSignal& a, const AaSignal& b) {
+    const bool ha = std::isfinite(a.depth), hb = std::isfinite(b.depth);
+    if (ha != hb) return 1.0f;
+    float c = 0;
+    for (int k = 0; k < 3; ++k) c = std::max(c, relative(a.colour[k], b.colour[k]));
+    if (ha) {
+        c = std::max(c, relative(a.depth, b.depth));
+        const float d = a.normal[0] * b.normal[0] + a.normal[1] * b.normal[1] + a.normal[2] * b.normal[2];
+        c = std::max(c, 0.5f * (1.0f - std::clamp(d, -1.0f, 1.0f)));
+    }
+    return std::isfinite(c) ? c : 1.0f;
+}
+
+bool aa_sample_is_signal(const RenderScene& scene, const IntegratorSettings& integrator) {
+    if (integrator.max_depth != 1 || scene.camera.aperture_radius > 0 || scene.env.present) return false;
+    if (scene.lights.size() != 1) return false;
+    const LightKind k = scene.lights[0].kind;
+    if (k != LightKind::Point && k != LightKind::Spot && k != LightKind::Goniometric) return false;
+    for (const Material& m : scene.materials)
+        if (m.kind == MaterialKind::Emitter) return false;
+    return true;
+}
+
+AdaptiveSampler::AdaptiveSampler(Film& film, const RenderScene& scene, const RenderKernels& kernels,
+                                 const IntegratorSettings& integrator, uint32_t seed, float threshold, AaStats& stats,
+                                 const AaEdgeHints* hints)
+    : m_film(film),
+      m_scene(scene),
+      m_kernels(kernels),
+      m_seed(seed),
+      m_threshold(threshold),
+      m_stats(stats),
+      m_sample_is_signal(aa_sample_is_signal(scene, integrator)),
+      m_hints(hints != nullptr && !hints->empty() ? hints : nullptr) {}
+
+void AdaptiveSampler::begin(const TileRect& tile, int pass) {
+    m_tile = tile;
+    m_pass = pass;
+    m_round = 0;
+    const int w = tile.x1 - tile.x0, h = tile.y1 - tile.y0;
+    if (w != m_order_w || h != m_order_h) {  // the Morton orders of a tile's size, made once
+        m_order_w = w;
+        m_order_h = h;
+        std::vector<std::pair<uint32_t, int>> order;
+        for (int ty = 0; ty < h; ++ty)
+            for (int tx = 0; tx < w; ++tx) order.push_back({morton(tx, ty), ty * w + tx});
+        std::sort(order.begin(), order.end());
+        m_pixel_order.clear();
+        for (const auto& [code, t] : order) m_pixel_order.push_back(t);
+        order.clear();
+        for (int cy = 0; cy <= h; ++cy)
+            for (int cx = 0; cx <= w; ++cx) order.push_back({morton(cx, cy), cy * (w + 1) + cx});
+        std::sort(order.begin(), order.end());
+        m_corner_order.clear();
+        for (const auto& [code, c] : order) m_corner_order.push_back(c);
+    }
+    m_pixels.clear();
+    for (const int t : m_pixel_order) {
+        PixelState p;
+        p.tx = t % w;
+        p.ty = t / w;
+        p.pixel = (tile.y0 + p.ty) * m_film.width() + tile.x0 + p.tx;
+        m_pixels.push_back(p);
+    }
+    m_level2_pixels.clear();
+    m_level3_pixels.clear();
+    m_level3_first.assign(m_pixels.size(), -1);
+    // the pixels a sub-pixel highlight falls on (the pre-pass's pieces, sorted by pixel)
+    m_spot_pixels.clear();
+    if (m_hints != nullptr && !m_hints->spots.empty()) {
+        const std::vector<AaSpot>& spots = m_hints->spots;
+        for (size_t i = 0; i < m_pixels.size(); ++i) {
+            const auto it = std::lower_bound(spots.begin(), spots.end(), m_pixels[i].pixel,
+                                             [](const AaSpot& a, int pixel) { return a.pixel < pixel; });
+            if (it == spots.end() || it->pixel != m_pixels[i].pixel) continue;
+            m_pixels[i].spot = static_cast<int>(it - spots.begin());
+            m_pixels[i].spot_first = kSpotRays * static_cast<int>(m_spot_pixels.size());
+            m_spot_pixels.push_back(static_cast<int>(i));
+        }
+    }
+}
+
+inline int AdaptiveSampler::corner_of(const PixelState& p, int canonical) const {
+    int x = canonical % 2, y = canonical / 2;
+    if (p.vertical) {
+        const int u = x, v = y;  // (x, y) = (v, 1 - u): 90 degrees counter-clockwise on screen
+        x = v;
+        y = 1 - u;
+    }
+    return (p.ty + y) * (m_tile.x1 - m_tile.x0 + 1) + p.tx + x;
+}
+
+inline void AdaptiveSampler::place(const PixelState& p, int s, float& fx, float& fy) const {
+    const aa::Point2 q = aa::sample_point(s);
+    const double x = p.vertical ? q.v : q.u, y = p.vertical ? 1.0 - q.u : q.v;
+    fx = static_cast<float>(m_tile.x0 + p.tx + x);
+    fy = static_cast<float>(m_tile.y0 + p.ty + y);
+}
+
+bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
+    samples.clear();
+    const uint32_t pass = static_cast<uint32_t>(m_pass);
+    // a pixel's sample s at its fixed position: sample `pass` of the stream of (pixel, s),
+    // so that each position's passes are one Sobol sequence
+    const auto add_sample = [&](int i, int s) {
+        CameraSample cs;
+        place(m_pixels[i], s, cs.fx, cs.fy);
+        cs.key = stream_key(m_seed, static_cast<uint32_t>(m_pixels[i].pixel) * aa::kMaxSamples + s);
+        cs.index = pass;
+        samples.push_back(cs);
+    };
+    if (m_round == 0) {
+        const int w = m_tile.x1 - m_tile.x0;
+        const uint32_t row = static_cast<uint32_t>(m_film.width()) + 1;
+        for (const int c : m_corner_order) {
+            const int cx = m_tile.x0 + c % (w + 1), cy = m_tile.y0 + c / (w + 1);
+            // keyed by the corner's place in the image: the tiles on both sides of a tile
+            // border trace it alike
+            const uint32_t id = static_cast<uint32_t>(cy) * row + static_cast<uint32_t>(cx);
+            samples.push_back({static_cast<float>(cx), static_cast<float>(cy), stream_key(m_seed ^ kCornerSalt, id), pass});
+        }
+        m_corner_count = samples.size();
+        // the highlights' grids with the corners: where they fall is known before any ray
+        for (const int i : m_spot_pixels) {
+            const PixelState& p = m_pixels[i];
+            const AaSpot& q = m_hints->spots[static_cast<size_t>(p.spot)];
+            const float x0 = static_cast<float>(m_tile.x0 + p.tx), y0 = static_cast<float>(m_tile.y0 + p.ty);
+            for (int k = 0; k < kSpotRays; ++k) {
+                const float gx = (static_cast<float>(k % kAaSpotGrid) + 0.5f) / kAaSpotGrid;
+                const float gy = (static_cast<float>(k / kAaSpotGrid) + 0.5f) / kAaSpotGrid;
+                const uint32_t id = static_cast<uint32_t>(p.pixel) * kSpotRays + static_cast<uint32_t>(k);
+                samples.push_back({x0 + q.x0 + gx * (q.x1 - q.x0), y0 + q.y0 + gy * (q.y1 - q.y0),
+                                   stream_key(m_seed ^ kSpotSalt, id), pass});
+            }
+        }
+        m_round = 1;
+        return !samples.empty();
+    }
+    if (m_round == 1 && !m_level2_pixels.empty()) {
+        for (const int i : m_level2_pixels)
+            for (int s = aa::kCorners; s < aa::kCorners + aa::kLevel2; ++s) add_sample(i, s);
+        m_round = 2;
+        return true;
+    }
+    if (m_round == 2 && !m_level3_pixels.empty()) {
+        for (const int i : m_level3_pixels)
+            for (int z = 0; z < aa::kZones; ++z) {
+                if (!((m_pixels[i].zones >> z) & 1)) continue;
+                for (int k = 0; k < aa::kZigzag; ++k) add_sample(i, aa::kCorners + aa::kLevel2 + z * aa::kZigzag + k);
+            }
+        m_round = 3;
+        return true;
+    }
+    if (m_round < 4) finish();
+    m_round = 4;
+    return false;
+}
+
+void AdaptiveSampler::signals(const CameraSample* samples, const PathResult* results, size_t n,
+                              std::vector<AaSignal>& out) {
+    const PathResult* sig = results;
+    if (!m_sample_is_signal) {
+        // the round's positions traced again by the direct-light integrator with one key
+        // shared by every position of the image: the same light sample and BRDF sample
+        // everywhere, so the radiance (highlights included) is a function of the position
+        // only (the integrator's own results are noisy: the decisions never look at them)
+        m_signal_cs.assign(samples, samples + n);
+        const uint32_t key = path_key(m_seed ^ kSignalSalt, 0, 0);
+        for (auto& c : m_signal_cs) {
+            c.key = key;
+            c.index = 0;
+        }
+        m_signal_out.resize(n);
+        trace_signal(m_signal_cs.data(), n, m_signal_out.data());
+        sig = m_signal_out.data();
+    }
+    out.resize(n);
+    for (size_t q = 0; q < n; ++q) {
+        const PathResult& r = sig[q];
+        AaSignal& g = out[q];
+        g.depth = r.depth;
+        std::copy(r.normal, r.normal + 3, g.normal);
+        std::copy(r.rgb, r.rgb + 3, g.colour);
+    }
+}
+
+void AdaptiveSampler::trace_signal(const CameraSample* samples, size_t n, PathResult* out) {
+    IntegratorSettings direct;
+    direct.max_depth = 1;  // emission and direct light, one light sample and one BRDF sample
+    m_kernels.trace_paths(m_scene, direct, samples, n, out, m_signal_scratch);
+}
+
+void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult* results, size_t n) {
+    if (m_round == 1) {
+        const size_t nc = m_corner_count;  // then the highlights' grids, which decide nothing
+        m_corners.resize(nc);
+        signals(samples, results, nc, m_round_signal);
+        m_corner_signal.resize(nc);
+        m_spot.assign(results + nc, results + n);
+        for (size_t q = 0; q < nc; ++q) {
+            m_corners[m_corner_order[q]] = results[q];
+            m_corner_signal[m_corner_order[q]] = m_round_signal[q];
+        }
+        const int w = m_tile.x1 - m_tile.x0, h = m_tile.y1 - m_tile.y0, row = w + 1;
+        // each pair of neighbouring corners compared once, for both pixels that share it:
+        // across[cy * w + cx] corners (cx, cy)-(cx + 1, cy), down[cy * row + cx] (cx, cy)-(cx, cy + 1)
+        m_across.resize(static_cast<size_t>(w) * (h + 1));
+        m_down.resize(static_cast<size_t>(row) * h);
+        for (int cy = 0; cy <= h; ++cy)
+            for (int cx = 0; cx < w; ++cx) {
+                const int k = cy * row + cx;
+                m_across[cy * w + cx] = aa_differs(m_corner_signal[k], m_corner_signal[k + 1], m_threshold);
+            }
+        for (int cy = 0; cy < h; ++cy)
+            for (int cx = 0; cx <= w; ++cx) {
+                const int k = cy * row + cx;
+                m_down[cy * row + cx] = aa_differs(m_corner_signal[k], m_corner_signal[k + row], m_threshold);
+            }
+        for (size_t i = 0; i < m_pixels.size(); ++i) {
+            PixelState& p = m_pixels[i];
+            const int tl = p.ty * row + p.tx;
+            const AaSignal *a = &m_corner_signal[tl], *b = &m_corner_signal[tl + 1], *c = &m_corner_signal[tl + row],
+                           *d = &m_corner_signal[tl + row + 1];
+            const bool horizontal = m_across[p.ty * w + p.tx] || m_across[(p.ty + 1) * w + p.tx];  // A-B, C-D
+            const bool vertical = m_down[p.ty * row + p.tx] || m_down[p.ty * row + p.tx + 1];      // A-C, B-D
+            uint8_t hint[2] = {0, 0};
+            if (m_hints != nullptr) {
+                // an edge behind what all four corners see is hidden (a surface covers the pixel)
+                const float nearest = m_hints->nearest[p.pixel];
+                const bool hidden = a->depth < 0.99f * nearest && b->depth < 0.99f * nearest &&
+                                    c->depth < 0.99f * nearest && d->depth < 0.99f * nearest;
+                if (!hidden) {
+                    hint[0] = m_hints->zones[0][p.pixel];
+                    hint[1] = m_hints->zones[1][p.pixel];
+                }
+            }
+            const bool geometric = hint[0] != 0 || hint[1] != 0;
+            p.level = horizontal || vertical || geometric ? 2 : 1;
+            if (horizontal || vertical)
+                p.vertical = vertical && !horizontal;  // ambiguous: horizontal
+            else  // an edge seen by the pre-pass alone: the gradient across it, the way it crosses fewer zones
+                p.vertical = zone_count(hint[1]) < zone_count(hint[0]);
+            p.hint = hint[p.vertical ? 1 : 0];
+            if (p.level == 2) m_level2_pixels.push_back(static_cast<int>(i));
+        }
+        return;
+    }
+    if (m_round == 2) {
+        m_level2.assign(results, results + n);
+        signals(samples, results, n, m_level2_signal);
+        for (size_t j = 0; j < m_level2_pixels.size(); ++j) {
+            PixelState& p = m_pixels[m_level2_pixels[j]];
+            p.first = static_cast<int>(aa::kLevel2 * j);
+            const AaSignal* pts[aa::kCorners + aa::kLevel2];
+            for (int k = 0; k < aa::kCorners; ++k) pts[k] = &m_corner_signal[corner_of(p, k)];
+            for (int k = 0; k < aa::kLevel2; ++k) pts[aa::kCorners + k] = &m_level2_signal[p.first + k];
+            // three fours of comparisons, each a 4-bit mask looked up in its zone table
+            uint8_t zones = 0;
+            for (int f = 0; f < 3; ++f) {
+                int mask = 0;
+                for (int l = 0; l < 4; ++l) {
+                    const aa::Pair pr = aa::kComparisons[f][l];
+                    mask |= (aa_differs(*pts[pr.p], *pts[pr.q], m_threshold) ? 1 : 0) << l;
+                }
+                zones |= aa::kZoneTable[f][mask];
+            }
+            p.zones = zones | p.hint;
+            if (p.zones) {
+                p.level = 3;
+                m_level3_pixels.push_back(m_level2_pixels[j]);
+            }
+        }
+        return;
+    }
+    if (m_round == 3) {
+        m_level3.assign(results, results + n);
+        int next = 0;
+        for (const int i : m_level3_pixels) {
+            m_level3_first[i] = next;
+            for (int z = 0; z < aa::kZones; ++z)
+                if ((m_pixels[i].zones >> z) & 1) next += aa::kZigzag;
+        }
+    }
+}
+
+inline bool AdaptiveSampler::in_spot(const PixelState& p, int s) const {
+    if (p.spot < 0) return false;
+    const AaSpot& q = m_hints->spots[static_cast<size_t>(p.spot)];
+    float fx, fy;
+    place(p, s, fx, fy);
+    fx -= static_cast<float>(m_tile.x0 + p.tx);
+    fy -= static_cast<float>(m_tile.y0 + p.ty);
+    return fx >= q.x0 && fx <= q.x1 && fy >= q.y0 && fy <= q.y1;
+}
+
+void AdaptiveSampler::finish() {
+    const bool record = m_pass == 0;
+    for (size_t i = 0; i < m_pixels.size(); ++i) {
+        const PixelState& p = m_pixels[i];
+        // the pattern's samples of the pixel with their weights: f(s, result, weight)
+        const auto each_sample = [&](const auto& f) {
+            if (p.level == 1) {
+                for (int k = 0; k < aa::kCorners; ++k) f(k, m_corners[corner_of(p, k)], aa::kCornerWeightLevel1);
+                return;
+            }
+            const auto& w = aa::kWeights[p.zones];
+            for (int k = 0; k < aa::kCorners; ++k) f(k, m_corners[corner_of(p, k)], w[k]);
+            for (int k = 0; k < aa::kLevel2; ++k) f(aa::kCorners + k, m_level2[p.first + k], w[aa::kCorners + k]);
+            int next = m_level3_first[i];
+            for (int z = 0; z < aa::kZones; ++z) {
+                if (!((p.zones >> z) & 1)) continue;
+                for (int k = 0; k < aa::kZigzag; ++k) {
+                    const int s = aa::kCorners + aa::kLevel2 + z * aa::kZigzag + k;
+                    f(s, m_level3[next++], w[s]);
+                }
+            }
+        };
+        // a highlight's piece: its grid's rays share the piece's area, the pattern's rays
+        // outside it the rest (in proportion to their weights)
+        FilmSum sum;
+        float spot_scale = 1, grid_weight = 0;
+        if (p.spot >= 0) {
+            const AaSpot& q = m_hints->spots[static_cast<size_t>(p.spot)];
+            const double area = static_cast<double>(q.x1 - q.x0) * static_cast<double>(q.y1 - q.y0);
+            double outside = 0;
+            each_sample([&](int s, const PathResult&, float w) { outside += in_spot(p, s) ? 0.0 : w; });
+            spot_scale = outside > 0 ? static_cast<float>((1 - area) / outside) : 0.0f;
+            grid_weight = static_cast<float>((outside > 0 ? area : 1.0) / kSpotRays);
+            for (int k = 0; k < kSpotRays; ++k) sum.add(m_spot[p.spot_first + k], grid_weight);
+        }
+        // (the samples inside the piece left out: the grid stands for them)
+        each_sample([&](int s, const PathResult& r, float w) {
+            if (!in_spot(p, s) && w * spot_scale != 0) sum.add(r, w * spot_scale);
+        });
+        m_film.add(p.pixel, sum);  // the pixel's samples in one write
+        if (record) {
+            m_stats.level[p.pixel] = static_cast<uint8_t>(p.level);
+            const int zigzags = p.level == 1 ? 0 : zone_count(p.zones);
+            const int rays = p.level == 1 ? 1 : 1 + aa::kLevel2 + aa::kZigzag * zigzags;
+            m_stats.rays[p.pixel] = static_cast<uint8_t>(rays + (p.spot >= 0 ? kSpotRays : 0));
+        }
+    }
+}
+
+}  // namespace patina

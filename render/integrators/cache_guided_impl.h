@@ -1,0 +1,75 @@
+// The radiance cache's unbiased integrator (integrator `cache-guided`; thesis chapter 4, "the
+// unbiased variant", docs/radiance-cache.md): the path tracer whose BSDF samples at the first
+// bounces are drawn partly from a guide -- the cache's incident radiance x BSDF at nearby cache
+// points, or the trained guide field (render/guiding/) -- combined with BSDF and light sampling
+// by MIS. During the guide's training passes its path vertices are recorded.
+#pragma once
+
+#include "core/simd/kernel_width.h"
+#include "render/cache/guided_stages_impl.h"
+#include "render/guiding/guide_recording_impl.h"
+#include "render/integrators/bsdf_samples_impl.h"
+#include "render/integrators/cache_impl.h"
+#include "render/integrators/emission_impl.h"
+#include "render/integrators/integrator.h"
+#include "render/integrators/light_samples_impl.h"
+#include "render/integrators/shading_points_impl.h"
+#include "render/integrators/wavefront_impl.h"
+
+PATINA_BEGIN_TARGET
+namespace render_detail {
+using namespace kernel_width;
+
+// Light sampling with MIS against the guided BSDF sampling: the density a light sample's
+// direction has under the guide mixed into its BSDF density before the weights.
+inline void queue_guided_light_samples(const Wavefront& w, int depth) {
+    if (!sample_and_evaluate_lights(w, depth)) return;
+    cache::mix_light_pdfs(w.sc, w.st.cache, w.sc.l_local.data(), w.sc.pdf.data(), w.sc.sorted.size());
+    queue_light_shadow_rays(w, depth);
+}
+
+// BSDF sampling where a guide serves the points: each guided point picks the guide or its
+// BSDF, the guide's picks drawn from its texels, their densities the mixture's.
+inline void sample_guided_bsdf(const Wavefront& w, int depth) {
+    if (!cache::guided_here(w.sc)) return sample_bsdf(w, depth);
+    draw_bsdf_numbers(w, depth, true);  // every point's pick: the guide's choice reads it
+    cache::guided_picks(w);
+    sample_materials(w);
+    cache::guided_directions(w);
+    continue_paths(w, depth);
+}
+
+// The bounces of `cache-guided`'s camera paths.
+inline void cache_guided_bounces(const Wavefront& w) {
+    PathScratch& sc = w.sc;
+    sc.sampler = w.st.sampler;  // what fill_uniforms draws the points' numbers from
+    const bool recording = guide_recording::recording(sc);  // a training pass of the guide
+    for (int depth = 0; !sc.active.empty(); ++depth) {
+        const HitBatch hits = trace_bounce(w, depth);
+        add_emission_and_environment(w, hits, depth);
+        if (recording) guide_recording::note_arrivals(w);
+        make_shading_points(w, hits, depth);
+        if (depth == 0 && cache_serves(w)) {  // the guides of the first hits: nearby cache points
+            CacheRayTracer tracer(w.s, w.st, w.sc);
+            cache::place_guide_points(w, tracer);
+        }
+        cache::assign_guides(w, depth);
+        queue_guided_light_samples(w, depth);
+        sample_guided_bsdf(w, depth);
+        if (recording) guide_recording::note_vertices(w);
+        resolve_shadow_rays(w);
+        next_bounce(w);
+    }
+}
+
+// `cache-guided` for a batch of camera samples.
+inline void trace_cache_guided(const Wavefront& w, size_t n) {
+    start_camera_paths(w, n);
+    w.sc.timer.lap(Stage::CameraRays);
+    if (guide_recording::recording(w.sc)) guide_recording::start_records(w.sc);
+    cache_guided_bounces(w);
+    if (guide_recording::recording(w.sc)) guide_recording::finish_records(w);
+}
+
+}  // namespace render_detail
+PATINA_END_TARGET

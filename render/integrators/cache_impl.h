@@ -1,0 +1,114 @@
+// The radiance cache's biased integrator (integrator `cache`; thesis chapter 4,
+// docs/radiance-cache.md): the path tracer's stages, with the indirect light at the first hit
+// taken from the cache -- the incident radiance reconstructed from nearby cache points
+// (reprojected, holes traced) integrated against the BSDF -- after which a path only looks for
+// the emission it sees. Also the image regions' cache points, built before the passes.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "core/simd/kernel_width.h"
+#include "render/cache/cache_point.h"
+#include "render/cache/cache_stages_impl.h"
+#include "render/cache/region_hemisphere.h"
+#include "render/integrators/bsdf_samples_impl.h"
+#include "render/integrators/emission_impl.h"
+#include "render/integrators/integrator.h"
+#include "render/integrators/light_samples_impl.h"
+#include "render/integrators/shading_points_impl.h"
+#include "render/integrators/wavefront_impl.h"
+
+PATINA_BEGIN_TARGET
+namespace render_detail {
+using namespace kernel_width;
+
+// The radiance cache's rays (origins, directions, stream keys and indices; n of them)
+// traced by the path tracer with `st` (mode path), leaving out the emission they see
+// directly: out[i].rgb is the indirect radiance arriving along ray i, depth and normal
+// what it hit first (kernels_impl.h).
+void trace_given_rays(const RenderScene& s, const IntegratorSettings& st, const float* org, const float* dir,
+                      const uint32_t* keys, const uint32_t* indices, size_t n, PathResult* out, PathScratch& sc,
+                      std::vector<CameraSample>& samples);
+
+// The settings of the cache's own rays, which start at the first hit: one bounce fewer,
+// roulette one sooner.
+inline IntegratorSettings cache_ray_settings(const IntegratorSettings& st) {
+    IntegratorSettings inner = st;
+    inner.mode = IntegratorMode::Path;
+    inner.indirect_illuminance = false;
+    inner.max_depth = st.max_depth - 1;
+    inner.rr_depth = std::max(1, st.rr_depth - 1);
+    // a guide needs the shape of the indirect light, not its value: the direct light at the
+    // hits (one bounce) is that shape at a fraction of the full paths' cost
+    if (st.mode == IntegratorMode::CacheGuided) inner.max_depth = 1;
+    return inner;
+}
+
+// What traces the cache's rays for the batch of `w` (its cache state's own scratch): the
+// path tracer with cache_ray_settings.
+struct CacheRayTracer {
+    const RenderScene& s;
+    const IntegratorSettings inner;
+    cache::CacheState& state;
+    CacheRayTracer(const RenderScene& scene, const IntegratorSettings& st, PathScratch& sc)
+        : s(scene), inner(cache_ray_settings(st)), state(cache::cache_state(sc)) {}
+    void operator()(const float* o, const float* d, const uint32_t* k, const uint32_t* idx, size_t m,
+                    PathResult* r) const {
+        trace_given_rays(s, inner, o, d, k, idx, m, r, state.inner, state.inner_samples);
+    }
+};
+
+// Whether the cache serves the first hits: there is indirect light to serve.
+inline bool cache_serves(const Wavefront& w) { return w.st.max_depth > 1; }
+
+// The bounces of `cache`'s camera paths: path_bounces' stages, and at the first hit the
+// cache's indirect light (the served paths marked in sc.cached: may_shade ends them there).
+inline void cache_bounces(const Wavefront& w) {
+    w.sc.sampler = w.st.sampler;  // what fill_uniforms draws the points' numbers from
+    for (int depth = 0; !w.sc.active.empty(); ++depth) {
+        const HitBatch hits = trace_bounce(w, depth);
+        add_emission_and_environment(w, hits, depth);
+        make_shading_points(w, hits, depth);
+        if (depth == 0 && cache_serves(w)) {  // the first hits' indirect light: reprojected, holes traced
+            CacheRayTracer tracer(w.s, w.st, w.sc);
+            cache::add_cached_indirect(w, tracer);
+        }
+        queue_light_samples(w, depth);
+        sample_bsdf(w, depth);
+        resolve_shadow_rays(w);
+        next_bounce(w);
+    }
+}
+
+// `cache` for a batch of camera samples.
+inline void trace_cache(const Wavefront& w, size_t n) {
+    start_camera_paths(w, n);
+    w.sc.cached.assign(n, 0);  // none served by the cache yet
+    w.sc.timer.lap(Stage::CameraRays);
+    cache_bounces(w);
+}
+
+// An image region's cache points (integrator.h, build_cache_region): the camera rays' first
+// hits, then the cache's placement and building there (render/cache/cache_stages_impl.h).
+void build_cache_region(const RenderScene& s, const IntegratorSettings& st, const CameraSample* cs, size_t n,
+                        std::vector<CachePoint>& points, std::vector<RegionHemisphere>& hemispheres, PathScratch& sc) {
+    enter_kernel();
+    std::vector<PathResult> out(n);
+    const Wavefront w{s, st, cs, out.data(), sc, lights_emit(s), scene_has_sun(s), s.ray_offset};
+    sc.sensors.clear();
+    sc.timer.start();
+    start_camera_paths(w, n);
+    if (st.mode == IntegratorMode::Cache) sc.cached.assign(n, 0);
+    sc.timer.lap(Stage::CameraRays);
+    const HitBatch hits = trace_bounce(w, 0);
+    make_shading_points(w, hits, 0);
+    sc.sensors.clear();
+    CacheRayTracer tracer(s, st, sc);
+    cache::build_region_points(w, tracer, points, hemispheres);
+    sc.active.clear();
+}
+
+}  // namespace render_detail
+PATINA_END_TARGET

@@ -1,0 +1,100 @@
+// The radiance cache at one point reprojected into another (integrator.h, cache_probe): what
+// docs/radiance-cache.md's pictures and the reprojection tests look at.
+#pragma once
+
+#include <algorithm>
+#include <vector>
+
+#include "core/simd/kernel_width.h"
+#include "render/cache/cache_probe.h"
+#include "render/cache/cache_stages_impl.h"
+#include "render/integrators/cache_impl.h"
+#include "render/integrators/integrator.h"
+
+PATINA_BEGIN_TARGET
+namespace render_detail {
+using namespace kernel_width;
+
+// The radiance cache at one point reprojected into another (render/integrators/integrator.h, cache_probe).
+void cache_probe(const RenderScene& s, const IntegratorSettings& st, const float* pa, const float* na, const float* pb,
+                 const float* nb, uint32_t seed, bool unknown_masks, CacheProbe& out) {
+    enter_kernel();
+    const CacheSettings& cfg = st.cache;
+    check_cache_settings(cfg);
+    const int R = cfg.resolution;
+    const size_t T = static_cast<size_t>(R) * R;
+    PathScratch sc;
+    cache::CacheState& cs = cache::cache_state(sc);
+    IntegratorSettings inner = st;
+    inner.mode = IntegratorMode::Path;
+    inner.indirect_illuminance = false;
+    inner.max_depth = std::max(1, st.max_depth - 1);
+    inner.rr_depth = std::max(1, st.rr_depth - 1);
+    auto tracer = [&](const float* o, const float* d, const uint32_t* k, const uint32_t* idx, size_t m, PathResult* r) {
+        trace_given_rays(s, inner, o, d, k, idx, m, r, cs.inner, cs.inner_samples);
+    };
+    auto query = [&](const float* p, const float* n, uint32_t key) {
+        cache::Query q;
+        q.p = load_vec3(p);
+        q.n = q.ng = normalize(load_vec3(n));
+        orthonormal_frame(q.n, q.t, q.b);
+        q.key = key;
+        return q;
+    };
+    const cache::Query q[2] = {query(pa, na, hash_u32(seed)), query(pb, nb, hash_u32(seed + 1))};
+    cs.dirs.prepare(R);
+    IntegratorSettings as_cache = st;  // A's glossy texel hits split as `cache` splits them
+    as_cache.mode = IntegratorMode::Cache;
+    cache::mark_split_materials(s.materials, as_cache, cs);
+    // A, then B's own hemisphere in full (the reference)
+    cs.used = 0;
+    cs.pending = {0, 1};
+    cache::build_cache_points(cfg, s.ray_offset, q, cs, tracer);
+    const CachePoint& a = cs.points[0];
+    out = CacheProbe{};
+    out.resolution = R;
+    out.a_radiance = a.radiance;
+    out.a_dist = a.dist;
+    out.a_kind = a.kind;
+    out.a_layer.assign(T, -1);
+    out.a_surfel.assign(T, -1);
+    for (size_t k = 0; k < a.surfels.size(); ++k) {
+        const Surfel& sf = a.surfels[k];
+        for (int j = sf.j0; j < sf.j1; ++j)
+            for (int i = sf.i0; i < sf.i1; ++i) {
+                out.a_layer[static_cast<size_t>(j) * R + i] = sf.layer;
+                out.a_surfel[static_cast<size_t>(j) * R + i] = static_cast<int32_t>(k);
+            }
+    }
+    out.surfels = a.surfels.size();
+    out.silhouettes = a.silhouettes.size();
+    out.b_reference = cs.points[1].radiance;
+    // B by reprojection, its holes traced
+    out.b_reprojected.assign(3 * T, -1.0f);
+    cache::reproject(a, cache::Receiver{q[1].p, q[1].t, q[1].b, q[1].n}, cs.dirs, out.b_reprojected.data(), cs.rep,
+                     cs.rs, unknown_masks);
+    out.filled.assign(T, 0);
+    out.unknown.assign(T, 0);
+    out.to_trace.assign(T, 0);
+    out.b_radiance = out.b_reprojected;
+    cs.rays.clear();
+    const uint32_t key = cache::hole_key(q[1].key);
+    for (size_t t = 0; t < T; ++t) {
+        const int x = static_cast<int>(t % R), y = static_cast<int>(t / R);
+        out.filled[t] = cs.rep.filled.test(x, y);
+        out.unknown[t] = cs.rep.unknown.test(x, y);
+        out.to_trace[t] = cs.rep.to_trace.test(x, y);
+        if (!out.to_trace[t]) continue;
+        std::fill(out.b_reprojected.begin() + 3 * t, out.b_reprojected.begin() + 3 * t + 3, -1.0f);
+        std::fill(out.b_radiance.begin() + 3 * t, out.b_radiance.begin() + 3 * t + 3, 0.0f);
+        const Vec3f d = cache::jittered_direction(q[1], R, static_cast<int32_t>(t), key);
+        if (dot(d, q[1].ng) > 0)
+            cs.rays.push(q[1].p + s.ray_offset * q[1].ng, d, key, static_cast<uint32_t>(t), static_cast<int32_t>(t));
+    }
+    cache::trace_queue(cs, tracer);
+    for (size_t r = 0; r < cs.rays.size(); ++r)
+        std::copy(cs.results[r].rgb, cs.results[r].rgb + 3, out.b_radiance.data() + 3 * cs.rays.where[r]);
+}
+
+}  // namespace render_detail
+PATINA_END_TARGET

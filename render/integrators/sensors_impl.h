@@ -1,0 +1,164 @@
+// Illuminance sensors (patina illuminance, and the illuminance AOV's indirect part): direct
+// illuminance by the renderer's light sampling and shadow packets with the sensor's cosine for
+// a BRDF; indirect illuminance by sensor paths, cosine-weighted, traced by the path tracer.
+#pragma once
+
+#include <algorithm>
+#include <vector>
+
+#include "core/constants.h"
+#include "core/simd/kernel_width.h"
+#include "render/integrators/integrator.h"
+#include "render/integrators/path_impl.h"
+#include "render/integrators/shadow_rays_impl.h"
+#include "render/integrators/wavefront_impl.h"
+#include "render/lights/sampling_impl.h"
+#include "render/samplers/rng.h"
+#include "render/samplers/sample_numbers.h"
+
+PATINA_BEGIN_TARGET
+namespace render_detail {
+using namespace kernel_width;
+
+// Sensor paths: path i starts at sensor sc.sensors[i] (its point, geometric normal and
+// frame) along a cosine-weighted direction about its normal, drawn from the lens dimensions
+// of w.cs[i].key (a sensor has no lens). A direction below the geometric surface (a bent
+// shading normal) starts no path: it adds nothing, as the estimator of a sensor on that
+// surface should. Throughput 1: the radiance found, times pi, is the illuminance estimate
+// (E = integral of L cos over the hemisphere = pi x the mean of L under cosine sampling).
+inline void start_sensor_paths(const Wavefront& w, size_t n) {
+    start_paths(w, n);
+    for (size_t i = 0; i < n; ++i) {
+        const ShadingPoint& sp = w.sc.sensors[i];
+        const CameraSample& c = w.cs[i];
+        const float u1 = sample_uniform(w.st.sampler, c.key, c.index, 0, kDimLensU);
+        const float u2 = sample_uniform(w.st.sampler, c.key, c.index, 0, kDimLensV);
+        const float radius = std::sqrt(u1), phi = kTwoPi * u2;
+        const Vec3f l{radius * std::cos(phi), radius * std::sin(phi), std::sqrt(std::max(1.0f - u1, 0.0f))};
+        const Vec3f d = normalize(to_world(sp, l));
+        if (dot(d, sp.ng) > 0) start_path(w, i, sp.p + w.eps * sp.ng, d);
+    }
+}
+
+// The lux a sensor path's radiance stands for: pi x 683 lm/W x its luminance.
+inline float sensor_path_lux(const PathResult& r) { return kPi * kLumensPerWatt * luminance(r.rgb); }
+
+// Traces sc.sensor_samples.size() sensor paths from sc.sensors (start_sensor_paths) with at
+// most st.max_depth vertices each, into sc.sensor_results.
+inline void trace_sensor_paths(const RenderScene& s, const IntegratorSettings& st, PathScratch& sc) {
+    const size_t n = sc.sensor_samples.size();
+    sc.sensor_results.resize(n);
+    IntegratorSettings inner = st;
+    inner.indirect_illuminance = false;  // the sensors are not sensors again
+    Wavefront w{s, inner, sc.sensor_samples.data(), sc.sensor_results.data(), sc, lights_emit(s), scene_has_sun(s),
+                s.ray_offset};
+    w.first_emission = false;
+    start_sensor_paths(w, n);
+    sc.timer.lap(Stage::CameraRays);  // a path's start counts as camera rays, a sensor's too
+    path_bounces(w);
+}
+
+// A sensor path's stream key: the key of the sample's stream, salted, so it draws numbers
+// of its own (the same index: with Sobol, a pixel's sensor paths are one sequence too) and
+// leaves the camera path's (and the direct light sampling's) unchanged.
+inline uint32_t sensor_path_key(uint32_t key) { return hash_u32(key ^ 0x5f3759dfu); }
+
+// The illuminance AOV's indirect part (IntegratorSettings::indirect_illuminance): each first
+// hit of the batch's camera paths a sensor (sc.sensors, kept by fill_shading_points), its
+// sensor path one vertex shorter than the camera path, its lux added to the path's result.
+inline void add_indirect_illuminance(const RenderScene& s, const IntegratorSettings& st, const CameraSample* cs,
+                                     PathResult* out, PathScratch& sc) {
+    if (!st.indirect_illuminance || st.max_depth < 2 || sc.sensors.empty()) return;
+    sc.sensor_samples.resize(sc.sensors.size());
+    for (size_t q = 0; q < sc.sensors.size(); ++q) {
+        const CameraSample& c = cs[sc.sensors[q].path];
+        sc.sensor_samples[q] = CameraSample{0, 0, sensor_path_key(c.key), c.index};
+    }
+    IntegratorSettings inner = st;
+    inner.max_depth = st.max_depth - 1;
+    inner.mode = IntegratorMode::Path;  // the sensors' paths are plain paths
+    trace_sensor_paths(s, inner, sc);
+    for (size_t q = 0; q < sc.sensors.size(); ++q)
+        out[sc.sensors[q].path].illuminance += sensor_path_lux(sc.sensor_results[q]);
+}
+
+// Sensor i (point and normal from the arrays) as shading point q: its frame about the normal.
+inline ShadingPoint sensor_point(const float* points, const float* normals, size_t i, size_t q) {
+    ShadingPoint sp;
+    sp.p = load_vec3(points + 3 * i);
+    sp.ng = normalize(load_vec3(normals + 3 * i));
+    sp.n = sp.ng;
+    orthonormal_frame(sp.n, sp.t, sp.b);
+    sp.path = static_cast<int32_t>(q);
+    sp.material = 0;
+    sp.eta = 1;
+    return sp;
+}
+
+// Direct illuminance on sensors (patina illuminance): the same light sampling and shadow
+// packets as the renderer's, with the sensor's cosine instead of a BRDF.
+void sensor_illuminance(const RenderScene& s, const float* points, const float* normals, size_t begin, size_t end,
+                        int samples, uint32_t seed, float* lux, PathScratch& sc) {
+    enter_kernel();
+    sc.timer.start();  // its laps (in sample_lights) count as light sampling
+    const size_t np = end - begin;
+    std::fill(lux + begin, lux + end, 0.0f);
+    if (np == 0 || !lights_emit(s)) return;
+    sc.sorted.resize(np);
+    for (size_t q = 0; q < np; ++q) sc.sorted[q] = sensor_point(points, normals, begin + q, q);
+    const float eps = s.ray_offset;
+    std::vector<double> sum(np, 0.0);
+    sc.point_keys.resize(np);
+    sc.point_index.resize(np);
+    sc.sampler = SamplerKind::Independent;
+    for (int k = 0; k < samples; ++k) {
+        for (size_t q = 0; q < np; ++q) {
+            const uint32_t key = stream_key(seed, static_cast<uint32_t>(begin + q));
+            sc.point_keys[q] = static_cast<int32_t>(key);
+            sc.point_index[q] = k;
+        }
+        sample_lights(s, sc, 0, np);
+        clear_shadow_rays(sc);
+        for (size_t q = 0; q < np; ++q) {
+            if (!sc.ls_ok[q]) continue;
+            const ShadingPoint& sp = sc.sorted[q];
+            const LightSample ls = load_light_sample(sc, q);
+            const float cos_s = dot(ls.dir, sp.n);
+            if (!(cos_s > 0)) continue;
+            const float none[3] = {0, 0, 0};
+            queue_shadow_ray(sc, static_cast<int32_t>(q), sp.p, sp.n, eps, ls, none,
+                             kLumensPerWatt * luminance(ls.rgb) * cos_s / ls.pdf);
+        }
+        const uint8_t* blocked = trace_shadow_rays(s, sc);
+        for (size_t j = 0; j < sc.shadow_path.size(); ++j)
+            if (!blocked[j]) sum[sc.shadow_path[j]] += sc.shadow_lux[j];
+    }
+    for (size_t q = 0; q < np; ++q) lux[begin + q] = static_cast<float>(sum[q] / samples);
+}
+
+// Indirect illuminance on sensors (patina illuminance --indirect): per sample, every sensor's
+// path traced as one wavefront (trace_sensor_paths), its lux added to the sensor's sum.
+void sensor_illuminance_indirect(const RenderScene& s, const IntegratorSettings& st, const float* points,
+                                 const float* normals, size_t begin, size_t end, int samples, uint32_t seed,
+                                 float* lux, PathScratch& sc) {
+    enter_kernel();
+    const size_t np = end - begin;
+    if (np == 0 || !lights_emit(s) || st.max_depth < 1) return;
+    std::vector<double> sum(np, 0.0);
+    sc.sensors.resize(np);  // the sensor paths leave them as they are (no sensors of their own)
+    for (size_t q = 0; q < np; ++q) sc.sensors[q] = sensor_point(points, normals, begin + q, q);
+    sc.sensor_samples.resize(np);
+    for (int k = 0; k < samples; ++k) {
+        for (size_t q = 0; q < np; ++q) {
+            const uint32_t key = stream_key(seed, static_cast<uint32_t>(begin + q));
+            sc.sensor_samples[q] = CameraSample{0, 0, sensor_path_key(key), static_cast<uint32_t>(k)};
+        }
+        trace_sensor_paths(s, st, sc);
+        for (size_t q = 0; q < np; ++q) sum[q] += sensor_path_lux(sc.sensor_results[q]);
+    }
+    for (size_t q = 0; q < np; ++q) lux[begin + q] += static_cast<float>(sum[q] / samples);
+}
+
+
+}  // namespace render_detail
+PATINA_END_TARGET

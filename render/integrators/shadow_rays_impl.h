@@ -1,0 +1,85 @@
+// Shadow rays: the light samples' rays queued as points are shaded, then traced together as
+// packets of N (any hit), each unblocked one adding the light its owner queued it with.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "core/constants.h"
+#include "core/simd/kernel_width.h"
+#include "core/vec3.h"
+#include "core/width_dispatch.h"
+#include "render/accel/trace_kernels.h"
+#include "render/integrators/integrator.h"
+#include "render/lights/sampling_impl.h"
+#include "render/scene.h"
+
+PATINA_BEGIN_TARGET
+namespace render_detail {
+using namespace kernel_width;
+
+// The ray-tracing kernels compiled for this width: N rays per packet.
+inline const TraceKernels& trace_kernels() {
+    return kernels_at_width<N>(trace_kernels_w1, trace_kernels_w4, trace_kernels_w8, trace_kernels_w16);
+}
+
+// Queues the shadow ray of a light sample taken at p: from p lifted by `offset` along n to
+// the light's point (or to infinity), carrying the radiance `rgb` and illuminance `lux` it
+// adds to path `owner` if nothing is in the way.
+inline void queue_shadow_ray(PathScratch& sc, int32_t owner, const Vec3f& p, const Vec3f& n, float offset,
+                             const LightSample& ls, const float* rgb, float lux) {
+    const Vec3f o = p + offset * n;
+    Vec3f d = ls.dir;
+    float tmax = kInfinity;
+    if (!std::isinf(ls.dist)) {
+        // aim from the lifted origin at the light's point: seen at a grazing angle, an origin
+        // lifted off the surface is much nearer the light than `dist` says
+        const Vec3f to = p + ls.dist * ls.dir - o;
+        const float len = std::sqrt(dot(to, to));
+        d = Vec3f{to.x / len, to.y / len, to.z / len};
+        tmax = len * (1.0f - 1e-4f);
+    }
+    sc.shadow_path.push_back(owner);
+    sc.shadow_org.insert(sc.shadow_org.end(), {o.x, o.y, o.z});
+    sc.shadow_dir.insert(sc.shadow_dir.end(), {d.x, d.y, d.z});
+    sc.shadow_rgb.insert(sc.shadow_rgb.end(), rgb, rgb + 3);
+    sc.shadow_tmax.push_back(tmax);
+    sc.shadow_lux.push_back(lux);
+}
+
+// The queue n rays long (a stage that writes them in place, then cuts it to the rays it wrote).
+inline void resize_shadow_rays(PathScratch& sc, size_t n) {
+    sc.shadow_path.resize(n);
+    sc.shadow_org.resize(3 * n);
+    sc.shadow_dir.resize(3 * n);
+    sc.shadow_rgb.resize(3 * n);
+    sc.shadow_tmax.resize(n);
+    sc.shadow_lux.resize(n);
+}
+
+inline void clear_shadow_rays(PathScratch& sc) {
+    sc.shadow_path.clear();
+    sc.shadow_org.clear();
+    sc.shadow_dir.clear();
+    sc.shadow_tmax.clear();
+    sc.shadow_rgb.clear();
+    sc.shadow_lux.clear();
+}
+
+// Traces the queued shadow rays (through the BVH if the scene has one, else N per kd-tree
+// packet); returns sc.blocked (one byte per ray).
+inline const uint8_t* trace_shadow_rays(const RenderScene& s, PathScratch& sc) {
+    const size_t ns = sc.shadow_path.size();
+    uint8_t* blocked = grow(sc.blocked, ns);
+    if (ns > 0) {
+        const RayBatch rays{sc.shadow_org.data(), sc.shadow_dir.data(), 0.0f, sc.shadow_tmax.data(), kInfinity};
+        if (s.bvh) trace_kernels().occluded_bvh(*s.bvh, rays, blocked, 0, ns);
+        else trace_kernels().occluded(*s.tree, rays, blocked, 0, ns);
+        sc.rays_traced += ns;
+    }
+    return blocked;
+}
+
+}  // namespace render_detail
+PATINA_END_TARGET

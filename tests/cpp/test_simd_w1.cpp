@@ -1,3 +1,0 @@
-// The scalar path (width 1): fast-math error bounds and special values against double.
-#define PATINA_TEST_WIDTH 1
-#include "simd_lane_tests.h"
