@@ -75,7 +75,10 @@ def render_digests(widths: list[int]) -> dict[str, str]:
 
 def illuminance_digests(widths: list[int]) -> dict[str, str]:
     out: dict[str, str] = {}
-    grids = {"street-luminaire": Grid(-3.5, -15, 3.5, 15, 5, 9), "cache-ies-interior": Grid(-2, -1.5, 2, 1.5, 5, 4, 0.75)}
+    grids = {
+        "street-luminaire": Grid(-3.5, -15, 3.5, 15, 5, 9),
+        "cache-ies-interior": Grid(-2, -1.5, 2, 1.5, 5, 4, 0.75),
+    }
     for name, grid in grids.items():
         scene = load_scene(SCENES / f"{name}.json")
         for width in widths:

@@ -154,6 +154,8 @@ def test_the_cpp_tests_mirror_the_source_tree():
         folder = os.path.dirname(os.path.relpath(name, "tests/cpp"))
         if folder and not os.path.isdir(os.path.join(ROOT, folder)):
             misplaced.append(name)
-        elif not folder and re.fullmatch(r"test_\w+\.cpp", os.path.basename(name)) and name != "tests/cpp/test_main.cpp":
+        elif (
+            not folder and re.fullmatch(r"test_\w+\.cpp", os.path.basename(name)) and name != "tests/cpp/test_main.cpp"
+        ):
             misplaced.append(name)
     assert misplaced == []
