@@ -419,8 +419,16 @@ def format_report(report: Report) -> str:
     )
     alb = c["albedo"]
     row("albedo", alb["max"] <= 1 + alb["tolerance"], f"max directional albedo {alb['max']:.4f}")
-    for r in alb["per_incidence"][:: max(1, len(alb["per_incidence"]) // 6)]:
-        lines.append(f"          theta_i {r['theta_i_deg']:>5} deg: " + " ".join(f"{v:.4f}" for v in r["albedo"][:3]))
+    rows = alb["per_incidence"]
+    if report.parametrization == "anisotropic":  # a few incidences at each phi_i, which each row names
+        shown = [r for r in rows if r["theta_i_deg"] in (0.0, 30.0, 60.0)]
+    else:
+        shown = rows[:: max(1, len(rows) // 6)]
+    for r in shown:
+        at = f"theta_i {r['theta_i_deg']:>5} deg" + (
+            f", phi_i {r['phi_i_deg']:>5} deg" if report.parametrization == "anisotropic" else ""
+        )
+        lines.append(f"          {at}: " + " ".join(f"{v:.4f}" for v in r["albedo"][:3]))
     sp = c["spikes"]
     row("spikes", sp["count"] == 0, f"{sp['count']} isolated spikes or dips")
     lines.append("result: " + ("clean" if report.ok else f"{len(report.problems)} problem(s)"))
