@@ -271,10 +271,29 @@ def check_reciprocity(brdf: Brdf, report: Report, tol: Tolerances, samples: int 
         "max": float(rel.max()),
         "worst": worst,
     }
+    swapped_knots = _swapped_pairs_are_knots(brdf)
+    if swapped_knots is not None:
+        report.checks["reciprocity"]["same_incident_and_outgoing_knots"] = swapped_knots
     if p95 > tol.reciprocity_p95:
-        report.problems.append(
-            f"not reciprocal: f(wi, wo) and f(wo, wi) differ by {100 * p95:.1f}% at the 95th percentile"
+        why = (
+            " (the incident and outgoing knots differ: between them a lobe narrower than the spacing "
+            "is interpolated differently on each side, even when the values at the knots are reciprocal)"
+            if swapped_knots is False
+            else ""
         )
+        report.problems.append(
+            f"not reciprocal: f(wi, wo) and f(wo, wi) differ by {100 * p95:.1f}% at the 95th percentile{why}"
+        )
+
+
+def _swapped_pairs_are_knots(brdf: Brdf) -> bool | None:
+    """For an anisotropic table, whether (theta_o, phi_o) has the same knots as (theta_i,
+    phi_i), which makes multilinear interpolation symmetric under swapping wi and wo; None
+    for the other parametrizations (their grids are symmetric by construction or not at all)."""
+    if brdf.parametrization != "anisotropic":
+        return None
+    ti, pi, to, po = (np.asarray(a, dtype=np.float64) for a in brdf.axes)
+    return bool(ti.shape == to.shape and pi.shape == po.shape and np.allclose(ti, to) and np.allclose(pi, po))
 
 
 def directional_albedo(

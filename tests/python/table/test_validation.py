@@ -163,7 +163,8 @@ def test_different_incident_and_outgoing_knots_are_not_reciprocal_between_them()
     values = f(wi, wo).reshape(9, phi_i.size, 9, ANISO_PHI.size, 3).astype(np.float32)
     data = TableData("anisotropic", [ANISO_THETA, phi_i, theta_o, ANISO_PHI], values, "rgb")
     report = validate(patina.Brdf(table_from_data(data), "analytic", "test"))
-    assert any(p.startswith("not reciprocal") for p in report.problems)
+    assert any(p.startswith("not reciprocal") and "knots differ" in p for p in report.problems)
+    assert report.checks["reciprocity"]["same_incident_and_outgoing_knots"] is False
 
 
 def test_the_bundled_brushed_metal_validates_clean():
