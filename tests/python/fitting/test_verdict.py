@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 
 import numpy as np
 import pytest
@@ -15,7 +16,7 @@ from hypothesis import strategies as st
 import patina
 from patina.cli import main
 from patina.cli.fit import _print_ranking
-from patina.fitting import FitResult, Thresholds, fit, parse_accept, recommended
+from patina.fitting import MODELS, FitResult, Thresholds, fit, parse_accept, recommended
 from patina.fitting.search import rank
 from patina.fitting.verdict import KEYS, checks, failed, symmetry_problem
 from patina.synthetic.analytic import anisotropic_table, ward_anisotropic
@@ -133,3 +134,13 @@ def test_compare_recommends_only_a_passing_fit_and_else_names_the_least_bad(caps
     assert recommended(ranked) is ranked[0] and ranked[0].model == "ggx+lambert"  # a lower loss does not win
     _print_ranking("t.ptab", "l2cos", ranked)
     assert "recommended: ggx+lambert (passes every threshold)" in capsys.readouterr().out
+
+
+def test_docs_state_every_model_and_the_thresholds_the_code_uses():
+    with open(os.path.join(ROOT, "docs", "fitting.md"), encoding="utf-8") as f:
+        text = f.read()
+    for model in MODELS:
+        assert f"`{model}`" in text, model
+    for key in KEYS:
+        documented = re.search(rf"^\| `{key}` \| ([0-9.]+) \|", text, re.M)
+        assert documented and float(documented.group(1)) == getattr(Thresholds(), key), key
