@@ -68,6 +68,7 @@ def _row(material: Material, steps: dict[str, dict[str, Any]]) -> dict[str, Any]
         "problems": problems,
         "validation_problems": steps["validate"]["problems"] if done("validate") else [],
         "best_model": fit["best_model"] if fit else None,
+        "recommended": fit.get("recommended") if fit else None,  # None when no fit passes the thresholds
         "usable": fit["usable"] if fit else None,
         "ciede2000_mean": _finite(fit["ciede2000_mean"]) if fit else None,
         "ciede2000_p95": _finite(fit["ciede2000_p95"]) if fit else None,

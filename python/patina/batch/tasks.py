@@ -27,7 +27,7 @@ from patina.atomic import write_text
 from patina.batch.library import Material, Settings
 from patina.batch.manifest import checksum, up_to_date, write_manifest
 from patina.bundled import studio_environment
-from patina.fitting import compare, write_ranking
+from patina.fitting import compare, recommended, write_ranking
 from patina.plot.fits import read_fits
 from patina.plot.lobes import LobeOptions
 from patina.plot.report import write_report
@@ -82,10 +82,13 @@ def _fit(material: Material, settings: Settings, folder: str, threads: int, fitt
         brdf, list(settings.models), starts=settings.starts, seed=settings.seed, loss=settings.loss, threads=threads
     )
     write_ranking(ranked, os.path.join(folder, FIT_FILE))
-    best = ranked[0]
+    best = ranked[0]  # the recommended fit when it passes the thresholds, else the least bad
+    chosen = recommended(ranked)
     data = {
         "best_model": best.model,
+        "recommended": chosen.model if chosen else None,  # None: no fit passes the thresholds
         "usable": best.usable,
+        "problems": best.problems,
         "converged": best.converged,
         "loss": best.metrics["loss"],
         **_de(best.metrics),

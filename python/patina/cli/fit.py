@@ -6,7 +6,8 @@ import argparse
 from typing import Any
 
 from patina.cli.common import UsageError, print_json
-from patina.fitting import FitResult, compare, fit, write_fit, write_ranking
+from patina.fitting import FitResult, compare, fit, parse_accept, recommended, write_fit, write_ranking
+from patina.fitting.verdict import LABELS, Check
 from patina.table import load_brdf
 
 
@@ -23,7 +24,25 @@ def _model_options(args: argparse.Namespace) -> dict[str, Any]:
         options["fit_coat_eta"] = True
     if args.anisotropic:
         options["anisotropic"] = True
+    if args.accept is not None:
+        try:
+            options["accept"] = parse_accept(args.accept)
+        except ValueError as e:
+            raise UsageError(f"fit: --accept: {e}") from None
     return options
+
+
+def verdict_lines(r: FitResult, indent: str = "  ") -> list[str]:
+    """The verdict and the numbers that decided it, each with its threshold."""
+    head = "usable" if r.usable else "NOT USABLE"
+    lines = [f"{indent}verdict: {head} (thresholds: --accept KEY=VALUE,... to change them)"]
+    for c in r.verdict:
+        mark = "ok  " if c["passed"] else "FAIL"
+        lines.append(f"{indent}  {mark} {LABELS[c['metric']]:<30} {c['value']:8.3g}  threshold {c['threshold']:g}")
+    decided = {Check(c["metric"], c["value"], c["threshold"]).describe() for c in r.verdict}
+    others = [p for p in r.problems if p not in decided]  # the symmetry, the albedo bound, the loss
+    lines += [f"{indent}  FAIL {p}" for p in others]
+    return lines
 
 
 def _print_ranking(path: str, loss: str, results: list[FitResult]) -> None:
@@ -43,8 +62,12 @@ def _print_ranking(path: str, loss: str, results: list[FitResult]) -> None:
             print(f"      unusable: {'; '.join(r.problems)}")
         if not r.converged:
             print(f"      not converged: {r.message}")
-    if not any(r.usable for r in results):
-        print("no usable fit: every model is flagged above")
+    best = recommended(results)
+    if best is not None:
+        print(f"recommended: {best.model} (passes every threshold)")
+    else:
+        print(f"no fit passes the thresholds; the least bad is {results[0].model}:")
+    print("\n".join(verdict_lines(results[0])))
 
 
 def cmd_fit(args: argparse.Namespace) -> int:
@@ -55,11 +78,10 @@ def cmd_fit(args: argparse.Namespace) -> int:
         raise UsageError(f"fit: --lobes {args.lobes}: 1, 2 or 3 specular lobes")
     if not 0 <= args.seed < 2**63:  # numpy's and nlopt's seeds are unsigned
         raise UsageError(f"fit: --seed {args.seed} must be in 0 .. 2^63 - 1")
+    options = _model_options(args)  # checked before the table is read
     brdf = load_brdf(args.file)
     if args.compare:
-        results = compare(
-            brdf, args.compare, progress=not args.json, starts=args.starts, seed=args.seed, **_model_options(args)
-        )
+        results = compare(brdf, args.compare, progress=not args.json, starts=args.starts, seed=args.seed, **options)
         if args.json:
             print_json([r.as_json() for r in results])
         else:
@@ -69,7 +91,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
             if not args.json:
                 print(f"wrote {args.out} (the best fit, and every model under 'ranking')")
         return 0 if all(r.converged for r in results) and results[0].usable else 1
-    result = fit(brdf, model=args.model, lobes=args.lobes, starts=args.starts, seed=args.seed, **_model_options(args))
+    result = fit(brdf, model=args.model, lobes=args.lobes, starts=args.starts, seed=args.seed, **options)
     if args.out:
         write_fit(result, args.out)
     if args.json:
@@ -87,8 +109,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
             f"{m['relative_error_median']:.3g}, 95% {m['relative_error_p95']:.3g}  "
             f"CIEDE2000 mean {m['ciede2000_mean']:.2f}, 95% {m['ciede2000_p95']:.2f}"
         )
-        if not result.usable:
-            print(f"  unusable: {'; '.join(result.problems)}")
+        print("\n".join(verdict_lines(result)))
         if args.out:
             print(f"wrote {args.out}")
     return 0 if result.converged and result.usable else 1
@@ -137,6 +158,13 @@ def add_fit_command(sub: Any) -> None:
         default=None,
         metavar="FIT_JSON",
         help="write the result as JSON (with --compare: the best fit, and every model under 'ranking')",
+    )
+    s.add_argument(
+        "--accept",
+        default=None,
+        metavar="KEY=VALUE[,...]",
+        help="the largest errors a usable fit may have (docs/fitting.md): relative_error_median (0.2), "
+        "ciede2000_mean (3), ciede2000_p95 (8), cosine_relative_rmse (0.25)",
     )
     s.add_argument("--json", action="store_true", help="machine-readable output")
     s.set_defaults(func=cmd_fit)

@@ -11,12 +11,16 @@ retro-reflective Lafortune table (its exponent ending near 10^4).
 
 Metrics: `loss` (the measure-weighted loss the search minimises, the ranking's key),
 `loss_all_samples` (the plain mean over every grid point), rmse and relative errors over
-every grid point, CIEDE2000 mean and 95th percentile over measure-weighted samples.
+every grid point, CIEDE2000 mean and 95th percentile over measure-weighted samples, and
+`cosine_relative_rmse` (the RMS of cos_i cos_o (fit - table) over that of cos_i cos_o table,
+measure-weighted: the l2cos loss as a fraction of the table's own size).
 
-A fit is flagged `usable = False` (with `problems` saying why) when its loss is not
-finite or a diffuse albedo ends at its upper bound (a full-white diffuse term: the
-search traded the albedo for something the lobe could not fit); `compare` adds fits
-whose mean CIEDE2000 is far above the best one's, and ranks usable fits first.
+A fit is flagged `usable = False` (with `problems` saying why, and `verdict` holding every
+metric beside its threshold) when one of its errors exceeds its threshold
+(patina.fitting.verdict), its loss is not finite, a diffuse albedo ends at its upper bound
+(a full-white diffuse term: the search traded the albedo for something the lobe could not
+fit) or the model's symmetry does not suit the table's; `compare` adds fits whose mean
+CIEDE2000 is far above the best one's, and ranks usable fits first.
 """
 
 from __future__ import annotations
@@ -33,6 +37,7 @@ import numpy as np
 from patina.fitting.metrics import colour_differences
 from patina.fitting.models import ALIASES, COAT_ETA, LOSSES, MODELS, ParameterSpace
 from patina.fitting.samples import sample_measure, subset, table_samples
+from patina.fitting.verdict import Thresholds, checks, failed, symmetry_problem
 from patina.native import _core
 from patina.progress import Progress
 from patina.table.brdf import Brdf
@@ -58,6 +63,7 @@ class FitResult:
     at_bounds: list[str] = field(default_factory=list)
     usable: bool = True
     problems: list[str] = field(default_factory=list)  # why the fit is not usable
+    verdict: list[dict[str, Any]] = field(default_factory=list)  # each metric, its threshold, passed
 
     def as_json(self) -> dict[str, Any]:
         return asdict(self)
@@ -132,8 +138,10 @@ def fit(
     local_samples: int = 200_000,
     seed: int = 0,
     threads: int = 0,
+    accept: Thresholds | None = None,
 ) -> FitResult:
-    """Fits `model` to the table; see the module docstring."""
+    """Fits `model` to the table; see the module docstring. `accept`: the thresholds a
+    usable fit passes (patina.fitting.verdict's defaults when None)."""
     import nlopt
 
     model = ALIASES.get(model, model)
@@ -225,6 +233,8 @@ def fit(
     diff = predicted - measured
     rel = np.abs(diff) / np.maximum(np.abs(measured), 1e-3 * float(np.median(np.abs(measured))) + 1e-12)
     full = _core.FitSamples(*every)
+    cosine = (measure * every[3].astype(np.float64) ** 2)[:, None]  # measure x (cos_i cos_o)^2
+    cosine_relative_rmse = math.sqrt(float(np.sum(cosine * diff**2)) / max(float(np.sum(cosine * measured**2)), 1e-300))
     pick = np.sort(rng.choice(len(wi), min(len(wi), 100_000), replace=True, p=measure / measure.sum()))
     delta_e = colour_differences(measured[pick], predicted[pick], wi[pick, 2])
     metrics = {
@@ -235,11 +245,16 @@ def fit(
         "relative_error_p95": float(np.percentile(rel, 95)),
         "ciede2000_mean": float(np.mean(delta_e)),
         "ciede2000_p95": float(np.percentile(delta_e, 95)),
+        "cosine_relative_rmse": cosine_relative_rmse,
     }
+    verdict = checks(metrics, accept or Thresholds())
     problems = [] if math.isfinite(best_value) else ["the loss is not finite"]
     full_white = [n for n, v, hi in zip(space.free_names, best_x, upper) if n.startswith("rho_") and v >= hi - 1e-6]
     if full_white:
         problems.append(f"diffuse albedo at its upper bound ({', '.join(full_white)} = 1)")
+    if mismatch := symmetry_problem(lobe, brdf.parametrization):
+        problems.append(mismatch)
+    problems += failed(verdict)
     return FitResult(
         model=(model if lobes == 1 else f"{model} x{lobes}") + ("+coat" if coat else ""),
         parameters={n: float(v) for n, v in zip(space.names, best)},
@@ -255,6 +270,7 @@ def fit(
         at_bounds=at_bounds,
         usable=not problems,
         problems=problems,
+        verdict=[c.as_json() for c in verdict],
     )
 
 
@@ -282,6 +298,12 @@ def rank(results: list[FitResult]) -> list[FitResult]:
     """Flags the colour outliers (flag_outliers), then usable fits first, each group by loss."""
     flag_outliers(results)
     return sorted(results, key=lambda r: (not r.usable, r.metrics["loss"]))
+
+
+def recommended(ranked: list[FitResult]) -> FitResult | None:
+    """The fit to use from a ranking (rank's order): its first if that passes, else None
+    (ranked[0] is then the least bad, shown with its numbers)."""
+    return ranked[0] if ranked and ranked[0].usable else None
 
 
 def flag_outliers(results: list[FitResult]) -> None:

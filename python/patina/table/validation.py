@@ -271,10 +271,29 @@ def check_reciprocity(brdf: Brdf, report: Report, tol: Tolerances, samples: int 
         "max": float(rel.max()),
         "worst": worst,
     }
+    swapped_knots = _swapped_pairs_are_knots(brdf)
+    if swapped_knots is not None:
+        report.checks["reciprocity"]["same_incident_and_outgoing_knots"] = swapped_knots
     if p95 > tol.reciprocity_p95:
-        report.problems.append(
-            f"not reciprocal: f(wi, wo) and f(wo, wi) differ by {100 * p95:.1f}% at the 95th percentile"
+        why = (
+            " (the incident and outgoing knots differ: between them a lobe narrower than the spacing "
+            "is interpolated differently on each side, even when the values at the knots are reciprocal)"
+            if swapped_knots is False
+            else ""
         )
+        report.problems.append(
+            f"not reciprocal: f(wi, wo) and f(wo, wi) differ by {100 * p95:.1f}% at the 95th percentile{why}"
+        )
+
+
+def _swapped_pairs_are_knots(brdf: Brdf) -> bool | None:
+    """For an anisotropic table, whether (theta_o, phi_o) has the same knots as (theta_i,
+    phi_i), which makes multilinear interpolation symmetric under swapping wi and wo; None
+    for the other parametrizations (their grids are symmetric by construction or not at all)."""
+    if brdf.parametrization != "anisotropic":
+        return None
+    ti, pi, to, po = (np.asarray(a, dtype=np.float64) for a in brdf.axes)
+    return bool(ti.shape == to.shape and pi.shape == po.shape and np.allclose(ti, to) and np.allclose(pi, po))
 
 
 def directional_albedo(
@@ -419,8 +438,16 @@ def format_report(report: Report) -> str:
     )
     alb = c["albedo"]
     row("albedo", alb["max"] <= 1 + alb["tolerance"], f"max directional albedo {alb['max']:.4f}")
-    for r in alb["per_incidence"][:: max(1, len(alb["per_incidence"]) // 6)]:
-        lines.append(f"          theta_i {r['theta_i_deg']:>5} deg: " + " ".join(f"{v:.4f}" for v in r["albedo"][:3]))
+    rows = alb["per_incidence"]
+    if report.parametrization == "anisotropic":  # a few incidences at each phi_i, which each row names
+        shown = [r for r in rows if r["theta_i_deg"] in (0.0, 30.0, 60.0)]
+    else:
+        shown = rows[:: max(1, len(rows) // 6)]
+    for r in shown:
+        at = f"theta_i {r['theta_i_deg']:>5} deg" + (
+            f", phi_i {r['phi_i_deg']:>5} deg" if report.parametrization == "anisotropic" else ""
+        )
+        lines.append(f"          {at}: " + " ".join(f"{v:.4f}" for v in r["albedo"][:3]))
     sp = c["spikes"]
     row("spikes", sp["count"] == 0, f"{sp['count']} isolated spikes or dips")
     lines.append("result: " + ("clean" if report.ok else f"{len(report.problems)} problem(s)"))

@@ -63,7 +63,8 @@ def test_ward_on_the_car_paint_keeps_its_blue_diffuse_off_the_bound():
     diffuse term and Ward ended at rho = (1, 1, 1): the blue paint fitted white."""
     r = fit(load_brdf(CARPAINT), model="ward+lambert", starts=1)
     rho = [r.parameters[f"rho_{c}"] for c in "rgb"]
-    assert r.usable, r.problems
+    # (usable or not is the thresholds' call since issue 33: Ward misses the paint by 39 % median)
+    assert not any("upper bound" in p for p in r.problems), r.problems
     assert not any(n.startswith("rho_") for n in r.at_bounds)
     assert rho[2] > 2 * rho[0] and max(rho) < 0.3  # blue, and dark: the paint's kd is (0.008, 0.023, 0.1)
     assert r.metrics["ciede2000_mean"] < 10
