@@ -343,7 +343,7 @@ def cmd_illuminance(args: argparse.Namespace) -> int:
                 if path:
                     write(report, path)
             if args.png:
-                il.write_png(report, args.png, os.path.basename(args.scene))
+                il.write_png(report, args.png, os.path.basename(args.scene), scene)
         return 130 if came else 0
 
 
