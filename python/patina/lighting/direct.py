@@ -67,6 +67,42 @@ class PlacedSource:
         return np.full(len(out), self.scale)
 
 
+@dataclass(frozen=True)
+class Arrivals:
+    """What reaches n points from k sources: unit directions from each point to each source
+    (k, n, 3), squared distances (k, n) and the candela each source sends towards each point,
+    0 where a shadow ray is blocked (k, n)."""
+
+    towards: np.ndarray
+    d2: np.ndarray
+    candela: np.ndarray
+
+
+def arrivals(sources: list[PlacedSource], points: np.ndarray, occluder=None, ray_offset: float = 1e-4) -> Arrivals:
+    """Each source's candela towards each point, shadowed by one ray through `occluder` (a
+    `_core.Accel`; None: unshadowed), from tmin = `ray_offset` to just short of the source."""
+    pts = np.asarray(points, np.float64)
+    k, n = len(sources), len(pts)
+    towards, d2, cd = np.zeros((k, n, 3)), np.zeros((k, n)), np.zeros((k, n))
+    for i, src in enumerate(sources):
+        to_light = src.position[None, :] - pts
+        d2[i] = np.einsum("ij,ij->i", to_light, to_light)
+        dist = np.sqrt(d2[i])
+        ok = dist > 0
+        towards[i, ok] = to_light[ok] / dist[ok, None]
+        cd[i, ok] = src.candela(-towards[i, ok])
+        lit = (cd[i] > 0).nonzero()[0]
+        if occluder is not None and len(lit):
+            blocked = occluder.occluded(
+                np.ascontiguousarray(pts[lit], np.float32),
+                np.ascontiguousarray(towards[i, lit], np.float32),
+                tmax=np.ascontiguousarray(dist[lit] * (1 - SHADOW_SHORTEN), np.float32),
+                tmin=float(ray_offset),
+            )
+            cd[i, lit[np.asarray(blocked, bool)]] = 0.0
+    return Arrivals(towards, d2, cd)
+
+
 def direct_illuminance(
     sources: list[PlacedSource],
     sensors: Sensors,
@@ -75,32 +111,10 @@ def direct_illuminance(
     per_source: bool = False,
 ) -> np.ndarray:
     """Lux at each sensor (n,), or (sources, n) with `per_source`: the exact sum over the
-    sources, each shadowed by one ray through `occluder` (a `_core.Accel`; None: unshadowed)."""
-    pts = np.asarray(sensors.points, np.float64)
-    out = np.zeros((len(sources), len(pts)))
-    for k, src in enumerate(sources):
-        to_light = src.position[None, :] - pts
-        d2 = np.einsum("ij,ij->i", to_light, to_light)
-        dist = np.sqrt(d2)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            u = to_light / dist[:, None]
-        ok = dist > 0
-        u[~ok] = 0.0
-        response = sensors.response(u)
-        lit = ok & (response > 0)
-        e = np.zeros(len(pts))
-        if lit.any():
-            cd = src.candela(-u[lit])
-            e[lit] = cd * response[lit] / d2[lit]
-        if occluder is not None:
-            hit = (e > 0).nonzero()[0]
-            if len(hit):
-                blocked = occluder.occluded(
-                    np.ascontiguousarray(pts[hit], np.float32),
-                    np.ascontiguousarray(u[hit], np.float32),
-                    tmax=np.ascontiguousarray(dist[hit] * (1 - SHADOW_SHORTEN), np.float32),
-                    tmin=float(ray_offset),
-                )
-                e[hit[np.asarray(blocked, bool)]] = 0.0
-        out[k] = e
+    sources of candela x the sensor's response / d^2, each shadowed by one ray (`arrivals`)."""
+    a = arrivals(sources, sensors.points, occluder, ray_offset)
+    out = np.zeros_like(a.d2)
+    for i in range(len(sources)):
+        lit = a.candela[i] > 0
+        out[i, lit] = a.candela[i, lit] * sensors.response(a.towards[i])[lit] / a.d2[i, lit]
     return out if per_source else out.sum(axis=0)
