@@ -34,7 +34,7 @@ def test_plan_has_contours_luminaires_and_a_colour_bar_as_tall_as_the_plot(tmp_p
     plot, bar = fig.axes
     assert bar.get_position().height <= plot.get_position().height + 1e-9
     assert any(c.__class__.__name__ == "QuadContourSet" for c in plot._children + plot.collections)
-    assert "luminaires" in [t.get_text() for t in plot.get_legend().get_texts()]
+    assert "luminaires" in [t.get_text() for t in fig.legends[0].get_texts()]
     out = tmp_path / "plan.png"
     write_plan(str(out), lux, x, z, "test")
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
