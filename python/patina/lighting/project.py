@@ -2,13 +2,13 @@
 (docs/lighting.md). JSON; every path relative to the file; every problem a FormatError naming
 the key.
 
-    {"scene": "office-en12464.json", "standard": "en12464-1",
+    {"scene": "../scenes/office-en12464.json", "standard": "en12464-1",
      "room": [x0, z0, x1, z1], "task_area": [x0, z0, x1, z1], "height": 0.75, "wall_band": true,
      "maintenance": {"LLMF": 0.9, "LSF": 1, "LMF": 0.9, "RSMF": 0.95},
      "requirements": {"Em": 500, "U0": 0.6, "UGR": 19, "Ra": 80}, "ra": 80,
      "observer": {"eye": [x, 1.2, z], "azimuth": 90}, "indirect": true, "samples": 64}
 
-    {"scene": "road-en13201.json", "standard": "en13201", "class": "M4",
+    {"scene": "../scenes/road-en13201.json", "standard": "en13201", "class": "M5",
      "road": {"kerb_x": -3.5, "lanes": 2, "lane_width": 3.5, "field_start": 0, "spacing": 30, "verge": 3},
      "rtable": "../rtables/synthetic-road.rtab", "maintenance": {"LLMF": 0.9, "LMF": 0.9}}
 

@@ -5,16 +5,16 @@ from __future__ import annotations
 
 import json
 import os
-import shutil
 
 import pytest
 
 from patina.cli import main
 from repo_paths import ROOT
 
+PROJECTS = os.path.join(ROOT, "materials", "lighting")
 SCENES = os.path.join(ROOT, "materials", "scenes")
-ROAD = os.path.join(SCENES, "road-en13201.lighting.json")
-OFFICE = os.path.join(SCENES, "office-en12464.lighting.json")
+ROAD = os.path.join(PROJECTS, "road-en13201.json")
+OFFICE = os.path.join(PROJECTS, "office-en12464.json")
 
 
 def test_the_road_report_passes_its_class_and_writes_every_part(tmp_path, capsys):
@@ -33,7 +33,7 @@ def test_the_road_report_passes_its_class_and_writes_every_part(tmp_path, capsys
 
 def test_the_office_report_exits_1_when_a_requirement_fails(tmp_path):
     project = json.loads(open(OFFICE).read())
-    project.update(indirect=False, requirements={"Em": 5000}, scene=os.path.join(SCENES, project["scene"]))
+    project.update(indirect=False, requirements={"Em": 5000}, scene=os.path.join(PROJECTS, project["scene"]))
     path = tmp_path / "office.json"
     path.write_text(json.dumps(project))
     out = tmp_path / "office"
@@ -44,11 +44,9 @@ def test_the_office_report_exits_1_when_a_requirement_fails(tmp_path):
 
 def _project(tmp_path, base: str, **changes) -> str:
     doc = json.loads(open(base).read())
-    for name in ("office-en12464.json", "road-en13201.json"):
-        shutil.copy(os.path.join(SCENES, name), tmp_path / name)
-    doc["scene"] = os.path.join(SCENES, doc["scene"])
+    doc["scene"] = os.path.join(PROJECTS, doc["scene"])
     if "rtable" in doc:
-        doc["rtable"] = os.path.join(SCENES, doc["rtable"])
+        doc["rtable"] = os.path.join(PROJECTS, doc["rtable"])
     doc.update(changes)
     path = tmp_path / "p.json"
     path.write_text(json.dumps(doc))
