@@ -72,3 +72,33 @@ class Sensors:
 def horizontal_direction(azimuth_deg: float) -> np.ndarray:
     a = np.radians(azimuth_deg)
     return np.array([np.cos(a), 0.0, np.sin(a)])
+
+
+SENSOR_SPECS = "up, down, vertical:AZ, cylindrical or semicylindrical:AZ (AZ in degrees from +x towards +z)"
+
+
+def parse_sensor(spec: str, option: str = "--sensor") -> tuple[str, float | None]:
+    """'up', 'down', 'vertical:AZ', 'cylindrical', 'semicylindrical:AZ' -> (name, azimuth)."""
+    from patina.errors import FormatError
+
+    name, colon, rest = spec.partition(":")
+    if name in ("up", "down", "cylindrical") and not colon:
+        return name, None
+    if name in ("vertical", "semicylindrical") and colon:
+        try:
+            azimuth = float(rest)
+        except ValueError:
+            azimuth = float("nan")
+        if np.isfinite(azimuth):
+            return name, azimuth
+    raise FormatError("command line", option, f"expected {SENSOR_SPECS}, got '{spec}'")
+
+
+def make_sensors(points: np.ndarray, name: str, azimuth: float | None) -> Sensors:
+    if name in ("up", "down"):
+        return Sensors.horizontal(points, name == "up")
+    if name == "vertical":
+        return Sensors.vertical(points, azimuth)
+    if name == "cylindrical":
+        return Sensors.cylindrical(points)
+    return Sensors.semicylindrical(points, azimuth)

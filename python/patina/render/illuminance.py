@@ -28,7 +28,7 @@ from patina.errors import FormatError
 from patina.lighting.direct import PlacedSource, direct_illuminance, is_delta
 from patina.lighting.plan import write_plan
 from patina.lighting.scene_luminaires import plan_luminaires
-from patina.lighting.sensors import Sensors
+from patina.lighting.sensors import make_sensors, parse_sensor
 from patina.native import _core
 from patina.progress import Progress
 from patina.render.prepare import PreparedScene
@@ -88,6 +88,7 @@ class IlluminanceReport:
     samples: int
     indirect: bool = False  # lux includes interreflections
     exact_lights: int = 0  # point, spot and goniometric lights summed exactly (no sampling)
+    sensor: str = "up"  # up, down, vertical:AZ, cylindrical, semicylindrical:AZ (lighting.sensors)
 
     @property
     def stats(self) -> dict[str, float]:
@@ -116,6 +117,7 @@ class IlluminanceReport:
             },
             "samples_per_sensor": self.samples,
             "exact_lights": self.exact_lights,
+            "sensor": self.sensor,
             "interreflections": self.indirect,
             **self.stats,
             "lux": self.lux.tolist(),
@@ -130,6 +132,7 @@ def compute(
     width: int | None = None,
     progress: bool = False,
     indirect: bool = False,
+    sensor: str | None = None,
 ) -> IlluminanceReport:
     """The grid's illuminance. Point, spot and goniometric lights: exact, the finite sum of
     patina.lighting.direct with a shadow ray each (no sampling; deterministic). The other
@@ -140,7 +143,8 @@ def compute(
     chunk's sensors are numbered from 0 in its random streams, so the result depends on the
     seed and the chunk size only (not on threads or width)."""
     _, _, pts = grid.points()
-    sensors = Sensors.horizontal(pts, grid.facing_up)
+    kind = parse_sensor(sensor) if sensor else ("up" if grid.facing_up else "down", None)
+    sensors = make_sensors(pts, *kind)
     exact = [light for light in scene.lights if is_delta(light)]
     sampled = [light for light in scene.lights if not is_delta(light)]
     prepared = PreparedScene(scene)
@@ -149,6 +153,14 @@ def compute(
     rest = None
     if sampled or scene.environment is not None:
         rest = PreparedScene(dataclasses.replace(scene, lights=tuple(sampled))) if exact else prepared
+    if sensors.kind != "planar" and (rest is not None or indirect):
+        # the sampling kernel measures on planes: a cylinder's mean it cannot give
+        raise FormatError(
+            "command line",
+            "--sensor",
+            f"{kind[0]} sensors sum point, spot and goniometric luminaires only; this scene has "
+            + ("--indirect" if indirect else "area lights, the sun or an environment"),
+        )
     normals = np.ascontiguousarray(sensors.normals, np.float32)
     simd, seed = core_width(width), scene.render.seed
     depth = indirect_depth(scene) if indirect else 0
@@ -169,7 +181,8 @@ def compute(
                 total = np.asarray(_core.sensor_illuminance(prepared.core, *part, depth), np.float64)
                 lux[begin:end] += total - _core.sensor_illuminance(prepared.core, *part, 0)
             bar.update(end)
-    return IlluminanceReport(grid, lux.reshape(grid.nz, grid.nx), samples, indirect, len(exact))
+    name = kind[0] + (f":{kind[1]:g}" if kind[1] is not None else "")
+    return IlluminanceReport(grid, lux.reshape(grid.nz, grid.nx), samples, indirect, len(exact), name)
 
 
 def ray_offset(prepared: PreparedScene) -> float:
@@ -219,7 +232,7 @@ def summary(report: IlluminanceReport, scene_path: str) -> str:
         [
             f"{os.path.basename(scene_path)}: {'total' if report.indirect else 'direct'} illuminance "
             f"on {g.nx} x {g.nz} sensors at y = {g.y:g} m "
-            f"facing {'up' if g.facing_up else 'down'}, x {g.x0:g}..{g.x1:g}, z {g.z0:g}..{g.z1:g} m "
+            f"({report.sensor}), x {g.x0:g}..{g.x1:g}, z {g.z0:g}..{g.z1:g} m "
             f"({report.exact_lights} point, spot or goniometric lights summed exactly; "
             f"{report.samples} light samples{' and sensor paths' if report.indirect else ''} per sensor "
             "for the rest)",
