@@ -120,7 +120,7 @@ def read_project(path: str, standard: str | None = None) -> Project:
     if not isinstance(doc.get("scene"), str):
         raise FormatError(path, "scene", "expected the scene file's path")
     here = os.path.dirname(os.path.abspath(path))
-    scene = os.path.join(here, doc["scene"])
+    scene = os.path.normpath(os.path.join(here, doc["scene"]))
     if not os.path.isfile(scene):
         raise FormatError(path, "scene", f"no such file: {doc['scene']}")
     parts = _object(path, "maintenance", doc.get("maintenance", {}), {"LLMF", "LSF", "LMF", "RSMF"})
@@ -172,7 +172,7 @@ def read_project(path: str, standard: str | None = None) -> Project:
         p.verge = _number(path, "road.verge", road.get("verge", 0.0), 0, 100)
         if not isinstance(doc.get("rtable"), str):
             raise FormatError(path, "rtable", "expected the r-table file's path (docs/lighting.md)")
-        p.rtable = os.path.join(here, doc["rtable"])
+        p.rtable = os.path.normpath(os.path.join(here, doc["rtable"]))
         if not isinstance(doc.get("class"), str):
             raise FormatError(path, "class", "expected an EN 13201-2 class (M1-M6, C0-C5, P1-P6)")
         try:
