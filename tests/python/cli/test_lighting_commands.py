@@ -103,3 +103,35 @@ def test_an_unknown_standard_and_abbreviations_are_refused(tmp_path, capsys):
     with pytest.raises(SystemExit) as e:
         main(["lighting", "report", ROAD, "--stand", "en13201", "--out", str(tmp_path / "o")])
     assert e.value.code == 2
+
+
+def test_a_sport_field_by_en12193_principal_and_total_areas(tmp_path):
+    flood = os.path.join(ROOT, "materials", "luminaires", "floodlight.ies")
+    masts = [(x, z) for x in (-45.0, 45.0) for z in (-60.0, 60.0)]
+    scene = {
+        "version": 1,
+        "camera": {"position": [0, 30, -90], "look_at": [0, 0, 0], "width": 8, "height": 8},
+        "materials": {"grass": {"type": "lambert", "albedo": 0.2}},
+        "shapes": [{"type": "plane", "material": "grass", "size": [130, 160]}],
+        "lights": [
+            {"type": "luminaire", "file": flood, "position": [x, 25, z], "aim": [-x, -25, -z], "multiplier": 40}
+            for x, z in masts
+        ],
+    }
+    (tmp_path / "pitch.json").write_text(json.dumps(scene))
+    project = {
+        "scene": "pitch.json",
+        "standard": "en12193",
+        "field": {"length": 105, "width": 68, "spacing": 5, "margin": 5},
+        "requirements": {"Em": 1, "U0": 0.05},
+    }
+    (tmp_path / "p.json").write_text(json.dumps(project))
+    out = tmp_path / "pitch"
+    args = ["lighting", "report", str(tmp_path / "p.json"), "--standard", "en12193", "--out", str(out), "--no-pdf"]
+    code = main(args)
+    result = json.loads((out / "result.json").read_text())
+    assert [g["name"] for g in result["grids"]] == ["principal area", "total area"]
+    assert len(result["grids"][0]["x"]) == 14 and len(result["grids"][0]["z"]) == 21  # 68 / 5 and 105 / 5, up
+    f = result["figures"]
+    assert f["Em"] > 0 and f["Em TA"] > 0 and 0 < f["U0"] <= 1
+    assert code == (0 if all(c["pass"] for c in result["checks"]) else 1)
