@@ -109,10 +109,10 @@ def print_pdf(html: str, pdf: str) -> str:
             "file://" + os.path.abspath(html),
         ]
         try:
-            subprocess.run(cmd, capture_output=True, timeout=PDF_SECONDS, check=False)
+            done = subprocess.run(cmd, capture_output=True, timeout=PDF_SECONDS, check=False).returncode == 0
         except subprocess.TimeoutExpired:
-            pass
-    if os.path.getsize(tmp) == 0:
+            done = False
+    if not done or os.path.getsize(tmp) == 0:  # a half-printed file is no PDF
         os.unlink(tmp)
         return f"no PDF: {os.path.basename(exe)} did not print the page"
     os.chmod(tmp, 0o644)  # mkstemp makes it private; an ordinary file's mode
