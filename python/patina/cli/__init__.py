@@ -13,6 +13,7 @@
     patina render SCENE.json [--out out.exr] [--spp N] [--integrator direct|path] [--threads T] [--seed S]
     patina luminaire info FILE [--json] | patina luminaire plot FILE --out PNG
     patina preview MATERIAL [--env ENV] [--shape sphere|ball|panel|MESH] [--spp N] [--out out.exr]
+    patina lighting report PROJECT.json --standard en12464-1|en13201|en12193 --out DIR
 
 Bad input ends with one line naming the file, the place and the problem, and exit status 2.
 `--quiet` (where a command has it) leaves only errors: standard output goes nowhere and
@@ -30,6 +31,7 @@ from patina.cli.batch import add_batch_command
 from patina.cli.bench import add_bench_command
 from patina.cli.common import HelpFormat, UsageError
 from patina.cli.fit import add_fit_command
+from patina.cli.lighting import add_lighting_commands
 from patina.cli.luminaire import add_luminaire_commands
 from patina.cli.plot import add_plot_command
 from patina.cli.render import add_render_commands
@@ -49,6 +51,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_render_commands(sub)
     add_luminaire_commands(sub)
     add_batch_command(sub)
+    add_lighting_commands(sub)
     _help_shows_defaults(p)
     return p
 

@@ -31,6 +31,7 @@ from patina.bundled import studio_environment
 from patina.cli.common import HelpFormat, add_simd_option
 from patina.colour_constants import luminance
 from patina.errors import FormatError
+from patina.lighting.sensors import parse_sensor
 from patina.render import illuminance as il
 from patina.render.images import read_image
 from patina.render.outputs import auto_exposure, metadata, write_outputs
@@ -317,6 +318,8 @@ def cmd_preview(args: argparse.Namespace) -> int:
 def cmd_illuminance(args: argparse.Namespace) -> int:
     with terminate_as_interrupt():
         grid = il.parse_grid(args.grid, args.height, args.facing)
+        if args.sensor is not None:
+            parse_sensor(args.sensor)  # before any work
         check_run_options(threads=args.threads)
         if not 1 <= args.samples <= il.MAX_SAMPLES:
             raise _command_line("--samples", f"expected 1 to {il.MAX_SAMPLES}, got {args.samples}")
@@ -332,6 +335,7 @@ def cmd_illuminance(args: argparse.Namespace) -> int:
             width=args.simd,
             progress=True,
             indirect=args.indirect,
+            sensor=args.sensor,
         )
         if args.json:
             json.dump(report.as_json(), sys.stdout)
@@ -343,7 +347,7 @@ def cmd_illuminance(args: argparse.Namespace) -> int:
                 if path:
                     write(report, path)
             if args.png:
-                il.write_png(report, args.png, os.path.basename(args.scene))
+                il.write_png(report, args.png, os.path.basename(args.scene), scene)
         return 130 if came else 0
 
 
@@ -490,6 +494,14 @@ def add_render_commands(sub: Any) -> None:
     )
     s.add_argument("--height", type=float, default=0.0, help="the grid's height y (m)")
     s.add_argument("--facing", choices=("up", "down"), default="up", help="the sensors' facing")
+    s.add_argument(
+        "--sensor",
+        default=None,
+        metavar="KIND",
+        help="what the sensors measure instead of --facing: up, down, vertical:AZ, cylindrical or "
+        "semicylindrical:AZ (AZ degrees from +x towards +z; EN 13201-3 cylinders: point, spot and goniometric "
+        "luminaires only)",
+    )
     s.add_argument("--samples", type=int, default=256, help="light samples per sensor")
     s.add_argument(
         "--indirect",

@@ -25,8 +25,11 @@ import numpy as np
 
 from patina.atomic import write_text
 from patina.errors import FormatError
+from patina.lighting.direct import PlacedSource, direct_illuminance, is_delta
+from patina.lighting.plan import write_plan
+from patina.lighting.scene_luminaires import plan_luminaires
+from patina.lighting.sensors import make_sensors, parse_sensor
 from patina.native import _core
-from patina.plot.figures import save_figure
 from patina.progress import Progress
 from patina.render.prepare import PreparedScene
 from patina.render.run import core_depth
@@ -84,6 +87,8 @@ class IlluminanceReport:
     lux: np.ndarray  # (nz, nx)
     samples: int
     indirect: bool = False  # lux includes interreflections
+    exact_lights: int = 0  # point, spot and goniometric lights summed exactly (no sampling)
+    sensor: str = "up"  # up, down, vertical:AZ, cylindrical, semicylindrical:AZ (lighting.sensors)
 
     @property
     def stats(self) -> dict[str, float]:
@@ -111,6 +116,8 @@ class IlluminanceReport:
                 "facing": "up" if g.facing_up else "down",
             },
             "samples_per_sensor": self.samples,
+            "exact_lights": self.exact_lights,
+            "sensor": self.sensor,
             "interreflections": self.indirect,
             **self.stats,
             "lux": self.lux.tolist(),
@@ -125,16 +132,36 @@ def compute(
     width: int | None = None,
     progress: bool = False,
     indirect: bool = False,
+    sensor: str | None = None,
 ) -> IlluminanceReport:
-    """The grid's illuminance, CHUNK_SENSORS sensors per call: a grid of that size or less
-    is one call; a larger one shows progress (`progress`) and stops between chunks on Ctrl-C.
-    Each chunk's sensors are numbered from 0 in its random streams, so the result depends on
-    the seed and the chunk size only (not on threads or width). `indirect`: interreflections
-    too, by `samples` sensor paths per sensor of at most `indirect_depth(scene)` vertices."""
-    prepared = PreparedScene(scene)
+    """The grid's illuminance. Point, spot and goniometric lights: exact, the finite sum of
+    patina.lighting.direct with a shadow ray each (no sampling; deterministic). The other
+    lights (area, sun, environment): by `samples` light samples per sensor, and with
+    `indirect` the interreflections of every light by `samples` sensor paths of at most
+    `indirect_depth(scene)` vertices; both through `_core.sensor_illuminance`, CHUNK_SENSORS
+    sensors per call (progress shown with `progress`, Ctrl-C stops between chunks). Each
+    chunk's sensors are numbered from 0 in its random streams, so the result depends on the
+    seed and the chunk size only (not on threads or width)."""
     _, _, pts = grid.points()
-    normals = np.tile(np.array([0, 1 if grid.facing_up else -1, 0], np.float32), (len(pts), 1))
-    lux = np.empty(len(pts), np.float32)
+    kind = parse_sensor(sensor) if sensor else ("up" if grid.facing_up else "down", None)
+    sensors = make_sensors(pts, *kind)
+    exact = [light for light in scene.lights if is_delta(light)]
+    sampled = [light for light in scene.lights if not is_delta(light)]
+    prepared = PreparedScene(scene)
+    sources, offset = [PlacedSource.of(light) for light in exact], ray_offset(prepared)
+    lux = np.zeros(len(pts))
+    rest = None
+    if sampled or scene.environment is not None:
+        rest = PreparedScene(dataclasses.replace(scene, lights=tuple(sampled))) if exact else prepared
+    if sensors.kind != "planar" and (rest is not None or indirect):
+        # the sampling kernel measures on planes: a cylinder's mean it cannot give
+        raise FormatError(
+            "command line",
+            "--sensor",
+            f"{kind[0]} sensors sum point, spot and goniometric luminaires only; this scene has "
+            + ("--indirect" if indirect else "area lights, the sun or an environment"),
+        )
+    normals = np.ascontiguousarray(sensors.normals, np.float32)
     simd, seed = core_width(width), scene.render.seed
     depth = indirect_depth(scene) if indirect else 0
     # a chunk of sensor paths costs about a camera path per sample: show progress sooner
@@ -143,11 +170,27 @@ def compute(
     with Progress(len(pts), "illuminance", unit="sensor", enabled=progress and len(chunks) > 1) as bar:
         for begin in chunks:
             end = min(begin + chunk, len(pts))
-            lux[begin:end] = _core.sensor_illuminance(
-                prepared.core, pts[begin:end], normals[begin:end], samples, seed, simd, threads, depth
-            )
+            lux[begin:end] = direct_illuminance(sources, sensors.part(begin, end), prepared.accel, offset)
+            part = pts[begin:end], normals[begin:end], samples, seed, simd, threads
+            if rest is not None:
+                lux[begin:end] += _core.sensor_illuminance(rest.core, *part, 0)
+            if indirect:
+                # the interreflections alone: the kernel adds them to its direct estimate, whose
+                # random streams are the same with or without them (integrator_impl.h), so the
+                # difference is the indirect part of every light, the delta lights' included
+                total = np.asarray(_core.sensor_illuminance(prepared.core, *part, depth), np.float64)
+                lux[begin:end] += total - _core.sensor_illuminance(prepared.core, *part, 0)
             bar.update(end)
-    return IlluminanceReport(grid, lux.reshape(grid.nz, grid.nx), samples, indirect)
+    name = kind[0] + (f":{kind[1]:g}" if kind[1] is not None else "")
+    return IlluminanceReport(grid, lux.reshape(grid.nz, grid.nx), samples, indirect, len(exact), name)
+
+
+def ray_offset(prepared: PreparedScene) -> float:
+    """The renderer's secondary-ray offset (render/scene.cpp): 2e-5 of the scene's largest
+    coordinate or radius, at least 1e-5."""
+    tri = np.asarray(prepared.accel.triangles)
+    extent = float(np.abs(tri).max()) if tri.size else 0.0
+    return max(1e-5, 2e-5 * max(extent, float(prepared.core.scene_radius)))
 
 
 def indirect_depth(scene: Scene) -> int:
@@ -171,25 +214,16 @@ def write_json(report: IlluminanceReport, path: str) -> None:
     write_text(path, json.dumps(report.as_json(), indent=1) + "\n")
 
 
-def write_png(report: IlluminanceReport, path: str, title: str = "") -> None:
-    """A false-colour map of the grid, lux on a colour bar, stats in the title."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    g, st = report.grid, report.stats
-    fig, ax = plt.subplots(figsize=(6.4, 5.2))
-    im = ax.imshow(report.lux, origin="lower", extent=(g.x0, g.x1, g.z0, g.z1), cmap="inferno", aspect="equal")
-    fig.colorbar(im, ax=ax, label="illuminance (lux)")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("z (m)")
-    ax.set_title(
-        f"{title}\nEmin {st['min_lux']:.1f}  Eavg {st['mean_lux']:.1f}  Emax {st['max_lux']:.1f} lux  "
-        f"U0 {st['u0']:.2f}  Ud {st['ud']:.2f}",
-        fontsize=9,
+def write_png(report: IlluminanceReport, path: str, title: str = "", scene: Scene | None = None) -> None:
+    """The plan (patina.lighting.plan): false colour with each cell centred on its sensor,
+    iso-lux lines, the scene's point, spot and goniometric luminaires, the stats in the title."""
+    x, z, _ = report.grid.points()
+    st = report.stats
+    heading = (
+        f"{title}\nEmin {st['min_lux']:.1f}  Eavg {st['mean_lux']:.1f}  Emax {st['max_lux']:.1f} lx  "
+        f"U0 {st['u0']:.2f}  Ud {st['ud']:.2f}"
     )
-    save_figure(fig, path)
+    write_plan(path, report.lux, x, z, heading, plan_luminaires(scene) if scene is not None else None)
 
 
 def summary(report: IlluminanceReport, scene_path: str) -> str:
@@ -198,8 +232,10 @@ def summary(report: IlluminanceReport, scene_path: str) -> str:
         [
             f"{os.path.basename(scene_path)}: {'total' if report.indirect else 'direct'} illuminance "
             f"on {g.nx} x {g.nz} sensors at y = {g.y:g} m "
-            f"facing {'up' if g.facing_up else 'down'}, x {g.x0:g}..{g.x1:g}, z {g.z0:g}..{g.z1:g} m "
-            f"({report.samples} light samples{' and sensor paths' if report.indirect else ''} per sensor)",
+            f"({report.sensor}), x {g.x0:g}..{g.x1:g}, z {g.z0:g}..{g.z1:g} m "
+            f"({report.exact_lights} point, spot or goniometric lights summed exactly; "
+            f"{report.samples} light samples{' and sensor paths' if report.indirect else ''} per sensor "
+            "for the rest)",
             f"  Emin  {st['min_lux']:10.2f} lux",
             f"  Eavg  {st['mean_lux']:10.2f} lux",
             f"  Emax  {st['max_lux']:10.2f} lux",

@@ -132,3 +132,26 @@ def test_a_grid_larger_than_a_chunk_is_computed_in_chunks_with_progress(monkeypa
     np.testing.assert_allclose(chunked, whole, rtol=1e-6)  # a point light has no noise
     err = capsys.readouterr().err
     assert "illuminance" in err and "169/169" in err
+
+
+def test_vertical_and_cylindrical_sensors_from_a_point_light(capsys):
+    s = scene([{"type": "point", "position": [0, 3, 4], "intensity_cd": 1000}])
+    grid = il.parse_grid("0,0,0,0,1,1", height=1.0)
+    to = np.array([0.0, 2.0, 4.0])
+    d2 = to @ to
+    sin_eps, cos_face = 4 / math.sqrt(d2), 4 / math.sqrt(d2)  # horizontal part; facing +z (azimuth 90)
+    cases = {
+        "vertical:90": 1000 / d2 * cos_face,
+        "vertical:270": 0.0,
+        "cylindrical": 1000 / d2 * sin_eps / math.pi,
+        "semicylindrical:90": 1000 / d2 * sin_eps * 2 / math.pi,
+        "semicylindrical:0": 1000 / d2 * sin_eps / math.pi,
+    }
+    for spec, expected in cases.items():
+        report = il.compute(s, grid, samples=1, sensor=spec)
+        assert report.lux[0, 0] == pytest.approx(expected, rel=1e-6, abs=1e-9), spec
+        assert report.as_json()["sensor"] == spec
+    assert main(["illuminance", STREET, "--grid=-3.5,-15,3.5,15,4,4", "--sensor", "cylindrical"]) == 2
+    assert "(--sensor): cylindrical sensors sum point, spot and goniometric luminaires only" in capsys.readouterr().err
+    assert main(["illuminance", STREET, "--grid=-3.5,-15,3.5,15,4,4", "--sensor", "vertical:north"]) == 2
+    assert "(--sensor): expected up, down, vertical:AZ" in capsys.readouterr().err
