@@ -176,7 +176,7 @@ def compute(
                 lux[begin:end] += _core.sensor_illuminance(rest.core, *part, 0)
             if indirect:
                 # the interreflections alone: the kernel adds them to its direct estimate, whose
-                # random streams are the same with or without them (integrator_impl.h), so the
+                # random streams are the same with or without them (render/integrators/sensors_impl.h), so the
                 # difference is the indirect part of every light, the delta lights' included
                 total = np.asarray(_core.sensor_illuminance(prepared.core, *part, depth), np.float64)
                 lux[begin:end] += total - _core.sensor_illuminance(prepared.core, *part, 0)
