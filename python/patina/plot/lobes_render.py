@@ -16,6 +16,26 @@ import numpy as np
 
 CAMERA = [(1.6, -6.0, 3.0), (0.15, 0.0, 0.5), (0.0, 0.0, 1.0)]  # from -y: the mirror side (-x) is on the left
 CMAP = "viridis"
+WI_ARROW = (1.0, 1.6)  # the incidence arrow runs along wi from 1.6 (its tail) to 1.0 (its head)
+NORMAL_LABEL = np.array([0.0, 0.0, 1.3])  # above the normal's arrow (length 1.25)
+NORMAL_LABEL_ASIDE = np.array([0.3, 0.0, 1.15])  # beside it, right of the camera's view (+x)
+NEAR_NORMAL_DEG = 20.0  # wi closer than this to n: its arrow would run through the normal's label
+
+
+def label_anchors(wi: np.ndarray) -> dict[str, np.ndarray]:
+    """Where each label of a panel is drawn: "n (z)" moves aside when wi is near the normal
+    (at theta_i = 0 the wi arrow covers the normal's arrow and its label), to the +x side,
+    away from the mirror direction, which leans to -x."""
+    near = wi[2] > np.cos(np.radians(NEAR_NORMAL_DEG))
+    labels = {
+        "n (z)": NORMAL_LABEL_ASIDE if near else NORMAL_LABEL,
+        "x": np.array([1.2, 0.0, 0.0]),
+        "y": np.array([0.0, 1.2, 0.0]),
+        "wi": 1.7 * wi,
+    }
+    if wi[0] > 1e-6:
+        labels["mirror"] = 1.25 * np.array([-wi[0], -wi[1], wi[2]])
+    return labels
 
 
 def _grid(pv: Any, points: np.ndarray, values: np.ndarray | None = None) -> Any:
@@ -56,14 +76,14 @@ def _panel(pv: Any, plotter: Any, scene: Any, meta: dict[str, Any], panel: dict[
     )
     plotter.add_mesh(pv.Line((-1.15, 0, 0), (1.15, 0, 0)), color="grey", line_width=1)
     plotter.add_mesh(pv.Line((0, -1.15, 0), (0, 1.15, 0)), color="grey", line_width=1)
+    head, tail = WI_ARROW
     plotter.add_mesh(
-        pv.Arrow(start=1.6 * wi, direction=-wi, scale=0.6, tip_radius=0.06, shaft_radius=0.02), color="darkorange"
+        pv.Arrow(start=tail * wi, direction=-wi, scale=tail - head, tip_radius=0.06, shaft_radius=0.02),
+        color="darkorange",
     )
-    labels = {"n (z)": (0, 0, 1.3), "x": (1.2, 0, 0), "y": (0, 1.2, 0), "wi": 1.7 * wi}
-    if wi[0] > 1e-6:
-        mirror = np.array([-wi[0], -wi[1], wi[2]])
-        plotter.add_mesh(pv.Line((0, 0, 0), 1.2 * mirror), color="darkorange", line_width=1)
-        labels["mirror"] = 1.25 * mirror
+    labels = label_anchors(wi)
+    if "mirror" in labels:
+        plotter.add_mesh(pv.Line((0, 0, 0), 1.2 / 1.25 * labels["mirror"]), color="darkorange", line_width=1)
     plotter.add_point_labels(
         np.array(list(labels.values()), dtype=np.float64),
         list(labels),
