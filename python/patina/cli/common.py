@@ -8,6 +8,7 @@ import json
 import sys
 from typing import Any
 
+from patina.cli.values import integer
 from patina.widths import WIDTHS
 
 
@@ -45,7 +46,7 @@ def add_simd_option(s: argparse.ArgumentParser) -> None:
     """`--simd {1,4,8,16}`: the one name for the SIMD width on every command (`--width` is an image's width)."""
     s.add_argument(
         "--simd",
-        type=int,
+        type=integer(min(WIDTHS), max(WIDTHS)),
         choices=WIDTHS,
         default=None,
         help="force a SIMD width: 1 (scalar), 4 (SSE4.1), 8 (AVX2) or 16 (AVX-512); "

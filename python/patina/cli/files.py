@@ -95,8 +95,6 @@ def check_output(path: str, shown: str, force: bool, kind: str = FILE, extension
     if extensions and os.path.splitext(path)[1].lower() not in extensions:
         raise FormatError(path, shown, f"expected a {' or '.join(extensions)} file")
     if kind == FILE:
-        if os.path.isdir(path):
-            raise FormatError(path, shown, "is a folder; give a file name")
         if not force and os.path.lexists(path):
             raise FormatError(path, "", "exists; pass --force to overwrite it")
         check_writable(path)
