@@ -305,22 +305,29 @@ def cmd_preview(args: argparse.Namespace) -> int:
         exposure = args.exposure or preview_exposure(args.env)
         env = args.env or studio_environment()
         obj = preview_scene_dict(args.material, env, args.shape, args.coat)
-        scene = _preview_scene(obj, args)
-        return _render_and_write(_with_options(scene, args), args, exposure)
+        with _named_as_given(args):
+            scene = parse_scene(obj, os.path.join(os.getcwd(), "preview.json"))
+            return _render_and_write(_with_options(scene, args), args, exposure)
 
 
-def _preview_scene(obj: dict[str, Any], args: argparse.Namespace) -> Scene:
-    """The preview scene parsed; a file it cannot read is reported under the path the user
-    gave and the option that gave it, not a made-up scene file's key."""
-    keys = {"materials.material": ("MATERIAL", args.material), "environment": ("--env", args.env)}
+@contextlib.contextmanager
+def _named_as_given(args: argparse.Namespace) -> Iterator[None]:
+    """A FormatError about a file of the preview (its scene is made up, its paths absolute) is
+    told under the path the user gave and the option that gave it."""
+    given = {"materials.material": ("MATERIAL", args.material), "environment": ("--env", args.env)}
     if args.shape not in PREVIEW_SHAPES:
-        keys["shapes[0]"] = ("--shape", args.shape)
+        given["shapes[0]"] = ("--shape", args.shape)
     try:
-        return parse_scene(obj, os.path.join(os.getcwd(), "preview.json"))
+        yield
     except FormatError as e:
-        for key, (option, path) in keys.items():
-            if path and e.where.startswith(key):
-                raise FormatError(path, option, e.problem.replace(os.path.abspath(path), path)) from None
+        for key, (option, path) in given.items():
+            if not path:
+                continue
+            problem = e.problem.replace(os.path.abspath(path), path)
+            if e.where.startswith(key):  # the scene's key that names the file
+                raise FormatError(path, option, problem) from None
+            if e.path == os.path.abspath(path):  # the file's own reader, at a place inside it
+                raise FormatError(path, f"{option}, {e.where}" if e.where else option, problem) from None
         raise
 
 
