@@ -11,7 +11,7 @@ from typing import Any
 from patina.batch import DEFAULT_MODELS, IN_PROCESS, Settings, parse_steps, run_batch
 from patina.batch.library import MAX_SIDE, MAX_SPP, check_settings
 from patina.cli.common import UsageError
-from patina.cli.files import WORKSPACE, add_output
+from patina.cli.files import add_output
 from patina.cli.render import PREVIEW_SHAPES, add_preview_object_options
 from patina.cli.values import integer
 
@@ -74,7 +74,8 @@ def add_batch_command(sub: Any) -> None:
         "--out",
         required=True,
         metavar="OUT_DIR",
-        kind=WORKSPACE,
+        folder=("index.html", "summary.json", "summary.csv", "materials"),
+        updates="summary.json",
         help="the folder for the reports (made if missing; an earlier run's is updated, its unchanged work kept)",
     )
     s.add_argument(

@@ -23,14 +23,13 @@ from typing import Any
 from patina.atomic import check_writable
 from patina.errors import FormatError
 
-FILE, REPORT, WORKSPACE = "file", "report", "workspace"
-
 
 @dataclass(frozen=True)
 class Output:
     dest: str
     shown: str  # the option (--out) or the positional's metavar (OUTPUT)
-    kind: str  # FILE; REPORT: a folder whose index.html is the output; WORKSPACE: a folder a rerun updates
+    folder: tuple[str, ...]  # a folder output: the names it writes in it; () a file output
+    updates: str  # a folder output a rerun updates: the file that marks an earlier run's folder ("" none)
     extensions: tuple[str, ...]  # allowed, lower case with the dot; () any
     skip: tuple[str, ...]  # values that are not paths ("none")
 
@@ -55,14 +54,18 @@ def _declare(s: argparse.ArgumentParser, key: str, spec: Output | Input) -> None
 def add_output(
     s: argparse.ArgumentParser,
     *names: str,
-    kind: str = FILE,
+    folder: Iterable[str] = (),
+    updates: str = "",
     extensions: Iterable[str] = (),
     skip: Iterable[str] = (),
     **kwargs: Any,
 ) -> argparse.Action:
-    """An output option (or positional); the command gains `--force`."""
+    """An output option (or positional); the command gains `--force`. A file, or with `folder`
+    (the names the command writes in it) a folder; with `updates` (the file an earlier run
+    leaves there) a folder the command updates (`patina batch`)."""
     action = s.add_argument(*names, **kwargs)
-    _declare(s, "_outputs", Output(action.dest, _shown(action), kind, tuple(extensions), tuple(skip)))
+    spec = Output(action.dest, _shown(action), tuple(folder), updates, tuple(extensions), tuple(skip))
+    _declare(s, "_outputs", spec)
     if "--force" not in s._option_string_actions:
         s.add_argument("--force", action="store_true", help="overwrite existing outputs (refused without it)")
     return action
@@ -90,21 +93,22 @@ def _values(args: argparse.Namespace, dest: str) -> list[str]:
     return [str(v) for v in value] if isinstance(value, list) else [str(value)]
 
 
-def check_output(path: str, shown: str, force: bool, kind: str = FILE, extensions: tuple[str, ...] = ()) -> None:
+def check_output(path: str, shown: str, force: bool, spec: Output | None = None) -> None:
     """One output, before any work: its extension, its existence (without --force), writable."""
-    if extensions and os.path.splitext(path)[1].lower() not in extensions:
-        raise FormatError(path, shown, f"expected a {' or '.join(extensions)} file")
-    if kind == FILE:
+    if spec and spec.extensions and os.path.splitext(path)[1].lower() not in spec.extensions:
+        raise FormatError(path, shown, f"expected a {' or '.join(spec.extensions)} file")
+    if not (spec and spec.folder):
         if not force and os.path.lexists(path):
             raise FormatError(path, "", "exists; pass --force to overwrite it")
         check_writable(path)
         return
     if force or not os.path.isdir(path):
         return  # a folder that cannot be made is the command's to report, when it makes it
-    if kind == REPORT and os.path.exists(os.path.join(path, "index.html")):
-        raise FormatError(path, shown, "holds a report (index.html); pass --force to overwrite it")
-    if kind == WORKSPACE and os.listdir(path) and not os.path.exists(os.path.join(path, "summary.json")):
-        raise FormatError(path, shown, "holds files that are not an earlier run's; pass --force to write there")
+    if spec.updates and os.path.exists(os.path.join(path, spec.updates)):
+        return  # an earlier run's folder, which this run updates
+    taken = [name for name in spec.folder if os.path.lexists(os.path.join(path, name))]
+    if taken:
+        raise FormatError(path, shown, f"holds {taken[0]}; pass --force to overwrite it")
 
 
 def check_outputs(paths: list[tuple[str, str]], force: bool) -> None:
@@ -129,7 +133,7 @@ def check_files(args: argparse.Namespace) -> None:
     for spec in getattr(args, "_outputs", ()):
         for path in _values(args, spec.dest):
             if path not in spec.skip:
-                check_output(path, spec.shown, force, spec.kind, spec.extensions)
+                check_output(path, spec.shown, force, spec)
                 outputs.append((path, spec.shown))
     _distinct(outputs)
     for spec in getattr(args, "_inputs", ()):

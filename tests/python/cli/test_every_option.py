@@ -15,7 +15,6 @@ import os
 import pytest
 
 from patina.cli import build_parser, main
-from patina.cli.files import FILE, REPORT, WORKSPACE
 from patina.cli.parser import PatinaParser
 from patina.cli.values import integer, number, number_or, numbers
 
@@ -183,14 +182,13 @@ OUTPUTS = [(name, spec) for name, parser in COMMANDS.items() for spec in parser.
 
 def _taken(tmp_path, spec) -> tuple[str, str]:
     """An output path that exists already, and what it holds."""
-    if spec.kind == FILE:
+    if not spec.folder:
         path = tmp_path / f"taken{spec.extensions[0] if spec.extensions else '.png'}"
         path.write_text("keep me")
         return str(path), "keep me"
     path = tmp_path / "taken"
     path.mkdir()
-    inside = {REPORT: "index.html", WORKSPACE: "notes.txt"}[spec.kind]
-    (path / inside).write_text("keep me")
+    (path / spec.folder[0]).write_text("keep me")  # what the command would write there
     return str(path), "keep me"
 
 
@@ -206,9 +204,13 @@ def test_an_existing_output_is_refused_without_force_before_any_input_is_read(it
     line = _one_line(capsys.readouterr().err)
     assert code == 2 and line.startswith(f"patina: error: {path}") and "pass --force" in line, line
     assert MISSING not in line  # refused before the input was looked at
-    inside = path if spec.kind == FILE else os.path.join(path, os.listdir(path)[0])
+    inside = os.path.join(path, spec.folder[0]) if spec.folder else path
     with open(inside) as f:
         assert f.read() == held
+    if spec.updates:  # an earlier run's folder is updated, not refused: the command goes on to its input
+        (tmp_path / "taken" / spec.updates).write_text("{}")
+        assert main([*name.split(), *_positionals(parser, given), *_required(parser, given)]) == 2
+        assert MISSING in _one_line(capsys.readouterr().err)
 
 
 INPUTS = [(name, spec) for name, parser in COMMANDS.items() for spec in parser.get_default("_inputs") or ()]
