@@ -28,7 +28,7 @@ import sys
 
 from patina.cli.batch import add_batch_command
 from patina.cli.bench import add_bench_command
-from patina.cli.common import UsageError
+from patina.cli.common import UsageError, brief_warnings
 from patina.cli.files import check_files
 from patina.cli.fit import add_fit_command
 from patina.cli.luminaire import add_luminaire_commands
@@ -94,11 +94,12 @@ def _run(argv: list[str] | None) -> int:
         return 2
     try:
         check_files(args)  # outputs and the files options name, before the command's work
-        if getattr(args, "quiet", False):
-            # --quiet: nothing but errors (stderr); the commands turn their progress off themselves
-            with open(os.devnull, "w") as devnull, contextlib.redirect_stdout(devnull):
-                return int(args.func(args) or 0)
-        return int(args.func(args) or 0)
+        with brief_warnings():
+            if getattr(args, "quiet", False):
+                # --quiet: nothing but errors (stderr); the commands turn their progress off themselves
+                with open(os.devnull, "w") as devnull, contextlib.redirect_stdout(devnull):
+                    return int(args.func(args) or 0)
+            return int(args.func(args) or 0)
     except BrokenPipeError:
         raise  # an OSError, but not a failure: main() handles it
     except UsageError as e:

@@ -4,8 +4,11 @@ the `--simd` option."""
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import sys
+import warnings
+from collections.abc import Iterator
 from typing import Any
 
 from patina.cli.values import integer
@@ -52,3 +55,18 @@ def add_simd_option(s: argparse.ArgumentParser) -> None:
         help="force a SIMD width: 1 (scalar), 4 (SSE4.1), 8 (AVX2) or 16 (AVX-512); "
         "default: PATINA_SIMD, else the widest",
     )
+
+
+@contextlib.contextmanager
+def brief_warnings() -> Iterator[None]:
+    """Python warnings raised under a command (numpy, matplotlib, Dask...) as one line each,
+    `patina: warning: RuntimeWarning: overflow encountered in multiply`, instead of Python's
+    two (the library's file and source line mean nothing to a user). Which are shown, and how
+    often, stays Python's choice: once a place, none of those it ignores."""
+
+    def show(message: Warning | str, category: type[Warning], *args: Any, **kwargs: Any) -> None:
+        print(f"patina: warning: {category.__name__}: {' '.join(str(message).split())}", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        warnings.showwarning = show
+        yield
