@@ -51,8 +51,6 @@ def _print_ranking(path: str, loss: str, results: list[FitResult]) -> None:
 
 def cmd_fit(args: argparse.Namespace) -> int:
 
-    if args.coat_eta == 1.0:
-        raise UsageError("fit: --coat-eta: expected an index above 1 (1 is no coat)")
     brdf = load_brdf(args.file)
     if args.compare:
         results = compare(
@@ -105,7 +103,7 @@ def add_fit_command(sub: Any) -> None:
     s.add_argument("--coat", action="store_true", help="add a clear coat (roughness; index of refraction held)")
     s.add_argument(
         "--coat-eta",
-        type=number(1, 3),
+        type=number(1, 3, above=True),  # 1 is no coat
         default=None,
         metavar="ETA",
         help="the coat's held index, above 1 (default 1.5)",

@@ -98,8 +98,6 @@ def cmd_slices(args: argparse.Namespace) -> int:
 
 def cmd_validate(args: argparse.Namespace) -> int:
 
-    if args.spike_factor == 1:
-        raise UsageError("validate: --spike-factor: expected a number above 1 (a spike is that many times off)")
     # NaN / infinite values are reported (exit 1), not refused as by the other commands
     brdf, bad = read_reporting_bad_values(args.file)
     tolerances = Tolerances(spike_factor=args.spike_factor, albedo_excess=args.albedo_tolerance)
@@ -142,7 +140,7 @@ def add_table_commands(sub: Any) -> None:
     s.add_argument("--json", action="store_true", help="machine-readable report")
     s.add_argument(
         "--spike-factor",
-        type=number(1, 1e6),
+        type=number(1, 1e6, above=True),
         default=5.0,
         help="a spike is this many times (above 1) off every neighbour",
     )

@@ -46,18 +46,22 @@ class integer:
 
 @dataclass(frozen=True)
 class number:
-    """A finite decimal number in [lo, hi]."""
+    """A finite decimal number in [lo, hi] (in (lo, hi] when `above`: --coat-eta above 1)."""
 
     lo: float
     hi: float
+    above: bool = False
 
     @property
     def allowed(self) -> str:
+        if self.above:
+            return f"a number above {_shown(self.lo)}, at most {_shown(self.hi)}"
         return f"a number from {_shown(self.lo)} to {_shown(self.hi)}"
 
     def __call__(self, text: str) -> float:
         value = float(text) if _NUMBER.fullmatch(text) else math.nan
-        if not (math.isfinite(value) and self.lo <= value <= self.hi):
+        low_ok = value > self.lo if self.above else value >= self.lo
+        if not (math.isfinite(value) and low_ok and value <= self.hi):
             raise argparse.ArgumentTypeError(f"expected {self.allowed}, got '{text}'")
         return value
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 
 import pytest
 
@@ -178,6 +179,19 @@ def test_help_lists_the_options(name, capsys):
 
 
 OUTPUTS = [(name, spec) for name, parser in COMMANDS.items() for spec in parser.get_default("_outputs") or ()]
+# names that say "a file this command writes": such an option not declared with add_output
+# would overwrite without --force (as fit, convert, slices and plot did)
+OUTPUT_NAMES = re.compile(r"--(out|output|.*-out|png|exr|csv|jpg|json-file)$|^output$")
+
+
+@pytest.mark.parametrize("name", sorted(COMMANDS))
+def test_every_option_named_like_an_output_is_declared_one(name):
+    parser = COMMANDS[name]
+    declared = {spec.dest for spec in parser.get_default("_outputs") or ()}
+    for action in parser._actions:
+        names = action.option_strings or [action.dest]
+        if action.nargs != 0 and any(OUTPUT_NAMES.match(n) for n in names):
+            assert action.dest in declared, f"patina {name} {names[0]}: declare it with add_output"
 
 
 def _taken(tmp_path, spec) -> tuple[str, str]:

@@ -62,6 +62,13 @@ def test_the_range_ends_are_allowed_and_big_bounds_read_as_powers_of_two():
     assert integer(0, 2**63 - 1).allowed == "a whole number from 0 to 2^63-1"
 
 
+def test_a_number_above_its_low_end():
+    eta = number(1, 3, above=True)
+    assert eta("1.0001") == 1.0001 and eta("3") == 3
+    with pytest.raises(argparse.ArgumentTypeError, match=r"expected a number above 1, at most 3, got '1'"):
+        eta("1")
+
+
 def test_a_word_or_a_number():
     stops = number_or("auto", -64, 64)
     assert stops("auto") == "auto" and stops("-1.5") == "-1.5"
