@@ -12,7 +12,7 @@ from patina.batch import DEFAULT_MODELS, IN_PROCESS, Settings, parse_steps, run_
 from patina.batch.library import MAX_SIDE, MAX_SPP, check_settings
 from patina.cli.common import UsageError
 from patina.cli.files import add_output
-from patina.cli.render import PREVIEW_SHAPES, add_preview_object_options
+from patina.cli.render import MAX_WORKERS, PREVIEW_SHAPES, add_preview_object_options
 from patina.cli.values import integer
 
 
@@ -106,7 +106,10 @@ def add_batch_command(sub: Any) -> None:
         "(default: a local cluster on this machine)",
     )
     s.add_argument(
-        "--workers", type=integer(1, 1024), default=None, help="worker processes of the local cluster (default: cores)"
+        "--workers",
+        type=integer(1, MAX_WORKERS),
+        default=None,
+        help="worker processes of the local cluster (default: cores)",
     )
     s.add_argument("--quiet", action="store_true", help="errors only")
     s.set_defaults(func=cmd_batch)
