@@ -58,9 +58,9 @@ test-python: setup
 	$(PY) -m pytest -q tests/python
 
 bench: setup
-	$(PATINA) bench --json bench-out.json
+	$(PATINA) bench --json bench-out.json --force  # make bench runs again
 
-# The README's sample MERL file (33 MB, so made here, not kept in git); materials/samples/red-plastic.md.
+# The README's sample MERL file (35 MB, so made here, not kept in git); materials/samples/red-plastic.md.
 samples: setup
 	$(PY) tools/make_samples.py --merl-only
 

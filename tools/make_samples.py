@@ -10,7 +10,7 @@ Bundled (small, in git, each described in materials/samples/*.md; same bytes on 
   carpaint-coated.ptab  the bundled car paint *with* its clear coat (what a gonioreflectometer
                         measures), for `patina fit ... --coat`;
   torus.obj             a torus mesh for `patina preview ... --shape` and `patina.load_mesh`.
-Generated only (not in git: a MERL file is 33 MB, over the repository's 2 MB limit for a file):
+Generated only (not in git: a MERL file is 35 MB (10^6 bytes; 33.4 MiB), over the repository's 2 MB limit for a file):
   red-plastic.binary    the red plastic of materials/red-plastic-iso.md in MERL's layout
                         (90 x 90 x 180 half/difference bins, float64, MERL's channel scales).
 

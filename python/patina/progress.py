@@ -37,6 +37,7 @@ class Progress:
 
     def __init__(self, total: float, description: str, unit: str = "it", enabled: bool = True) -> None:
         terminal = sys.stderr.isatty()
+        self._terminal = terminal
         self._bar = tqdm(
             total=total,
             desc=description,
@@ -61,6 +62,10 @@ class Progress:
         self._bar.write(line, file=sys.stderr)
 
     def close(self) -> None:
+        if not self._terminal and getattr(self._bar, "last_print_n", None) == self._bar.n:
+            # a log already holds the line of this final count: tqdm's closing redraw would
+            # print it a second time (a terminal redraws it in place)
+            self._bar.leave = False
         self._bar.close()
 
     def __enter__(self) -> Progress:

@@ -24,6 +24,7 @@ from patina.bench.cache import bench_cache
 from patina.bench.fit import bench_fit
 from patina.bench.kernels import bench_brdf, bench_math
 from patina.bench.lights import bench_lights
+from patina.bench.mitsuba_log import gathered_mitsuba_warnings
 from patina.bench.profile import bench_profile
 from patina.bench.records import Record
 from patina.bench.render import bench_render
@@ -61,11 +62,17 @@ def _group_line(name: str, count: int, seconds: float, done: int, total: int, st
 
 
 def run_bench(
-    only: str | None = None, json_path: str | None = None, repeat: int = 7, quick: bool = False, progress: bool = True
+    only: str | None = None,
+    json_path: str | None = None,
+    repeat: int = 7,
+    quick: bool = False,
+    progress: bool = True,
+    verbose: bool = False,
 ) -> int:
     """Runs the groups (all, or `only`), prints the table, writes `json_path`. progress: a bar on
     stderr (a line every few seconds when it is not a terminal) and a line per finished group,
-    since the whole run takes minutes."""
+    since the whole run takes minutes. Mitsuba's warnings: one line at the end, or each once
+    with `verbose` (bench/mitsuba_log.py)."""
     if only is not None and only not in GROUPS:
         print(f"patina bench: unknown group '{only}' (known: {', '.join(GROUPS)})", file=sys.stderr)
         return 2
@@ -81,7 +88,7 @@ def run_bench(
     steps = [("math", bench_math), ("brdf", bench_brdf)] if only == "brdf" else [(g, GROUPS[g]) for g in groups]
     records: list[Record] = []
     start = time.perf_counter()
-    with Progress(len(steps), "bench", unit="group", enabled=progress) as bar:
+    with gathered_mitsuba_warnings(verbose), Progress(len(steps), "bench", unit="group", enabled=progress) as bar:
         for done, (name, group) in enumerate(steps):
             bar.update(done, postfix=f"running {name}")
             t0 = time.perf_counter()

@@ -29,10 +29,12 @@ import sys
 
 from patina.cli.batch import add_batch_command
 from patina.cli.bench import add_bench_command
-from patina.cli.common import HelpFormat, UsageError
+from patina.cli.common import UsageError, brief_warnings
+from patina.cli.files import check_files
 from patina.cli.fit import add_fit_command
 from patina.cli.lighting import add_lighting_commands
 from patina.cli.luminaire import add_luminaire_commands
+from patina.cli.parser import PatinaParser
 from patina.cli.plot import add_plot_command
 from patina.cli.render import add_render_commands
 from patina.cli.table import add_table_commands
@@ -41,7 +43,8 @@ from patina.native import _core
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="patina", description="Measured-material appearance workbench.")
+    # every subcommand's parser is a PatinaParser too (docs/cli.md: the rules every command follows)
+    p = PatinaParser(prog="patina", description="Measured-material appearance workbench.")
     p.add_argument("--version", action="store_true", help="print the version and exit")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
     add_table_commands(sub)
@@ -52,17 +55,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_luminaire_commands(sub)
     add_batch_command(sub)
     add_lighting_commands(sub)
-    _help_shows_defaults(p)
     return p
-
-
-def _help_shows_defaults(parser: argparse.ArgumentParser) -> None:
-    """Every subcommand (and theirs, as `luminaire info`) prints its defaults in --help."""
-    for action in parser._actions:
-        if isinstance(action, argparse._SubParsersAction):
-            for child in action.choices.values():
-                child.formatter_class = HelpFormat
-                _help_shows_defaults(child)
 
 
 def _closed_pipe() -> int:
@@ -90,7 +83,12 @@ def main(argv: list[str] | None = None) -> int:
 
 def _run(argv: list[str] | None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as e:  # a bad command line (its one line is printed): the status, as any error's
+        if e.code in (0, None):
+            raise  # --help
+        return int(e.code)
     if args.version:
         print(f"patina {_core.__version__}")
         return 0
@@ -98,11 +96,13 @@ def _run(argv: list[str] | None) -> int:
         parser.print_help()
         return 2
     try:
-        if getattr(args, "quiet", False):
-            # --quiet: nothing but errors (stderr); the commands turn their progress off themselves
-            with open(os.devnull, "w") as devnull, contextlib.redirect_stdout(devnull):
-                return int(args.func(args) or 0)
-        return int(args.func(args) or 0)
+        check_files(args)  # outputs and the files options name, before the command's work
+        with brief_warnings():
+            if getattr(args, "quiet", False):
+                # --quiet: nothing but errors (stderr); the commands turn their progress off themselves
+                with open(os.devnull, "w") as devnull, contextlib.redirect_stdout(devnull):
+                    return int(args.func(args) or 0)
+            return int(args.func(args) or 0)
     except BrokenPipeError:
         raise  # an OSError, but not a failure: main() handles it
     except UsageError as e:

@@ -9,8 +9,11 @@ import sys
 from typing import Any
 
 from patina.batch import DEFAULT_MODELS, IN_PROCESS, Settings, parse_steps, run_batch
-from patina.batch.library import check_settings
+from patina.batch.library import MAX_SIDE, MAX_SPP, check_settings
 from patina.cli.common import UsageError
+from patina.cli.files import add_output
+from patina.cli.render import MAX_WORKERS, PREVIEW_SHAPES, add_preview_object_options
+from patina.cli.values import integer
 
 
 def cmd_batch(args: argparse.Namespace) -> int:
@@ -24,7 +27,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
             width=args.width,
             height=args.height,
             spp=args.spp,
-            shape=args.shape if args.shape in ("ball", "sphere", "panel") else os.path.abspath(args.shape),
+            shape=args.shape if args.shape in PREVIEW_SHAPES else os.path.abspath(args.shape),
             env=os.path.abspath(args.env) if args.env else "",
             lobes=args.lobes,
         )
@@ -66,7 +69,15 @@ def add_batch_command(sub: Any) -> None:
         "Exit 0 when at least one table was processed, 1 when none could be, 2 for bad options.",
     )
     s.add_argument("library", metavar="LIBRARY_DIR", help="the folder of tables (read one level deep)")
-    s.add_argument("--out", required=True, metavar="OUT_DIR", help="the folder for the reports (made if missing)")
+    add_output(
+        s,
+        "--out",
+        required=True,
+        metavar="OUT_DIR",
+        folder=("index.html", "summary.json", "summary.csv", "materials"),
+        updates="summary.json",
+        help="the folder for the reports (made if missing; an earlier run's is updated, its unchanged work kept)",
+    )
     s.add_argument(
         "--steps", default="validate,fit,preview,report", help="comma-separated, of validate, fit, preview, report"
     )
@@ -78,13 +89,14 @@ def add_batch_command(sub: Any) -> None:
         help=f"the models compared, MODEL or MODEL:LOBES as patina fit --compare (default: {' '.join(DEFAULT_MODELS)})",
     )
     s.add_argument("--loss", default="l2cos", choices=("l2cos", "log"), help="the fitting loss (as patina fit)")
-    s.add_argument("--starts", type=int, default=2, help="local starts a model (as patina fit)")
-    s.add_argument("--seed", type=int, default=0, help="the seed of the fits and the preview renders")
-    s.add_argument("--width", type=int, default=160, help="each preview image's width (two side by side)")
-    s.add_argument("--height", type=int, default=120, help="each preview image's height")
-    s.add_argument("--spp", type=int, default=16, help="samples a pixel of the previews")
-    s.add_argument("--shape", default="ball", help="the preview object: ball, sphere, panel or a mesh file")
-    s.add_argument("--env", default=None, metavar="MAP", help="the previews' environment map (default: the studio)")
+    s.add_argument("--starts", type=integer(1, 64), default=2, help="local starts a model (as patina fit)")
+    s.add_argument("--seed", type=integer(0, 2**63 - 1), default=0, help="the seed of the fits and the preview renders")
+    s.add_argument(
+        "--width", type=integer(1, MAX_SIDE), default=160, help="each preview image's width (two side by side)"
+    )
+    s.add_argument("--height", type=integer(1, MAX_SIDE), default=120, help="each preview image's height")
+    s.add_argument("--spp", type=integer(1, MAX_SPP), default=16, help="samples a pixel of the previews")
+    add_preview_object_options(s)  # the preview object and its environment
     s.add_argument("--lobes", action="store_true", help="the 3-D lobe view in each report (slower)")
     s.add_argument(
         "--scheduler",
@@ -93,6 +105,11 @@ def add_batch_command(sub: Any) -> None:
         help=f"a running Dask scheduler (tcp://host:8786), or {IN_PROCESS} for no Dask "
         "(default: a local cluster on this machine)",
     )
-    s.add_argument("--workers", type=int, default=None, help="worker processes of the local cluster (default: cores)")
+    s.add_argument(
+        "--workers",
+        type=integer(1, MAX_WORKERS),
+        default=None,
+        help="worker processes of the local cluster (default: cores)",
+    )
     s.add_argument("--quiet", action="store_true", help="errors only")
     s.set_defaults(func=cmd_batch)

@@ -6,6 +6,8 @@ import argparse
 from typing import Any
 
 from patina.cli.common import UsageError, print_json
+from patina.cli.files import add_output
+from patina.cli.values import integer, number
 from patina.fitting import FitResult, compare, fit, parse_accept, recommended, write_fit, write_ranking
 from patina.fitting.verdict import LABELS, Check
 from patina.table import load_brdf
@@ -71,13 +73,6 @@ def _print_ranking(path: str, loss: str, results: list[FitResult]) -> None:
 
 
 def cmd_fit(args: argparse.Namespace) -> int:
-
-    if args.starts < 1:
-        raise UsageError("fit: --starts must be at least 1")
-    if not 1 <= args.lobes <= 3:
-        raise UsageError(f"fit: --lobes {args.lobes}: 1, 2 or 3 specular lobes")
-    if not 0 <= args.seed < 2**63:  # numpy's and nlopt's seeds are unsigned
-        raise UsageError(f"fit: --seed {args.seed} must be in 0 .. 2^63 - 1")
     options = _model_options(args)  # checked before the table is read
     brdf = load_brdf(args.file)
     if args.compare:
@@ -124,9 +119,15 @@ def add_fit_command(sub: Any) -> None:
         help="a specular lobe over a Lambert diffuse: ggx, beckmann, blinnphong, ward, ashikhmin, ward-aniso, "
         "ashikhmin-aniso or lafortune, each written with or without '+lambert' (ggx means ggx+lambert)",
     )
-    s.add_argument("--lobes", type=int, default=1, help="specular lobes, 1 to 3")
+    s.add_argument("--lobes", type=integer(1, 3), default=1, help="specular lobes, 1 to 3")
     s.add_argument("--coat", action="store_true", help="add a clear coat (roughness; index of refraction held)")
-    s.add_argument("--coat-eta", type=float, default=None, metavar="ETA", help="the coat's held index (default 1.5)")
+    s.add_argument(
+        "--coat-eta",
+        type=number(1, 3, above=True),  # 1 is no coat
+        default=None,
+        metavar="ETA",
+        help="the coat's held index, above 1 (default 1.5)",
+    )
     s.add_argument("--fit-coat-eta", action="store_true", help="fit the coat's index too (weakly identified)")
     s.add_argument(
         "--anisotropic", action="store_true", help="lafortune: Cx and Cy apart (default: on anisotropic tables)"
@@ -148,15 +149,23 @@ def add_fit_command(sub: Any) -> None:
     )
     s.add_argument(
         "--starts",
-        type=int,
+        type=integer(1, 64),
         default=4,
         help="local optimisations (BOBYQA): from the global stage's best, the rest random",
     )
-    s.add_argument("--seed", type=int, default=0, help="seed of the random subsamples and starts (same seed, same fit)")
+    # numpy's and nlopt's seeds are unsigned
     s.add_argument(
+        "--seed",
+        type=integer(0, 2**63 - 1),
+        default=0,
+        help="seed of the random subsamples and starts (same seed, same fit)",
+    )
+    add_output(
+        s,
         "--out",
         default=None,
         metavar="FIT_JSON",
+        extensions=(".json",),
         help="write the result as JSON (with --compare: the best fit, and every model under 'ranking')",
     )
     s.add_argument(

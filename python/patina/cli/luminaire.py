@@ -7,6 +7,7 @@ import json
 import sys
 from typing import Any
 
+from patina.cli.files import add_output
 from patina.photometry.luminaire import load_luminaire
 from patina.plot.luminaire import plot_luminaire
 
@@ -75,5 +76,5 @@ def add_luminaire_commands(sub: Any) -> None:
     p.set_defaults(func=cmd_luminaire_info)
     p = lsub.add_parser("plot", help="polar intensity plot (PNG)")
     p.add_argument("file", metavar="FILE")
-    p.add_argument("--out", required=True, metavar="PNG")
+    add_output(p, "--out", required=True, metavar="PNG", extensions=(".png",), help="the PNG to write")
     p.set_defaults(func=cmd_luminaire_plot)

@@ -8,6 +8,7 @@ import sys
 from typing import Any
 
 from patina.cli.common import UsageError
+from patina.cli.files import add_output
 from patina.plot.fits import read_all_fits
 from patina.plot.lobes import LobeOptions
 from patina.plot.report import REPORT_STEPS, write_report
@@ -52,7 +53,14 @@ def add_plot_command(sub: Any) -> None:
         help="fits to overlay and compare: fit.json files (patina fit --out) and/or rankings (patina fit "
         "--compare --out, every model of it; or the JSON list patina fit --compare --json prints) (default: none)",
     )
-    s.add_argument("--out", required=True, metavar="DIR", help="directory for index.html and its figures")
+    add_output(
+        s,
+        "--out",
+        required=True,
+        metavar="DIR",
+        folder=("index.html",),
+        help="directory for index.html and its figures",
+    )
     s.add_argument("--no-3d", action="store_true", help="leave out the 3-D lobe view (pyvista)")
     s.add_argument("--3d-log", dest="lobe_log", action="store_true", help="3-D lobes on a log radius (3 decades)")
     s.add_argument("--3d-no-cos", dest="lobe_no_cos", action="store_true", help="3-D lobes of f, not f cos(theta_o)")

@@ -14,7 +14,6 @@ import contextlib
 import json
 import math
 import os
-import re
 import signal
 import sys
 import threading
@@ -24,13 +23,15 @@ from typing import Any
 
 import numpy as np
 
-from patina.atomic import check_writable
 from patina.batch.render_tiles import render_on_dask
 from patina.batch.scheduling import IN_PROCESS, check_scheduler, connect, dashboard, dask_available
 from patina.bundled import studio_environment
-from patina.cli.common import HelpFormat, add_simd_option
+from patina.cli.common import add_simd_option
+from patina.cli.files import add_input, add_output, check_outputs
+from patina.cli.values import integer, number, number_or, numbers
 from patina.colour_constants import luminance
 from patina.errors import FormatError
+from patina.geometry.mesh import load_mesh
 from patina.lighting.sensors import parse_sensor
 from patina.render import illuminance as il
 from patina.render.images import read_image
@@ -38,7 +39,22 @@ from patina.render.outputs import auto_exposure, metadata, write_outputs
 from patina.render.prepare import PreparedScene, check_render_memory
 from patina.render.run import RenderAborted, render
 from patina.scene.preview import preview_scene_dict
-from patina.scene.reading import CACHE_RANGES, INTEGRATORS, check_run_options, load_scene, parse_scene, with_overrides
+from patina.scene.reading import (
+    AA_SAMPLERS,
+    CACHE_INTEGER_KEYS,
+    CACHE_RANGES,
+    INTEGRATORS,
+    MAX_EXPOSURE,
+    MAX_IMAGE_SIDE,
+    MAX_SEED,
+    MAX_SPP,
+    MAX_THREADS,
+    SAMPLERS,
+    check_run_options,
+    load_scene,
+    parse_scene,
+    with_overrides,
+)
 from patina.scene.types import CacheParams, Scene
 from patina.signals import handling
 
@@ -46,20 +62,13 @@ IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg")  # tone-mapped 8-bit sRGB
 PREVIEW_SHAPES = ("ball", "sphere", "panel")
 # preview under another map: auto exposure when its level is this many stops from the studio's
 AUTO_EXPOSURE_STOPS = 2.0
+# illuminance: grid coordinates and height, metres either way; float32 keeps 8 mm steps out here
+MAX_COORDINATE_M = 1e5
+MAX_GRID_SIDE = 4096  # sensors along a side, as render/illuminance.py's parse_grid allows
+MAX_WORKERS = 1024
 
 
 # ---------------------------------------------------------------- options
-
-
-def _exposure(value: str) -> str:
-    if value != "auto":
-        try:
-            stops = float(value)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected stops (a number) or auto, got '{value}'") from None
-        if not math.isfinite(stops):
-            raise argparse.ArgumentTypeError(f"expected a finite number of stops, got '{value}'")
-    return value
 
 
 def _command_line(option: str, problem: str) -> FormatError:
@@ -83,18 +92,6 @@ def _outputs(args: argparse.Namespace) -> tuple[str | None, str | None]:
             raise _command_line("--png", "--out is already the tone-mapped image; --exr FILE adds the float EXR")
         return args.exr, args.out
     raise _command_line("--out", f"expected a .exr, .png or .jpg file, got '{args.out}'")
-
-
-def check_outputs(paths: list[str | None], force: bool) -> None:
-    """Before any work: every output can be written, and none exists unless --force."""
-    given = [p for p in paths if p]
-    for path in given:
-        if not force and os.path.lexists(path):
-            raise FileExistsError(f"{path}: exists; pass --force to overwrite it")
-        check_writable(path)
-    seen = {os.path.abspath(p) for p in given}
-    if len(seen) != len(given):
-        raise _command_line("--out", f"two outputs are the same file: {', '.join(given)}")
 
 
 def _image_size(scene: Scene, width: int | None, height: int | None) -> tuple[int | None, int | None]:
@@ -142,8 +139,6 @@ def _check_cluster_options(args: argparse.Namespace) -> None:
     """--scheduler and --workers, before the scene is read; the address is tried later (connect)."""
     check_scheduler(args.scheduler)
     if args.workers is not None:
-        if not 1 <= args.workers <= 1024:
-            raise _command_line("--workers", f"{args.workers} is not in 1 .. 1024")
         if args.scheduler is not None:
             raise _command_line("--workers", "sets the size of the local cluster; a --scheduler has its own workers")
     if _on_dask(args):
@@ -231,7 +226,6 @@ def preview_exposure(env: str | None) -> str:
 
 def _render_and_write(scene: Any, args: argparse.Namespace, exposure_choice: str) -> int:
     exr, image = _outputs(args)
-    check_outputs([exr, image], args.force)
     check_render_memory(scene)
     with _dask_client(args) as client:
         prepared = PreparedScene(scene)
@@ -288,9 +282,16 @@ def _render_and_write(scene: Any, args: argparse.Namespace, exposure_choice: str
     return 0
 
 
+def _check_outputs(args: argparse.Namespace) -> None:
+    """The outputs --out implies (the PNG beside an EXR), before the scene is read."""
+    exr, image = _outputs(args)
+    named = [(exr, "--exr" if args.exr else "--out"), (image, "--png" if args.png else "--out")]
+    check_outputs([(path, option) for path, option in named if path], args.force)
+
+
 def cmd_render(args: argparse.Namespace) -> int:
     with terminate_as_interrupt():
-        _outputs(args)  # option errors before the scene is read
+        _check_outputs(args)  # option errors before the scene is read
         _check_cluster_options(args)
         scene = _with_options(load_scene(args.scene), args)
         return _render_and_write(scene, args, args.exposure or "0")
@@ -298,21 +299,37 @@ def cmd_render(args: argparse.Namespace) -> int:
 
 def cmd_preview(args: argparse.Namespace) -> int:
     with terminate_as_interrupt():
-        _outputs(args)
+        _check_outputs(args)
         _check_cluster_options(args)
-        for what, path in (("the material to preview", args.material), ("the --env map", args.env)):
-            if path is not None and not os.path.isfile(path):
-                raise FormatError(path, "", f"no such file ({what})")
-        if args.shape not in PREVIEW_SHAPES and not os.path.isfile(args.shape):
-            raise _command_line(
-                "--shape",
-                f"'{args.shape}' is not one of {', '.join(PREVIEW_SHAPES)} nor a mesh file (.obj, .ply, .stl)",
-            )
+        if not os.path.isfile(args.material):
+            raise FormatError(args.material, "MATERIAL", "no such file")
         exposure = args.exposure or preview_exposure(args.env)
         env = args.env or studio_environment()
         obj = preview_scene_dict(args.material, env, args.shape, args.coat)
-        scene = parse_scene(obj, os.path.join(os.getcwd(), "(preview)"))
-        return _render_and_write(_with_options(scene, args), args, exposure)
+        with _named_as_given(args):
+            scene = parse_scene(obj, os.path.join(os.getcwd(), "preview.json"))
+            return _render_and_write(_with_options(scene, args), args, exposure)
+
+
+@contextlib.contextmanager
+def _named_as_given(args: argparse.Namespace) -> Iterator[None]:
+    """A FormatError about a file of the preview (its scene is made up, its paths absolute) is
+    told under the path the user gave and the option that gave it."""
+    given = {"materials.material": ("MATERIAL", args.material), "environment": ("--env", args.env)}
+    if args.shape not in PREVIEW_SHAPES:
+        given["shapes[0]"] = ("--shape", args.shape)
+    try:
+        yield
+    except FormatError as e:
+        for key, (option, path) in given.items():
+            if not path:
+                continue
+            problem = e.problem.replace(os.path.abspath(path), path)
+            if e.where.startswith(key):  # the scene's key that names the file
+                raise FormatError(path, option, problem) from None
+            if e.path == os.path.abspath(path):  # the file's own reader, at a place inside it
+                raise FormatError(path, f"{option}, {e.where}" if e.where else option, problem) from None
+        raise
 
 
 def cmd_illuminance(args: argparse.Namespace) -> int:
@@ -321,11 +338,6 @@ def cmd_illuminance(args: argparse.Namespace) -> int:
         if args.sensor is not None:
             parse_sensor(args.sensor)  # before any work
         check_run_options(threads=args.threads)
-        if not 1 <= args.samples <= il.MAX_SAMPLES:
-            raise _command_line("--samples", f"expected 1 to {il.MAX_SAMPLES}, got {args.samples}")
-        if args.png and not args.png.lower().endswith(".png"):
-            raise _command_line("--png", f"expected a .png file, got '{args.png}'")
-        check_outputs([args.csv, args.json_out, args.png], args.force)
         scene = load_scene(args.scene)
         report = il.compute(
             scene,
@@ -352,56 +364,64 @@ def cmd_illuminance(args: argparse.Namespace) -> int:
 
 
 def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help: str) -> None:
-    s.add_argument(
+    add_output(
+        s,
         "--out",
         default=default_out,
         metavar="FILE",
         help="X.exr: the float EXR with AOVs (and a PNG beside it); X.png or X.jpg: only the tone-mapped image",
     )
-    s.add_argument(
+    add_output(
+        s,
         "--png",
         default=None,
         metavar="FILE",
+        skip=("none",),
         help="with an EXR --out: the tone-mapped image (.png or .jpg; default: beside the EXR; none: skip)",
     )
-    s.add_argument("--exr", default=None, metavar="FILE", help="with a .png/.jpg --out: also write the float EXR here")
-    s.add_argument("--force", action="store_true", help="overwrite existing outputs (refused without it)")
-    s.add_argument("--exposure", type=_exposure, default=None, help=exposure_help)
+    add_output(s, "--exr", default=None, metavar="FILE", help="with a .png/.jpg --out: also write the float EXR here")
+    s.add_argument("--exposure", type=number_or("auto", -MAX_EXPOSURE, MAX_EXPOSURE), default=None, help=exposure_help)
     s.add_argument("--tonemap", choices=("filmic", "clamp"), default="filmic", help="tone curve of the PNG/JPEG")
-    s.add_argument("--spp", type=int, default=None, help="samples per pixel (default: the scene's)")
+    s.add_argument("--spp", type=integer(1, MAX_SPP), default=None, help="samples per pixel (default: the scene's)")
     s.add_argument(
         "--integrator",
         default=None,
+        choices=INTEGRATORS,
         metavar="|".join(INTEGRATORS),
         help="the integrator (default: the scene's); cache and cache-guided: docs/radiance-cache.md",
     )
     defaults = CacheParams()
-    for key, kind, what in (
-        ("resolution", int, "texels per side of a cache point's hemisphere"),
-        ("error", float, "the cache's reuse criterion bound (larger: fewer cache points, more reuse)"),
-        ("guide", float, "cache-guided: probability of drawing the first bounce from the cache points"),
-        ("block", int, "pixels per side of the blocks whose close points share one reconstruction"),
-        ("hit_paths", int, "cache: paths from a cache point's texel hit on a glossy surface"),
-        ("train_passes", int, "cache-guided: training passes of the trained guide (0: cache points guide)"),
-        ("train_spp", int, "cache-guided: samples a pixel in each training pass"),
-        ("train_guide", float, "cache-guided: probability of drawing a bounce from the trained guide"),
-        ("train_bounces", int, "cache-guided: the bounces of a path the trained guide draws (1: the first hit's)"),
+    for key, what in (
+        ("resolution", "texels per side of a cache point's hemisphere"),
+        ("error", "the cache's reuse criterion bound (larger: fewer cache points, more reuse)"),
+        ("guide", "cache-guided: probability of drawing the first bounce from the cache points"),
+        ("block", "pixels per side of the blocks whose close points share one reconstruction"),
+        ("hit_paths", "cache: paths from a cache point's texel hit on a glossy surface"),
+        ("train_passes", "cache-guided: training passes of the trained guide (0: cache points guide)"),
+        ("train_spp", "cache-guided: samples a pixel in each training pass"),
+        ("train_guide", "cache-guided: probability of drawing a bounce from the trained guide"),
+        ("train_bounces", "cache-guided: the bounces of a path the trained guide draws (1: the first hit's)"),
     ):
         lo, hi = CACHE_RANGES[key]
+        whole = key in CACHE_INTEGER_KEYS
         s.add_argument(
             f"--cache-{key.replace('_', '-')}",
-            type=kind,
+            type=integer(int(lo), int(hi)) if whole else number(lo, hi),
             default=None,
-            metavar="R" if kind is int else "X",
+            metavar="R" if whole else "X",
             help=f"{what}, {lo:g} to {hi:g} (default: the scene's render.cache.{key}, {getattr(defaults, key):g})",
         )
-    s.add_argument("--seed", type=int, default=None, help="random seed, 0 to 2^63-1 (default: the scene's)")
+    s.add_argument("--seed", type=integer(0, MAX_SEED), default=None, help="random seed (default: the scene's)")
     s.add_argument(
-        "--aa", default=None, metavar="uniform|adaptive", help="the pixel sampler (default: the scene's render.aa)"
+        "--aa",
+        default=None,
+        choices=AA_SAMPLERS,
+        metavar="|".join(AA_SAMPLERS),
+        help="the pixel sampler (default: the scene's render.aa)",
     )
     s.add_argument(
         "--aa-threshold",
-        type=float,
+        type=number(0, 1),
         default=None,
         metavar="T",
         help="the adaptive sampler's contrast threshold in [0, 1] (default: the scene's, 0.15)",
@@ -409,15 +429,19 @@ def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help:
     s.add_argument(
         "--sampler",
         default=None,
-        metavar="sobol|independent",
+        choices=SAMPLERS,
+        metavar="|".join(SAMPLERS),
         help="the paths' random numbers: Owen-scrambled Sobol or independent (default: the scene's render.sampler)",
     )
     s.add_argument(
-        "--width", type=int, default=None, help="image width in pixels (default: the scene's; alone: keeps the aspect)"
+        "--width",
+        type=integer(1, MAX_IMAGE_SIDE),
+        default=None,
+        help="image width in pixels (default: the scene's; alone: keeps the aspect)",
     )
     s.add_argument(
         "--height",
-        type=int,
+        type=integer(1, MAX_IMAGE_SIDE),
         default=None,
         help="image height in pixels (default: the scene's; alone: keeps the aspect)",
     )
@@ -427,7 +451,7 @@ def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help:
         help="the illuminance AOV also counts light reflected by the scene (default: the scene's "
         "render.indirect_illuminance; slower: one more path per sample)",
     )
-    s.add_argument("--threads", type=int, default=0, help="worker threads (default: 0, all cores)")
+    s.add_argument("--threads", type=integer(0, MAX_THREADS), default=0, help="worker threads (0: all cores)")
     s.add_argument(
         "--scheduler",
         default=None,
@@ -436,40 +460,46 @@ def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help:
         f"for bit ({IN_PROCESS}: on this machine's threads, as without it)",
     )
     s.add_argument(
-        "--workers", type=int, default=None, metavar="N", help="render the tiles on a local Dask cluster of N processes"
+        "--workers",
+        type=integer(1, MAX_WORKERS),
+        default=None,
+        metavar="N",
+        help="render the tiles on a local Dask cluster of N processes",
     )
     add_simd_option(s)
     s.add_argument("--quiet", action="store_true", help="no progress display")
 
 
-class _NegativeValues:
-    """argparse takes '-3.5,-15,...' after an option for another option (its own test for
-    negative numbers knows no commas); on a parser whose options all start with a letter, a
-    word starting '-' then a digit or '.' is a value, so `--grid -3.5,...` works as written."""
-
-    pattern = re.compile(r"^-\.?\d")
-
-    @classmethod
-    def allow(cls, parser: argparse.ArgumentParser) -> None:
-        parser._negative_number_matcher = cls.pattern  # type: ignore[attr-defined]
+def add_preview_object_options(s: argparse.ArgumentParser) -> None:
+    """--env and --shape, of `patina preview` and `patina batch`: each file opened before any work."""
+    add_input(
+        s,
+        "--env",
+        default=None,
+        metavar="MAP",
+        read=read_image,
+        help="lat-long EXR/HDR environment map (default: the bundled studio)",
+    )
+    add_input(
+        s,
+        "--shape",
+        default="ball",
+        read=load_mesh,
+        keywords=PREVIEW_SHAPES,
+        what="mesh file",
+        help=f"one of {', '.join(PREVIEW_SHAPES)}, or a mesh file (.obj, .ply, .stl, .gltf, .glb)",
+    )
 
 
 def add_render_commands(sub: Any) -> None:
-    s = sub.add_parser(
-        "render", help="render a scene file (docs/scene.md) to EXR + PNG, or to a PNG/JPEG", formatter_class=HelpFormat
-    )
+    s = sub.add_parser("render", help="render a scene file (docs/scene.md) to EXR + PNG, or to a PNG/JPEG")
     s.add_argument("scene", metavar="SCENE_JSON", help="a scene file (docs/scene.md)")
     _output_options(s, "render.exr", "exposure of the PNG/JPEG in stops, or auto (default: 0)")
     s.set_defaults(func=cmd_render)
 
-    s = sub.add_parser(
-        "preview", help="render a material (table or fit.json) on a preview object", formatter_class=HelpFormat
-    )
+    s = sub.add_parser("preview", help="render a material (table or fit.json) on a preview object")
     s.add_argument("material", metavar="MATERIAL", help="a BRDF table or a fit.json")
-    s.add_argument("--env", default=None, help="lat-long EXR/HDR environment (default: the bundled studio)")
-    s.add_argument(
-        "--shape", default="ball", help=f"one of {', '.join(PREVIEW_SHAPES)}, or a mesh file (.obj, .ply, .stl)"
-    )
+    add_preview_object_options(s)
     s.add_argument("--coat", action="store_true", help="put a smooth clear coat (eta 1.5) over the material")
     _output_options(
         s,
@@ -482,17 +512,17 @@ def add_render_commands(sub: Any) -> None:
     s = sub.add_parser(
         "illuminance",
         help="illuminance (lux) on a grid of sensors, with uniformity: direct, or with interreflections (--indirect)",
-        formatter_class=HelpFormat,
     )
-    _NegativeValues.allow(s)
     s.add_argument("scene", metavar="SCENE_JSON", help="a scene file (docs/scene.md)")
+    coordinate = number(-MAX_COORDINATE_M, MAX_COORDINATE_M)
     s.add_argument(
         "--grid",
         required=True,
+        type=numbers((coordinate,) * 4 + (integer(1, MAX_GRID_SIDE),) * 2, "X0,Z0,X1,Z1,NX,NZ"),
         metavar="X0,Z0,X1,Z1,NX,NZ",
         help="sensors on a horizontal grid: corners in metres, counts; --grid -3.5,-15,3.5,15,8,31 or --grid=...",
     )
-    s.add_argument("--height", type=float, default=0.0, help="the grid's height y (m)")
+    s.add_argument("--height", type=coordinate, default=0.0, help="the grid's height y (m)")
     s.add_argument("--facing", choices=("up", "down"), default="up", help="the sensors' facing")
     s.add_argument(
         "--sensor",
@@ -502,18 +532,17 @@ def add_render_commands(sub: Any) -> None:
         "semicylindrical:AZ (AZ degrees from +x towards +z; EN 13201-3 cylinders: point, spot and goniometric "
         "luminaires only)",
     )
-    s.add_argument("--samples", type=int, default=256, help="light samples per sensor")
+    s.add_argument("--samples", type=integer(1, il.MAX_SAMPLES), default=256, help="light samples per sensor")
     s.add_argument(
         "--indirect",
         action="store_true",
         help="also count light reflected by the scene (interreflections): as many sensor paths per sensor, "
         "at most the scene's render.max_depth segments each (its path setting, whatever render.integrator says)",
     )
-    s.add_argument("--threads", type=int, default=0, help="worker threads (0: all cores)")
+    s.add_argument("--threads", type=integer(0, MAX_THREADS), default=0, help="worker threads (0: all cores)")
     add_simd_option(s)
     s.add_argument("--json", action="store_true", help="print the report as JSON")
-    s.add_argument("--json-out", default=None, metavar="FILE", help="also write the JSON report")
-    s.add_argument("--csv", default=None, metavar="FILE", help="also write x, y, z, lux rows")
-    s.add_argument("--png", default=None, metavar="FILE", help="a false-colour map")
-    s.add_argument("--force", action="store_true", help="overwrite existing outputs (refused without it)")
+    add_output(s, "--json-out", default=None, metavar="FILE", extensions=(".json",), help="also write the JSON report")
+    add_output(s, "--csv", default=None, metavar="FILE", extensions=(".csv",), help="also write x, y, z, lux rows")
+    add_output(s, "--png", default=None, metavar="FILE", extensions=(".png",), help="a false-colour map")
     s.set_defaults(func=cmd_illuminance)

@@ -8,6 +8,8 @@ from typing import Any
 import numpy as np
 
 from patina.cli.common import UsageError, add_simd_option, channel_labels, print_json
+from patina.cli.files import add_output
+from patina.cli.values import number
 from patina.plot.slices import plot_inplane_slices
 from patina.table import Tolerances, format_report, load_brdf, validate
 from patina.table.formats.lenient import read_reporting_bad_values
@@ -42,8 +44,6 @@ def cmd_info(args: argparse.Namespace) -> int:
 
 def cmd_convert(args: argparse.Namespace) -> int:
 
-    if not args.output.endswith(".ptab"):
-        raise UsageError(f"convert: {args.output}: the output must be a .ptab file")
     brdf = load_brdf(args.input)
     brdf.save(args.output)
     print(
@@ -98,10 +98,6 @@ def cmd_slices(args: argparse.Namespace) -> int:
 
 def cmd_validate(args: argparse.Namespace) -> int:
 
-    if not (np.isfinite(args.spike_factor) and args.spike_factor > 1):
-        raise UsageError(f"validate: --spike-factor {args.spike_factor:g} must be a finite number above 1")
-    if not (np.isfinite(args.albedo_tolerance) and args.albedo_tolerance >= 0):
-        raise UsageError(f"validate: --albedo-tolerance {args.albedo_tolerance:g} must be finite and >= 0")
     # NaN / infinite values are reported (exit 1), not refused as by the other commands
     brdf, bad = read_reporting_bad_values(args.file)
     tolerances = Tolerances(spike_factor=args.spike_factor, albedo_excess=args.albedo_tolerance)
@@ -121,7 +117,7 @@ def add_table_commands(sub: Any) -> None:
 
     s = sub.add_parser("convert", help="convert any supported table to .ptab")
     s.add_argument("input", help="a .ptab, MERL .binary, ASTM E1392 or CSV table")
-    s.add_argument("output", help="the .ptab to write")
+    add_output(s, "output", extensions=(".ptab",), help="the .ptab to write")
     s.set_defaults(func=cmd_convert)
 
     s = sub.add_parser("eval", help="evaluate a table at one direction pair (degrees)")
@@ -130,7 +126,7 @@ def add_table_commands(sub: Any) -> None:
         s.add_argument(
             option,
             nargs=2,
-            type=float,
+            type=number(-360, 360),
             required=True,
             metavar=("THETA", "PHI"),
             help=f"{which} direction, degrees: theta from the normal (0..90), phi the azimuth",
@@ -142,16 +138,21 @@ def add_table_commands(sub: Any) -> None:
     s = sub.add_parser("validate", help="check a table: values, axes, coverage, reciprocity, albedo, spikes")
     s.add_argument("file")
     s.add_argument("--json", action="store_true", help="machine-readable report")
-    s.add_argument("--spike-factor", type=float, default=5.0, help="a spike is this many times off every neighbour")
-    s.add_argument("--albedo-tolerance", type=float, default=0.02, help="albedo may exceed 1 by this much")
+    s.add_argument(
+        "--spike-factor",
+        type=number(1, 1e6, above=True),
+        default=5.0,
+        help="a spike is this many times (above 1) off every neighbour",
+    )
+    s.add_argument("--albedo-tolerance", type=number(0, 10), default=0.02, help="albedo may exceed 1 by this much")
     s.set_defaults(func=cmd_validate)
 
     s = sub.add_parser("slices", help="plot in-plane slices of a table to a PNG")
     s.add_argument("file")
-    s.add_argument("--out", required=True, metavar="PNG", help="the PNG to write")
+    add_output(s, "--out", required=True, metavar="PNG", extensions=(".png",), help="the PNG to write")
     s.add_argument(
         "--incidence",
-        type=float,
+        type=number(0, 90),
         nargs="+",
         default=[0, 20, 40, 60, 75],
         metavar="DEG",

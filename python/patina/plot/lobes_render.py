@@ -16,6 +16,54 @@ import numpy as np
 
 CAMERA = [(1.6, -6.0, 3.0), (0.15, 0.0, 0.5), (0.0, 0.0, 1.0)]  # from -y: the mirror side (-x) is on the left
 CMAP = "viridis"
+WI_ARROW = (1.0, 1.6)  # the incidence arrow runs along wi from 1.6 (its tail) to 1.0 (its head)
+# Where the axis labels may go, in order of preference: the first place clear of the wi arrow and
+# of the labels placed before is taken (at theta_i = 0 the wi arrow covers the normal and its label).
+LABEL_PLACES = {
+    "n (z)": [(0.0, 0.0, 1.3), (-0.3, 0.0, 1.15), (0.3, 0.0, 1.15), (-0.35, 0.0, 0.75), (0.35, 0.0, 0.75)],
+    "x": [(1.2, 0.0, 0.0), (1.25, 0.0, -0.2), (0.95, 0.0, -0.2)],
+    "y": [(0.0, 1.2, 0.0), (0.15, 1.2, -0.15)],
+}
+LABEL_CLEARANCE = 0.05  # on the screen (see screen_position): about a 12-point label's size at the panel's
+
+
+def screen_position(points: np.ndarray) -> np.ndarray:
+    """(n, 3) scene points -> (n, 2) positions on the panels' camera's screen (perspective:
+    offsets from the view axis divided by depth)."""
+    eye, focus, up = (np.asarray(v, np.float64) for v in CAMERA)
+    forward = (focus - eye) / np.linalg.norm(focus - eye)
+    right = np.cross(forward, up)
+    right /= np.linalg.norm(right)
+    rel = np.atleast_2d(np.asarray(points, np.float64)) - eye
+    return np.stack([rel @ right, rel @ np.cross(right, forward)], axis=-1) / (rel @ forward)[:, None]
+
+
+def distance_to_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    t = np.clip(np.dot(p - a, b - a) / max(float(np.dot(b - a, b - a)), 1e-12), 0.0, 1.0)
+    return float(np.linalg.norm(p - (a + t * (b - a))))
+
+
+def label_anchors(wi: np.ndarray) -> dict[str, np.ndarray]:
+    """Where each label of a panel is drawn: "wi" beyond the arrow's tail, "mirror" beyond the
+    mirror direction's line, the axes' labels each at its first place clear of those, of each
+    other and of the wi arrow on the screen."""
+    labels = {"wi": 1.7 * wi}
+    if wi[0] > 1e-6:
+        labels["mirror"] = 1.25 * np.array([-wi[0], -wi[1], wi[2]])
+    head, tail = screen_position(np.array([WI_ARROW[0] * wi, WI_ARROW[1] * wi]))
+
+    def clear(place: np.ndarray) -> bool:
+        at = screen_position(place)[0]
+        others = screen_position(np.array(list(labels.values())))
+        return bool(
+            np.linalg.norm(others - at, axis=1).min() > LABEL_CLEARANCE
+            and distance_to_segment(at, head, tail) > LABEL_CLEARANCE / 2
+        )
+
+    for name, places in LABEL_PLACES.items():
+        candidates = [np.array(p) for p in places]
+        labels[name] = next((p for p in candidates if clear(p)), candidates[0])
+    return labels
 
 
 def _grid(pv: Any, points: np.ndarray, values: np.ndarray | None = None) -> Any:
@@ -56,14 +104,14 @@ def _panel(pv: Any, plotter: Any, scene: Any, meta: dict[str, Any], panel: dict[
     )
     plotter.add_mesh(pv.Line((-1.15, 0, 0), (1.15, 0, 0)), color="grey", line_width=1)
     plotter.add_mesh(pv.Line((0, -1.15, 0), (0, 1.15, 0)), color="grey", line_width=1)
+    head, tail = WI_ARROW
     plotter.add_mesh(
-        pv.Arrow(start=1.6 * wi, direction=-wi, scale=0.6, tip_radius=0.06, shaft_radius=0.02), color="darkorange"
+        pv.Arrow(start=tail * wi, direction=-wi, scale=tail - head, tip_radius=0.06, shaft_radius=0.02),
+        color="darkorange",
     )
-    labels = {"n (z)": (0, 0, 1.3), "x": (1.2, 0, 0), "y": (0, 1.2, 0), "wi": 1.7 * wi}
-    if wi[0] > 1e-6:
-        mirror = np.array([-wi[0], -wi[1], wi[2]])
-        plotter.add_mesh(pv.Line((0, 0, 0), 1.2 * mirror), color="darkorange", line_width=1)
-        labels["mirror"] = 1.25 * mirror
+    labels = label_anchors(wi)
+    if "mirror" in labels:
+        plotter.add_mesh(pv.Line((0, 0, 0), 1.2 / 1.25 * labels["mirror"]), color="darkorange", line_width=1)
     plotter.add_point_labels(
         np.array(list(labels.values()), dtype=np.float64),
         list(labels),

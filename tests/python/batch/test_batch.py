@@ -178,7 +178,7 @@ def test_without_dask_it_runs_here_and_says_so_once(library, tmp_path, monkeypat
         (["--steps", "validate,paint"], "unknown step 'paint'"),
         (["--steps", "preview"], "needs the fit step"),
         (["--models", "glossy"], "unknown model 'glossy'"),
-        (["--spp", "0"], "--spp: 0"),
+        (["--spp", "0"], "(--spp): expected a whole number from 1 to 65536, got '0'"),
         (["--scheduler", "nowhere"], "expected an address like tcp://host:8786"),
         (["--scheduler", "tcp://127.0.0.1:99999"], "the port"),
     ],

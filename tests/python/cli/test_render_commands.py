@@ -287,3 +287,36 @@ def test_progress_is_shown_when_not_a_terminal_and_not_with_quiet(tmp_path, caps
     assert "\r" not in err and err.endswith("\n")
     assert main(["render", BALL, "--out", str(tmp_path / "b.png"), *opts, "--quiet"]) == 0
     assert capsys.readouterr().err == ""
+
+
+@pytest.mark.parametrize(
+    ("material", "content", "where"),
+    [
+        ("out.png", b"\x89PNG\r\n\x1a\n", "out.png (MATERIAL): 'out.png' is not one of the file kinds"),
+        ("broken.json", b'{"model": 3}', "broken.json (MATERIAL, model): "),
+        ("bad.astm", b"x", "bad.astm (MATERIAL, VARS): "),
+    ],
+)
+@pytest.mark.parametrize("coat", [[], ["--coat"]])
+def test_preview_names_the_material_as_given_not_a_made_up_scene(
+    material, content, where, coat, tmp_path, monkeypatch, capsys
+):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / material).write_bytes(content)
+    assert main(["preview", material, *coat, "--out", "p.exr", *SMALL]) == 2
+    err = capsys.readouterr().err
+    assert err.strip().splitlines() == [err.strip()] and err.startswith(f"patina: error: {where}"), err
+    assert "(preview)" not in err and str(tmp_path) not in err
+    assert sorted(os.listdir(tmp_path)) == [material]
+
+
+@pytest.mark.parametrize(
+    "option", [["--height", "1e300"], ["--grid", "0,0,1e300,1,2,2"], ["--grid", "-3.5,-15,3.5,15,8,1_0"]]
+)
+def test_illuminance_coordinates_are_range_checked_before_the_scene_is_read(option, capsys):
+    scene = os.path.join(ROOT, "materials", "scenes", "street-luminaire.json")
+    grid = [] if option[0] == "--grid" else ["--grid", "0,0,1,1,2,2"]
+    assert main(["illuminance", scene, *grid, *option]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"patina illuminance: error: command line ({option[0]}): ") and "\n" not in err, err
+    assert "from -100000 to 100000" in err or "from 1 to 4096" in err
