@@ -8,6 +8,7 @@ import argparse
 import os
 from typing import Any
 
+from patina.cli.files import add_output
 from patina.cli.render import deferred_interrupts, terminate_as_interrupt
 from patina.errors import FormatError
 from patina.lighting.calculation import run
@@ -19,15 +20,9 @@ OUTPUTS = ("index.html", "result.json", "report.pdf")
 
 def cmd_lighting_report(args: argparse.Namespace) -> int:
     with terminate_as_interrupt():
-        if args.standard not in STANDARDS:
-            raise FormatError(
-                "command line", "--standard", f"expected one of {', '.join(STANDARDS)}, got '{args.standard}'"
-            )
+        # (the standard's name and the output folder were checked by the parser: docs/cli.md)
         if os.path.exists(args.out) and not os.path.isdir(args.out):
             raise FormatError("command line", "--out", f"'{args.out}' exists and is not a folder")
-        existing = [name for name in OUTPUTS if os.path.exists(os.path.join(args.out, name))]
-        if existing and not args.force:
-            raise FileExistsError(f"{os.path.join(args.out, existing[0])}: exists; pass --force to overwrite it")
         project = read_project(args.project, args.standard)
         result = run(project, progress=not args.quiet)
         with deferred_interrupts() as came:  # the report's files are each whole, and all of them or none new
@@ -49,20 +44,16 @@ def add_lighting_commands(sub: Any) -> None:
     s = sub.add_parser("lighting", help="lighting calculations to EN 12464-1, EN 13201 and EN 12193 (docs/lighting.md)")
     lsub = s.add_subparsers(dest="lighting_command", metavar="SUBCOMMAND", required=True)
     p = lsub.add_parser(
-        "report",
-        help="compute a lighting project and write its HTML / PDF report (exit 1 when a requirement fails)",
-        allow_abbrev=False,
+        "report", help="compute a lighting project and write its HTML / PDF report (exit 1 when a requirement fails)"
     )
     p.add_argument(
         "project", metavar="PROJECT_JSON", help="a lighting project file naming its scene (docs/lighting.md)"
     )
-    p.add_argument(
-        "--standard", required=True, metavar="|".join(STANDARDS), help="the standard the project is checked against"
-    )
-    p.add_argument(
-        "--out", required=True, metavar="DIR", help="the report's folder (index.html, report.pdf, plans, result.json)"
-    )
+    p.add_argument("--standard", required=True, choices=STANDARDS, help="the standard the project is checked against")
+    add_output(
+        p, "--out", folder=OUTPUTS, required=True, metavar="DIR",
+        help="the report's folder (index.html, report.pdf, plans, result.json)",
+    )  # fmt: skip
     p.add_argument("--no-pdf", action="store_true", help="skip the PDF (printed by headless Chromium)")
-    p.add_argument("--force", action="store_true", help="overwrite an existing report (refused without it)")
     p.add_argument("--quiet", action="store_true", help="no progress display")
     p.set_defaults(func=cmd_lighting_report)
