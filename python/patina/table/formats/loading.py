@@ -5,16 +5,21 @@ from __future__ import annotations
 
 import os
 
-import numpy as np
-
 from patina.errors import FormatError
 from patina.native import _core
 from patina.table.brdf import Brdf
 from patina.table.formats.astm import read_astm
 from patina.table.formats.csv_table import read_csv
-from patina.table.formats.tabledata import TableData
+from patina.table.formats.rgl import read_rgl
+from patina.table.formats.tabledata import table_from_data
+from patina.table.formats.tensor_file import MAGIC as TENSOR_FILE_MAGIC
 
 PTAB_MAGIC = b"PTAB\r\n\x1a\n"
+SUPPORTED = (
+    ".ptab (Patina), MERL .binary, ASTM E1392 text (.astm/.txt/.brdf/.dat), CSV (.csv) or RGL .bsdf (tensor_file)"
+)
+# Readers of formats Patina only imports: path -> TableData
+IMPORTERS = {"rgl": read_rgl}
 
 
 def detect_format(path: str) -> str:
@@ -27,9 +32,13 @@ def detect_format(path: str) -> str:
         raise FormatError(path, "", f"cannot open: {e.strerror}") from None
     if head.startswith(PTAB_MAGIC):
         return "ptab"
+    if head.startswith(TENSOR_FILE_MAGIC):
+        return "rgl"
     ext = os.path.splitext(path)[1].lower()
     if ext == ".ptab":
         return "ptab"  # the reader will report the wrong magic
+    if ext == ".bsdf":
+        return "rgl"
     if ext == ".binary":
         return "merl"
     if ext == ".csv":
@@ -39,41 +48,20 @@ def detect_format(path: str) -> str:
         return "astm"
     if ext in (".astm", ".txt", ".brdf", ".dat"):
         return "astm"
-    raise FormatError(path, "", "unrecognised file: expected .ptab (Patina), MERL .binary, or ASTM E1392 text")
-
-
-def table_from_data(data: TableData) -> _core.Table:
-    """Turns an importer's TableData into a native (checked, immutable) table."""
-    channels = int(data.values.shape[-1])
-    symmetry = 0
-    if "reciprocity" in data.symmetry:
-        symmetry |= _core.SYM_RECIPROCITY
-    if "phi_mirror" in data.symmetry:
-        symmetry |= _core.SYM_PHI_MIRROR
-    valid = None if data.mask is None else np.ascontiguousarray(data.mask, dtype=np.uint8)
-    return _core.Table.from_arrays(
-        data.parametrization,
-        [np.ascontiguousarray(a, dtype=np.float32) for a in data.axes],
-        np.ascontiguousarray(data.values, dtype=np.float32).reshape(-1),
-        channels,
-        data.channel_kind,
-        None if data.wavelengths is None else np.ascontiguousarray(data.wavelengths, dtype=np.float32),
-        valid,
-        symmetry,
-        data.units,
-        data.provenance,
-    )
+    raise FormatError(path, "", f"unrecognised file: expected {SUPPORTED}")
 
 
 def read_any(path: str | os.PathLike) -> Brdf:
-    """Any supported file as a Brdf: .ptab (native), MERL .binary, ASTM E1392 text or CSV."""
+    """Any supported file as a Brdf (SUPPORTED lists them)."""
     path = os.fspath(path)
     kind = detect_format(path)
     if kind == "ptab":
         return Brdf(_core.read_ptab(path), path, "ptab")
     if kind == "merl":
         return Brdf(_core.read_merl(path), path, "merl")
-    if kind == "csv":
+    if kind in IMPORTERS:
+        data = IMPORTERS[kind](path)
+    elif kind == "csv":
         data = read_csv(path)
     else:
         data = read_astm(path, resample=True)  # scattered measurements onto a grid, error reported
