@@ -10,16 +10,23 @@ from patina.native import _core
 from patina.table.brdf import Brdf
 from patina.table.formats.astm import read_astm
 from patina.table.formats.csv_table import read_csv
+from patina.table.formats.mdl import MAGIC as MBSDF_MAGIC
+from patina.table.formats.mdl import read_mdl
 from patina.table.formats.rgl import read_rgl
 from patina.table.formats.tabledata import table_from_data
 from patina.table.formats.tensor_file import MAGIC as TENSOR_FILE_MAGIC
+from patina.table.formats.utia import read_utia
 
 PTAB_MAGIC = b"PTAB\r\n\x1a\n"
 SUPPORTED = (
-    ".ptab (Patina), MERL .binary, ASTM E1392 text (.astm/.txt/.brdf/.dat), CSV (.csv) or RGL .bsdf (tensor_file)"
+    ".ptab (Patina), MERL .binary, ASTM E1392 text (.astm/.txt/.brdf/.dat), CSV (.csv), RGL .bsdf "
+    "(tensor_file), NVIDIA MDL .mbsdf or UTIA .bin"
 )
 # Readers of formats Patina only imports: path -> TableData
-IMPORTERS = {"rgl": read_rgl}
+IMPORTERS = {"rgl": read_rgl, "mdl": read_mdl, "utia": read_utia}
+SIGNATURES = ((TENSOR_FILE_MAGIC, "rgl"), (MBSDF_MAGIC, "mdl"))
+# by extension: UTIA has no signature; for the others the reader reports the wrong one
+EXTENSIONS = {".bsdf": "rgl", ".mbsdf": "mdl", ".bin": "utia"}
 
 
 def detect_format(path: str) -> str:
@@ -32,13 +39,14 @@ def detect_format(path: str) -> str:
         raise FormatError(path, "", f"cannot open: {e.strerror}") from None
     if head.startswith(PTAB_MAGIC):
         return "ptab"
-    if head.startswith(TENSOR_FILE_MAGIC):
-        return "rgl"
+    for magic, kind in SIGNATURES:
+        if head.startswith(magic):
+            return kind
     ext = os.path.splitext(path)[1].lower()
     if ext == ".ptab":
         return "ptab"  # the reader will report the wrong magic
-    if ext == ".bsdf":
-        return "rgl"
+    if ext in EXTENSIONS:
+        return EXTENSIONS[ext]
     if ext == ".binary":
         return "merl"
     if ext == ".csv":

@@ -25,6 +25,7 @@ import numpy as np
 
 from patina.atomic import atomic_output
 from patina.errors import FormatError
+from patina.table.formats.whole_file import read_whole_file
 
 MAGIC = b"tensor_file\x00"
 VERSION = (1, 0)
@@ -76,14 +77,7 @@ class TensorFile:
 
 def read_tensor_file(path: str | os.PathLike[str]) -> TensorFile:
     name = os.fspath(path)
-    try:
-        with open(name, "rb") as handle:
-            size = os.fstat(handle.fileno()).st_size
-            if size > MAX_FILE_BYTES:
-                raise FormatError(name, "file", f"{size} bytes: larger than the {MAX_FILE_BYTES >> 20} MiB accepted")
-            raw = handle.read()
-    except OSError as e:
-        raise FormatError(name, "", f"cannot open: {e.strerror}") from None
+    raw = read_whole_file(name, MAX_FILE_BYTES)
     return parse_tensor_file(name, raw)
 
 
