@@ -16,17 +16,18 @@ from patina.table.formats.rgl import read_rgl
 from patina.table.formats.tabledata import table_from_data
 from patina.table.formats.tensor_file import MAGIC as TENSOR_FILE_MAGIC
 from patina.table.formats.utia import read_utia
+from patina.table.formats.window_xml import read_window_xml
 
 PTAB_MAGIC = b"PTAB\r\n\x1a\n"
 SUPPORTED = (
     ".ptab (Patina), MERL .binary, ASTM E1392 text (.astm/.txt/.brdf/.dat), CSV (.csv), RGL .bsdf "
-    "(tensor_file), NVIDIA MDL .mbsdf or UTIA .bin"
+    "(tensor_file), NVIDIA MDL .mbsdf, UTIA .bin or LBNL WINDOW / Radiance BSDF XML (.xml, Klems)"
 )
 # Readers of formats Patina only imports: path -> TableData
-IMPORTERS = {"rgl": read_rgl, "mdl": read_mdl, "utia": read_utia}
+IMPORTERS = {"rgl": read_rgl, "mdl": read_mdl, "utia": read_utia, "window_xml": read_window_xml}
 SIGNATURES = ((TENSOR_FILE_MAGIC, "rgl"), (MBSDF_MAGIC, "mdl"))
 # by extension: UTIA has no signature; for the others the reader reports the wrong one
-EXTENSIONS = {".bsdf": "rgl", ".mbsdf": "mdl", ".bin": "utia"}
+EXTENSIONS = {".bsdf": "rgl", ".mbsdf": "mdl", ".bin": "utia", ".xml": "window_xml"}
 
 
 def detect_format(path: str) -> str:
@@ -42,6 +43,8 @@ def detect_format(path: str) -> str:
     for magic, kind in SIGNATURES:
         if head.startswith(magic):
             return kind
+    if b"<WindowElement" in head:  # after an XML declaration, comments or a stray line
+        return "window_xml"
     ext = os.path.splitext(path)[1].lower()
     if ext == ".ptab":
         return "ptab"  # the reader will report the wrong magic

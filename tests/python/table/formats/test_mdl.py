@@ -12,10 +12,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import patina
-from conftest import load_or_format_error
 from patina.errors import FormatError
 from patina.synthetic.analytic import isotropic_grid, plastic
 from patina.table.formats.mdl import MAGIC, mdl_axes
+from reader_fuzz import load_damaged
 
 MODEL = plastic(diffuse=(0.5, 0.3, 0.1), specular=0.04, roughness=0.3)
 
@@ -89,12 +89,7 @@ SMALL = mbsdf_bytes(res_theta=3, res_phi=4)
 FUZZ = settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 
 
-def _evaluates(brdf) -> None:
-    brdf.eval(np.array([[0.0, 0.6, 0.8]], np.float32), np.array([[0.3, 0.0, 0.954]], np.float32))
-
-
 @FUZZ
 @given(at=st.integers(min_value=0, max_value=len(SMALL) - 1), value=st.integers(0, 255), cut=st.booleans())
 def test_damaged_files_raise_one_format_error(at, value, cut):
-    raw = SMALL[:at] if cut else SMALL[:at] + bytes([value]) + SMALL[at + 1 :]
-    load_or_format_error(raw, "f.mbsdf", patina.load_brdf, _evaluates)
+    load_damaged(SMALL, at, value, cut, "f.mbsdf", patina.load_brdf)

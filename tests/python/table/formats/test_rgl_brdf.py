@@ -13,13 +13,13 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from conftest import load_or_format_error
 from patina.errors import FormatError
 from patina.synthetic.analytic import plastic
 from patina.table.angles import angles_to_directions
 from patina.table.formats.rgl_brdf import RglBrdf, read_rgl_brdf
 from patina.table.formats.rgl_writer import RglLayout, rgl_arrays, write_rgl
 from patina.table.formats.tensor_file import parse_tensor_file, tensor_file_bytes
+from reader_fuzz import load_damaged
 
 MODEL = plastic(diffuse=(0.5, 0.3, 0.1), specular=0.04, roughness=0.3)
 SMALL_LAYOUT = RglLayout(theta_i=4, ndf=(4, 8), sigma=(4, 8), vndf=(6, 8), values=(6, 6))
@@ -147,13 +147,7 @@ SMALL = tensor_file_bytes(rgl_arrays(MODEL, layout=SMALL_LAYOUT))
 FUZZ = settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 
 
-def _evaluates(brdf: RglBrdf) -> None:
-    with np.errstate(all="ignore"):
-        brdf.eval(np.array([[0.0, 0.6, 0.8]]), np.array([[0.3, 0.0, 0.954]]))
-
-
 @FUZZ
 @given(at=st.integers(min_value=0, max_value=len(SMALL) - 1), value=st.integers(0, 255), cut=st.booleans())
 def test_damaged_files_raise_one_format_error(at, value, cut):
-    raw = SMALL[:at] if cut else SMALL[:at] + bytes([value]) + SMALL[at + 1 :]
-    load_or_format_error(raw, "f.bsdf", read_rgl_brdf, _evaluates)
+    load_damaged(SMALL, at, value, cut, "f.bsdf", read_rgl_brdf)

@@ -12,10 +12,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import patina
-from conftest import load_or_format_error
 from patina.errors import FormatError
 from patina.synthetic.analytic import anisotropic_grid, plastic
 from patina.table.formats.utia import FILE_BYTES, PHIS, THETAS
+from reader_fuzz import load_damaged
 
 MODEL = plastic(diffuse=(0.5, 0.3, 0.1), specular=0.04, roughness=0.3)
 
@@ -68,12 +68,7 @@ FUZZ = settings(max_examples=40, deadline=None, suppress_health_check=[HealthChe
 CLEAN = utia_values().astype("<f8").tobytes()
 
 
-def _evaluates(brdf) -> None:
-    brdf.eval(np.array([[0.0, 0.6, 0.8]], np.float32), np.array([[0.3, 0.0, 0.954]], np.float32))
-
-
 @FUZZ
 @given(at=st.integers(min_value=0, max_value=FILE_BYTES - 1), value=st.integers(0, 255), cut=st.booleans())
 def test_damaged_files_raise_one_format_error(at, value, cut):
-    raw = CLEAN[:at] if cut else CLEAN[:at] + bytes([value]) + CLEAN[at + 1 :]
-    load_or_format_error(raw, "f.bin", patina.load_brdf, _evaluates)
+    load_damaged(CLEAN, at, value, cut, "f.bin", patina.load_brdf)
