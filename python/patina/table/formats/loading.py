@@ -17,17 +17,25 @@ from patina.table.formats.tabledata import table_from_data
 from patina.table.formats.tensor_file import MAGIC as TENSOR_FILE_MAGIC
 from patina.table.formats.utia import read_utia
 from patina.table.formats.window_xml import read_window_xml
+from patina.table.formats.zemax import read_zemax
 
 PTAB_MAGIC = b"PTAB\r\n\x1a\n"
 SUPPORTED = (
     ".ptab (Patina), MERL .binary, ASTM E1392 text (.astm/.txt/.brdf/.dat), CSV (.csv), RGL .bsdf "
-    "(tensor_file), NVIDIA MDL .mbsdf, UTIA .bin or LBNL WINDOW / Radiance BSDF XML (.xml, Klems)"
+    "(tensor_file), NVIDIA MDL .mbsdf, UTIA .bin, LBNL WINDOW / Radiance BSDF XML (.xml, Klems) "
+    "or Zemax / LightTools tabular BSDF text (.bsdf, .zmx.bsdf)"
 )
 # Readers of formats Patina only imports: path -> TableData
-IMPORTERS = {"rgl": read_rgl, "mdl": read_mdl, "utia": read_utia, "window_xml": read_window_xml}
+IMPORTERS = {"rgl": read_rgl, "mdl": read_mdl, "utia": read_utia, "window_xml": read_window_xml, "zemax": read_zemax}
 SIGNATURES = ((TENSOR_FILE_MAGIC, "rgl"), (MBSDF_MAGIC, "mdl"))
 # by extension: UTIA has no signature; for the others the reader reports the wrong one
 EXTENSIONS = {".bsdf": "rgl", ".mbsdf": "mdl", ".bin": "utia", ".xml": "window_xml"}
+
+
+def _zemax_header(head: bytes) -> bool:
+    """Zemax tabular BSDF text: its keywords at the start of lines (Zemax and RGL share .bsdf)."""
+    words = {line.split()[0].lower() for line in head.decode("latin-1").splitlines() if line.split()}
+    return {"symmetry", "scattertype", "angleofincidence"} <= words
 
 
 def detect_format(path: str) -> str:
@@ -45,6 +53,8 @@ def detect_format(path: str) -> str:
             return kind
     if b"<WindowElement" in head:  # after an XML declaration, comments or a stray line
         return "window_xml"
+    if _zemax_header(head):
+        return "zemax"
     ext = os.path.splitext(path)[1].lower()
     if ext == ".ptab":
         return "ptab"  # the reader will report the wrong magic

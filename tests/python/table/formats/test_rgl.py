@@ -59,7 +59,7 @@ def test_detected_by_content_whatever_the_extension(bsdf, tmp_path):
     unknown.write_bytes(b"\x00\x01")
     with pytest.raises(FormatError) as e:
         patina.load_brdf(unknown)
-    for name in (".ptab", "MERL", "ASTM", "CSV", "RGL .bsdf", "MDL .mbsdf", "UTIA .bin"):
+    for name in (".ptab", "MERL", "ASTM", "CSV", "RGL .bsdf", "MDL .mbsdf", "UTIA .bin", "BSDF XML", "Zemax"):
         assert name in e.value.problem
 
 
