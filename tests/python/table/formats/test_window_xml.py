@@ -147,3 +147,15 @@ FUZZ = settings(max_examples=60, deadline=None, suppress_health_check=[HealthChe
 @given(at=st.integers(min_value=0, max_value=len(SMALL) - 1), value=st.integers(0, 255), cut=st.booleans())
 def test_damaged_documents_raise_one_format_error(at, value, cut):
     load_damaged(SMALL, at, value, cut, "f.xml", patina.load_brdf)
+
+
+def test_bundled_real_klems_file(capsys):
+    """materials/radiance/klems_aniso_high.xml (LBNL frads' test resources): its front reflection."""
+    from repo_paths import ROOT
+
+    brdf = patina.load_brdf(f"{ROOT}/materials/radiance/klems_aniso_high.xml")
+    info = brdf.info()
+    assert info["format"] == "window_xml" and brdf.channel_kind == "mono"
+    assert "LBNL/Klems Full, 145 patches, reflection front" in info["provenance"]
+    assert "skipped: transmission front" in info["provenance"]
+    assert 0.03 < info["value_min"][0] < info["value_max"][0] < 2.5  # a fabric shade: 1/sr, no spike
