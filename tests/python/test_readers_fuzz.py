@@ -72,9 +72,11 @@ def test_ptab_header_fields_with_any_value(at, word):
 @SETTINGS
 @given(content=st.binary(max_size=2048))
 def test_random_bytes_in_every_format(content):
-    for suffix in (".ptab", ".binary", ".astm", ".csv"):
+    for suffix in (".ptab", ".binary", ".astm", ".csv", ".bsdf", ".mbsdf", ".bin"):
         _load(content, suffix)
     _load(PTAB[:8] + content, ".ptab")
+    _load(b"tensor_file\x00\x01\x00" + content, ".dat")  # an RGL file, recognised by its magic
+    _load(b"NVIDIA ARC MBSDF V1\nMBSDF_DATA=\n" + content, ".dat")  # an MDL file likewise
 
 
 @SETTINGS

@@ -134,6 +134,8 @@ def check_axes(brdf: Brdf, report: Report) -> None:
         lo, hi = _DOMAINS["theta"] if name.startswith("theta") else _DOMAINS[name]
         if name == "phi_d" and brdf.parametrization == "halfdiff" and "phi_mirror" in brdf.info()["symmetry"]:
             hi = math.pi / 2
+        elif name == "phi_d" and brdf.parametrization == "halfdiff" and not brdf.info()["symmetry"]:
+            lo = -math.pi  # nothing folded: the kernels look phi_d up in (-pi, pi] (brdf/eval.h)
         tol = 1e-4
         outside = bool(k[0] < lo - tol or k[-1] > hi + tol)
         span = (min(k[-1], hi) - max(k[0], lo)) / (hi - lo)

@@ -21,8 +21,8 @@ from patina.native import _core
 from patina.table.brdf import Brdf
 from patina.table.formats.astm import read_astm
 from patina.table.formats.csv_table import read_csv
-from patina.table.formats.loading import detect_format, table_from_data
-from patina.table.formats.tabledata import BadValues, TableData
+from patina.table.formats.loading import IMPORTERS, detect_format
+from patina.table.formats.tabledata import BadValues, TableData, table_from_data
 
 FLOAT32_MAX = float(np.finfo(np.float32).max)
 _MERL_SCALE = np.array([1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0])  # brdf/merl.cpp's kScale
@@ -52,7 +52,12 @@ def read_reporting_bad_values(path: str | os.PathLike[str]) -> tuple[Brdf, BadVa
             raise
         data = _ptab(path) if kind == "ptab" else _merl(path)
     else:
-        data = read_csv(path, report_bad=True) if kind == "csv" else read_astm(path, resample=True, report_bad=True)
+        if kind in IMPORTERS:  # binary formats whose readers refuse bad values outright
+            data = IMPORTERS[kind](path)
+        elif kind == "csv":
+            data = read_csv(path, report_bad=True)
+        else:
+            data = read_astm(path, resample=True, report_bad=True)
     try:
         table = table_from_data(data)
     except ValueError as e:

@@ -7,6 +7,8 @@ from typing import Any
 
 import numpy as np
 
+from patina.native import _core
+
 
 @dataclass
 class BadValues:
@@ -46,3 +48,26 @@ class TableData:
     mask: np.ndarray | None = None
     symmetry: set[str] = field(default_factory=set)
     bad: BadValues | None = None  # set only by a reader asked to report bad values
+
+
+def table_from_data(data: TableData) -> _core.Table:
+    """Turns an importer's TableData into a native (checked, immutable) table."""
+    channels = int(data.values.shape[-1])
+    symmetry = 0
+    if "reciprocity" in data.symmetry:
+        symmetry |= _core.SYM_RECIPROCITY
+    if "phi_mirror" in data.symmetry:
+        symmetry |= _core.SYM_PHI_MIRROR
+    valid = None if data.mask is None else np.ascontiguousarray(data.mask, dtype=np.uint8)
+    return _core.Table.from_arrays(
+        data.parametrization,
+        [np.ascontiguousarray(a, dtype=np.float32) for a in data.axes],
+        np.ascontiguousarray(data.values, dtype=np.float32).reshape(-1),
+        channels,
+        data.channel_kind,
+        None if data.wavelengths is None else np.ascontiguousarray(data.wavelengths, dtype=np.float32),
+        valid,
+        symmetry,
+        data.units,
+        data.provenance,
+    )
