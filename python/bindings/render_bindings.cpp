@@ -22,6 +22,7 @@
 
 #include "bindings.h"
 #include "core/parallel.h"
+#include "render/cache/cache_settings.h"
 #include "render/integrators/integrator.h"
 #include "render/lights/grid2.h"
 #include "render/render_job.h"
@@ -800,6 +801,16 @@ void bind_render(nb::module_& m) {
           nb::arg("error") = patina::CacheSettings{}.error, nb::arg("max_depth") = 2, nb::arg("seed") = 0,
           nb::arg("width") = 0, nb::arg("unknown_masks") = true,
           "The radiance cache at point a reprojected into point b: textures and masks (docs/radiance-cache.md).");
+    m.def(
+        "cache_setting_ranges",
+        [] {
+            nb::list out;
+            for (const patina::CacheSettingRange& r : patina::kCacheSettingRanges)
+                out.append(nb::make_tuple(r.key, r.integer, r.lo, r.hi));
+            return out;
+        },
+        "The radiance cache's scene settings as (key, integer, lo, hi), inclusive ranges: the one table "
+        "(render/cache/cache_settings.h) the scene reader's and the command line's checks read.");
     m.def("aa_pattern", &aa_pattern, "The adaptive antialiasing's positions, comparisons, zone tables, weights.");
     m.def("sensor_illuminance", &sensor_illuminance, nb::arg("scene"), nb::arg("points"), nb::arg("normals"),
           nb::arg("samples") = 64, nb::arg("seed") = 0, nb::arg("width") = 0, nb::arg("threads") = 0,

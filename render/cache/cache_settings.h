@@ -1,6 +1,6 @@
 // The radiance cache's parameters (docs/radiance-cache.md; scene key render.cache, CLI
-// --cache-*), their defaults and allowed ranges. The Python scene reader checks them too
-// (naming the key or option); check_cache_settings is the C++ side's own guard.
+// --cache-*), their defaults and allowed ranges (kCacheSettingRanges, which the Python scene
+// reader's checks read too, naming the key or option); check_cache_settings is the C++ side's own guard.
 #pragma once
 
 namespace patina {
@@ -23,15 +23,18 @@ struct CacheSettings {
     int train_max_depth = 0;
 };
 
-constexpr int kCacheResolutionMin = 8, kCacheResolutionMax = 128;
-constexpr float kCacheErrorMin = 0.01f, kCacheErrorMax = 4.0f;
-constexpr float kCacheGuideMin = 0.05f, kCacheGuideMax = 0.95f;
-constexpr int kCacheBlockMin = 1, kCacheBlockMax = 16;
-constexpr int kCacheHitPathsMin = 1, kCacheHitPathsMax = 16;
-constexpr int kCacheTrainPassesMin = 0, kCacheTrainPassesMax = 8;
-constexpr int kCacheTrainSppMin = 1, kCacheTrainSppMax = 16;
-constexpr float kCacheTrainGuideMin = 0.05f, kCacheTrainGuideMax = 0.95f;
-constexpr int kCacheTrainBouncesMin = 1, kCacheTrainBouncesMax = 16;
+// Each scene-file setting's allowed range, declared here once: check_cache_settings reads
+// it, and so do the Python scene reader's and the command line's messages (through the
+// binding cache_setting_ranges), so no second copy can drift.
+struct CacheSettingRange {
+    const char* key;  // render.cache.<key> in a scene file, --cache-<key> on the command line
+    bool integer;     // an integer setting (else a number)
+    double lo, hi;    // inclusive; a float setting is compared in float (0.01 means 0.01f)
+    double (*value)(const CacheSettings&);
+};
+extern const CacheSettingRange kCacheSettingRanges[9];
+
+// train_max_depth, a knob of the low-level binding only (no scene key): its range
 constexpr int kCacheTrainMaxDepthMin = 0, kCacheTrainMaxDepthMax = 64;
 
 // Throws std::invalid_argument naming the key (cache.resolution, ...) and its range.

@@ -29,6 +29,7 @@ import numpy as np
 from patina.colour_constants import luminance, photometric_to_rgb
 from patina.errors import FormatError
 from patina.geometry.mesh import MESH_FORMATS
+from patina.native import _core
 from patina.scene.json_reader import Ctx, Obj, array, boolean, choice, integer, key_path, number, object_pairs, rgb
 from patina.scene.json_reader import existing_file as _file
 from patina.scene.json_reader import string as _string
@@ -186,19 +187,12 @@ SAMPLERS = ("sobol", "independent")  # render.sampler, --sampler: the paths' num
 
 INTEGRATORS = ("direct", "path", "cache", "cache-guided")  # render.integrator, --integrator
 # the radiance cache's parameters (docs/radiance-cache.md): render.cache.<key>, --cache-<key>;
-# the ranges are the C++ side's (render/cache/cache_settings.h)
+# their ranges are the C++ side's one table (render/cache/cache_settings.h), read through the binding
+_CACHE_SETTINGS = _core.cache_setting_ranges()
 CACHE_RANGES: dict[str, tuple[float, float]] = {
-    "resolution": (8, 128),
-    "error": (0.01, 4.0),
-    "guide": (0.05, 0.95),
-    "block": (1, 16),
-    "hit_paths": (1, 16),
-    "train_passes": (0, 8),
-    "train_spp": (1, 16),
-    "train_guide": (0.05, 0.95),
-    "train_bounces": (1, 16),
+    key: (int(lo), int(hi)) if integer else (lo, hi) for key, integer, lo, hi in _CACHE_SETTINGS
 }
-CACHE_INTEGER_KEYS = ("resolution", "block", "hit_paths", "train_passes", "train_spp", "train_bounces")
+CACHE_INTEGER_KEYS = tuple(key for key, integer, _lo, _hi in _CACHE_SETTINGS if integer)
 
 
 def _cache_params(o: Obj) -> CacheParams:
