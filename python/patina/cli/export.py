@@ -1,0 +1,47 @@
+"""`patina export MATERIAL --to TARGET --out FILE`: a fit to Mitsuba 3, pbrt-v4, MaterialX,
+glTF, USD or Blender (docs/export.md)."""
+
+from __future__ import annotations
+
+import argparse
+import os
+from typing import Any
+
+from patina.cli.common import UsageError
+from patina.export import TARGETS, export
+
+
+def cmd_export(args: argparse.Namespace) -> int:
+    if args.to not in TARGETS:
+        raise UsageError(f"export: --to {args.to}: unknown target (known: {', '.join(TARGETS)})")
+    target = TARGETS[args.to]
+    if not args.out.lower().endswith(target.suffixes):
+        raise UsageError(f"export: --out {args.out}: a {args.to} file ends with {' or '.join(target.suffixes)}")
+    if args.standard_surface and args.to != "materialx":
+        raise UsageError("export: --standard-surface is for --to materialx")
+    sidecar = f"{args.out}.export.json"
+    for path in (args.out, sidecar):
+        if not args.force and os.path.lexists(path):
+            raise FileExistsError(f"{path}: exists; pass --force to overwrite it")
+    options = {"standard_surface": True} if args.standard_surface else {}
+    report = export(args.material, args.to, args.out, **options)
+    m = report["error_against_source"]
+    how = "refitted" if report["refitted"] else "exact"
+    print(f"wrote {args.out} ({args.to}, {how}) and {sidecar}")
+    print(
+        f"  against {report['source']}: relative error median {m['relative_error_median']:.3g}, "
+        f"95% {m['relative_error_p95']:.3g}; CIEDE2000 mean {m['ciede2000_mean']:.2f}, 95% {m['ciede2000_p95']:.2f}"
+    )
+    for note in report["notes"]:
+        print(f"  note: {note}")
+    return 0
+
+
+def add_export_command(sub: Any) -> None:
+    s = sub.add_parser("export", help="export a fit to a renderer's material format", allow_abbrev=False)
+    s.add_argument("material", metavar="MATERIAL", help="a fit.json, a ranking from fit --compare, or SCENE.json#name")
+    s.add_argument("--to", required=True, metavar="TARGET", help=f"the target format: {', '.join(TARGETS)}")
+    s.add_argument("--out", required=True, metavar="FILE", help="the file to write (and FILE.export.json beside it)")
+    s.add_argument("--standard-surface", action="store_true", help="materialx: Standard Surface instead of OpenPBR")
+    s.add_argument("--force", action="store_true", help="overwrite existing outputs (refused without it)")
+    s.set_defaults(func=cmd_export)

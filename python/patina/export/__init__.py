@@ -1,0 +1,64 @@
+"""Fitted materials out to renderers: Mitsuba 3, pbrt-v4, MaterialX (OpenPBR), glTF, USD and
+Blender (docs/export.md). The source (a fit.json, a ranking, a scene's material: source)
+becomes an AnalyticMaterial (material), refitted to the target's model where it is not one
+(refit), written by the target's writer (targets and one module per target), with its
+error against the source in a sidecar FILE.export.json. Tabulated materials (Mitsuba's and
+pbrt's `measured`, an RGL tensor file) come as another target once the RGL writer lands."""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import Any
+
+from patina.atomic import write_text
+from patina.errors import FormatError
+from patina.export.material import AnalyticMaterial, Coat, Lobe
+from patina.export.mitsuba import to_mitsuba_dict
+from patina.export.refit import MAX_REFIT_DE, RefitError, measure, needs_refit, refit
+from patina.export.source import Source, load_source
+from patina.export.targets import TARGETS
+
+
+def prepare(source: Source, target: str) -> AnalyticMaterial:
+    """The material the target writes: the source itself, or its refit (RefitError if that fails)."""
+    t = TARGETS[target]
+    why = needs_refit(source, t.max_lobes, t.distributions)
+    if not why:
+        return source.exact
+    material = refit(source, source.name)
+    material.notes.insert(0, f"refitted: {why}")
+    return material
+
+
+def export(spec: str, target: str, out: str, **options: Any) -> dict[str, Any]:
+    """Writes MATERIAL `spec` for `target` to `out` and its sidecar `out`.export.json; returns
+    the sidecar's contents. ValueError for an unknown target; FormatError for bad input."""
+    if target not in TARGETS:
+        raise ValueError(f"unknown target '{target}' (known: {', '.join(TARGETS)})")
+    source = load_source(spec)
+    try:
+        material = prepare(source, target)
+    except RefitError as e:
+        raise FormatError(source.path, "", f"{target} cannot hold {source.model} and {e}") from None
+    metrics = measure(source.evaluate, material)
+    if material is not source.exact and metrics["ciede2000_mean"] > MAX_REFIT_DE:
+        problem = f"the refit's mean CIEDE2000 {metrics['ciede2000_mean']:.1f} is above {MAX_REFIT_DE:g}"
+        raise FormatError(source.path, "", f"{target} cannot hold {source.model}: {problem}")
+    notes = list(material.notes)
+    TARGETS[target].write(material, out, notes, options)
+    report = {
+        "target": target,
+        "out": os.fspath(out),
+        "source": source.path,
+        "source_model": source.model,
+        "material": material.as_json(),
+        "refitted": material is not source.exact,
+        "error_against_source": metrics,
+        "notes": notes,
+    }
+    write_text(f"{out}.export.json", json.dumps(report, indent=2))
+    return report
+
+
+__all__ = ["TARGETS", "AnalyticMaterial", "Coat", "Lobe", "RefitError", "export", "load_source", "to_mitsuba_dict"]
