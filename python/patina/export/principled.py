@@ -6,8 +6,8 @@ roughness = sqrt(alpha) (each of these squares its roughness into the GGX alpha;
 given alpha itself with remapping off). A lobe whose mean f0 is at or above METAL_F0 is a
 metal: metalness 1 and base colour f0 (their metals are Schlick-like of base colour), the
 diffuse dropped. Otherwise a dielectric specular layer over the diffuse base: its index
-from the mean f0, ior = (1 + sqrt(f0)) / (1 - sqrt(f0)), and the colour of f0 as a
-specular tint f0 / F0(ior). The coat is coat weight 1 at its roughness and index."""
+from the largest channel's f0, ior = (1 + sqrt(f0)) / (1 - sqrt(f0)), and the colour of f0
+as a specular tint f0 / F0(ior), so that the tint stays within [0, 1]. The coat is coat weight 1 at its roughness and index."""
 
 from __future__ import annotations
 
@@ -59,8 +59,8 @@ def principled(material: AnalyticMaterial) -> Principled:
                     "metal lobe (mean f0 >= 0.25): the diffuse albedo is dropped, these targets' metals have none"
                 )
         else:
-            weight, ior = 1.0, ior_from_f0(mean)
-            tint = tuple(min(f / f0_from_ior(ior), 1.0) for f in lobe.f0)
+            weight, ior = 1.0, ior_from_f0(max(lobe.f0))
+            tint = tuple(min(max(f, 0.0) / f0_from_ior(ior), 1.0) for f in lobe.f0)
     coat = material.coat
     return Principled(
         base_color=base,

@@ -1,4 +1,5 @@
-"""USD: a layer with the material as a UsdPreviewSurface (usd-core) and, beside it under the
+"""USD: a layer with the material as a UsdPreviewSurface (usd-core; a dielectric lobe in its
+specular workflow, specularColor = f0, a metal in its metallic one) and, beside it under the
 `mtlx` render context, the same OpenPBR Surface the MaterialX export writes
 (ND_open_pbr_surface_surfaceshader), on a preview sphere bound to it."""
 
@@ -33,6 +34,10 @@ def write_usd(material: AnalyticMaterial, path: str, notes: list[str] | None = N
         "clearcoat": (Sdf.ValueTypeNames.Float, p.coat_weight),
         "clearcoatRoughness": (Sdf.ValueTypeNames.Float, p.coat_roughness),
     }
+    if p.specular_weight and not p.metalness:  # f0 itself, colour and all
+        f0 = material.lobes[0].f0
+        inputs["useSpecularWorkflow"] = (Sdf.ValueTypeNames.Int, 1)
+        inputs["specularColor"] = (Sdf.ValueTypeNames.Color3f, Gf.Vec3f(*[min(max(c, 0.0), 1.0) for c in f0]))
     for name, (kind, value) in inputs.items():
         preview.CreateInput(name, kind).Set(value)
     mat.CreateSurfaceOutput().ConnectToSource(preview.ConnectableAPI(), "surface")
