@@ -7,7 +7,8 @@ given alpha itself with remapping off). A lobe whose mean f0 is at or above META
 metal: metalness 1 and base colour f0 (their metals are Schlick-like of base colour), the
 diffuse dropped. Otherwise a dielectric specular layer over the diffuse base: its index
 from the largest channel's f0, ior = (1 + sqrt(f0)) / (1 - sqrt(f0)), and the colour of f0
-as a specular tint f0 / F0(ior), so that the tint stays within [0, 1]. The coat is coat weight 1 at its roughness and index."""
+as a specular tint f0 / F0(ior), so that the tint stays within [0, 1]. The coat is coat
+weight 1 at its roughness and index."""
 
 from __future__ import annotations
 

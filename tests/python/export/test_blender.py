@@ -7,8 +7,8 @@ import importlib.util
 import types
 
 import pytest
-from export_helpers import COATED
 
+from export_helpers import COATED
 from patina.export.blender import to_blender_script
 from patina.export.principled import f0_from_ior
 

@@ -4,8 +4,8 @@ the material's parameters (alpha, f0 through the index and tint, the coat)."""
 from __future__ import annotations
 
 import pytest
-from export_helpers import COATED, GGX, METAL
 
+from export_helpers import COATED, GGX, METAL
 from patina.export.materialx import to_materialx
 from patina.export.principled import f0_from_ior
 

@@ -7,8 +7,8 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
-from export_helpers import BECKMANN, COATED, GGX, LAMBERT_COAT, TWO_BRIGHT, TWO_GGX
 
+from export_helpers import BECKMANN, COATED, GGX, LAMBERT_COAT, TWO_BRIGHT, TWO_GGX
 from patina.export.material import AnalyticMaterial
 from patina.export.mitsuba import to_mitsuba_dict, to_mitsuba_xml
 from patina.export.refit import dense_pairs

@@ -5,8 +5,8 @@ from __future__ import annotations
 import re
 
 import pytest
-from export_helpers import COATED, GGX, LAMBERT_COAT, METAL, TWO_GGX
 
+from export_helpers import COATED, GGX, LAMBERT_COAT, METAL, TWO_GGX
 from patina.export.material import AnalyticMaterial
 from patina.export.pbrt import to_pbrt
 from patina.export.principled import f0_from_ior

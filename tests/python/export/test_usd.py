@@ -4,8 +4,8 @@ they give the material's parameters back."""
 from __future__ import annotations
 
 import pytest
-from export_helpers import COATED
 
+from export_helpers import COATED
 from patina.export.principled import f0_from_ior
 from patina.export.usd import OPENPBR_ID, write_usd
 
