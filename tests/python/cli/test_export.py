@@ -7,9 +7,9 @@ import json
 import os
 
 import pytest
-from export_helpers import GGX_FIT, WARD_FIT, write_json
 
 import patina.export
+from export_helpers import GGX_FIT, WARD_FIT, write_json
 from patina.cli import main
 
 SUFFIX = {"mitsuba": "xml", "pbrt": "pbrt", "materialx": "mtlx", "gltf": "glb", "usd": "usda", "blender": "py"}

@@ -4,8 +4,8 @@ with its error measured as `fit` measures it."""
 from __future__ import annotations
 
 import pytest
-from export_helpers import GGX_FIT, WARD_FIT, write_json
 
+from export_helpers import GGX_FIT, WARD_FIT, write_json
 from patina.export.refit import measure, needs_refit, refit
 from patina.export.source import load_source
 

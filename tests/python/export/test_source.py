@@ -7,10 +7,10 @@ import json
 
 import numpy as np
 import pytest
-from export_helpers import GGX_FIT, WARD_FIT, write_json
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from export_helpers import GGX_FIT, WARD_FIT, write_json
 from patina.errors import FormatError
 from patina.export.source import load_source, sample_pairs
 
