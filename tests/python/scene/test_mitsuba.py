@@ -350,7 +350,6 @@ def test_fit_material_is_the_exported_mitsuba_bsdf(tmp_path):
     """A fit.json material converts as `patina export --to mitsuba` writes it, and Mitsuba
     evaluates it as Patina evaluates the fit (Mitsuba's eval carries cos(theta_o))."""
     from export_helpers import GGX_FIT, write_json
-
     from patina.fitting import read_fit
 
     fit = write_json(tmp_path / "fit.json", GGX_FIT)
