@@ -24,7 +24,7 @@ def cmd_export(args: argparse.Namespace) -> int:
         if not args.force and os.path.lexists(path):
             raise FileExistsError(f"{path}: exists; pass --force to overwrite it")
     options = {"standard_surface": True} if args.standard_surface else {}
-    report = export(args.material, args.to, args.out, **options)
+    report = export(args.material, args.to, args.out, progress=True, **options)
     m = report["error_against_source"]
     how = "refitted" if report["refitted"] else "exact"
     print(f"wrote {args.out} ({args.to}, {how}) and {sidecar}")
@@ -32,6 +32,12 @@ def cmd_export(args: argparse.Namespace) -> int:
         f"  against {report['source']}: relative error median {m['relative_error_median']:.3g}, "
         f"95% {m['relative_error_p95']:.3g}; CIEDE2000 mean {m['ciede2000_mean']:.2f}, 95% {m['ciede2000_p95']:.2f}"
     )
+    t = report["target_error_against_source"]
+    if t:
+        print(
+            f"  as {t['evaluator']} evaluates it: relative error median {t['relative_error_median']:.3g}, "
+            f"95% {t['relative_error_p95']:.3g}; CIEDE2000 mean {t['ciede2000_mean']:.2f}"
+        )
     for note in report["notes"]:
         print(f"  note: {note}")
     return 0

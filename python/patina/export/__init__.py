@@ -7,6 +7,7 @@ pbrt's `measured`, an RGL tensor file) come as another target once the RGL write
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import os
 from typing import Any
@@ -14,31 +15,44 @@ from typing import Any
 from patina.atomic import write_text
 from patina.errors import FormatError
 from patina.export.material import AnalyticMaterial, Coat, Lobe
-from patina.export.mitsuba import to_mitsuba_dict
-from patina.export.refit import MAX_REFIT_DE, RefitError, measure, needs_refit, refit
+from patina.export.mitsuba import mitsuba_eval, to_mitsuba_dict
+from patina.export.refit import MAX_REFIT_DE, RefitError, dense_pairs, error_metrics, measure, needs_refit, refit
 from patina.export.source import Source, load_source
 from patina.export.targets import TARGETS
 
 
-def prepare(source: Source, target: str) -> AnalyticMaterial:
+def prepare(source: Source, target: str, progress: bool = False) -> AnalyticMaterial:
     """The material the target writes: the source itself, or its refit (RefitError if that fails)."""
     t = TARGETS[target]
     why = needs_refit(source, t.max_lobes, t.distributions)
     if not why:
         return source.exact
-    material = refit(source, source.name)
+    material = refit(source, source.name, progress)
     material.notes.insert(0, f"refitted: {why}")
     return material
 
 
-def export(spec: str, target: str, out: str, **options: Any) -> dict[str, Any]:
+TARGET_PAIRS = 2000
+
+
+def _in_target(source: Source, material: AnalyticMaterial, target: str) -> dict[str, Any] | None:
+    """The written material as the target itself evaluates it, against the source: Mitsuba 3
+    where its package is installed (the other targets have no evaluator here); None otherwise."""
+    if target != "mitsuba" or importlib.util.find_spec("mitsuba") is None:
+        return None
+    wi, wo = dense_pairs(TARGET_PAIRS, seed=11)
+    values = mitsuba_eval(to_mitsuba_dict(material), wi, wo)
+    return {"evaluator": "mitsuba scalar_rgb", **error_metrics(source.evaluate(wi, wo), values, wi[:, 2])}
+
+
+def export(spec: str, target: str, out: str, progress: bool = False, **options: Any) -> dict[str, Any]:
     """Writes MATERIAL `spec` for `target` to `out` and its sidecar `out`.export.json; returns
     the sidecar's contents. ValueError for an unknown target; FormatError for bad input."""
     if target not in TARGETS:
         raise ValueError(f"unknown target '{target}' (known: {', '.join(TARGETS)})")
     source = load_source(spec)
     try:
-        material = prepare(source, target)
+        material = prepare(source, target, progress)
     except RefitError as e:
         raise FormatError(source.path, "", f"{target} cannot hold {source.model} and {e}") from None
     metrics = measure(source.evaluate, material)
@@ -47,6 +61,7 @@ def export(spec: str, target: str, out: str, **options: Any) -> dict[str, Any]:
         raise FormatError(source.path, "", f"{target} cannot hold {source.model}: {problem}")
     notes = list(material.notes)
     TARGETS[target].write(material, out, notes, options)
+    in_target = _in_target(source, material, target)
     report = {
         "target": target,
         "out": os.fspath(out),
@@ -55,6 +70,7 @@ def export(spec: str, target: str, out: str, **options: Any) -> dict[str, Any]:
         "material": material.as_json(),
         "refitted": material is not source.exact,
         "error_against_source": metrics,
+        "target_error_against_source": in_target,
         "notes": notes,
     }
     write_text(f"{out}.export.json", json.dumps(report, indent=2))

@@ -234,3 +234,23 @@ def to_mitsuba_xml(material: AnalyticMaterial, notes: list[str] | None = None) -
     ET.indent(scene)
     comment = f"<!-- {material.name}: exported by patina export from {material.source} ({material.model}) -->\n"
     return comment + ET.tostring(scene, encoding="unicode") + "\n"
+
+
+def mitsuba_eval(bsdf: Any, wi: np.ndarray, wo: np.ndarray) -> np.ndarray:
+    """Mitsuba 3's own evaluation (scalar_rgb) of a BSDF (a dictionary, or one loaded) at (n, 3) local direction
+    pairs, as a BRDF: Mitsuba's `eval` carries cos(theta_o), divided out here (its sign too,
+    on the back side). Needs the `mitsuba` package (the `test` extra)."""
+    import mitsuba as mi
+
+    if mi.variant() != "scalar_rgb":
+        mi.set_variant("scalar_rgb")
+    if isinstance(bsdf, dict):
+        bsdf = mi.load_dict(bsdf)
+    ctx = mi.BSDFContext()
+    si = mi.SurfaceInteraction3f()
+    si.sh_frame = mi.Frame3f(mi.Vector3f(0, 0, 1))
+    out = np.zeros((len(wi), 3))
+    for j in range(len(wi)):
+        si.wi = mi.Vector3f(*wi[j])
+        out[j] = np.array(bsdf.eval(ctx, si, mi.Vector3f(*wo[j]))) / wo[j, 2]
+    return out

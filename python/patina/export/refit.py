@@ -23,6 +23,7 @@ from patina.export.material import AnalyticMaterial, Coat, Lobe
 from patina.export.source import Source, sample_pairs
 from patina.fitting.metrics import colour_differences
 from patina.native import _core
+from patina.progress import Progress
 
 REFIT_PAIRS = 20_000
 METRIC_PAIRS = 50_000
@@ -73,8 +74,9 @@ def measure(evaluate: Callable, material: AnalyticMaterial, pairs: int = METRIC_
     return error_metrics(np.asarray(evaluate(wi, wo), np.float64), material.eval(wi, wo), wi[:, 2])
 
 
-def refit(source: Source, name: str) -> AnalyticMaterial:
-    """The source refitted to Lambert + one GGX lobe (and its coat); RefitError if it fails."""
+def refit(source: Source, name: str, progress: bool = False) -> AnalyticMaterial:
+    """The source refitted to Lambert + one GGX lobe (and its coat); RefitError if it fails.
+    `progress`: one step per roughness start on stderr."""
     coat_eta = None
     if source.fitted is not None and source.fitted.space.coat:
         coat_eta = dict(zip(source.fitted.space.names, source.fitted.values))["coat_eta"]
@@ -101,14 +103,18 @@ def refit(source: Source, name: str) -> AnalyticMaterial:
     from scipy.optimize import least_squares
 
     best = None
-    for start_alpha in (0.05, 0.2, 0.5):
-        x0 = np.array([0.3] * 3 + [math.log10(start_alpha)] + [0.04] * 3 + ([math.log10(0.05)] if coat_eta else []))
-        try:
-            r = least_squares(residuals, x0, bounds=(lower, upper), x_scale="jac", diff_step=1e-4, max_nfev=200)
-        except ValueError as e:
-            raise RefitError(f"the refit failed: {e}") from None
-        if np.all(np.isfinite(r.x)) and (best is None or r.cost < best.cost):
-            best = r
+    starts = (0.05, 0.2, 0.5)
+    with Progress(len(starts), "refitting to GGX", unit="start", enabled=progress) as bar:
+        for done, start_alpha in enumerate(starts):
+            bar.update(done)
+            x0 = [0.3] * 3 + [math.log10(start_alpha)] + [0.04] * 3 + ([math.log10(0.05)] if coat_eta else [])
+            try:
+                r = least_squares(residuals, x0, bounds=(lower, upper), x_scale="jac", diff_step=1e-4, max_nfev=200)
+            except ValueError as e:
+                raise RefitError(f"the refit failed: {e}") from None
+            if np.all(np.isfinite(r.x)) and (best is None or r.cost < best.cost):
+                best = r
+        bar.update(len(starts))
     if best is None:
         raise RefitError("the refit found no finite solution")
     p = params(best.x)
