@@ -24,12 +24,12 @@ def cmd_export(args: argparse.Namespace) -> int:
         if not args.force and os.path.lexists(path):
             raise FileExistsError(f"{path}: exists; pass --force to overwrite it")
     options = {"standard_surface": True} if args.standard_surface else {}
-    report = export(args.material, args.to, args.out, progress=True, **options)
+    report = export(args.material, args.to, args.out, table=args.table, progress=True, **options)
     m = report["error_against_source"]
     how = "refitted" if report["refitted"] else "exact"
     print(f"wrote {args.out} ({args.to}, {how}) and {sidecar}")
     print(
-        f"  against {report['source']}: relative error median {m['relative_error_median']:.3g}, "
+        f"  against {args.table or report['source']}: relative error median {m['relative_error_median']:.3g}, "
         f"95% {m['relative_error_p95']:.3g}; CIEDE2000 mean {m['ciede2000_mean']:.2f}, 95% {m['ciede2000_p95']:.2f}"
     )
     t = report["target_error_against_source"]
@@ -48,6 +48,11 @@ def add_export_command(sub: Any) -> None:
     s.add_argument("material", metavar="MATERIAL", help="a fit.json, a ranking from fit --compare, or SCENE.json#name")
     s.add_argument("--to", required=True, metavar="TARGET", help=f"the target format: {', '.join(TARGETS)}")
     s.add_argument("--out", required=True, metavar="FILE", help="the file to write (and FILE.export.json beside it)")
+    s.add_argument(
+        "--table",
+        metavar="TABLE",
+        help="the measured table the fit came from: refit and measure the export against it (default: the fit)",
+    )
     s.add_argument("--standard-surface", action="store_true", help="materialx: Standard Surface instead of OpenPBR")
     s.add_argument("--force", action="store_true", help="overwrite existing outputs (refused without it)")
     s.set_defaults(func=cmd_export)

@@ -3,7 +3,7 @@
 Targets hold Lambert + GGX (Mitsuba also Beckmann and several lobes) with one roughness for
 the three channels. Other fits (Ward, Ashikhmin-Shirley, Blinn-Phong, Lafortune, per-channel
 shapes, several lobes for a one-lobe target) are refitted to Lambert + one GGX lobe (the coat
-kept, its index held) against the source evaluated densely: differences of log(1 + the
+kept, its index held) against the source evaluated densely (or the measured table, given): differences of log(1 + the
 cosine-weighted value) (the `log` loss of `patina fit`; plain differences let grazing
 pairs, where Ward and Lafortune lobes part from GGX most, outweigh the highlight) at
 direction pairs spread over both hemispheres, plus pairs about the mirror direction where
@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -68,21 +69,50 @@ def error_metrics(reference: np.ndarray, exported: np.ndarray, cos_i: np.ndarray
     }
 
 
-def measure(evaluate: Callable, material: AnalyticMaterial, pairs: int = METRIC_PAIRS) -> dict[str, float]:
-    """The material's error against the source's evaluation, on pairs apart from the refit's."""
-    wi, wo = dense_pairs(pairs, seed=7)
-    return error_metrics(np.asarray(evaluate(wi, wo), np.float64), material.eval(wi, wo), wi[:, 2])
+# (count, seed) -> wi, wo (n, 3) and the reference's RGB values there (n, 3)
+Reference = Callable[[int, int], tuple[np.ndarray, np.ndarray, np.ndarray]]
 
 
-def refit(source: Source, name: str, progress: bool = False) -> AnalyticMaterial:
-    """The source refitted to Lambert + one GGX lobe (and its coat); RefitError if it fails.
+def fit_reference(evaluate: Callable) -> Reference:
+    """The source fit evaluated at dense_pairs."""
+
+    def draw(count: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        wi, wo = dense_pairs(count, seed)
+        return wi, wo, np.asarray(evaluate(wi, wo), np.float64)
+
+    return draw
+
+
+def table_reference(brdf: Any) -> Reference:
+    """A measured table's own samples (no interpolation), drawn in proportion to the measure
+    of direction pairs each stands for, as `patina fit` draws them."""
+    from patina.fitting.samples import sample_measure, subset, table_samples
+
+    every, weights = table_samples(brdf), sample_measure(brdf)
+
+    def draw(count: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        wi, wo, values, _ = subset(every, count, np.random.default_rng(seed), weights)
+        return wi.astype(np.float64), wo.astype(np.float64), values.astype(np.float64)
+
+    return draw
+
+
+def measure(reference: Reference, material: AnalyticMaterial, pairs: int = METRIC_PAIRS) -> dict[str, float]:
+    """The material's error against the reference, on pairs apart from the refit's."""
+    wi, wo, values = reference(pairs, 7)
+    return error_metrics(values, material.eval(wi, wo), wi[:, 2])
+
+
+def refit(source: Source, name: str, reference: Reference, progress: bool = False) -> AnalyticMaterial:
+    """The source refitted to Lambert + one GGX lobe (and its coat) against `reference` (the
+    source's fit_reference, or the measured table's); RefitError if it fails.
     `progress`: one step per roughness start on stderr."""
     coat_eta = None
     if source.fitted is not None and source.fitted.space.coat:
         coat_eta = dict(zip(source.fitted.space.names, source.fitted.values))["coat_eta"]
-    wi, wo = dense_pairs(REFIT_PAIRS, seed=3)
+    wi, wo, values = reference(REFIT_PAIRS, 3)
     weight = wi[:, 2:3]
-    target = np.log1p(np.asarray(source.evaluate(wi, wo), np.float64) * weight)
+    target = np.log1p(np.maximum(values, 0.0) * weight)
     if not np.all(np.isfinite(target)):
         raise RefitError("the source evaluates to non-finite values")
     as32 = lambda a: np.ascontiguousarray(a, dtype=np.float32)  # noqa: E731

@@ -88,3 +88,13 @@ def test_failed_refit_is_refused_and_nothing_is_written(tmp_path, capsys, monkey
     assert main(["export", fit, "--to", "gltf", "--out", str(tmp_path / "w.glb")]) == 2
     assert "gltf cannot hold ward+lambert" in _one_line_error(capsys)
     assert sorted(os.listdir(tmp_path)) == ["ward.json"]
+
+
+def test_table_option_measures_the_export_against_the_measurements(tmp_path, capsys, bundled_ptab):
+    fit = write_json(tmp_path / "p.json", GGX_FIT)
+    out = tmp_path / "p.pbrt"
+    assert main(["export", fit, "--to", "pbrt", "--out", str(out), "--table", bundled_ptab]) == 0
+    sidecar = json.loads((tmp_path / "p.pbrt.export.json").read_text())
+    assert sidecar["measured_against"] == bundled_ptab
+    assert sidecar["error_against_source"]["relative_error_median"] > 0  # the fit's own error against the table
+    assert bundled_ptab in capsys.readouterr().out
