@@ -17,6 +17,7 @@ TWO_BRIGHT = AnalyticMaterial(
 BECKMANN = AnalyticMaterial("beckmann", (0.5, 0.2, 0.1), (Lobe("beckmann", 0.15, (0.04, 0.05, 0.06)),))
 COATED = AnalyticMaterial("coated", (0.3, 0.2, 0.1), (Lobe("ggx", 0.3, (0.04, 0.05, 0.06)),), Coat(0.05, 1.6))
 LAMBERT_COAT = AnalyticMaterial("lacquer", (0.5, 0.2, 0.1), (), Coat(0.05, 1.5))
+SMOOTH_COAT = AnalyticMaterial("smooth_lacquer", (0.5, 0.2, 0.1), (), Coat(0.005, 1.5))  # Mitsuba's plastic: exact
 METAL = AnalyticMaterial("gold", (0.0, 0.0, 0.0), (Lobe("ggx", 0.08, (0.95, 0.7, 0.3)),))
 
 GGX_FIT = {

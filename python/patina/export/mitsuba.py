@@ -10,9 +10,11 @@ b = 1 - (1 - f0) / w, and the rest, min(f0) G, is a `roughconductor` of material
 (Fresnel 1). Where that cannot be (Beckmann lobes, unscaled weights adding to 1 or more,
 lobes under a coat) a lobe is a `roughconductor` whose conductor Fresnel (eta, k) and
 specular_reflectance are fitted to the Schlick curve: approximate, the notes say so. A
-Lambert base under a coat is `roughplastic` (nonlinear off) with its diffuse reflectance
-multiplied by (1 - Fdr_int) eta^2, which undoes Mitsuba's internal-reflection factor so that
-the base is rho / pi times the coat's transmission in and out, as in Patina. Mitsuba's Smith
+Lambert base under a coat is `roughplastic` (`plastic` for a coat with alpha <= 0.005;
+nonlinear off) with its diffuse reflectance multiplied by (1 - Fdr_int) eta^2, which undoes
+Mitsuba's internal-reflection factor so that the base is rho / pi times the coat's
+transmission in and out, as in Patina (roughplastic's transmission is its own average over
+the rough coat's facets, not Patina's smooth one: a few percent apart). Mitsuba's Smith
 term is separable (G1 G1), Patina's height-correlated: they differ at grazing angles.
 """
 
@@ -27,6 +29,9 @@ import numpy as np
 from patina.export.material import AnalyticMaterial, Lobe
 
 MITSUBA_VERSION = "3.5.0"
+# a coat this smooth (the fit's lower bound on alpha) is Mitsuba's smooth `plastic`, whose
+# diffuse part has the exact Fresnel transmission (roughplastic's is its own rough average)
+SMOOTH_COAT_ALPHA = 0.005
 
 
 def _rgb(value: Any) -> dict[str, Any]:
@@ -131,16 +136,17 @@ def _to_dict(material: AnalyticMaterial, notes: list[str], exact_ggx: bool) -> d
         fdr = internal_diffuse_reflectance(coat.eta)
 
         def plastic(s: float) -> dict[str, Any]:
-            return {
-                "type": "roughplastic",
-                "distribution": "ggx",
-                "alpha": float(coat.alpha),
+            out = {
+                "type": "plastic",
                 "int_ior": float(coat.eta),
                 "ext_ior": 1.0,
                 "nonlinear": False,
                 "diffuse_reflectance": _rgb([r * (1 - fdr) * coat.eta**2 * s for r in rho]),
                 "specular_reflectance": _rgb([s] * 3),
             }
+            if coat.alpha > SMOOTH_COAT_ALPHA:
+                out.update(type="roughplastic", distribution="ggx", alpha=float(coat.alpha))
+            return out
 
         scaled.append((1.0, plastic))
     elif any(r > 0 for r in rho):

@@ -8,7 +8,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-from export_helpers import BECKMANN, COATED, GGX, LAMBERT_COAT, TWO_BRIGHT, TWO_GGX
+from export_helpers import BECKMANN, COATED, GGX, LAMBERT_COAT, SMOOTH_COAT, TWO_BRIGHT, TWO_GGX
 from patina.export.material import AnalyticMaterial
 from patina.export.mitsuba import mitsuba_eval, to_mitsuba_dict, to_mitsuba_xml
 from patina.export.refit import dense_pairs
@@ -29,15 +29,17 @@ def relative_errors(material: AnalyticMaterial, bsdf) -> np.ndarray:
 
 
 @pytest.mark.parametrize(
-    "material", [GGX, TWO_BRIGHT, AnalyticMaterial("white", (0.8, 0.8, 0.8))], ids=lambda m: m.name
+    "material", [GGX, TWO_BRIGHT, SMOOTH_COAT, AnalyticMaterial("white", (0.8, 0.8, 0.8))], ids=lambda m: m.name
 )
 def test_exact_mappings_agree_with_patina_within_one_percent(material):
     notes: list[str] = []
     rel = relative_errors(material, mi.load_dict(to_mitsuba_dict(material, notes)))
     assert not notes  # nothing approximate was written
     assert np.median(rel) < 0.01
-    # Mitsuba's separable Smith term parts from Patina's height-correlated one at grazing angles only
-    assert np.percentile(rel, 90) < 0.1
+    # Mitsuba's separable Smith term parts from Patina's height-correlated one at grazing angles
+    # only; a smooth coat's highlight (alpha 0.005 in Patina) is a delta in Mitsuba's plastic
+    if material.coat is None:
+        assert np.percentile(rel, 90) < 0.1
 
 
 @pytest.mark.parametrize("material", [TWO_GGX, BECKMANN, COATED, LAMBERT_COAT], ids=lambda m: m.name)
