@@ -7,8 +7,9 @@ with Schlick Fresnel, f0 + (1 - f0) m G (G the lobe at F = 1, m = (1 - cos_d)^5)
 exactly: Mitsuba's `principled` at metallic 1 is Schlick of its base colour b times G, with
 no linear parameter, so it enters a blend at the weight w = 1 - min(f0) with
 b = 1 - (1 - f0) / w, and the rest, min(f0) G, is a `roughconductor` of material `none`
-(Fresnel 1). Where that cannot be (Beckmann lobes, unscaled weights adding to 1 or more,
-lobes under a coat) a lobe is a `roughconductor` whose conductor Fresnel (eta, k) and
+(Fresnel 1). Under a coat the lobe is scaled by the coat's normal-incidence transmission
+(approximate: Patina's is per direction). Where that cannot be (Beckmann lobes, fixed
+weights adding to 1 or more) a lobe is a `roughconductor` whose conductor Fresnel (eta, k) and
 specular_reflectance are fitted to the Schlick curve: approximate, the notes say so. A
 Lambert base under a coat is `roughplastic` (`plastic` for a coat with alpha <= 0.005;
 nonlinear off) with its diffuse reflectance multiplied by (1 - Fdr_int) eta^2, which undoes
@@ -116,14 +117,22 @@ def to_mitsuba_dict(material: AnalyticMaterial, notes: list[str] | None = None) 
     what is approximate."""
     notes = notes if notes is not None else []
     has_diffuse = material.coat is not None or any(r > 0 for r in material.diffuse)
-    fixed_weight = sum(1 - min(lobe.f0) for lobe in material.lobes)
+    fixed_weight = sum(_under_coat(material) * (1 - min(lobe.f0)) for lobe in material.lobes)
     # the exact form needs room beside the principled lobes' fixed weights for the scaled parts
-    exact = (
-        material.coat is None
-        and all(lobe.distribution == "ggx" for lobe in material.lobes)
-        and (fixed_weight < 0.999 or (fixed_weight <= 1 and not has_diffuse and len(material.lobes) == 1))
+    exact = all(lobe.distribution == "ggx" for lobe in material.lobes) and (
+        fixed_weight < 0.999 or (fixed_weight <= 1 and not has_diffuse and len(material.lobes) == 1)
     )
     return _to_dict(material, notes, exact)
+
+
+def _under_coat(material: AnalyticMaterial) -> float:
+    """What the lobes under a coat are multiplied by: the coat's transmission in and out at
+    normal incidence, (1 - F0)^2, standing for Patina's (1 - F(cos_i)) (1 - F(cos_o)), which
+    no Mitsuba BSDF applies to a lobe."""
+    if material.coat is None:
+        return 1.0
+    eta = material.coat.eta
+    return (1 - ((eta - 1) / (eta + 1)) ** 2) ** 2
 
 
 def _to_dict(material: AnalyticMaterial, notes: list[str], exact_ggx: bool) -> dict[str, Any]:
@@ -151,13 +160,14 @@ def _to_dict(material: AnalyticMaterial, notes: list[str], exact_ggx: bool) -> d
         scaled.append((1.0, plastic))
     elif any(r > 0 for r in rho):
         scaled.append((1.0, lambda s: {"type": "diffuse", "reflectance": _rgb([r * s for r in rho])}))
-    t0 = (1 - ((coat.eta - 1) / (coat.eta + 1)) ** 2) ** 2 if coat else 1.0
+    t0 = _under_coat(material)
     for lobe in material.lobes:
         if exact_ggx:
-            w = 1 - min(lobe.f0)
+            # t0 (f0 + (1 - f0) m) G = w (b + (1 - b) m) G + t0 min(f0) G with w = t0 (1 - min f0)
+            w = t0 * (1 - min(lobe.f0))
             roughness = math.sqrt(lobe.alpha)
             if w > 0:
-                base = [1 - (1 - f) / w for f in lobe.f0]
+                base = [1 - (1 - f) / (1 - min(lobe.f0)) for f in lobe.f0]
                 fixed.append(
                     (
                         w,
@@ -174,7 +184,7 @@ def _to_dict(material: AnalyticMaterial, notes: list[str], exact_ggx: bool) -> d
                 alpha = float(lobe.alpha)
                 scaled.append(
                     (
-                        min(lobe.f0),
+                        t0 * min(lobe.f0),
                         lambda s, a=alpha: {
                             "type": "roughconductor",
                             "material": "none",
@@ -187,14 +197,10 @@ def _to_dict(material: AnalyticMaterial, notes: list[str], exact_ggx: bool) -> d
         else:
             scaled.append((t0, lambda s, lb=lobe: _approximate_lobe(lb, s)))
             note = f"{lobe.distribution} lobe: Schlick Fresnel approximated by a fitted conductor Fresnel"
-            if coat:
-                note += "; under the coat, dimmed by the coat's normal-incidence transmission"
             if note not in notes:
                 notes.append(note)
     if coat and material.lobes:
-        notes.append(
-            "coat: the roughplastic's transmission is Mitsuba's (rough) one, close to Patina's for a smooth coat"
-        )
+        notes.append("lobes under the coat: dimmed by its normal-incidence transmission (1 - F0)^2, not per direction")
     fixed_total = sum(w for w, _ in fixed)
     parts = list(fixed)
     if scaled and fixed_total < 1:
