@@ -23,6 +23,7 @@ import numpy as np
 from patina.export.material import AnalyticMaterial, Coat, Lobe
 from patina.export.source import Source, sample_pairs
 from patina.fitting.metrics import colour_differences
+from patina.fitting.samples import sample_measure, subset, table_samples
 from patina.native import _core
 from patina.progress import Progress
 
@@ -86,8 +87,6 @@ def fit_reference(evaluate: Callable) -> Reference:
 def table_reference(brdf: Any) -> Reference:
     """A measured table's own samples (no interpolation), drawn in proportion to the measure
     of direction pairs each stands for, as `patina fit` draws them."""
-    from patina.fitting.samples import sample_measure, subset, table_samples
-
     every, weights = table_samples(brdf), sample_measure(brdf)
 
     def draw(count: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

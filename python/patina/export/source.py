@@ -18,6 +18,8 @@ from patina.errors import FormatError
 from patina.export.material import DISTRIBUTIONS, AnalyticMaterial, Coat, Lobe
 from patina.fitting import FittedModel, read_fit
 from patina.fitting.fit_file import MAX_FIT_BYTES
+from patina.scene import load_scene
+from patina.scene.types import CarpaintMaterial, FitMaterial, LambertMaterial
 
 
 @dataclass
@@ -85,9 +87,6 @@ def _fit_source(path: str, name: str | None = None, where: str = "") -> Source:
 
 
 def _scene_source(path: str, material: str) -> Source:
-    from patina.scene import load_scene
-    from patina.scene.types import CarpaintMaterial, FitMaterial, LambertMaterial
-
     scene = load_scene(path)
     if material not in scene.materials:
         known = ", ".join(sorted(scene.materials)) or "none"

@@ -6,7 +6,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from patina.atomic import atomic_output, write_text
+from patina.export.blender import to_blender_script
+from patina.export.gltf import write_gltf
 from patina.export.material import AnalyticMaterial
+from patina.export.materialx import to_materialx
+from patina.export.mitsuba import to_mitsuba_xml
+from patina.export.pbrt import to_pbrt
+from patina.export.usd import write_usd
 
 
 @dataclass(frozen=True)
@@ -32,48 +38,16 @@ def _file(make: Callable[..., None]) -> Callable[[AnalyticMaterial, str, list[st
     return write
 
 
-def _mitsuba(material: AnalyticMaterial, notes: list[str]) -> str:
-    from patina.export.mitsuba import to_mitsuba_xml
-
-    return to_mitsuba_xml(material, notes)
-
-
-def _pbrt(material: AnalyticMaterial, notes: list[str]) -> str:
-    from patina.export.pbrt import to_pbrt
-
-    return to_pbrt(material, notes)
-
-
 def _materialx(material: AnalyticMaterial, notes: list[str], standard_surface: bool = False) -> str:
-    from patina.export.materialx import to_materialx
-
     return to_materialx(material, "standard_surface" if standard_surface else "open_pbr_surface", notes)
-
-
-def _blender(material: AnalyticMaterial, notes: list[str]) -> str:
-    from patina.export.blender import to_blender_script
-
-    return to_blender_script(material, notes)
-
-
-def _gltf(material: AnalyticMaterial, path: str, notes: list[str]) -> None:
-    from patina.export.gltf import write_gltf
-
-    write_gltf(material, path, notes)
-
-
-def _usd(material: AnalyticMaterial, path: str, notes: list[str]) -> None:
-    from patina.export.usd import write_usd
-
-    write_usd(material, path, notes)
 
 
 ONE_GGX = (1, ("ggx",))
 TARGETS = {
-    "mitsuba": Target("mitsuba", None, ("ggx", "beckmann"), (".xml",), _text(_mitsuba)),
-    "pbrt": Target("pbrt", *ONE_GGX, (".pbrt",), _text(_pbrt)),
+    "mitsuba": Target("mitsuba", None, ("ggx", "beckmann"), (".xml",), _text(to_mitsuba_xml)),
+    "pbrt": Target("pbrt", *ONE_GGX, (".pbrt",), _text(to_pbrt)),
     "materialx": Target("materialx", *ONE_GGX, (".mtlx",), _text(_materialx)),
-    "gltf": Target("gltf", *ONE_GGX, (".gltf", ".glb"), _file(_gltf)),
-    "usd": Target("usd", *ONE_GGX, (".usda", ".usd", ".usdc"), _file(_usd)),
-    "blender": Target("blender", *ONE_GGX, (".py",), _text(_blender)),
+    "gltf": Target("gltf", *ONE_GGX, (".gltf", ".glb"), _file(write_gltf)),
+    "usd": Target("usd", *ONE_GGX, (".usda", ".usd", ".usdc"), _file(write_usd)),
+    "blender": Target("blender", *ONE_GGX, (".py",), _text(to_blender_script)),
 }

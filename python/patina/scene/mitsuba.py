@@ -32,6 +32,10 @@ from typing import Any
 
 import numpy as np
 
+from patina.export import prepare
+from patina.export.mitsuba import to_mitsuba_dict
+from patina.export.refit import RefitError
+from patina.export.source import load_source
 from patina.photometry.luminaire import load_luminaire
 from patina.photometry.placement import luminaire_axes, rgb_per_candela
 from patina.scene.reading import similarity_scale
@@ -123,11 +127,6 @@ def _integrator(scene: Scene) -> dict[str, Any]:
 
 def _fit_bsdf(material: FitMaterial, where: str) -> dict[str, Any]:
     """A fit.json's material as `patina export --to mitsuba` writes it (refitted if need be)."""
-    from patina.export import prepare
-    from patina.export.mitsuba import to_mitsuba_dict
-    from patina.export.refit import RefitError
-    from patina.export.source import load_source
-
     try:
         return to_mitsuba_dict(prepare(load_source(material.file), "mitsuba"))
     except (RefitError, ValueError) as e:  # FormatError is a ValueError
