@@ -14,6 +14,7 @@
     patina luminaire info FILE [--json] | patina luminaire plot FILE --out PNG
     patina preview MATERIAL [--env ENV] [--shape sphere|ball|panel|MESH] [--spp N] [--out out.exr]
     patina lighting report PROJECT.json --standard en12464-1|en13201|en12193 --out DIR
+    patina export MATERIAL --to mitsuba|pbrt|materialx|gltf|usd|blender --out FILE [--force]
 
 Bad input ends with one line naming the file, the place and the problem, and exit status 2.
 `--quiet` (where a command has it) leaves only errors: standard output goes nowhere and
@@ -30,6 +31,7 @@ import sys
 from patina.cli.batch import add_batch_command
 from patina.cli.bench import add_bench_command
 from patina.cli.common import UsageError, brief_warnings
+from patina.cli.export import add_export_command
 from patina.cli.files import check_files
 from patina.cli.fit import add_fit_command
 from patina.cli.lighting import add_lighting_commands
@@ -49,6 +51,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
     add_table_commands(sub)
     add_fit_command(sub)
+    add_export_command(sub)
     add_plot_command(sub)
     add_bench_command(sub)
     add_render_commands(sub)

@@ -13,8 +13,10 @@ convention) turned by the rotation as its `to_world`, a quad light is a `rectang
 whose light ends before 85 degrees from its nadir is a `spot` projecting its candela table
 (`luminaire_spot`: exact up to the texture's bilinear filter). Shapes are Mitsuba
 meshes built from the arrays given for them (vertex normals included); spheres and
-planes without arrays become Mitsuba's analytic `sphere` and `rectangle`. Materials
-Mitsuba has no equivalent for (tabulated, fitted, car paint over a table or a fit) raise
+planes without arrays become Mitsuba's analytic `sphere` and `rectangle`. A fitted material
+(without scale or tint) is what `patina export --to mitsuba` writes for its fit.json
+(patina.export.mitsuba: exact for Lambert + GGX, a refit for other models). Materials
+Mitsuba has no equivalent for (tabulated, car paint over a table or a fit) raise
 `MitsubaConversionError` naming the material: a cross-check needs the same material on
 both sides. A car paint over a Lambert base (without `thickness_tint`) becomes Mitsuba's
 `plastic` (`roughplastic` with GGX under a rough coat): the same coat over the same
@@ -30,6 +32,10 @@ from typing import Any
 
 import numpy as np
 
+from patina.export import prepare
+from patina.export.mitsuba import to_mitsuba_dict
+from patina.export.refit import RefitError
+from patina.export.source import load_source
 from patina.photometry.luminaire import load_luminaire
 from patina.photometry.placement import luminaire_axes, rgb_per_candela
 from patina.scene.reading import similarity_scale
@@ -39,6 +45,7 @@ from patina.scene.types import (
     ConductorMaterial,
     ConstantEnvironment,
     DielectricMaterial,
+    FitMaterial,
     LambertMaterial,
     LuminaireLight,
     MapEnvironment,
@@ -118,9 +125,19 @@ def _integrator(scene: Scene) -> dict[str, Any]:
 # --- materials ------------------------------------------------------------------------------
 
 
+def _fit_bsdf(material: FitMaterial, where: str) -> dict[str, Any]:
+    """A fit.json's material as `patina export --to mitsuba` writes it (refitted if need be)."""
+    try:
+        return to_mitsuba_dict(prepare(load_source(material.file), "mitsuba"))
+    except (RefitError, ValueError) as e:  # FormatError is a ValueError
+        raise MitsubaConversionError(where, f"its fit cannot be exported: {e}") from None
+
+
 def bsdf(material: Material, where: str = "material") -> dict[str, Any]:
-    """The Mitsuba BSDF dictionary of a lambert, conductor or dielectric material."""
-    if isinstance(material, LambertMaterial):
+    """The Mitsuba BSDF dictionary of a lambert, conductor, dielectric or fit material."""
+    if isinstance(material, FitMaterial) and material.scale == 1.0 and tuple(material.tint) == (1.0, 1.0, 1.0):
+        out = _fit_bsdf(material, where)
+    elif isinstance(material, LambertMaterial):
         out: dict[str, Any] = {"type": "diffuse", "reflectance": _rgb(material.albedo)}
     elif isinstance(material, ConductorMaterial):
         out = {"type": "conductor", "eta": _rgb(material.eta), "k": _rgb(material.k)}
@@ -145,7 +162,7 @@ def bsdf(material: Material, where: str = "material") -> dict[str, Any]:
         raise MitsubaConversionError(
             where,
             f"a {material.type} material has no Mitsuba 3 equivalent here (supported: lambert, conductor, "
-            "dielectric, carpaint over lambert)",
+            "dielectric, carpaint over lambert, fit without scale or tint)",
         )
     if material.two_sided:
         return {"type": "twosided", "bsdf": out}

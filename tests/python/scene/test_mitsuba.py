@@ -344,3 +344,25 @@ def test_lambert_plane_under_a_luminaire(tmp_path, file, aim, rotation):
     # pixels across the cut-off's edge are partly lit: the median and the mean say the texture is right
     assert np.median(relative) < 0.01 and relative.mean() < 0.03
     assert abs(image.sum() / expected.sum() - 1) < 0.01
+
+
+def test_fit_material_is_the_exported_mitsuba_bsdf(tmp_path):
+    """A fit.json material converts as `patina export --to mitsuba` writes it, and Mitsuba
+    evaluates it as Patina evaluates the fit (Mitsuba's eval carries cos(theta_o))."""
+    from export_helpers import GGX_FIT, write_json
+    from patina.fitting import read_fit
+
+    fit = write_json(tmp_path / "fit.json", GGX_FIT)
+    s = scene(
+        tmp_path, materials={"paint": {"type": "fit", "file": fit}}, shapes=[{"type": "sphere", "material": "paint"}]
+    )
+    converted = mi.load_dict(bsdf(s.materials["paint"]))
+    wi, wo = np.array([0.3, 0.1, 0.95]), np.array([-0.4, 0.2, 0.89])
+    wi, wo = wi / np.linalg.norm(wi), wo / np.linalg.norm(wo)
+    si = mi.SurfaceInteraction3f()
+    si.wi = mi.Vector3f(*wi)
+    si.sh_frame = mi.Frame3f(mi.Vector3f(0, 0, 1))
+    value = np.array(converted.eval(mi.BSDFContext(), si, mi.Vector3f(*wo))) / wo[2]
+    np.testing.assert_allclose(value, read_fit(fit).eval(wi[None], wo[None])[0], rtol=0.01)
+    with pytest.raises(MitsubaConversionError, match="fit"):
+        bsdf(scene(tmp_path, materials={"m": {"type": "fit", "file": fit, "scale": 2}}).materials["m"], "materials.m")
