@@ -61,7 +61,7 @@ def test_existing_output_is_refused_without_force(tmp_path, capsys):
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["--to", "renderman", "--out", "x.xml"], "--to renderman: unknown target"),
+        (["--to", "renderman", "--out", "x.xml"], "(--to): invalid choice: 'renderman'"),
         (["--to", "mitsuba", "--out", "x.glb"], "--out x.glb: a mitsuba file ends with .xml"),
         (["--to", "gltf", "--out", "x.glb", "--standard-surface"], "--standard-surface"),
     ],
