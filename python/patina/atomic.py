@@ -11,6 +11,8 @@ import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
+from patina.file_names import printable
+
 
 def _umask() -> int:
     mask = os.umask(0o022)
@@ -26,12 +28,6 @@ def _error(code: int | None, message: str) -> OSError:
     e = OSError(message)
     e.errno = code
     return e
-
-
-def printable(path: str | os.PathLike) -> str:
-    """A path as a message can show it: a name that is not UTF-8 (its undecodable bytes are
-    surrogates in Python's str) gets them as \\xNN escapes, where printing it raw would fail."""
-    return os.fsencode(path).decode("utf-8", "backslashreplace")
 
 
 def _named_error(shown: str, tmp: str, e: OSError) -> OSError:
@@ -63,19 +59,31 @@ def _alive(pid: int) -> bool:
     return True
 
 
+def _remove_dead(parent: str, names: list[str], temporary: re.Pattern) -> None:
+    """The names that are `temporary`'s (group 1: the writer's pid) of a dead writer, removed."""
+    for name in names:
+        m = temporary.fullmatch(name)
+        if m and not _alive(int(m.group(1))):
+            with contextlib.suppress(OSError):
+                os.unlink(os.path.join(parent, name))
+
+
 def remove_stale_temporaries(path: Path) -> None:
     """Removes the temporaries of `path` whose writer died mid-write (SIGKILL, a crash: no
     handler ran to remove them). Their names carry the writer's pid; a live writer's stay."""
-    own = re.compile(rf"\.{re.escape(path.stem)}\.p(\d+)\.\w+\.tmp{re.escape(path.suffix)}")
+    folder = str(path.parent or ".")
     try:
-        names = os.listdir(path.parent or ".")
+        names = os.listdir(folder)
     except OSError:
         return  # creating the temporary reports the problem
-    for name in names:
-        m = own.fullmatch(name)
-        if m and not _alive(int(m.group(1))):
-            with contextlib.suppress(OSError):
-                os.unlink(os.path.join(path.parent or ".", name))
+    _remove_dead(folder, names, re.compile(rf"\.{re.escape(path.stem)}\.p(\d+)\.\w+\.tmp{re.escape(path.suffix)}"))
+
+
+def remove_dead_temporaries(folder: str) -> None:
+    """Every temporary under `folder` (all depths) whose writer is dead: after worker processes
+    were killed mid-write (`patina batch` aborted), where no later write beside them would."""
+    for parent, _, names in os.walk(folder):
+        _remove_dead(parent, names, re.compile(r"\..*\.p(\d+)\.\w+\.tmp(\.[^.]*)?"))
 
 
 def _temporary(path: Path) -> str:

@@ -39,7 +39,7 @@ from patina.render.run import RenderAborted, render
 from patina.scene.preview import preview_scene_dict
 from patina.scene.reading import CACHE_RANGES, INTEGRATORS, check_run_options, load_scene, parse_scene, with_overrides
 from patina.scene.types import CacheParams, Scene
-from patina.signals import handling
+from patina.signals import terminate_as_interrupt
 
 IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg")  # tone-mapped 8-bit sRGB
 PREVIEW_SHAPES = ("ball", "sphere", "panel")
@@ -168,13 +168,6 @@ def _dask_client(args: argparse.Namespace) -> Iterator[Any]:
 
 
 # ---------------------------------------------------------------- signals
-
-
-@contextlib.contextmanager
-def terminate_as_interrupt() -> Iterator[None]:
-    """SIGTERM (kill, a CI timeout, a service manager) is handled as Ctrl-C while a command runs."""
-    with handling(signal.SIGTERM, signal.default_int_handler):
-        yield
 
 
 @contextlib.contextmanager

@@ -26,6 +26,7 @@ import OpenImageIO as oiio
 
 from patina.atomic import atomic_output
 from patina.errors import FormatError
+from patina.file_names import printable
 
 EXR_MAGIC = b"\x76\x2f\x31\x01"
 HDR_MAGICS = (b"#?RADIANCE", b"#?RGBE")
@@ -225,7 +226,7 @@ def _encode_oiio(name: str, spec: oiio.ImageSpec, pixels: np.ndarray) -> bytes:
     file, never onto the output's disk. There a full disk is not reported by every codec:
     libpng's writes left a truncated PNG and success, libjpeg's ended the whole process
     (exit 1, in the library). `name`: the output's name, whose extension picks the format."""
-    out = oiio.ImageOutput.create(name)
+    out = oiio.ImageOutput.create("image" + printable(os.path.splitext(name)[1]))  # a name OIIO's str takes
     if out is None:
         raise OSError(f"{name}: {_oiio_problem('OpenImageIO has no writer for this file')}")
     fd = os.memfd_create("patina-image")
