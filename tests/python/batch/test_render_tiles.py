@@ -318,7 +318,7 @@ def test_a_gltf_reaches_the_workers_with_its_external_buffers(tmp_path):
 
 
 def test_a_gltf_naming_a_file_outside_its_folder_is_refused(tmp_path):
-    with pytest.raises(ValueError, match="only files in the .gltf's folder"):
+    with pytest.raises(ValueError, match=r"only files in the \.gltf's folder"):
         render_tiles.gltf_companions("a.gltf", b'{"buffers": [{"uri": "../../etc/passwd"}]}')
     assert (
         render_tiles.gltf_companions("a.gltf", b'{"buffers": [{"uri": "data:application/octet-stream;base64,AA=="}]}')
