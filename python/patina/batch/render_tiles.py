@@ -14,8 +14,9 @@ addition is not associative.) Dask runs a group's next run where its sums alread
 The scene reaches each worker once: the parsed scene and the bytes of every file it reads
 (meshes with a .gltf's external buffers and images, tables, maps, luminaires) travel as one
 `SceneBundle`, scattered to one worker and fetched from there by every other worker its
-first task lands on (once: it stays), and each worker process prepares it once (kd-tree, materials) and keeps the prepared scene and a
-job, keyed by the bundle's checksum, for all its tasks.
+first task lands on (once: it stays), and each worker process prepares it once (kd-tree,
+materials) and keeps the prepared scene and a job, keyed by the bundle's checksum, for all
+its tasks.
 
 Ctrl-C, as locally (patina.render.run): the first cancels every task of a later pass and waits
 for the first pass, keeping each group's last finished run of passes (a valid, noisier image, flagged
