@@ -19,21 +19,21 @@ import signal
 import uuid
 import warnings
 from collections.abc import Callable, Iterator
+from concurrent.futures import CancelledError
 from dataclasses import dataclass
 from typing import Any
 
 from patina.atomic import check_writable, remove_dead_temporaries
 from patina.batch.gallery import summarise, write_gallery
 from patina.batch.library import Material, Settings, find_tables
+from patina.batch.scheduler_address import CONNECT_TIMEOUT_S, IN_PROCESS, check_scheduler, probe_scheduler
 from patina.batch.tasks import NEEDS, one_line, result, run_task
 from patina.file_names import printable
 from patina.progress import Progress
 from patina.signals import held_from_children, terminate_as_interrupt
 
 RETRIES = 2  # a task whose worker died (or that raised) is run up to this many times more
-CONNECT_TIMEOUT_S = 5  # an unreachable scheduler is reported within seconds
 WORKERS_TIMEOUT_S = 20  # a scheduler with no worker: waited for this long, then reported
-IN_PROCESS = "in-process"  # --scheduler value: no Dask, the tasks one after the other here
 # The local cluster's housekeeping at a slower beat than Dask's defaults (a 10 ms profiler,
 # a 100 ms memory monitor, a 20 ms event-loop tick): idle, its 2 workers and scheduler took
 # 0.13 s of CPU a second on this project's 2-core machine, with these 0.03 s; every
@@ -212,42 +212,56 @@ def connect(scheduler: str | None, workers: int | None) -> Iterator[tuple[Any, s
         return
     if workers is not None:
         raise ValueError("--workers: sets the size of the local cluster; a --scheduler has its own workers")
-    try:
-        client = Client(scheduler, timeout=CONNECT_TIMEOUT_S)
-    except (OSError, ValueError, TypeError) as e:
-        raise ValueError(f"--scheduler {scheduler}: cannot connect: {one_line(e)}") from None
-    try:
+    probe_scheduler(scheduler)  # a silent port or one speaking something else: one line, no Dask traceback
+    with quiet_dask_logs():
         try:
-            client.wait_for_workers(1, timeout=WORKERS_TIMEOUT_S)
-        except (OSError, TimeoutError):
-            raise ValueError(f"--scheduler {scheduler}: no worker joined within {WORKERS_TIMEOUT_S} s") from None
-        yield client, f"the Dask scheduler at {scheduler} ({len(client.nthreads())} workers)"
+            client = Client(scheduler, timeout=CONNECT_TIMEOUT_S)
+        except Exception as e:  # whatever Dask raises is one line here
+            raise ValueError(f"--scheduler {scheduler}: cannot connect: {one_line(e)}") from None
+        try:
+            try:
+                client.wait_for_workers(1, timeout=WORKERS_TIMEOUT_S)
+            except (OSError, TimeoutError):
+                raise ValueError(f"--scheduler {scheduler}: no worker joined within {WORKERS_TIMEOUT_S} s") from None
+            try:
+                yield client, f"the Dask scheduler at {scheduler} ({len(client.nthreads())} workers)"
+            except (OSError, CancelledError) as e:  # the scheduler died or the network went
+                raise ValueError(f"--scheduler {scheduler}: the scheduler was lost: {one_line(e)}") from None
+        finally:
+            client.close()
+
+
+def _dask_loggers() -> list[logging.Logger]:
+    names = ["distributed", *(n for n in logging.root.manager.loggerDict if n.startswith("distributed."))]
+    return [logging.getLogger(n) for n in names]
+
+
+@contextlib.contextmanager
+def quiet_dask_logs() -> Iterator[None]:
+    """Dask's own log lines off meanwhile (a scheduler that dies mid-run: CancelledError
+    tracebacks, "Failed to reconnect"): Patina says what happened in one line."""
+    loggers = _dask_loggers()
+    before = [lg.disabled for lg in loggers]
+    for lg in loggers:
+        lg.disabled = True
+    try:
+        yield
     finally:
-        client.close()
+        for lg, disabled in zip(loggers, before):
+            lg.disabled = disabled
 
 
 def kill_workers(cluster: Any) -> None:
     """SIGKILL to the local cluster's worker processes. What they were writing stays a hidden
     temporary file, named with their pid, that remove_dead_temporaries removes."""
     # the cluster's lost connections to them are expected now: not a traceback on the terminal
-    logging.getLogger("distributed").setLevel(logging.CRITICAL + 1)
+    for logger in _dask_loggers():  # for good: this process is closing its cluster
+        logger.disabled = True
     for nanny in list(getattr(cluster, "workers", {}).values()):
         pid = getattr(nanny, "pid", None)  # None: not started, or already gone
         if pid:
             with contextlib.suppress(OSError):
                 os.kill(pid, signal.SIGKILL)
-
-
-def check_scheduler(scheduler: str | None) -> None:
-    """An address's form checked before anything starts: PROTOCOL://HOST:PORT."""
-    if scheduler is None or scheduler == IN_PROCESS:
-        return
-    protocol, sep, rest = scheduler.partition("://")
-    host, colon, port = rest.rpartition(":")
-    if not sep or protocol not in ("tcp", "tls", "ucx", "inproc", "ws", "wss") or not colon or not host:
-        raise ValueError(f"--scheduler {scheduler}: expected an address like tcp://host:8786 (or {IN_PROCESS})")
-    if not port.isdigit() or not 0 < int(port) < 65536:
-        raise ValueError(f"--scheduler {scheduler}: the port must be a number in 1 .. 65535")
 
 
 # ---------------------------------------------------------------- the batch
