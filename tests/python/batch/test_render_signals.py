@@ -64,3 +64,33 @@ def test_a_second_ctrl_c_aborts_at_once(tmp_path):
     assert time.monotonic() - sent < 5, err
     assert proc.returncode == 130 and "Traceback" not in err, err
     assert not os.path.exists(tmp_path / "ball.exr")
+
+
+def _children(pid: int) -> list[int]:
+    found = []
+    for task in os.listdir(f"/proc/{pid}/task"):
+        with open(f"/proc/{pid}/task/{task}/children") as f:
+            found += [int(c) for c in f.read().split()]
+    return found
+
+
+def test_ctrl_c_while_the_cluster_starts_stops_the_command(tmp_path):
+    """Before: the Ctrl-C that came while the local cluster started was discarded; the render
+    went on to its end and exited 0."""
+    cmd = [sys.executable, "-m", "patina.cli", "render", BALL, "--spp", "4", "--width", "64", "--workers", "2"]
+    with handling(signal.SIGINT, signal.default_int_handler):
+        proc = subprocess.Popen(
+            [*cmd, "--out", str(tmp_path / "ball.exr")],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            start_new_session=True,
+        )
+    deadline = time.monotonic() + 60
+    while not _children(proc.pid) and time.monotonic() < deadline:  # the cluster's first process
+        time.sleep(0.02)
+    os.killpg(proc.pid, signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, out + err
+    assert "rendered" not in out and err.strip().splitlines()[-1] == "patina: interrupted", err
+    assert not os.path.exists(tmp_path / "ball.exr")
