@@ -29,3 +29,13 @@ def test_render_onto_a_full_disk(tmp_path, name):
         assert len(lines) == 1 and "Traceback" not in done.stderr, done.stderr
         assert lines[0] == f"patina: error: {out}: cannot write: No space left on device"
         assert files_in(full) == []
+
+
+@pytest.mark.parametrize("quiet", [[], ["--quiet"]])
+def test_an_output_name_that_is_not_utf8(tmp_path, quiet):
+    """Before, with --quiet: "surrogates not allowed" and exit 2 after the render."""
+    out = os.path.join(tmp_path, os.fsdecode(b"ball \xff.png"))
+    cmd = [sys.executable, "-m", "patina.cli", "render", BALL, "--spp", "1", "--width", "32", "--out", out, *quiet]
+    done = subprocess.run(cmd, check=False, capture_output=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert os.listdir(os.fsencode(tmp_path)) == [b"ball \xff.png"]
