@@ -51,7 +51,10 @@ def held_from_children() -> Iterator[None]:
     came: list[int] = []
     # the resource tracker's start unblocks both signals in the starting thread: started first
     resource_tracker.ensure_running()
-    mask = signal.pthread_sigmask(signal.SIG_BLOCK, INTERRUPTS)  # pending meanwhile, not lost
+    # blocked while they are ignored, so one that comes is kept pending and noted below (a
+    # thread of a library that does not block them would drop it: for the fork server's start,
+    # a fraction of a second). A fork server started earlier, elsewhere, is used as it is.
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, INTERRUPTS)
     previous = {s: signal.signal(s, signal.SIG_IGN) for s in INTERRUPTS}
     try:
         forkserver.ensure_running()

@@ -189,8 +189,8 @@ def connect(scheduler: str | None, workers: int | None) -> Iterator[tuple[Any, s
         n = workers or os.cpu_count() or 1
         cluster = None
         try:
-            # the worker processes start with SIGINT and SIGTERM blocked (held_from_children);
-            # one that comes meanwhile is raised here once the cluster is up, and closes it
+            # the worker processes ignore SIGINT and SIGTERM (held_from_children); one that
+            # comes meanwhile is raised here once the cluster is up, and closes it
             with warnings.catch_warnings(), held_from_children(), dask.config.set(QUIET_CLUSTER):
                 # 8787 taken (another batch, another user): Dask takes a free port, and we print it
                 warnings.filterwarnings("ignore", message="Port .* is already in use")
@@ -341,7 +341,7 @@ def _run_batch(
             with connect(scheduler, workers) as (dask_client, what):
                 say(f"running on {what}; dashboard: {dashboard(dask_client)}")
                 results = run(dask_client)
-        finally:  # the temporaries of workers killed mid-write (connect kills them on an abort)
+        finally:  # the temporaries of workers killed mid-write (connect kills them when done)
             remove_dead_temporaries(os.path.join(out_dir, "materials"))
     summary = summarise(library, out_dir, materials, skipped, results, settings)
     write_gallery(out_dir, summary)
