@@ -11,6 +11,8 @@ import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
+from patina.file_names import printable
+
 
 def _umask() -> int:
     mask = os.umask(0o022)
@@ -29,10 +31,22 @@ def _error(code: int | None, message: str) -> OSError:
 
 
 def _named_error(shown: str, tmp: str, e: OSError) -> OSError:
-    """`e` as the user should read it: about the path they gave, not our hidden temporary file."""
-    if e.strerror and e.filename is not None:
+    """`e` as the user should read it: about the path they gave, not our hidden temporary file.
+    An error without a file name (ENOSPC from write(), EIO from fsync) is named too."""
+    if e.strerror:
         return _error(e.errno, f"{shown}: cannot write: {e.strerror}")
-    return _error(e.errno, str(e).replace(tmp, shown) if tmp else str(e))
+    text = str(e).replace(tmp, shown) if tmp else str(e)
+    return _error(e.errno, text if shown in text else f"{shown}: cannot write: {text}")
+
+
+def _sync(tmp: str) -> None:
+    """The temporary file's data on the disk before it is renamed: a file system that reports
+    a full disk late (delayed allocation, NFS) reports it here, not after "wrote"."""
+    fd = os.open(tmp, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
 
 
 def _alive(pid: int) -> bool:
@@ -45,19 +59,31 @@ def _alive(pid: int) -> bool:
     return True
 
 
+def _remove_dead(parent: str, names: list[str], temporary: re.Pattern) -> None:
+    """The names that are `temporary`'s (group 1: the writer's pid) of a dead writer, removed."""
+    for name in names:
+        m = temporary.fullmatch(name)
+        if m and not _alive(int(m.group(1))):
+            with contextlib.suppress(OSError):
+                os.unlink(os.path.join(parent, name))
+
+
 def remove_stale_temporaries(path: Path) -> None:
     """Removes the temporaries of `path` whose writer died mid-write (SIGKILL, a crash: no
     handler ran to remove them). Their names carry the writer's pid; a live writer's stay."""
-    own = re.compile(rf"\.{re.escape(path.stem)}\.p(\d+)\.\w+\.tmp{re.escape(path.suffix)}")
+    folder = str(path.parent or ".")
     try:
-        names = os.listdir(path.parent or ".")
+        names = os.listdir(folder)
     except OSError:
         return  # creating the temporary reports the problem
-    for name in names:
-        m = own.fullmatch(name)
-        if m and not _alive(int(m.group(1))):
-            with contextlib.suppress(OSError):
-                os.unlink(os.path.join(path.parent or ".", name))
+    _remove_dead(folder, names, re.compile(rf"\.{re.escape(path.stem)}\.p(\d+)\.\w+\.tmp{re.escape(path.suffix)}"))
+
+
+def remove_dead_temporaries(folder: str) -> None:
+    """Every temporary under `folder` (all depths) whose writer is dead: after worker processes
+    were killed mid-write (`patina batch` aborted), where no later write beside them would."""
+    for parent, _, names in os.walk(folder):
+        _remove_dead(parent, names, re.compile(r"\..*\.p(\d+)\.\w+\.tmp(\.[^.]*)?"))
 
 
 def _temporary(path: Path) -> str:
@@ -71,12 +97,13 @@ def _temporary(path: Path) -> str:
 def atomic_output(path: str | os.PathLike, write: Callable[[str], None]) -> None:
     """Run `write(temporary_path)` on a temporary file beside `path` (same extension), then
     rename it over `path`. An OSError names `path` as given, never the temporary file."""
-    shown = os.fspath(path)
+    shown = printable(path)
     path = Path(path)
     tmp = ""
     try:
         tmp = _temporary(path)
         write(tmp)
+        _sync(tmp)
         os.chmod(tmp, NEW_FILE_MODE)  # mkstemp makes it private; give it an ordinary file's mode
         os.replace(tmp, path)
     except OSError as e:
@@ -96,8 +123,8 @@ def check_writable(path: str | os.PathLike) -> None:
     The path must not be a directory; if its folder exists a temporary file is created and
     removed there (the real test: permissions, read-only mounts, a full inode table); a
     folder yet to be made needs its nearest existing ancestor to be a writable directory."""
-    shown = os.fspath(path)
-    p = Path(os.path.abspath(shown))
+    shown = printable(path)
+    p = Path(os.path.abspath(path))
     if p.is_dir():
         raise _error(errno.EISDIR, f"{shown}: cannot write: is a directory")
     if p.parent.is_dir():
@@ -115,11 +142,18 @@ def check_writable(path: str | os.PathLike) -> None:
         raise _error(errno.EACCES, f"{shown}: cannot write: {ancestor} is not writable")
 
 
-def write_text(path: str | os.PathLike, text: str) -> None:
-    """A UTF-8 text file, written atomically."""
+def write_bytes(path: str | os.PathLike, data: bytes) -> None:
+    """`data` as the file `path`, written atomically; its size checked once written."""
 
     def write(tmp: str) -> None:
-        with open(tmp, "w", encoding="utf-8") as f:
-            f.write(text)
+        with open(tmp, "wb") as f:
+            f.write(data)
+        if os.path.getsize(tmp) != len(data):  # cannot happen on a POSIX file system; never rename a short file
+            raise OSError(f"{tmp}: {os.path.getsize(tmp)} of {len(data)} bytes written")
 
     atomic_output(path, write)
+
+
+def write_text(path: str | os.PathLike, text: str) -> None:
+    """A UTF-8 text file, written atomically."""
+    write_bytes(path, text.encode("utf-8"))

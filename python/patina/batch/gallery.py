@@ -20,6 +20,7 @@ import jinja2
 from patina.atomic import write_text
 from patina.batch.library import Material, Settings
 from patina.batch.tasks import PREVIEW_FILE, REPORT_DIR
+from patina.file_names import printable
 
 SUMMARY_VERSION = 1
 TEMPLATES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "templates")
@@ -129,12 +130,17 @@ def _plain(value: Any) -> Any:
     return value
 
 
+def _text(value: Any) -> Any:
+    return printable(value) if isinstance(value, str) else value
+
+
 def _csv(summary: dict[str, Any]) -> str:
     buffer = io.StringIO()
     writer = csv.DictWriter(buffer, fieldnames=CSV_COLUMNS, extrasaction="ignore", lineterminator="\n")
     writer.writeheader()
     for row in summary["materials"]:
-        writer.writerow({k: "" if row[k] is None else row[k] for k in CSV_COLUMNS})
+        # names that are not UTF-8 as \xNN escapes: the CSV stays UTF-8 text
+        writer.writerow({k: "" if row[k] is None else _text(row[k]) for k in CSV_COLUMNS})
     return buffer.getvalue()
 
 
@@ -149,7 +155,9 @@ def write_gallery(out_dir: str, summary: dict[str, Any]) -> None:
         trim_blocks=True,
         lstrip_blocks=True,
     )
-    env.filters["url"] = quote  # material names are file names: spaces, '#', '?'
+    # material names are file names: spaces, '#', '?', bytes that are not UTF-8 (as they are on disk)
+    env.filters["url"] = lambda path: quote(os.fsencode(path))
+    env.finalize = _text  # every value shown: names that are not UTF-8 as \xNN escapes, as in the CSV
     page = env.get_template("gallery.html.j2").render(
         title=f"Material library: {os.path.basename(summary['library'].rstrip(os.sep)) or summary['library']}",
         summary=summary,

@@ -1,6 +1,7 @@
 """What a batch runs on: the tables of a library folder and the settings every task gets.
 
-A file is a table when `detect_format` (the one `load_brdf` uses) recognises it and its
+A file is a table when it is a regular file (FIFOs, devices and links to them are skipped
+with a notice: reading one would wait or never end), `detect_format` (the one `load_brdf` uses) recognises it and its
 extension is not one of the documents, images and scenes a library keeps beside its tables
 (NOT_TABLES); the others are listed as skipped with the reason. A recognised file that then fails to load (a corrupt
 .ptab) is a table whose tasks fail: it is in the report with its error, not skipped.
@@ -14,6 +15,7 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from patina.errors import FormatError
+from patina.file_names import not_a_regular_file
 from patina.fitting import ALIASES, LOSSES, MODELS
 from patina.table.formats.loading import detect_format
 
@@ -125,6 +127,10 @@ def find_tables(folder: str) -> tuple[list[Material], list[tuple[str, str]]]:
             continue
         if os.path.isdir(path):
             skipped.append((name, "a folder (libraries are read one level deep)"))
+            continue
+        kind = not_a_regular_file(path)
+        if kind:  # a FIFO's open waits for a writer forever, /dev/zero never ends: only files are read
+            skipped.append((name, f"not a regular file ({kind})"))
             continue
         extension = os.path.splitext(name)[1].lower()
         if extension in NOT_TABLES:

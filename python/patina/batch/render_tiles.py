@@ -12,10 +12,11 @@ very same floats. (Adding per-pass sums together afterwards would not: floating-
 addition is not associative.) Dask runs a group's next run where its sums already are.
 
 The scene reaches each worker once: the parsed scene and the bytes of every file it reads
-(meshes, tables, maps, luminaires) travel as one `SceneBundle`, scattered to one worker and
-fetched from there by every other worker its first task lands on (once: it stays), and
-each worker process prepares it once (kd-tree, materials) and keeps the prepared scene and a
-job, keyed by the bundle's checksum, for all its tasks.
+(meshes with a .gltf's external buffers and images, tables, maps, luminaires) travel as one
+`SceneBundle`, scattered to one worker and fetched from there by every other worker its
+first task lands on (once: it stays), and each worker process prepares it once (kd-tree,
+materials) and keeps the prepared scene and a job, keyed by the bundle's checksum, for all
+its tasks.
 
 Ctrl-C, as locally (patina.render.run): the first cancels every task of a later pass and waits
 for the first pass, keeping each group's last finished run of passes (a valid, noisier image, flagged
@@ -27,6 +28,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import hashlib
+import json
 import os
 import pickle
 import shutil
@@ -38,6 +40,7 @@ from collections import OrderedDict
 from concurrent.futures import CancelledError
 from dataclasses import dataclass
 from typing import Any
+from urllib.parse import unquote
 
 import numpy as np
 
@@ -87,6 +90,9 @@ class SceneBundle:
     settings: dict[str, Any]  # job_settings
     scene_checksum: str
     checksum: str
+    # path in `scene` -> {the path relative to it of a file it reads in turn: its content}
+    # (a .gltf's external .bin buffers and images)
+    companions: dict[str, dict[str, bytes]] = dataclasses.field(default_factory=dict)
 
 
 def _map_files(obj: Any, change: Any) -> Any:
@@ -123,19 +129,56 @@ def scene_files(scene: Scene) -> list[str]:
     return found
 
 
+def gltf_companions(path: str, content: bytes) -> list[str]:
+    """The files a .gltf may read beside it (its buffers' and images' URIs that are not
+    `data:`), as paths relative to its folder. ValueError for one outside that folder: a worker writes
+    them beside its copy of the .gltf, and only there."""
+    try:
+        doc = json.loads(content)
+    except ValueError:
+        return []  # not JSON: the mesh reader says so, here and on the workers alike
+    if not isinstance(doc, dict):
+        return []
+    found = []
+    for key in ("buffers", "images"):
+        for entry in doc.get(key) or []:
+            uri = entry.get("uri") if isinstance(entry, dict) else None
+            if not isinstance(uri, str) or uri.startswith("data:"):
+                continue
+            # percent-encoded by the glTF spec, taken as written by some readers (trimesh): both
+            for relative in dict.fromkeys(os.path.normpath(u) for u in (uri, unquote(uri))):
+                if os.path.isabs(relative) or relative.split(os.sep)[0] == "..":
+                    raise ValueError(f"{path}: {key} uri {uri!r}: only files in the .gltf's folder go to the workers")
+                if relative not in found:
+                    found.append(relative)
+    return found
+
+
 def bundle_scene(scene: Scene, settings: dict[str, Any]) -> SceneBundle:
-    """The scene, its files' bytes and the job settings, with their checksum."""
-    files = {}
+    """The scene, its files' bytes (and a .gltf's buffers and images) and the job settings,
+    with their checksum."""
+    files: dict[str, bytes] = {}
+    companions: dict[str, dict[str, bytes]] = {}
     for path in scene_files(scene):
         with open(path, "rb") as f:
             files[path] = f.read()
+        if path.lower().endswith(".gltf"):
+            companions[path] = {}
+            for relative in gltf_companions(path, files[path]):
+                beside = os.path.join(os.path.dirname(path), relative)
+                if os.path.isfile(beside):  # a missing one: the mesh reader's error, as locally
+                    with open(beside, "rb") as f:
+                        companions[path][relative] = f.read()
     digest = hashlib.sha256(pickle.dumps(dataclasses.replace(scene, render=None), protocol=4))
     for path, data in files.items():
         digest.update(path.encode())
         digest.update(hashlib.sha256(data).digest())
+        for relative, extra in companions.get(path, {}).items():
+            digest.update(relative.encode())
+            digest.update(hashlib.sha256(extra).digest())
     scene_checksum = digest.hexdigest()
     digest.update(pickle.dumps(sorted(settings.items()), protocol=4))
-    return SceneBundle(scene, files, settings, scene_checksum, digest.hexdigest())
+    return SceneBundle(scene, files, settings, scene_checksum, digest.hexdigest(), companions)
 
 
 # ---------------------------------------------------------------- on a worker
@@ -164,6 +207,10 @@ def _prepare(bundle: SceneBundle) -> PreparedScene:
             local[path] = os.path.join(folder, str(i), os.path.basename(path))  # the name: formats go by extension
             with open(local[path], "wb") as f:
                 f.write(data)
+            for relative, extra in bundle.companions.get(path, {}).items():  # beside it, as it names them
+                os.makedirs(os.path.dirname(os.path.join(folder, str(i), relative)), exist_ok=True)
+                with open(os.path.join(folder, str(i), relative), "wb") as f:
+                    f.write(extra)
         prepared = PreparedScene(_map_files(bundle.scene, lambda p: local.get(p, p)))
     finally:
         shutil.rmtree(folder, ignore_errors=True)

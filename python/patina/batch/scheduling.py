@@ -19,19 +19,21 @@ import signal
 import uuid
 import warnings
 from collections.abc import Callable, Iterator
+from concurrent.futures import CancelledError
 from dataclasses import dataclass
 from typing import Any
 
+from patina.atomic import check_writable, remove_dead_temporaries
 from patina.batch.gallery import summarise, write_gallery
 from patina.batch.library import Material, Settings, find_tables
+from patina.batch.scheduler_address import CONNECT_TIMEOUT_S, IN_PROCESS, check_scheduler, probe_scheduler
 from patina.batch.tasks import NEEDS, one_line, result, run_task
+from patina.file_names import printable
 from patina.progress import Progress
-from patina.signals import handling
+from patina.signals import held_from_children, terminate_as_interrupt
 
 RETRIES = 2  # a task whose worker died (or that raised) is run up to this many times more
-CONNECT_TIMEOUT_S = 5  # an unreachable scheduler is reported within seconds
 WORKERS_TIMEOUT_S = 20  # a scheduler with no worker: waited for this long, then reported
-IN_PROCESS = "in-process"  # --scheduler value: no Dask, the tasks one after the other here
 # The local cluster's housekeeping at a slower beat than Dask's defaults (a 10 ms profiler,
 # a 100 ms memory monitor, a 20 ms event-loop tick): idle, its 2 workers and scheduler took
 # 0.13 s of CPU a second on this project's 2-core machine, with these 0.03 s; every
@@ -41,6 +43,8 @@ QUIET_CLUSTER = {
     "distributed.worker.memory.monitor-interval": "1s",
     "distributed.admin.system-monitor.interval": "2s",
     "distributed.admin.tick.interval": "100ms",
+    # workers forked from a fork server that ignores SIGINT and SIGTERM (patina.signals.held_from_children)
+    "distributed.worker.multiprocessing-method": "forkserver",
 }
 
 
@@ -90,7 +94,7 @@ def _raised(task: Task, e: BaseException) -> dict[str, Any]:
 def run_in_process(tasks: list[Task], settings: Settings, out_dir: str, progress: Progress) -> list[dict[str, Any]]:
     results: list[dict[str, Any]] = []
     for done, task in enumerate(tasks):
-        progress.update(done, postfix=f"{task.material.name} {task.step}")
+        progress.update(done, postfix=f"{printable(task.material.name)} {task.step}")
         try:
             results.append(run_task(task.step, task.material, settings, out_dir, 0, *(results[i] for i in task.needs)))
         except Exception as e:  # one material's trouble (a MemoryError too) does not stop the library
@@ -136,7 +140,7 @@ def run_on_dask(
         for done, (future, value) in enumerate(finished, 1):
             returned[position[future.key]] = value
             task = tasks[position[future.key]]
-            progress.update(done, postfix=f"{task.material.name} {task.step}")
+            progress.update(done, postfix=f"{printable(task.material.name)} {task.step}")
     except BaseException:
         client.cancel(futures)  # Ctrl-C: the finished tasks' outputs and manifests stay
         raise
@@ -183,52 +187,81 @@ def connect(scheduler: str | None, workers: int | None) -> Iterator[tuple[Any, s
 
     if scheduler is None:
         n = workers or os.cpu_count() or 1
-        # the worker processes started meanwhile ignore SIGINT (an ignored signal stays ignored
-        # across exec, and Python keeps it so): Ctrl-C at a terminal reaches the whole process
-        # group, and it is this command, not the workers, that decides what stops (a render
-        # finishes its first pass); this process ignores it too for those seconds
-        with warnings.catch_warnings(), handling(signal.SIGINT, signal.SIG_IGN), dask.config.set(QUIET_CLUSTER):
-            # 8787 taken (another batch, another user): Dask takes a free port, and we print it
-            warnings.filterwarnings("ignore", message="Port .* is already in use")
-            cluster = LocalCluster(
-                n_workers=n,
-                threads_per_worker=1,
-                processes=True,
-                silence_logs=logging.ERROR,  # the batch's own lines and progress, not the cluster's log
-                dashboard_address=":8787",
-            )
+        cluster = None
         try:
+            # the worker processes ignore SIGINT and SIGTERM (held_from_children); one that
+            # comes meanwhile is raised here once the cluster is up, and closes it
+            with warnings.catch_warnings(), held_from_children(), dask.config.set(QUIET_CLUSTER):
+                # 8787 taken (another batch, another user): Dask takes a free port, and we print it
+                warnings.filterwarnings("ignore", message="Port .* is already in use")
+                cluster = LocalCluster(
+                    n_workers=n,
+                    threads_per_worker=1,
+                    processes=True,
+                    silence_logs=logging.ERROR,  # the batch's own lines and progress, not the cluster's log
+                    dashboard_address=":8787",
+                )
             with Client(cluster) as client:
                 yield client, f"a local Dask cluster of {n} worker process{'es' if n > 1 else ''}"
         finally:
-            cluster.close()
+            # the work is done, aborted or failed: the workers stop now, not after the tasks in
+            # flight (closing asks them to finish those: 10 s after a render's second Ctrl-C)
+            if cluster is not None:
+                kill_workers(cluster)
+                cluster.close()
         return
     if workers is not None:
         raise ValueError("--workers: sets the size of the local cluster; a --scheduler has its own workers")
-    try:
-        client = Client(scheduler, timeout=CONNECT_TIMEOUT_S)
-    except (OSError, ValueError, TypeError) as e:
-        raise ValueError(f"--scheduler {scheduler}: cannot connect: {one_line(e)}") from None
-    try:
+    probe_scheduler(scheduler)  # a silent port or one speaking something else: one line, no Dask traceback
+    with quiet_dask_logs():
         try:
-            client.wait_for_workers(1, timeout=WORKERS_TIMEOUT_S)
-        except (OSError, TimeoutError):
-            raise ValueError(f"--scheduler {scheduler}: no worker joined within {WORKERS_TIMEOUT_S} s") from None
-        yield client, f"the Dask scheduler at {scheduler} ({len(client.nthreads())} workers)"
+            client = Client(scheduler, timeout=CONNECT_TIMEOUT_S)
+        except Exception as e:  # whatever Dask raises is one line here
+            raise ValueError(f"--scheduler {scheduler}: cannot connect: {one_line(e)}") from None
+        try:
+            try:
+                client.wait_for_workers(1, timeout=WORKERS_TIMEOUT_S)
+            except (OSError, TimeoutError):
+                raise ValueError(f"--scheduler {scheduler}: no worker joined within {WORKERS_TIMEOUT_S} s") from None
+            try:
+                yield client, f"the Dask scheduler at {scheduler} ({len(client.nthreads())} workers)"
+            except (OSError, CancelledError) as e:  # the scheduler died or the network went
+                raise ValueError(f"--scheduler {scheduler}: the scheduler was lost: {one_line(e)}") from None
+        finally:
+            client.close()
+
+
+def _dask_loggers() -> list[logging.Logger]:
+    names = ["distributed", *(n for n in logging.root.manager.loggerDict if n.startswith("distributed."))]
+    return [logging.getLogger(n) for n in names]
+
+
+@contextlib.contextmanager
+def quiet_dask_logs() -> Iterator[None]:
+    """Dask's own log lines off meanwhile (a scheduler that dies mid-run: CancelledError
+    tracebacks, "Failed to reconnect"): Patina says what happened in one line."""
+    loggers = _dask_loggers()
+    before = [lg.disabled for lg in loggers]
+    for lg in loggers:
+        lg.disabled = True
+    try:
+        yield
     finally:
-        client.close()
+        for lg, disabled in zip(loggers, before):
+            lg.disabled = disabled
 
 
-def check_scheduler(scheduler: str | None) -> None:
-    """An address's form checked before anything starts: PROTOCOL://HOST:PORT."""
-    if scheduler is None or scheduler == IN_PROCESS:
-        return
-    protocol, sep, rest = scheduler.partition("://")
-    host, colon, port = rest.rpartition(":")
-    if not sep or protocol not in ("tcp", "tls", "ucx", "inproc", "ws", "wss") or not colon or not host:
-        raise ValueError(f"--scheduler {scheduler}: expected an address like tcp://host:8786 (or {IN_PROCESS})")
-    if not port.isdigit() or not 0 < int(port) < 65536:
-        raise ValueError(f"--scheduler {scheduler}: the port must be a number in 1 .. 65535")
+def kill_workers(cluster: Any) -> None:
+    """SIGKILL to the local cluster's worker processes. What they were writing stays a hidden
+    temporary file, named with their pid, that remove_dead_temporaries removes."""
+    # the cluster's lost connections to them are expected now: not a traceback on the terminal
+    for logger in _dask_loggers():  # for good: this process is closing its cluster
+        logger.disabled = True
+    for nanny in list(getattr(cluster, "workers", {}).values()):
+        pid = getattr(nanny, "pid", None)  # None: not started, or already gone
+        if pid:
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
 
 
 # ---------------------------------------------------------------- the batch
@@ -248,6 +281,20 @@ def run_batch(
     the summary (as summary.json). scheduler: None (a LocalCluster), an address, or IN_PROCESS;
     `client`: a Dask client to use instead (tests). ValueError for unusable options or a
     library with no table, before any task starts."""
+    with terminate_as_interrupt():  # a batch system's or service manager's SIGTERM: as Ctrl-C
+        return _run_batch(library, out_dir, settings, scheduler, workers, client, progress, say)
+
+
+def _run_batch(
+    library: str,
+    out_dir: str,
+    settings: Settings,
+    scheduler: str | None,
+    workers: int | None,
+    client: Any,
+    progress: bool,
+    say: Callable[[str], None],
+) -> dict[str, Any]:
     check_scheduler(scheduler)
     if workers is not None and not 1 <= workers <= 1024:
         raise ValueError(f"--workers: {workers} is not in 1 .. 1024")
@@ -264,9 +311,14 @@ def run_batch(
     try:
         os.makedirs(os.path.join(out_dir, "materials"), exist_ok=True)
     except OSError as e:
-        raise ValueError(f"--out {out_dir}: cannot make the report folder: {e.strerror}") from None
+        raise ValueError(f"--out {printable(out_dir)}: cannot make the report folder: {e.strerror}") from None
+    try:  # an existing folder that cannot be written: said now, not after every task has run
+        check_writable(os.path.join(out_dir, "summary.json"))
+        check_writable(os.path.join(out_dir, "materials", "summary.json"))
+    except OSError as e:
+        raise ValueError(f"--out {e}") from None
     for name, why in skipped:
-        say(f"skipped {name}: {why}")
+        say(f"skipped {printable(name)}: {why}")
     tasks = plan(materials, settings)
     say(f"{len(materials)} tables, {len(tasks)} tasks ({', '.join(settings.steps)})")
 
@@ -285,9 +337,12 @@ def run_batch(
         say("Dask distributed is not installed (pip install .[cluster]): running in this process, one task at a time")
         results = run(None)
     else:
-        with connect(scheduler, workers) as (dask_client, what):
-            say(f"running on {what}; dashboard: {dashboard(dask_client)}")
-            results = run(dask_client)
+        try:
+            with connect(scheduler, workers) as (dask_client, what):
+                say(f"running on {what}; dashboard: {dashboard(dask_client)}")
+                results = run(dask_client)
+        finally:  # the temporaries of workers killed mid-write (connect kills them when done)
+            remove_dead_temporaries(os.path.join(out_dir, "materials"))
     summary = summarise(library, out_dir, materials, skipped, results, settings)
     write_gallery(out_dir, summary)
     return summary

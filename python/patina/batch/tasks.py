@@ -19,6 +19,7 @@ import json
 import os
 import time
 from collections.abc import Callable
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -27,6 +28,7 @@ from patina.atomic import write_text
 from patina.batch.library import Material, Settings
 from patina.batch.manifest import checksum, up_to_date, write_manifest
 from patina.bundled import studio_environment
+from patina.file_names import engine_path, printable
 from patina.fitting import compare, recommended, write_ranking
 from patina.plot.fits import read_fits
 from patina.plot.lobes import LobeOptions
@@ -158,10 +160,14 @@ def run_task(
     recorded = up_to_date(folder, step, input_sum, inputs, chosen)
     if recorded is not None and input_sum:
         return {**recorded, "reused": True}
+    readable = material.path
     try:
-        data, outputs = STEP_FUNCTIONS[step](material, settings, folder, threads, fitted)
+        # a name that is not UTF-8 reaches the engine through a UTF-8 alias (file_names.engine_path)
+        with engine_path(material.path) as readable:
+            data, outputs = STEP_FUNCTIONS[step](replace(material, path=readable), settings, folder, threads, fitted)
     except ValueError as e:  # FormatError among them: the input is what it is, a retry would fail again
-        outcome = result(material, step, "failed", one_line(e), seconds=time.perf_counter() - started)
+        message = one_line(e).replace(readable, printable(material.path))
+        outcome = result(material, step, "failed", message, seconds=time.perf_counter() - started)
         write_manifest(folder, step, material.path, input_sum, inputs, chosen, [], outcome)
         return outcome
     outcome = result(material, step, "ok", seconds=time.perf_counter() - started, **data)

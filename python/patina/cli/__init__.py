@@ -103,7 +103,8 @@ def _run(argv: list[str] | None) -> int:
         with brief_warnings():
             if getattr(args, "quiet", False):
                 # --quiet: nothing but errors (stderr); the commands turn their progress off themselves
-                with open(os.devnull, "w") as devnull, contextlib.redirect_stdout(devnull):
+                # errors="replace": a name that is not UTF-8 in a line nobody reads is no failure
+                with open(os.devnull, "w", errors="replace") as devnull, contextlib.redirect_stdout(devnull):
                     return int(args.func(args) or 0)
             return int(args.func(args) or 0)
     except BrokenPipeError:

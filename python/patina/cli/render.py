@@ -56,7 +56,7 @@ from patina.scene.reading import (
     with_overrides,
 )
 from patina.scene.types import CacheParams, Scene
-from patina.signals import handling
+from patina.signals import terminate_as_interrupt
 
 IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg")  # tone-mapped 8-bit sRGB
 PREVIEW_SHAPES = ("ball", "sphere", "panel")
@@ -164,13 +164,6 @@ def _dask_client(args: argparse.Namespace) -> Iterator[Any]:
 
 
 # ---------------------------------------------------------------- signals
-
-
-@contextlib.contextmanager
-def terminate_as_interrupt() -> Iterator[None]:
-    """SIGTERM (kill, a CI timeout, a service manager) is handled as Ctrl-C while a command runs."""
-    with handling(signal.SIGTERM, signal.default_int_handler):
-        yield
 
 
 @contextlib.contextmanager

@@ -10,13 +10,14 @@ import numpy as np
 from patina.cli.common import UsageError, add_simd_option, channel_labels, print_json
 from patina.cli.files import add_output
 from patina.cli.values import number
+from patina.file_names import refuse_special_file
 from patina.plot.slices import plot_inplane_slices
 from patina.table import Tolerances, format_report, load_brdf, validate
 from patina.table.formats.lenient import read_reporting_bad_values
 
 
 def cmd_info(args: argparse.Namespace) -> int:
-
+    refuse_special_file(args.file)  # a FIFO: at once, not a wait for a writer
     brdf = load_brdf(args.file)
     info = brdf.info()
     if args.json:

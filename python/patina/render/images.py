@@ -26,6 +26,7 @@ import OpenImageIO as oiio
 
 from patina.atomic import atomic_output
 from patina.errors import FormatError
+from patina.file_names import printable
 
 EXR_MAGIC = b"\x76\x2f\x31\x01"
 HDR_MAGICS = (b"#?RADIANCE", b"#?RGBE")
@@ -220,15 +221,35 @@ def _metadata_from_spec(spec: oiio.ImageSpec) -> dict[str, str | float | int]:
 # ---------------------------------------------------------------- writing
 
 
-def _write_oiio(tmp: str, spec: oiio.ImageSpec, pixels: np.ndarray) -> None:
-    out = oiio.ImageOutput.create(tmp)
+def _encode_oiio(name: str, spec: oiio.ImageSpec, pixels: np.ndarray) -> bytes:
+    """The file OpenImageIO writes for `pixels`, as bytes: encoded into an anonymous memory
+    file, never onto the output's disk. There a full disk is not reported by every codec:
+    libpng's writes left a truncated PNG and success, libjpeg's ended the whole process
+    (exit 1, in the library). `name`: the output's name, whose extension picks the format."""
+    out = oiio.ImageOutput.create("image" + printable(os.path.splitext(name)[1]))  # a name OIIO's str takes
     if out is None:
-        raise OSError(f"{tmp}: {_oiio_problem('OpenImageIO has no writer for this file')}")
-    try:  # the messages name tmp; atomic_output puts the user's path in its place
-        if not out.open(tmp, spec) or not out.write_image(pixels):
-            raise OSError(f"{tmp}: {_oiio_problem('write failed', out)}")
+        raise OSError(f"{name}: {_oiio_problem('OpenImageIO has no writer for this file')}")
+    fd = os.memfd_create("patina-image")
+    try:  # the messages name `name`; atomic_output puts the user's path in its place
+        written = out.open(f"/proc/self/fd/{fd}", spec) and out.write_image(pixels)
+        closed = out.close()  # the codec's last bytes: a failure here is a failed write too
+        if not (written and closed):
+            raise OSError(f"{name}: {_oiio_problem('write failed', out)}")
+        size = os.fstat(fd).st_size
+        data = os.pread(fd, size, 0)
     finally:
-        out.close()
+        os.close(fd)
+    if len(data) != size or size == 0:
+        raise OSError(f"{name}: OpenImageIO wrote {size} bytes, {len(data)} read back")
+    return data
+
+
+def _write_oiio(tmp: str, spec: oiio.ImageSpec, pixels: np.ndarray) -> None:
+    """`pixels` encoded in memory (`_encode_oiio`), then written to `tmp` by Python, whose
+    writes report a full disk (atomic_output then removes `tmp` and names the output)."""
+    data = _encode_oiio(tmp, spec, pixels)
+    with open(tmp, "wb") as f:
+        f.write(data)
 
 
 def _layer_channels(name: str, array: np.ndarray) -> tuple[list[str], np.ndarray]:

@@ -261,3 +261,67 @@ def test_an_unreachable_scheduler_fails_within_seconds_with_one_line(tmp_path, c
     assert code == 2 and "tcp://127.0.0.1:9" in err and len(err.strip().splitlines()) == 1, err
     assert time.monotonic() - started < 30
     assert not os.path.exists(tmp_path / "a.exr")
+
+
+def _gltf_scene(folder) -> object:
+    """A scene of a .gltf whose buffer is an external .bin in a subfolder (as exporters write
+    them; its URI as trimesh reads it, not percent-decoded)."""
+    import json as json_module
+
+    import trimesh
+
+    from patina.scene.reading import parse_scene
+
+    os.makedirs(folder / "buffers")
+    vertices = np.array([[-1, -1, 0], [1, -1, 0], [0, 1, 0]], np.float32)
+    (folder / "buffers" / "tri%20data.bin").write_bytes(vertices.tobytes() + np.array([0, 1, 2], np.uint32).tobytes())
+    gltf = {
+        "asset": {"version": "2.0"},
+        "buffers": [{"uri": "buffers/tri%20data.bin", "byteLength": 48}],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 36},
+            {"buffer": 0, "byteOffset": 36, "byteLength": 12},
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]},
+            {"bufferView": 1, "componentType": 5125, "count": 3, "type": "SCALAR"},
+        ],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "nodes": [{"mesh": 0}],
+        "scenes": [{"nodes": [0]}],
+        "scene": 0,
+    }
+    (folder / "tri.gltf").write_text(json_module.dumps(gltf))
+    assert len(trimesh.load(folder / "tri.gltf", force="mesh").faces) == 1
+    doc = {
+        "version": 1,
+        "camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "fov": 60, "width": 16, "height": 16},
+        "render": {"spp": 1, "integrator": "direct"},
+        "materials": {"grey": {"type": "lambert", "albedo": [0.5, 0.5, 0.5]}},
+        "shapes": [{"type": "mesh", "file": "tri.gltf", "material": "grey"}],
+        "environment": {"type": "constant", "radiance": [1, 1, 1]},
+    }
+    return parse_scene(doc, str(folder / "scene.json"))
+
+
+def test_a_gltf_reaches_the_workers_with_its_external_buffers(tmp_path):
+    """Before: only the .gltf was sent; a worker (without this machine's files) failed to read
+    its .bin ("Compute Failed"). Here the worker's side runs on the bundle alone: the scene's
+    folder is gone when it is prepared."""
+    folder = tmp_path / "scene"
+    scene = _gltf_scene(folder)
+    bundle = render_tiles.bundle_scene(scene, job_settings(scene))
+    assert list(bundle.companions[str(folder / "tri.gltf")]) == [os.path.join("buffers", "tri%20data.bin")]
+    os.rename(folder, tmp_path / "elsewhere")
+    prepared = render_tiles._prepare(bundle)
+    assert prepared.triangles == 1
+
+
+def test_a_gltf_naming_a_file_outside_its_folder_is_refused(tmp_path):
+    with pytest.raises(ValueError, match=r"only files in the \.gltf's folder"):
+        render_tiles.gltf_companions("a.gltf", b'{"buffers": [{"uri": "../../etc/passwd"}]}')
+    assert (
+        render_tiles.gltf_companions("a.gltf", b'{"buffers": [{"uri": "data:application/octet-stream;base64,AA=="}]}')
+        == []
+    )
+    assert render_tiles.gltf_companions("a.gltf", b"not json") == []
