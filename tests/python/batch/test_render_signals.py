@@ -63,7 +63,10 @@ def test_a_second_ctrl_c_aborts_at_once(tmp_path):
     _, err = proc.communicate(timeout=120)
     assert time.monotonic() - sent < 5, err
     assert proc.returncode == 130 and "Traceback" not in err, err
-    assert not os.path.exists(tmp_path / "ball.exr")
+    # nothing, or (when the first pass ended before the second Ctrl-C came: a loaded machine's
+    # timing) the partial image the first one keeps; never a half-written file
+    if os.path.exists(tmp_path / "ball.exr"):
+        assert read_exr_layers(tmp_path / "ball.exr")[1]["patina:complete"] == 0
 
 
 def _children(pid: int) -> list[int]:
