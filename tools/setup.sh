@@ -53,3 +53,13 @@ echo "setup: building and installing Patina into .venv"
 $PIP install -q --no-build-isolation $no_deps -C build-dir=build/cpp -C cmake.define.PATINA_BUILD_TESTS=ON \
   -C cmake.define.PATINA_WERROR="${werror:-OFF}" ".[test,cluster]"
 echo "$deps_key" > "$deps_stamp"
+
+# The Khronos glTF validator (npm: the exported .gltf / .glb are checked with it in
+# tests/python/export), pinned by tools/gltf_validator/package-lock.json; installed again only
+# when that lock changes. Node and npm come with this machine kind; without them the test skips.
+validator=tools/gltf_validator
+if command -v npm >/dev/null && [ "$(cat $validator/node_modules/.patina-lock 2>/dev/null)" != "$(sha256sum < $validator/package-lock.json)" ]; then
+  echo "setup: installing the glTF validator (npm) into $validator/node_modules"
+  (cd $validator && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+  sha256sum < $validator/package-lock.json > $validator/node_modules/.patina-lock
+fi
