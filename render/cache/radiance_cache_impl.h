@@ -201,8 +201,11 @@ inline void split_glossy_hits(CacheState& st, Tracer& trace, Texel texel) {
     std::swap(st.rays, st.split_rays);
 }
 
-// Builds cache points at the queries st.pending (appended to st.points), tracing their
-// hemispheres together.
+// Builds cache points at the queries st.pending (appended to st.points), tracing the
+// hemispheres of kChunk of them together: the ray queue and its results stay bounded however
+// many points a region needs (at --cache-error 0.01 and --cache-block 1 a region's hundreds of
+// points in one queue were its largest allocation; docs/radiance-cache.md). Each ray's numbers
+// are its own key's, so the points are the same bits whatever the chunk.
 template <class Tracer>
 inline void build_cache_points(const CacheSettings& cfg, float eps, const Query* queries, CacheState& st,
                                Tracer& trace) {
@@ -210,48 +213,52 @@ inline void build_cache_points(const CacheSettings& cfg, float eps, const Query*
     const size_t T = static_cast<size_t>(R) * R;
     const size_t first = st.used;
     if (st.points.size() < first + st.pending.size()) st.points.resize(first + st.pending.size());
-    st.rays.clear();
-    for (size_t k = 0; k < st.pending.size(); ++k) {
-        const Query& q = queries[st.pending[k]];
-        CachePoint& a = st.points[first + k];
-        a.p = q.p, a.ng = q.ng, a.t = q.t, a.b = q.b, a.n = q.n;
-        a.resolution = R;
-        a.radiance.assign(3 * T, 0.0f);
-        a.dist.assign(T, INFINITY);
-        a.kind.assign(T, kTexelBelow);
-        a.hit_point.assign(3 * T, 0.0f);
-        a.hit_normal.assign(3 * T, 0.0f);
-        const uint32_t key = cache_point_key(q.key);
-        const Vec3f o = q.p + eps * q.ng;
-        for (size_t t = 0; t < T; ++t) {
-            const Vec3f d = jittered_direction(q, R, static_cast<int32_t>(t), key);
-            if (!(dot(d, q.ng) > 0)) continue;  // under the geometric surface: no light from there
-            st.rays.push(o, d, key, static_cast<uint32_t>(t), static_cast<int32_t>(k * T + t));
+    for (size_t k0 = 0; k0 < st.pending.size(); k0 += kChunk) {
+        const size_t k1 = std::min(st.pending.size(), k0 + kChunk);
+        CachePoint* chunk = st.points.data() + first + k0;
+        st.rays.clear();
+        for (size_t k = k0; k < k1; ++k) {
+            const Query& q = queries[st.pending[k]];
+            CachePoint& a = chunk[k - k0];
+            a.p = q.p, a.ng = q.ng, a.t = q.t, a.b = q.b, a.n = q.n;
+            a.resolution = R;
+            a.radiance.assign(3 * T, 0.0f);
+            a.dist.assign(T, INFINITY);
+            a.kind.assign(T, kTexelBelow);
+            a.hit_point.assign(3 * T, 0.0f);
+            a.hit_normal.assign(3 * T, 0.0f);
+            const uint32_t key = cache_point_key(q.key);
+            const Vec3f o = q.p + eps * q.ng;
+            for (size_t t = 0; t < T; ++t) {
+                const Vec3f d = jittered_direction(q, R, static_cast<int32_t>(t), key);
+                if (!(dot(d, q.ng) > 0)) continue;  // under the geometric surface: no light from there
+                st.rays.push(o, d, key, static_cast<uint32_t>(t), static_cast<int32_t>((k - k0) * T + t));
+            }
         }
-    }
-    st.lap(Stage::CachePlace);
-    trace_queue(st, trace);
-    st.lap(Stage::CacheBuild);
-    for (size_t r = 0; r < st.rays.size(); ++r) {
-        const size_t k = st.rays.where[r] / T, t = st.rays.where[r] % T;
-        CachePoint& a = st.points[first + k];
-        const PathResult& res = st.results[r];
-        std::copy(res.rgb, res.rgb + 3, a.radiance.data() + 3 * t);
-        if (!(res.depth < INFINITY)) {
-            a.kind[t] = kTexelMiss;
-            continue;
+        st.lap(Stage::CachePlace);
+        trace_queue(st, trace);
+        st.lap(Stage::CacheBuild);
+        for (size_t r = 0; r < st.rays.size(); ++r) {
+            const size_t k = st.rays.where[r] / T, t = st.rays.where[r] % T;
+            CachePoint& a = chunk[k];
+            const PathResult& res = st.results[r];
+            std::copy(res.rgb, res.rgb + 3, a.radiance.data() + 3 * t);
+            if (!(res.depth < INFINITY)) {
+                a.kind[t] = kTexelMiss;
+                continue;
+            }
+            const Vec3f d = load_vec3(st.rays.dir.data() + 3 * r);
+            a.kind[t] = kTexelHit;
+            a.dist[t] = res.depth;
+            store_vec3(a.p + res.depth * d, a.hit_point.data() + 3 * t);
+            Vec3f m = load_vec3(res.normal);
+            // lights and backs of one-sided surfaces leave no normal: a surfel facing A
+            if (!(dot(m, m) > 0.5f) || dot(m, d) > 0) m = -d;
+            store_vec3(m, a.hit_normal.data() + 3 * t);
         }
-        const Vec3f d = load_vec3(st.rays.dir.data() + 3 * r);
-        a.kind[t] = kTexelHit;
-        a.dist[t] = res.depth;
-        store_vec3(a.p + res.depth * d, a.hit_point.data() + 3 * t);
-        Vec3f m = load_vec3(res.normal);
-        // lights and backs of one-sided surfaces leave no normal: a surfel facing A
-        if (!(dot(m, m) > 0.5f) || dot(m, d) > 0) m = -d;
-        store_vec3(m, a.hit_normal.data() + 3 * t);
+        split_glossy_hits(st, trace, [&](int32_t w) { return chunk[w / T].radiance.data() + 3 * (w % T); });
+        st.lap(Stage::CacheBuild);  // the glossy hits' paths: building too
     }
-    split_glossy_hits(st, trace, [&](int32_t w) { return st.points[first + w / T].radiance.data() + 3 * (w % T); });
-    st.lap(Stage::CacheBuild);  // the glossy hits' paths: building too
     for (size_t k = 0; k < st.pending.size(); ++k) {
         CachePoint& a = st.points[first + k];
         build_surfels(a);

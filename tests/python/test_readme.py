@@ -63,7 +63,8 @@ def readme_commands() -> list[str]:
             continue
         if in_fence or not line.startswith("    ") or line.split()[0] not in RUNNERS:
             continue
-        commands.append(shlex.join(shlex.split(line, comments=True)))
+        # a comment starts at a '#' that begins a word, as the shell has it (SCENE.json#name is one word)
+        commands.append(shlex.join(shlex.split(re.sub(r"(^|\s)#.*$", "", line))))
     return commands
 
 
