@@ -23,6 +23,7 @@ from patina.lighting.indoor import area_figures, ugr
 from patina.lighting.project import Project
 from patina.lighting.road import check_luminaires_for_ti, evaluate_road
 from patina.lighting.rtable import read_rtable
+from patina.lighting.ugr_table import luminous_area
 from patina.native import _core
 from patina.photometry.luminaire import load_luminaire
 from patina.render import illuminance as il
@@ -159,10 +160,7 @@ def _ugr(project: Project, scene: Scene, prepared: PreparedScene, result: Result
     areas = []
     for light in lights:
         if isinstance(light, LuminaireLight):
-            o = load_luminaire(light.file).photometry.opening
-            areas.append(
-                abs(o.width * o.length) if o.shape in ("rectangle", "box") else math.pi * abs(o.width * o.length) / 4
-            )
+            areas.append(luminous_area(load_luminaire(light.file)))
         else:
             areas.append(0.0)
     if not any(a > 0 for a in areas):
