@@ -140,6 +140,23 @@ class UgrTable:
         """What to add to the table's values for lamps of `flux` lumens instead."""
         return 8 * math.log10(flux / self.flux)
 
+    def rows(self) -> list[tuple[str, list[float], list[float]]]:
+        """(room "XH x YH", crosswise values, endwise values) per standard room, the values in
+        REFLECTANCES' order: the layout the catalogues print."""
+        return [
+            (
+                f"{x_h}H x {y_h}H",
+                *([self.values[(x_h, y_h, rho, view)] for rho in REFLECTANCES] for view in VIEWS),
+            )
+            for x_h, y_h in ROOMS
+        ]
+
+    def caption(self) -> str:
+        return (
+            f"S = {self.spacing_h:g} H, eye at {EYE_HEIGHT} m, lamp flux {self.flux:.0f} lm, "
+            f"luminous area {self.area * 1e4:.0f} cm²; for a lamp flux F add 8 log10(F / {self.flux:.0f} lm)"
+        )
+
     def to_json(self) -> dict:
         return {
             "source": self.source,
@@ -188,13 +205,12 @@ def format_table(table: UgrTable) -> str:
     crosswise then endwise."""
     head = "  ".join(f"{c:.1f}/{w:.1f}/{f:.1f}" for c, w, f in REFLECTANCES)
     lines = [
-        f"UGR table of {table.source} (CIE 117 formula, CIE 190 rooms; S = {table.spacing_h:g} H, eye at "
-        f"{EYE_HEIGHT} m, lamp flux {table.flux:.0f} lm, luminous area {table.area * 1e4:.0f} cm^2)",
+        f"UGR table of {table.source} (CIE 117 formula, CIE 190 rooms)",
+        table.caption(),
         f"ceiling/walls/floor   {'crosswise':^{len(head)}}  |  {'endwise':^{len(head)}}",
-        f"X    Y                {head}  |  {head}",
+        f"room                  {head}  |  {head}",
     ]
-    for x_h, y_h in ROOMS:
-        cells = ["  ".join(f"{table.values[(x_h, y_h, rho, view)]:>11.1f}" for rho in REFLECTANCES) for view in VIEWS]
-        lines.append(f"{x_h:<2}H  {y_h:<2}H              {cells[0]}  |  {cells[1]}")
-    lines.append("for a lamp flux F instead: add 8 log10(F / the flux above)")
+    for room, crosswise, endwise in table.rows():
+        cells = ["  ".join(f"{v:>11.1f}" for v in values) for values in (crosswise, endwise)]
+        lines.append(f"{room:<22}{cells[0]}  |  {cells[1]}")
     return "\n".join(lines)

@@ -72,7 +72,7 @@ def test_missing_file_exits_2(tmp_path, capsys):
 def test_ugr_table_text_and_json(capsys):
     assert main(["luminaire", "ugr", os.path.join(LUM, "downlight.ies")]) == 0
     text = capsys.readouterr().out
-    assert "crosswise" in text and "endwise" in text and "0.7/0.5/0.2" in text and "12H  8 H" in text
+    assert "crosswise" in text and "endwise" in text and "0.7/0.5/0.2" in text and "12H x 8H" in text
     assert main(["luminaire", "ugr", "--json", "--spacing", "0.25", os.path.join(LUM, "downlight.ies")]) == 0
     table = json.loads(capsys.readouterr().out)
     assert table["spacing_to_height"] == 0.25 and len(table["rows"]) == 190
