@@ -1,11 +1,13 @@
 """The UGR table by the tabular method: the glare sum of one luminaire by hand, the flux each
 luminaire sends into the standard room conserved, the parallel-rectangle form factor against its
 tabulated value, UGR + 8 log10 k for a table k times brighter (property), crosswise = endwise for
-a rotationally symmetric luminaire and not for a bilateral one, and bad inputs refused."""
+a rotationally symmetric luminaire and not for a bilateral one, a Lambertian panel's table rising
+with the room's length, and bad inputs refused."""
 
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 import os
 
@@ -104,3 +106,27 @@ def test_refused_inputs_name_the_place():
     no_area = Luminaire(dataclasses.replace(p, opening=dataclasses.replace(p.opening, width=0.0, length=0.0)))
     with pytest.raises(FormatError, match="luminous opening"):
         ut.ugr_table(no_area)
+
+
+def test_a_lambertian_panel_glares_more_in_longer_rooms():
+    # the catalogues' pattern for a luminaire without cut-off (an opal panel): UGR rises with the
+    # room's length Y (more luminaires in view) and in darker rooms (less background)
+    p = DOWNLIGHT.photometry
+    gamma = np.radians(p.v_deg)
+    candela = np.where(gamma <= np.pi / 2, 1500 / np.pi * np.cos(gamma), 0.0)
+    panel = Luminaire(
+        dataclasses.replace(
+            p,
+            candela=np.repeat(candela[None, :], len(p.h_deg), axis=0).astype(np.float32),
+            opening=dataclasses.replace(p.opening, width=0.6, length=0.6, shape="rectangle"),
+        )
+    )
+    assert panel.flux() == pytest.approx(1500, rel=1e-3)
+    t = ut.ugr_table(panel)
+    for x in (2, 4, 8, 12):
+        ys = [y for xx, y in ut.ROOMS if xx == x]
+        for rho in ut.REFLECTANCES:
+            column = [t.values[(x, y, rho, "crosswise")] for y in ys]
+            assert all(b > a for a, b in itertools.pairwise(column)), (x, rho, column)
+    span = t.values[(12, 8, ut.REFLECTANCES[0], "crosswise")] - t.values[(2, 2, ut.REFLECTANCES[0], "crosswise")]
+    assert 3 < span < 8  # a plausibility bound (measured here: 6.0), not a published figure
