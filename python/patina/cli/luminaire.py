@@ -89,7 +89,9 @@ def add_luminaire_commands(sub: Any) -> None:
     p.add_argument("file", metavar="FILE")
     p.add_argument("--out", required=True, metavar="PNG")
     p.set_defaults(func=cmd_luminaire_plot)
-    p = lsub.add_parser("ugr", help="the UGR table by the tabular method (CIE 117 formula, CIE 190 standard rooms)")
+    p = lsub.add_parser(
+        "ugr", help="the UGR table by the tabular method (CIE 117 formula, CIE 190 standard rooms)", allow_abbrev=False
+    )
     p.add_argument("file", metavar="FILE")
     p.add_argument(
         "--spacing", type=float, default=1.0, help="luminaire spacing in H (CIE 190: 1.0; CIE 117's table: 0.25)"

@@ -87,3 +87,16 @@ def test_ugr_of_a_type_b_file_exits_2_with_one_line():
         text=True,
     )
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "floodlight.ies (photometric type)" in r.stderr
+
+
+@pytest.mark.parametrize("value", ["0", "-1", "nan", "inf", "2.5"])
+def test_ugr_spacing_out_of_range_exits_2_naming_the_option(capsys, value):
+    assert main(["luminaire", "ugr", os.path.join(LUM, "downlight.ies"), f"--spacing={value}"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--spacing" in err
+
+
+def test_ugr_refuses_abbreviated_options():
+    with pytest.raises(SystemExit) as e:
+        main(["luminaire", "ugr", os.path.join(LUM, "downlight.ies"), "--spac", "0.25"])
+    assert e.value.code == 2
