@@ -23,6 +23,7 @@ from patina.bench.batch import bench_batch
 from patina.bench.cache import bench_cache
 from patina.bench.fit import bench_fit
 from patina.bench.kernels import bench_brdf, bench_math
+from patina.bench.lighting import bench_lighting
 from patina.bench.lights import bench_lights
 from patina.bench.mitsuba_log import gathered_mitsuba_warnings
 from patina.bench.profile import bench_profile
@@ -44,6 +45,7 @@ GROUPS: dict[str, Callable[[int, bool], list[Record]]] = {
     "aa": bench_aa,
     "cache": bench_cache,
     "batch": bench_batch,
+    "lighting": bench_lighting,
 }
 
 
@@ -82,7 +84,7 @@ def run_bench(
     if json_path:
         check_writable(json_path)  # an OSError naming it now (exit 2), not after minutes of timing
     groups = [only] if only else list(GROUPS)
-    if {"render", "profile", "lights", "aa", "cache", "batch"} & set(groups):
+    if {"render", "profile", "lights", "aa", "cache", "batch", "lighting"} & set(groups):
         materials_path("scenes")  # their scenes are the checkout's: FileNotFoundError now, not minutes in
     # brdf includes the math kernels it relies on, as the record list asks
     steps = [("math", bench_math), ("brdf", bench_brdf)] if only == "brdf" else [(g, GROUPS[g]) for g in groups]

@@ -12,6 +12,7 @@
     patina bench [--only GROUP] [--json FILE] [--quick] [--quiet]
     patina render SCENE.json [--out out.exr] [--spp N] [--integrator direct|path] [--threads T] [--seed S]
     patina luminaire info FILE [--json] | patina luminaire plot FILE --out PNG
+    patina luminaire ugr FILE [--spacing S] [--json]
     patina preview MATERIAL [--env ENV] [--shape sphere|ball|panel|MESH] [--spp N] [--out out.exr]
     patina lighting report PROJECT.json --standard en12464-1|en13201|en12193 --out DIR
     patina export MATERIAL --to mitsuba|pbrt|materialx|gltf|usd|blender --out FILE [--force]

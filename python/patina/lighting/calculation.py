@@ -23,6 +23,7 @@ from patina.lighting.indoor import area_figures, ugr
 from patina.lighting.project import Project
 from patina.lighting.road import check_luminaires_for_ti, evaluate_road
 from patina.lighting.rtable import read_rtable
+from patina.lighting.ugr_table import UgrTable, luminous_area, ugr_table
 from patina.native import _core
 from patina.photometry.luminaire import load_luminaire
 from patina.render import illuminance as il
@@ -53,6 +54,7 @@ class Result:
     checks: list[Check] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     inputs: list[tuple[str, str]] = field(default_factory=list)
+    ugr_tables: list[UgrTable] = field(default_factory=list)  # indoors: each luminaire file's
 
     def as_json(self) -> dict[str, Any]:
         return {
@@ -63,6 +65,7 @@ class Result:
             "checks": [c.as_json() for c in self.checks],
             "grids": [{"name": p.name, **p.grid.as_json(), "values": p.values.tolist()} for p in self.planes],
             "notes": self.notes,
+            "ugr_tables": [t.to_json() for t in self.ugr_tables],
         }
 
 
@@ -145,6 +148,7 @@ def _indoor(project: Project, scene: Scene, prepared: PreparedScene, result: Res
             result.figures.update({"Em surrounding": s.em, "U0 surrounding": s.u0})
     if project.eye is not None:
         result.figures["UGR"] = _ugr(project, scene, prepared, result)
+    result.ugr_tables = _ugr_tables(scene, result)
     if project.ra is not None:
         result.figures["Ra"] = project.ra
     elif "Ra" in project.requirements:
@@ -154,15 +158,24 @@ def _indoor(project: Project, scene: Scene, prepared: PreparedScene, result: Res
     result.checks = check(project.requirements, result.figures)
 
 
+def _ugr_tables(scene: Scene, result: Result) -> list[UgrTable]:
+    """The tabular method's table of each luminaire file (type C with a luminous area; the others
+    named in a note), for the reader to compare the installation with the catalogue's rooms."""
+    tables = []
+    for path in sorted({light.file for light in scene.lights if isinstance(light, LuminaireLight)}):
+        try:
+            tables.append(ugr_table(load_luminaire(path)))
+        except FormatError as e:
+            result.notes.append(f"UGR table of {e.path}: not computed ({e.problem})")
+    return tables
+
+
 def _ugr(project: Project, scene: Scene, prepared: PreparedScene, result: Result) -> float | None:
     lights = [light for light in scene.lights if is_delta(light)]
     areas = []
     for light in lights:
         if isinstance(light, LuminaireLight):
-            o = load_luminaire(light.file).photometry.opening
-            areas.append(
-                abs(o.width * o.length) if o.shape in ("rectangle", "box") else math.pi * abs(o.width * o.length) / 4
-            )
+            areas.append(luminous_area(load_luminaire(light.file)))
         else:
             areas.append(0.0)
     if not any(a > 0 for a in areas):

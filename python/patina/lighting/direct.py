@@ -51,8 +51,9 @@ class PlacedSource:
             return cls(pos, light, lum, axes, light.multiplier * tilt_factor(lum, light.aim))
         return cls(pos, light, scale=LUMINOUS_EFFICACY * float(luminance(np.asarray(light.intensity))))
 
-    def candela(self, out: np.ndarray) -> np.ndarray:
-        """Candela towards unit world directions `out` (n, 3) from the light."""
+    def candela(self, out: np.ndarray, width: int = 0) -> np.ndarray:
+        """Candela towards unit world directions `out` (n, 3) from the light; `width`: the SIMD
+        width of the candela table's lookup (0: the CPU's widest)."""
         light = self.light
         if isinstance(light, SpotLight):
             axis = np.asarray(light.direction, np.float64)
@@ -62,8 +63,8 @@ class PlacedSource:
             return self.scale * t * t * (3.0 - 2.0 * t)
         if self.luminaire is not None:
             x, y, z = self.axes
-            local = np.stack([out @ x, out @ y, out @ z], axis=1)
-            return self.scale * self.luminaire.intensity_at(local).astype(np.float64)
+            local = out @ np.stack([x, y, z], axis=1)
+            return self.scale * self.luminaire.intensity_at(local, width).astype(np.float64)
         return np.full(len(out), self.scale)
 
 
@@ -78,26 +79,39 @@ class Arrivals:
     candela: np.ndarray
 
 
-def arrivals(sources: list[PlacedSource], points: np.ndarray, occluder=None, ray_offset: float = 1e-4) -> Arrivals:
+def arrivals(
+    sources: list[PlacedSource],
+    points: np.ndarray,
+    occluder=None,
+    ray_offset: float = 1e-4,
+    width: int = 0,
+    threads: int = 0,
+) -> Arrivals:
     """Each source's candela towards each point, shadowed by one ray through `occluder` (a
-    `_core.Accel`; None: unshadowed), from tmin = `ray_offset` to just short of the source."""
+    `_core.Accel`; None: unshadowed), from tmin = `ray_offset` to just short of the source.
+    `width`, `threads`: the SIMD width (0: the CPU's widest) of the candela lookups and shadow
+    packets, and the shadow rays' threads (0: every core); the result does not depend on them."""
     pts = np.asarray(points, np.float64)
     k, n = len(sources), len(pts)
     towards, d2, cd = np.zeros((k, n, 3)), np.zeros((k, n)), np.zeros((k, n))
     for i, src in enumerate(sources):
+        # whole-array arithmetic, no boolean-mask copies: the sum's numpy part is as long as
+        # its shadow rays otherwise (10^5 sensors x 20 luminaires, bench/lighting.py)
         to_light = src.position[None, :] - pts
         d2[i] = np.einsum("ij,ij->i", to_light, to_light)
         dist = np.sqrt(d2[i])
-        ok = dist > 0
-        towards[i, ok] = to_light[ok] / dist[ok, None]
-        cd[i, ok] = src.candela(-towards[i, ok])
-        lit = (cd[i] > 0).nonzero()[0]
+        inverse = np.divide(1.0, dist, out=np.zeros(n), where=dist > 0)
+        np.multiply(to_light, inverse[:, None], out=towards[i])
+        cd[i] = np.where(dist > 0, src.candela(-towards[i], width), 0.0)
+        lit = np.flatnonzero(cd[i] > 0)
         if occluder is not None and len(lit):
             blocked = occluder.occluded(
                 np.ascontiguousarray(pts[lit], np.float32),
                 np.ascontiguousarray(towards[i, lit], np.float32),
                 tmax=np.ascontiguousarray(dist[lit] * (1 - SHADOW_SHORTEN), np.float32),
                 tmin=float(ray_offset),
+                width=width,
+                threads=threads,
             )
             cd[i, lit[np.asarray(blocked, bool)]] = 0.0
     return Arrivals(towards, d2, cd)
@@ -109,12 +123,15 @@ def direct_illuminance(
     occluder=None,
     ray_offset: float = 1e-4,
     per_source: bool = False,
+    width: int = 0,
+    threads: int = 0,
 ) -> np.ndarray:
     """Lux at each sensor (n,), or (sources, n) with `per_source`: the exact sum over the
-    sources of candela x the sensor's response / d^2, each shadowed by one ray (`arrivals`)."""
-    a = arrivals(sources, sensors.points, occluder, ray_offset)
+    sources of candela x the sensor's response / d^2, each shadowed by one ray (`arrivals`,
+    which says what `width` and `threads` are)."""
+    a = arrivals(sources, sensors.points, occluder, ray_offset, width, threads)
     out = np.zeros_like(a.d2)
     for i in range(len(sources)):
-        lit = a.candela[i] > 0
-        out[i, lit] = a.candela[i, lit] * sensors.response(a.towards[i])[lit] / a.d2[i, lit]
+        lux = a.candela[i] * sensors.response(a.towards[i])
+        np.divide(lux, a.d2[i], out=out[i], where=a.candela[i] > 0)
     return out if per_source else out.sum(axis=0)

@@ -17,6 +17,7 @@ from patina.atomic import write_text
 from patina.lighting.calculation import Result
 from patina.lighting.plan import write_plan
 from patina.lighting.scene_luminaires import plan_luminaires
+from patina.lighting.ugr_table import REFLECTANCES
 from patina.native import _core
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -79,6 +80,15 @@ def write_report(result: Result, out_dir: str, pdf: bool = True) -> list[str]:
         inputs=result.inputs,
         plans=plans,
         standard=std,
+        reflectances=[f"{c:g}/{w:g}/{f:g}" for c, w, f in REFLECTANCES],
+        ugr_tables=[
+            {
+                "source": t.source,
+                "caption": t.caption(),
+                "rows": [(room, [f"{v:.1f}" for v in cross + end]) for room, cross, end in t.rows()],
+            }
+            for t in result.ugr_tables
+        ],
         version=_core.__version__,
     )
     index = os.path.join(out_dir, "index.html")

@@ -25,6 +25,7 @@ def test_the_road_report_passes_its_class_and_writes_every_part(tmp_path, capsys
     assert all(c["pass"] for c in result["checks"])
     page = (out / "index.html").read_text()
     assert "M5" in page and "plan-1.png" in page and "synthetic-road.rtab" in page
+    assert result["ugr_tables"] == [] and "UGR tables" not in page
     assert (out / "plan-1.png").read_bytes()[:4] == b"\x89PNG"
     # a second run refuses to overwrite without --force
     assert main(["lighting", "report", ROAD, "--standard", "en13201", "--out", str(out), "--no-pdf"]) == 2
@@ -38,8 +39,14 @@ def test_the_office_report_exits_1_when_a_requirement_fails(tmp_path):
     path.write_text(json.dumps(project))
     out = tmp_path / "office"
     assert main(["lighting", "report", str(path), "--standard", "en12464-1", "--out", str(out), "--no-pdf"]) == 1
-    checks = json.loads((out / "result.json").read_text())["checks"]
+    result = json.loads((out / "result.json").read_text())
+    checks = result["checks"]
     assert checks == [checks[0]] and checks[0]["figure"] == "Em" and checks[0]["pass"] is False
+    # the luminaire's UGR table by the tabular method, in result.json and on the page
+    (table,) = result["ugr_tables"]
+    assert table["source"].endswith("downlight.ies") and len(table["rows"]) == 190
+    page = (out / "index.html").read_text()
+    assert "UGR tables of the luminaires" in page and "12H x 8H" in page and "0.3/0.3/0.2" in page
 
 
 def _project(tmp_path, base: str, **changes) -> str:

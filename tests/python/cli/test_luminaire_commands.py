@@ -1,5 +1,5 @@
-"""`patina luminaire info|plot`: the summary (text and JSON) of the bundled files, the polar
-plot written, and bad files ending with one line, exit status 2 and no traceback."""
+"""`patina luminaire info|plot|ugr`: the summary (text and JSON) of the bundled files, the polar
+plot written, the UGR table (text and JSON), and bad files ending with one line, exit status 2 and no traceback."""
 
 from __future__ import annotations
 
@@ -67,3 +67,36 @@ def test_missing_file_exits_2(tmp_path, capsys):
     assert main(["luminaire", "plot", os.path.join(tmp_path, "none.ldt"), "--out", str(tmp_path / "x.png")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "none.ldt" in err[0]
+
+
+def test_ugr_table_text_and_json(capsys):
+    assert main(["luminaire", "ugr", os.path.join(LUM, "downlight.ies")]) == 0
+    text = capsys.readouterr().out
+    assert "crosswise" in text and "endwise" in text and "0.7/0.5/0.2" in text and "12H x 8H" in text
+    assert main(["luminaire", "ugr", "--json", "--spacing", "0.25", os.path.join(LUM, "downlight.ies")]) == 0
+    table = json.loads(capsys.readouterr().out)
+    assert table["spacing_to_height"] == 0.25 and len(table["rows"]) == 190
+    assert {r["view"] for r in table["rows"]} == {"crosswise", "endwise"}
+
+
+def test_ugr_of_a_type_b_file_exits_2_with_one_line():
+    r = subprocess.run(
+        [sys.executable, "-m", "patina.cli", "luminaire", "ugr", os.path.join(LUM, "floodlight.ies")],
+        check=False,
+        capture_output=True,
+        text=True,
+    )
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "floodlight.ies (photometric type)" in r.stderr
+
+
+@pytest.mark.parametrize("value", ["0", "-1", "nan", "inf", "2.5"])
+def test_ugr_spacing_out_of_range_exits_2_naming_the_option(capsys, value):
+    assert main(["luminaire", "ugr", os.path.join(LUM, "downlight.ies"), f"--spacing={value}"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--spacing" in err
+
+
+def test_ugr_refuses_abbreviated_options():
+    with pytest.raises(SystemExit) as e:
+        main(["luminaire", "ugr", os.path.join(LUM, "downlight.ies"), "--spac", "0.25"])
+    assert e.value.code == 2
