@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from patina.errors import FormatError
+from patina.file_names import printable
 from patina.table.formats.tabledata import TableData
 from patina.table.formats.tensor_tree import parse_tree
 from patina.table.formats.tensor_tree_table import tree_table
@@ -222,12 +223,15 @@ def read_window_xml(path: str, side: str = "front") -> TableData:
             kept.setdefault(key, _matrix(path, block, where, basis, basis, structure))
     if not kept:
         transmission = [s for s in skipped if s.startswith("transmission")]
+        other = "back" if side == "front" else "front"
+        has_other = (s.startswith(f"reflection {other}") for s in skipped)
         raise FormatError(
             path,
             "WavelengthData",
             f"no '{wanted.title()}' block"
             + (f" (only {', '.join(sorted(set(skipped)))[:200]})" if skipped else "")
-            + (": Patina tables are reflection" if transmission and len(transmission) == len(skipped) else ""),
+            + (": Patina tables are reflection" if transmission and len(transmission) == len(skipped) else "")
+            + (f"; name {printable(path)}#{other} for its {other} side" if any(has_other) else ""),
         )
     if all(k in kept for k in ("X", "Y", "Z")):
         channels, kind = [kept["X"], kept["Y"], kept["Z"]], "xyz"
