@@ -35,6 +35,7 @@ SUPPORTED = (
 # Readers of formats Patina only imports: path -> TableData
 IMPORTERS = {"rgl": read_rgl, "mdl": read_mdl, "utia": read_utia, "window_xml": read_window_xml, "zemax": read_zemax}
 SIGNATURES = ((TENSOR_FILE_MAGIC, "rgl"), (MBSDF_MAGIC, "mdl"))
+XML_HEAD_BYTES = 1 << 16  # how far into an .xml batch looks for <WindowElement>
 SIDES = ("front", "back")  # of a BSDF XML document: FILE.xml#back
 # what a file of each kind found by its extension must hold to be taken for a table when
 # the content is asked to confirm it (batch: a library's other .xml or .bin files)
@@ -62,6 +63,8 @@ def detect_format(path: str, confirm: bool = False) -> str:
         with open(path, "rb") as f:
             head = f.read(4096)
             size = os.fstat(f.fileno()).st_size
+            if confirm and path.lower().endswith(".xml") and b"<WindowElement" not in head:
+                head += f.read(XML_HEAD_BYTES)  # past a long comment or a writer's preamble
     except IsADirectoryError:
         raise FormatError(path, "", "is a directory, not a file") from None
     except OSError as e:

@@ -92,6 +92,7 @@ def test_an_engine_error_names_the_file_as_given(tmp_path):
         ("old.ptab", b"not a table", None),
         ("utia.bin", bytes(UTIA_BYTES), "utia"),
         ("w.xml", b"stray line\n<?xml version='1.0'?>\n<WindowElement/>", "window_xml"),
+        ("long.xml", b"<?xml version='1.0'?>\n<!--" + b" " * 10000 + b"-->\n<WindowElement/>", "window_xml"),
         ("plain.csv", b"theta_i,theta_o,phi_d,value\n", "csv"),
     ],
 )
