@@ -95,11 +95,14 @@ def test_damaged_tree_documents_raise_one_format_error(at, value, cut):
 
 
 @FUZZ
-@given(tokens=st.lists(st.sampled_from(["{", "}", "0.5", "1", "-1", "x", ","]), max_size=40))
-def test_random_token_streams_parse_or_raise_one_format_error(tokens):
+@given(
+    tokens=st.lists(st.sampled_from(["{", "}", "0.5", "1", "-1", "x", ","]), max_size=60),
+    dims=st.sampled_from([3, 4]),
+)
+def test_random_token_streams_parse_or_raise_one_format_error(tokens, dims):
     try:
-        tree = parse_tree(" ".join(tokens), 3, "t.xml", "block")
+        tree = parse_tree(" ".join(tokens), dims, "t.xml", "block")
     except FormatError as e:
         assert e.path == "t.xml" and e.where.startswith("block")
         return
-    assert np.all(tree.lookup(np.array([[0.1, 0.2, 0.3], [0.9, 0.9, 0.9]])) >= 0)
+    assert np.all(tree.lookup(np.random.default_rng(0).uniform(0, 1, (20, dims))) >= 0)
