@@ -137,7 +137,7 @@ def find_tables(folder: str) -> tuple[list[Material], list[tuple[str, str]]]:
             skipped.append((name, f"not a table (a {extension} file)"))
             continue
         try:
-            detect_format(path)
+            detect_format(path, confirm=True)  # by content: a library's other .xml or .bin is no table
         except FormatError as e:
             skipped.append((name, e.problem))
             continue

@@ -10,7 +10,7 @@ import numpy as np
 from patina.cli.common import UsageError, add_simd_option, channel_labels, print_json
 from patina.cli.files import add_output
 from patina.cli.values import number
-from patina.file_names import refuse_special_file
+from patina.file_names import printable, refuse_special_file
 from patina.plot.slices import plot_inplane_slices
 from patina.table import Tolerances, format_report, load_brdf, validate
 from patina.table.formats.lenient import read_reporting_bad_values
@@ -48,7 +48,7 @@ def cmd_convert(args: argparse.Namespace) -> int:
     brdf = load_brdf(args.input)
     brdf.save(args.output)
     print(
-        f"wrote {args.output} ({brdf.parametrization}, {'x'.join(str(a.size) for a in brdf.axes)}, "
+        f"wrote {printable(args.output)} ({brdf.parametrization}, {'x'.join(str(a.size) for a in brdf.axes)}, "
         f"{brdf.channels} channels)"
     )
     return 0

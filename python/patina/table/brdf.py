@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
+import tempfile
 from typing import Any
 
 import numpy as np
 
+from patina.file_names import engine_path, is_utf8, printable
 from patina.native import _core
 from patina.table.angles import angles_to_directions
 from patina.widths import core_width
@@ -139,7 +142,26 @@ class Brdf:
         path = os.fspath(path)
         if not path.endswith(".ptab"):
             raise ValueError(f"{path}: Patina writes its native format only; use a .ptab file name")
-        _core.write_ptab(self._table, path)
+        if is_utf8(path):
+            _core.write_ptab(self._table, path)
+            return
+        # the engine takes UTF-8 names only: write a UTF-8-named temporary file in the same folder
+        # (reached through a UTF-8 alias of the folder when its own name is not), then rename it
+        try:
+            with engine_path(os.path.dirname(os.path.abspath(path))) as folder:
+                fd, temporary = tempfile.mkstemp(prefix=".patina-save.", suffix=".ptab", dir=folder)
+                os.close(fd)
+                try:
+                    _core.write_ptab(self._table, temporary)
+                    os.replace(temporary, path)
+                except BaseException:
+                    with contextlib.suppress(OSError):
+                        os.unlink(temporary)
+                    raise
+        except OSError as e:  # named as given, not the temporary file (and no "[Errno n]")
+            named = OSError(f"{printable(path)}: cannot write: {e.strerror or e}")
+            named.errno = e.errno
+            raise named from None
 
     def __repr__(self) -> str:
         dims = "x".join(str(a.size) for a in self._table.axes)

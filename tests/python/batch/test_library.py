@@ -52,3 +52,21 @@ def test_a_name_that_is_not_utf8_is_processed_and_reported(tmp_path):
     page = open(os.path.join(out, "index.html"), encoding="utf-8").read()
     assert "caf\\xe9 \\xff.ptab" in page
     assert os.path.isfile(os.path.join(out, "materials", name, "validate.json"))
+
+
+def test_other_xml_and_bin_files_are_skipped_by_their_content(tmp_path):
+    """A library's settings .xml or data .bin is not a table: skipped with a notice, not a failed task."""
+    from repo_paths import ROOT
+
+    folder = tmp_path / "lib"
+    folder.mkdir()
+    write_plastic(str(folder / "red.ptab"), (0.5, 0.1, 0.1), 0.2)
+    shutil.copy(os.path.join(ROOT, "materials", "radiance", "blindsT3.xml"), folder / "blinds.xml")
+    (folder / "settings.xml").write_text("<?xml version='1.0'?><settings/>")
+    (folder / "capture.bin").write_bytes(bytes(4096))
+    tables, skipped = find_tables(str(folder))
+    assert [t.name for t in tables] == ["blinds.xml", "red.ptab"]
+    assert dict(skipped) == {
+        "capture.bin": "not a table: a .bin file without exactly 1990656 bytes (a UTIA BRDF)",
+        "settings.xml": "not a table: a .xml file without a <WindowElement> (a BSDF XML document)",
+    }

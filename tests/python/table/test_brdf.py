@@ -113,3 +113,20 @@ def test_spectral_and_masked_tables_from_arrays():
     bad = TableData("isotropic", axes, values[:, :, :5], "spectral", wavelengths=np.linspace(400, 700, 7))
     with pytest.raises(ValueError):
         table_from_data(bad)
+
+
+def test_save_to_a_name_that_is_not_utf8(tmp_path, bundled_ptab):
+    """The engine's writer takes UTF-8 names: save writes a UTF-8 temporary beside the target
+    (through an alias of a folder whose own name is not UTF-8) and renames it."""
+    import os
+
+    folder = os.fsencode(tmp_path) + b"/d\xe9"
+    os.mkdir(folder)
+    target = os.fsdecode(folder + b"/t\xff.ptab")
+    brdf = patina.load_brdf(bundled_ptab)
+    brdf.save(target)
+    brdf.save(target)  # replaced, as any output
+    assert os.listdir(folder) == [b"t\xff.ptab"]
+    assert np.array_equal(patina.load_brdf(target).table.values, brdf.table.values)
+    with pytest.raises(OSError, match=r"d\\xe9/nowhere/t\\xff.ptab: cannot write"):
+        brdf.save(os.fsdecode(folder + b"/nowhere/t\xff.ptab"))

@@ -17,11 +17,12 @@ import struct
 import numpy as np
 
 from patina.errors import FormatError
+from patina.file_names import printable
 from patina.native import _core
 from patina.table.brdf import Brdf
 from patina.table.formats.astm import read_astm
 from patina.table.formats.csv_table import read_csv
-from patina.table.formats.loading import IMPORTERS, detect_format
+from patina.table.formats.loading import IMPORTERS, engine_read, locate, read_imported
 from patina.table.formats.tabledata import BadValues, TableData, table_from_data
 
 FLOAT32_MAX = float(np.finfo(np.float32).max)
@@ -40,20 +41,20 @@ def _value_fault(e: FormatError) -> bool:
 
 def read_reporting_bad_values(path: str | os.PathLike[str]) -> tuple[Brdf, BadValues]:
     """The file as a Brdf, and its bad values (count 0 for a clean file)."""
-    path = os.fspath(path)
-    kind = detect_format(path)
+    given = os.fspath(path)
+    path, side, kind = locate(given)
     try:
         if kind == "ptab":
-            return Brdf(_core.read_ptab(path), path, "ptab"), BadValues()
+            return Brdf(engine_read(_core.read_ptab, path), printable(given), "ptab"), BadValues()
         if kind == "merl":
-            return Brdf(_core.read_merl(path), path, "merl"), BadValues()
+            return Brdf(engine_read(_core.read_merl, path), printable(given), "merl"), BadValues()
     except FormatError as e:
         if not _value_fault(e):
             raise
         data = _ptab(path) if kind == "ptab" else _merl(path)
     else:
         if kind in IMPORTERS:  # binary formats whose readers refuse bad values outright
-            data = IMPORTERS[kind](path)
+            data = read_imported(kind, path, side)
         elif kind == "csv":
             data = read_csv(path, report_bad=True)
         else:
@@ -62,7 +63,7 @@ def read_reporting_bad_values(path: str | os.PathLike[str]) -> tuple[Brdf, BadVa
         table = table_from_data(data)
     except ValueError as e:
         raise FormatError(path, "table", str(e)) from None
-    return Brdf(table, path, kind), data.bad or BadValues()
+    return Brdf(table, printable(given), kind), data.bad or BadValues()
 
 
 def _deg(x: float) -> float:

@@ -14,9 +14,11 @@ in the patch that holds (theta, phi + 180 deg).
 Blocks of WavelengthDataDirection "Reflection Front" (or "Reflection Back": `side`) are
 kept: X, Y and Z detector blocks together as an XYZ table, otherwise the visible (or the
 first) one as a single channel; transmission blocks and the rest are listed in the
-provenance as skipped. Tensor-tree data (TensorTree3, TensorTree4) are refused for now.
-The patch function is evaluated onto an anisotropic grid whose knots are the ring
-centres and every patch centre's azimuth, and the resampling error is reported.
+provenance as skipped. Tensor-tree documents (TensorTree3, TensorTree4: Radiance's
+variable-resolution trees on Shirley-Chiu squares) are read by `tensor_tree.py` and
+resampled by `tensor_tree_table.py`. The Klems patch function is evaluated onto an
+anisotropic grid whose knots are the ring centres and every patch centre's azimuth, and
+the resampling error is reported.
 """
 
 from __future__ import annotations
@@ -28,11 +30,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from patina.errors import FormatError
+from patina.file_names import printable
 from patina.table.formats.tabledata import TableData
+from patina.table.formats.tensor_tree import parse_tree
+from patina.table.formats.tensor_tree_table import tree_table
 from patina.table.formats.whole_file import read_whole_file
 
 MAX_FILE_BYTES = 256 << 20
 MAX_PATCHES = 10000
+TREE_RANKS = {"tensortree3": 3, "tensortree4": 4}
+TREE_BASIS = "LBNL/Shirley-Chiu"
 ERROR_PAIRS = 8192
 
 
@@ -109,10 +116,10 @@ def _bases(path: str, layer: ET.Element) -> tuple[dict[str, AngleBasis], str]:
     if definition is None:
         raise FormatError(path, "Layer", "no <DataDefinition>")
     structure = _text(_child(definition, "IncidentDataStructure")) or "Columns"
+    if structure.lower() in TREE_RANKS:
+        return bases, structure  # a tree's basis is named in each block
     if structure.lower().startswith("tensortree"):
-        raise FormatError(
-            path, "IncidentDataStructure", f"{structure}: tensor-tree BSDFs are not read yet (Klems only)"
-        )
+        raise FormatError(path, "IncidentDataStructure", f"{structure}: expected TensorTree3 or TensorTree4")
     for basis in _children(definition, "AngleBasis"):
         name = _text(_child(basis, "AngleBasisName"))
         rows = []
@@ -164,6 +171,13 @@ def _matrix(path: str, block: ET.Element, where: str, rows: AngleBasis, cols: An
     return values.reshape(rows.size, cols.size)
 
 
+def _tree(path: str, block: ET.Element, where: str, dims: int):
+    basis = _text(_child(block, "AngleBasis"))
+    if basis.lower() != TREE_BASIS.lower():
+        raise FormatError(path, f"{where} AngleBasis", f"'{basis[:40]}': a tensor tree needs {TREE_BASIS}")
+    return parse_tree(_text(_child(block, "ScatteringData")), dims, path, f"{where} ScatteringData")
+
+
 def _grid_axes(basis: AngleBasis) -> list[np.ndarray]:
     theta = np.radians(np.unique(np.concatenate([basis.centres, [basis.upper[-1] - 1e-3]])))
     centres = [k * 360.0 / n for n in np.unique(basis.phis) for k in range(int(n))]
@@ -194,6 +208,10 @@ def read_window_xml(path: str, side: str = "front") -> TableData:
                 skipped.append(name)
                 continue
             where = f"WavelengthData {d + 1} block {b + 1}"
+            key = _channel_key(label, detector)
+            if structure.lower() in TREE_RANKS:
+                kept.setdefault(key, _tree(path, block, where, TREE_RANKS[structure.lower()]))
+                continue
             row_name = _text(_child(block, "RowAngleBasis"))
             col_name = _text(_child(block, "ColumnAngleBasis"))
             for n in (row_name, col_name):
@@ -202,16 +220,18 @@ def read_window_xml(path: str, side: str = "front") -> TableData:
             if row_name != col_name:
                 raise FormatError(path, where, "row and column bases differ: not read")
             basis = bases[row_name]
-            key = _channel_key(label, detector)
             kept.setdefault(key, _matrix(path, block, where, basis, basis, structure))
     if not kept:
         transmission = [s for s in skipped if s.startswith("transmission")]
+        other = "back" if side == "front" else "front"
+        has_other = (s.startswith(f"reflection {other}") for s in skipped)
         raise FormatError(
             path,
             "WavelengthData",
             f"no '{wanted.title()}' block"
             + (f" (only {', '.join(sorted(set(skipped)))[:200]})" if skipped else "")
-            + (": Patina tables are reflection" if transmission and len(transmission) == len(skipped) else ""),
+            + (": Patina tables are reflection" if transmission and len(transmission) == len(skipped) else "")
+            + (f"; name {printable(path)}#{other} for its {other} side" if any(has_other) else ""),
         )
     if all(k in kept for k in ("X", "Y", "Z")):
         channels, kind = [kept["X"], kept["Y"], kept["Z"]], "xyz"
@@ -220,6 +240,12 @@ def read_window_xml(path: str, side: str = "front") -> TableData:
         key = "Y" if "Y" in kept else next(iter(kept))
         channels, kind = [kept[key]], "mono"
         skipped += [f"{wanted} ({k})" for k in kept if k != key]
+    if structure.lower() in TREE_RANKS:
+        description = f"BSDF XML ({structure}, {TREE_BASIS}, {wanted}, {kind})"
+        data = tree_table(channels, kind, description)
+        if skipped:
+            data.provenance += f"; skipped: {', '.join(dict.fromkeys(skipped))}"[:400]
+        return data
     matrix = np.stack(channels, axis=-1)  # (outgoing, incident, channels)
     axes = _grid_axes(basis)
     ti, pi, to, po = np.meshgrid(*[np.degrees(a) for a in axes], indexing="ij")
