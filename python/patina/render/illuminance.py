@@ -170,7 +170,9 @@ def compute(
     with Progress(len(pts), "illuminance", unit="sensor", enabled=progress and len(chunks) > 1) as bar:
         for begin in chunks:
             end = min(begin + chunk, len(pts))
-            lux[begin:end] = direct_illuminance(sources, sensors.part(begin, end), prepared.accel, offset)
+            lux[begin:end] = direct_illuminance(
+                sources, sensors.part(begin, end), prepared.accel, offset, width=simd, threads=threads
+            )
             part = pts[begin:end], normals[begin:end], samples, seed, simd, threads
             if rest is not None:
                 lux[begin:end] += _core.sensor_illuminance(rest.core, *part, 0)
