@@ -20,7 +20,7 @@ import numpy as np
 WAVELENGTHS = np.arange(360.0, 831.0, 10.0)  # nm: Mitsuba's CIE range (MI_CIE_MIN .. MI_CIE_MAX)
 
 
-class UpsamplingUnavailable(RuntimeError):
+class UpsamplingUnavailable(ValueError):
     """The `mitsuba` package (whose coefficient table is used) is not installed."""
 
 
