@@ -1,0 +1,99 @@
+"""Measured tables out (python/patina/export/measured.py): Mitsuba 3's `measured` plugin
+(scalar_spectral, from the installed mitsuba package) evaluates the written spectral file in
+agreement with Patina's evaluation of the source table, within the format's resampling; the
+Mitsuba and pbrt-v4 scene files name the tensor file written beside them; `--to rgl` for a fit."""
+
+from __future__ import annotations
+
+import json
+import os
+
+import numpy as np
+import pytest
+
+from export_helpers import GGX_FIT, write_json
+from patina.cli import main
+from patina.export.measured import MITSUBA_WAVELENGTHS, mitsuba_measured_eval
+from patina.export.rgb_upsampling import upsample
+from patina.export.rgl import table_source, write_rgl_file
+from patina.table.formats.rgl import error_pairs
+from patina.table.formats.rgl_brdf import read_rgl_brdf
+from rgl_tables import plastic_table
+
+
+@pytest.fixture(scope="module")
+def table_file(tmp_path_factory) -> str:
+    path = str(tmp_path_factory.mktemp("measured") / "plastic.ptab")
+    plastic_table().save(path)
+    return path
+
+
+def _relative(got: np.ndarray, want: np.ndarray) -> np.ndarray:
+    floor = 1e-3 * float(np.median(np.abs(want)))
+    return (np.abs(got - want) / np.maximum(np.abs(want), floor)).max(axis=1)
+
+
+def test_mitsuba_measured_agrees_with_patinas_evaluation_of_the_source(table_file, tmp_path, capsys):
+    pytest.importorskip("mitsuba")
+    table = plastic_table()
+    out = str(tmp_path / "plastic.bsdf")
+    write_rgl_file(table_source(table, table_file), out)
+    wi, wo = error_pairs(1500, seed=3)
+    keep = (wi[:, 2] > np.cos(np.radians(85))) & (wo[:, 2] > np.cos(np.radians(80)))
+    wi, wo = wi[keep], wo[keep]
+    mitsuba = mitsuba_measured_eval(out, wi, wo, spectral=True)
+    # the same file by Patina's evaluator of the format: only float32 apart
+    same_file = upsample(read_rgl_brdf(out).eval(wi, wo), MITSUBA_WAVELENGTHS)
+    # the source table, upsampled as the file's spectra were
+    source = upsample(np.asarray(table.eval(wi, wo), np.float64), MITSUBA_WAVELENGTHS)
+    rel_file, rel_source = _relative(mitsuba, same_file), _relative(mitsuba, source)
+    print(
+        f"\nMitsuba measured (scalar_spectral) at {len(wi)} pairs: against Patina's reading of the file "
+        f"median {np.median(rel_file):.2g}, 95% {np.percentile(rel_file, 95):.2g}; against the source table "
+        f"median {np.median(rel_source):.2g}, 95% {np.percentile(rel_source, 95):.2g}"
+    )
+    assert np.median(rel_file) < 0.01 and np.percentile(rel_file, 95) < 0.03
+    assert np.median(rel_source) < 0.01 and np.percentile(rel_source, 95) < 0.15
+
+
+def test_table_to_mitsuba_and_pbrt_writes_the_tensor_file_beside(table_file, tmp_path, capsys):
+    pytest.importorskip("mitsuba")
+    xml = tmp_path / "plastic.xml"
+    assert main(["export", table_file, "--to", "mitsuba", "--out", str(xml)]) == 0
+    assert 'type="measured"' in xml.read_text() and 'value="plastic.bsdf"' in xml.read_text()
+    sidecar = json.loads((tmp_path / "plastic.xml.export.json").read_text())
+    assert sidecar["tensor_file"] == str(tmp_path / "plastic.bsdf")
+    assert sidecar["target_error_against_source"]["evaluator"] == "mitsuba scalar_spectral measured"
+    assert sidecar["target_error_against_source"]["relative_error_median"] < 0.01
+    assert "as mitsuba scalar_spectral measured evaluates it" in capsys.readouterr().out
+    import mitsuba as mi
+
+    mi.set_variant("scalar_spectral")
+    assert mi.load_file(str(xml)) is not None  # the XML finds its tensor file by the relative name
+    # pbrt beside it under another stem; the same stem is refused (its tensor file exists)
+    assert main(["export", table_file, "--to", "pbrt", "--out", str(tmp_path / "plastic.pbrt")]) == 2
+    assert "plastic.bsdf: exists; pass --force" in capsys.readouterr().err
+    pbrt = tmp_path / "plastic_pbrt.pbrt"
+    assert main(["export", table_file, "--to", "pbrt", "--out", str(pbrt)]) == 0
+    text = pbrt.read_text()
+    assert '"string type" "measured"' in text and '"string filename" "plastic_pbrt.bsdf"' in text
+    assert read_rgl_brdf(str(tmp_path / "plastic_pbrt.bsdf")).channel_kind == "spectral"
+
+
+def test_rgb_channels_for_mitsubas_rgb_variants_and_refused_for_pbrt(table_file, tmp_path, capsys):
+    out = tmp_path / "p.bsdf"
+    assert main(["export", table_file, "--to", "rgl", "--channels", "rgb", "--out", str(out)]) == 0
+    assert read_rgl_brdf(str(out)).channel_kind == "rgb"
+    capsys.readouterr()
+    assert main(["export", table_file, "--to", "pbrt", "--channels", "rgb", "--out", str(tmp_path / "q.pbrt")]) == 2
+    assert "spectral files only" in capsys.readouterr().err
+    assert not os.path.exists(tmp_path / "q.pbrt") and not os.path.exists(tmp_path / "q.bsdf")
+
+
+def test_a_fit_to_rgl_is_the_fit_evaluated_densely(tmp_path, capsys):
+    fit = write_json(tmp_path / "ggx.json", GGX_FIT)
+    out = tmp_path / "ggx.bsdf"
+    assert main(["export", fit, "--to", "rgl", "--channels", "rgb", "--out", str(out)]) == 0
+    sidecar = json.loads((tmp_path / "ggx.bsdf.export.json").read_text())
+    assert sidecar["error_against_source"]["relative_error_median"] < 0.01
+    assert "read back against" in capsys.readouterr().out
