@@ -7,8 +7,8 @@ the XML, pbrt-v4 against the folder of the scene file. Where the `mitsuba` packa
 installed, Mitsuba's own `measured` plugin evaluates the written file at direction pairs and
 that is compared with the source (`target_error_against_source`): a spectral file in
 `scalar_spectral` at four wavelengths against the source's RGB upsampled the same way, an RGB
-file in `scalar_rgb`. Mitsuba 3's `measured` returns f itself from `eval`, without the
-cos(theta_o) its other BSDFs include (checked against Patina's evaluator of the same file)."""
+file in `scalar_rgb`; Mitsuba's `eval` includes cos(theta_o), as the file's values do
+(patina.export.rgl), and is divided by it here."""
 
 from __future__ import annotations
 
@@ -55,8 +55,9 @@ def pbrt_measured(name: str, filename: str, source: str) -> str:
 
 
 def mitsuba_measured_eval(path: str, wi: np.ndarray, wo: np.ndarray, spectral: bool) -> np.ndarray:
-    """Mitsuba 3's `measured` plugin's own evaluation of the file at (n, 3) local pairs: (n, 4)
-    at MITSUBA_WAVELENGTHS (scalar_spectral) or (n, 3) RGB (scalar_rgb)."""
+    """Mitsuba 3's `measured` plugin's own evaluation of the file at (n, 3) local pairs, as a
+    BRDF (its `eval` divided by cos(theta_o)): (n, 4) at MITSUBA_WAVELENGTHS (scalar_spectral)
+    or (n, 3) RGB (scalar_rgb)."""
     import mitsuba as mi
 
     mi.set_variant("scalar_spectral" if spectral else "scalar_rgb")
@@ -69,7 +70,7 @@ def mitsuba_measured_eval(path: str, wi: np.ndarray, wo: np.ndarray, spectral: b
     out = np.zeros((len(wi), 4 if spectral else 3))
     for j in range(len(wi)):
         si.wi = mi.Vector3f(*wi[j])
-        out[j] = np.array(bsdf.eval(ctx, si, mi.Vector3f(*wo[j])))  # f itself: no cosine (see above)
+        out[j] = np.array(bsdf.eval(ctx, si, mi.Vector3f(*wo[j]))) / wo[j, 2]
     return out
 
 

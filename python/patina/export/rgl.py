@@ -4,6 +4,9 @@ RGL tensor file (.bsdf), the input of Mitsuba 3's and pbrt-v4's `measured` mater
 The BRDF is resampled into the format's own parameterisation by rgl_writer (Dupuy & Jakob
 2018: an NDF from the BRDF's backscatter, the projected areas it implies, one VNDF warp per
 incident direction, the values at the warped nodes, their luminance as the second warp).
+The values are f cos(theta_o), what the format's readers return (brdf-loader's `eval`:
+"f_r * cos"; Mitsuba 3's `measured`, whose `eval` includes the cosine like every Mitsuba
+BSDF), so that Mitsuba renders the file as the table.
 Channels: `spectra` (a spectral table's own wavelengths, or spectra upsampled from RGB by
 Mitsuba's method: rgb_upsampling), as the RGL database's files and pbrt-v4 have them, or
 `rgb` (linear sRGB), which Mitsuba's RGB variants need. Before anything is written the file is read back by Patina's RGL
@@ -119,14 +122,14 @@ def rgl_file_arrays(
     layout = layout or default_layout(source)
     check_incidence(source, layout)
     if source.spectral is not None:
-        arrays = rgl_arrays(source.spectral, source.wavelengths, layout=layout, description=description)
+        arrays = rgl_arrays(source.spectral, source.wavelengths, layout=layout, description=description, cosine=True)
         if channels == "rgb":
             stored = arrays.pop("spectra").astype(np.float64)
             del arrays["wavelengths"]
             rgb = np.einsum("kc,pqchw->pqkhw", _spectral_to_rgb(source.wavelengths), stored)
             arrays["rgb"] = rgb.astype(np.float32)
         return arrays
-    arrays = rgl_arrays(source.rgb, layout=layout, description=description)
+    arrays = rgl_arrays(source.rgb, layout=layout, description=description, cosine=True)
     if channels == "spectral":
         rgb = arrays.pop("rgb").astype(np.float64)  # (phi_i, theta_i, 3, H, W)
         flat = np.moveaxis(rgb, 2, -1).reshape(-1, 3)
@@ -146,10 +149,11 @@ def check_pairs(max_theta_i_deg: float) -> tuple[np.ndarray, np.ndarray]:
 
 def read_back_errors(arrays: dict[str, np.ndarray], source: RglSource, name: str) -> dict[str, float]:
     """The written fields read back by Patina's RGL evaluator (spectra through the CIE
-    observer) against the source in linear sRGB: relative error median, 95th percentile."""
+    observer) against the source in linear sRGB: relative error median, 95th percentile.
+    The file holds f cos(theta_o) (rgl_file_arrays), which that evaluator returns as it is."""
     wi, wo = check_pairs(float(np.degrees(arrays["theta_i"][-1])))
     brdf = RglBrdf(parse_tensor_file(name, tensor_file_bytes(arrays)))
-    err = relative_error(brdf.eval(wi, wo), source.rgb(wi, wo))
+    err = relative_error(brdf.eval(wi, wo) / wo[:, 2:3], source.rgb(wi, wo))
     return {"relative_error_median": err["median"], "relative_error_p95": err["p95"], "pairs": len(wi)}
 
 
