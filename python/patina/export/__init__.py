@@ -79,6 +79,8 @@ def export(
     channels = options.pop("channels", None)
     source = load_source(spec)
     if target == "rgl" or (source.table is not None and target in MEASURED_TARGETS):
+        if table:
+            raise ValueError("--table is for an analytic export's refit; an RGL tensor file is MATERIAL resampled")
         if target == "pbrt" and channels == "rgb":
             raise ValueError("pbrt-v4's measured material reads spectral files only: leave out --channels rgb")
         report = export_measured(source, target, out, channels or "spectral", progress)

@@ -136,3 +136,20 @@ def test_mitsuba_renders_the_written_spectral_file_as_patina_evaluates_the_table
     # each pixel: within the colour noise of 16 wavelength samples per pixel
     rel = np.abs(rendered - want).max(axis=1) / want.max(axis=1)
     assert np.median(rel) < 0.08 and np.percentile(rel, 95) < 0.2
+
+
+@pytest.mark.parametrize(
+    ("target", "extra", "message"),
+    [
+        ("rgl", ["--table", "TABLE"], "--table is for an analytic export's refit"),
+        ("materialx", ["--channels", "rgb"], "--channels is for an RGL tensor file"),
+    ],
+)
+def test_options_that_do_not_apply_are_refused_in_one_line(table_file, tmp_path, capsys, target, extra, message):
+    fit = write_json(tmp_path / "ggx.json", GGX_FIT)
+    out = tmp_path / f"ggx.{'bsdf' if target == 'rgl' else 'mtlx'}"
+    extra = [table_file if word == "TABLE" else word for word in extra]
+    assert main(["export", fit, "--to", target, "--out", str(out), *extra]) == 2
+    errors = [line for line in capsys.readouterr().err.splitlines() if line.startswith("patina")]
+    assert len(errors) == 1 and message in errors[0]
+    assert sorted(os.listdir(tmp_path)) == ["ggx.json"]
