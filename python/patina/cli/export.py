@@ -22,8 +22,8 @@ def cmd_export(args: argparse.Namespace) -> int:
         raise UsageError("export: --standard-surface is for --to materialx")
     sidecar = f"{args.out}.export.json"  # (--out itself was checked by the parser: docs/cli.md)
     companions = [sidecar]
-    if args.to in MEASURED_TARGETS and not args.material.lower().endswith(".json") and "#" not in args.material:
-        companions.append(tensor_path(args.to, args.out))  # a table: the tensor file beside --out
+    if args.to in MEASURED_TARGETS and not args.material.lower().endswith(".json"):
+        companions.append(tensor_path(args.to, args.out))  # a table (or a scene's): the tensor file beside --out
     for companion in companions:
         if not args.force and os.path.lexists(companion):
             raise FileExistsError(f"{companion}: exists; pass --force to overwrite it")

@@ -112,12 +112,7 @@ def export(
         "out": os.fspath(out),
         "source": source.path,
         "source_model": source.model,
-        "measured_against": table
-        or (
-            "the table's own samples"
-            if source.table is not None
-            else "the source fit, evaluated at dense direction pairs"
-        ),
+        "measured_against": table or _measured_against(source),
         "material": material.as_json(),
         "refitted": material is not source.exact,
         "error_against_source": metrics,

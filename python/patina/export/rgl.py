@@ -7,12 +7,14 @@ incident direction, the values at the warped nodes, their luminance as the secon
 The values are f cos(theta_o), what the format's readers return (brdf-loader's `eval`:
 "f_r * cos"; Mitsuba 3's `measured`, whose `eval` includes the cosine like every Mitsuba
 BSDF), so that Mitsuba renders the file as the table.
+
 Channels: `spectra` (a spectral table's own wavelengths, or spectra upsampled from RGB by
 Mitsuba's method: rgb_upsampling), as the RGL database's files and pbrt-v4 have them, or
-`rgb` (linear sRGB), which Mitsuba's RGB variants need. Before anything is written the file is read back by Patina's RGL
-evaluator (rgl_brdf) from its bytes and compared with the source at direction pairs off the
-file's grid; the errors go into the report. A table without measurements near an incident
-angle the file holds (0 to 85 degrees) cannot be resampled: FormatError, nothing written.
+`rgb` (linear sRGB), which Mitsuba's RGB variants need. Before anything is written the file
+is read back by Patina's RGL evaluator (rgl_brdf) from its bytes and compared with the
+source at direction pairs off the file's grid; the errors go into the report. A table
+without measurements near an incident angle the file holds (0 to 85 degrees) cannot be
+resampled: FormatError, nothing written.
 """
 
 from __future__ import annotations
@@ -26,12 +28,14 @@ import numpy as np
 
 from patina.errors import FormatError
 from patina.export.rgb_upsampling import WAVELENGTHS, upsample
+from patina.fitting.samples import table_samples
 from patina.progress import Progress
 from patina.table.colour_matching import xyz_to_linear_srgb, xyz_weights
 from patina.table.formats.rgl import error_pairs, relative_error
 from patina.table.formats.rgl_brdf import RglBrdf
 from patina.table.formats.rgl_writer import RglLayout, rgl_arrays
 from patina.table.formats.tensor_file import parse_tensor_file, tensor_file_bytes, write_tensor_file
+from patina.table.spectral import as_linear_srgb
 
 # spectral: pbrt-v4 and Mitsuba's spectral variants; rgb: Mitsuba's RGB variants (which refuse a
 # file holding spectra)
@@ -57,9 +61,6 @@ class RglSource:
 
 def table_source(brdf: Any, path: str) -> RglSource:
     """A Brdf (any format load_brdf reads): its values by its own interpolation."""
-    from patina.fitting.samples import table_samples
-    from patina.table.spectral import as_linear_srgb
-
     rgb_table = as_linear_srgb(brdf)
     wi, _, _, _ = table_samples(rgb_table, max_theta_deg=89.9)
     incidences = np.degrees(np.arccos(np.clip(wi[:, 2].astype(np.float64), -1, 1)))

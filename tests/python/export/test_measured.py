@@ -18,6 +18,7 @@ from patina.export.rgb_upsampling import upsample
 from patina.export.rgl import table_source, write_rgl_file
 from patina.table.formats.rgl import error_pairs
 from patina.table.formats.rgl_brdf import read_rgl_brdf
+from repo_paths import ROOT
 from rgl_tables import plastic_table
 
 
@@ -153,3 +154,13 @@ def test_options_that_do_not_apply_are_refused_in_one_line(table_file, tmp_path,
     errors = [line for line in capsys.readouterr().err.splitlines() if line.startswith("patina")]
     assert len(errors) == 1 and message in errors[0]
     assert sorted(os.listdir(tmp_path)) == ["ggx.json"]
+
+
+def test_a_scenes_table_material_is_exported_as_its_table(tmp_path, capsys):
+    scene = os.path.join(ROOT, "materials", "scenes", "cache-room.json")
+    out = tmp_path / "wall.bsdf"
+    assert main(["export", f"{scene}#feature-wall", "--to", "rgl", "--channels", "rgb", "--out", str(out)]) == 0
+    sidecar = json.loads((tmp_path / "wall.bsdf.export.json").read_text())
+    assert "red-plastic-iso.ptab (materials.feature-wall of" in sidecar["source"]
+    assert sidecar["source_model"] == "table (ptab)"
+    assert sidecar["error_against_source"]["relative_error_median"] < 0.02
