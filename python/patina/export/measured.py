@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import xml.etree.ElementTree as ET
 from typing import Any
 
 import numpy as np
@@ -39,12 +40,17 @@ def rgl_source(source: Source) -> RglSource:
     return RglSource(source.path, lambda wi, wo: np.asarray(source.evaluate(wi, wo), np.float64))
 
 
-def mitsuba_measured_xml(name: str, filename: str, source: str) -> str:
-    return (
-        f"<!-- {name}: exported by patina export from {source} (a spectral file needs a spectral variant) -->\n"
-        f'<scene version="3.5.0">\n    <bsdf type="measured" id="{name}">\n'
-        f'        <string name="filename" value="{filename}"/>\n    </bsdf>\n</scene>\n'
-    )
+def mitsuba_measured_xml(name: str, filename: str, source: str, two_sided: bool = False) -> str:
+    """A Mitsuba 3 scene file with the `measured` BSDF (id = name), inside `twosided` for a
+    two-sided material (`measured` reflects on its front side only)."""
+    scene = ET.Element("scene", version="3.5.0")
+    outer = ET.SubElement(scene, "bsdf", type="twosided" if two_sided else "measured", id=name)
+    measured = ET.SubElement(outer, "bsdf", type="measured") if two_sided else outer
+    ET.SubElement(measured, "string", name="filename", value=filename)
+    ET.indent(scene)
+    said = f"{name}: exported by patina export from {source}".replace("--", "- -")  # '--' ends no comment
+    comment = f"<!-- {said} (a spectral file needs a spectral variant) -->\n"
+    return comment + ET.tostring(scene, encoding="unicode") + "\n"
 
 
 def pbrt_measured(name: str, filename: str, source: str) -> str:
@@ -105,7 +111,7 @@ def export_measured(source: Source, target: str, out: str, channels: str, progre
     report = write_rgl_file(rgl, tensor, channels, progress=progress)
     filename = os.path.basename(tensor)
     if target == "mitsuba":
-        write_text(out, mitsuba_measured_xml(source.name, filename, source.path))
+        write_text(out, mitsuba_measured_xml(source.name, filename, source.path, source.two_sided))
     elif target == "pbrt":
         write_text(out, pbrt_measured(source.name, filename, source.path))
     in_target = in_mitsuba(tensor, rgl, channels == "spectral") if target in ("mitsuba", "rgl") else None

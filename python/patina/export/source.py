@@ -34,6 +34,7 @@ class Source:
     exact: AnalyticMaterial | None  # the material itself, when no refit is needed
     fitted: FittedModel | None = None
     table: Any = None  # a measured table (Brdf): written as `measured` where the target has it
+    two_sided: bool = False  # a scene's table material: lit from both sides
 
 
 def _name(path: str) -> str:
@@ -90,7 +91,7 @@ def _fit_source(path: str, name: str | None = None, where: str = "") -> Source:
     return Source(name, shown, fitted.model, fitted.eval, analytic_from_fit(fitted, name, shown), fitted)
 
 
-def _table_source(path: str, name: str | None = None, shown: str | None = None) -> Source:
+def _table_source(path: str, name: str | None = None, shown: str | None = None, two_sided: bool = False) -> Source:
     """A measured table (any format load_brdf reads), its values in linear sRGB the reference."""
     brdf = load_brdf(path)
     rgb = as_linear_srgb(brdf)
@@ -99,7 +100,7 @@ def _table_source(path: str, name: str | None = None, shown: str | None = None) 
         return np.asarray(rgb.eval(wi, wo), np.float64)
 
     model = f"table ({brdf.source_format})"
-    return Source(name or _name(path), shown or path, model, evaluate, None, None, brdf)
+    return Source(name or _name(path), shown or path, model, evaluate, None, None, brdf, two_sided)
 
 
 def _scene_source(path: str, material: str) -> Source:
@@ -119,7 +120,7 @@ def _scene_source(path: str, material: str) -> Source:
         exact = AnalyticMaterial(material, tuple(m.base.albedo), (), coat, m.two_sided, "carpaint", shown)
         return Source(material, shown, "carpaint", exact.eval, exact)
     if isinstance(m, TableMaterial) and m.scale == 1.0 and tuple(m.tint) == (1.0, 1.0, 1.0):
-        return _table_source(m.file, material, f"{m.file} (materials.{material} of {path})")
+        return _table_source(m.file, material, f"{m.file} (materials.{material} of {path})", m.two_sided)
     if isinstance(m, FitMaterial) and m.scale == 1.0 and tuple(m.tint) == (1.0, 1.0, 1.0):
         src = _fit_source(m.file, material, f" (materials.{material} of {path})")
         if src.exact is not None:

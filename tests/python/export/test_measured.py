@@ -7,13 +7,14 @@ from __future__ import annotations
 
 import json
 import os
+import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
 
 from export_helpers import GGX_FIT, write_json
 from patina.cli import main
-from patina.export.measured import MITSUBA_WAVELENGTHS, mitsuba_measured_eval
+from patina.export.measured import MITSUBA_WAVELENGTHS, mitsuba_measured_eval, mitsuba_measured_xml
 from patina.export.rgb_upsampling import upsample
 from patina.export.rgl import table_source, write_rgl_file
 from patina.table.formats.rgl import error_pairs
@@ -164,3 +165,23 @@ def test_a_scenes_table_material_is_exported_as_its_table(tmp_path, capsys):
     assert "red-plastic-iso.ptab (materials.feature-wall of" in sidecar["source"]
     assert sidecar["source_model"] == "table (ptab)"
     assert sidecar["error_against_source"]["relative_error_median"] < 0.02
+
+
+def test_a_two_sided_material_is_measured_inside_twosided(table_file, tmp_path):
+    mi = pytest.importorskip("mitsuba")
+    out = tmp_path / "p.bsdf"
+    write_rgl_file(table_source(plastic_table(), table_file), str(out), "rgb")
+    xml = tmp_path / "p.xml"
+    xml.write_text(mitsuba_measured_xml("p--q", str(out), "a--b.ptab", two_sided=True))
+    mi.set_variant("scalar_rgb")
+    assert isinstance(mi.load_file(str(xml)), mi.Scene)  # a '--' in the names leaves the comment whole
+    element = ET.parse(xml).getroot().find("bsdf")
+    element.set("version", "3.5.0")
+    bsdf = mi.load_string(ET.tostring(element, encoding="unicode"))
+    ctx, si = mi.BSDFContext(), mi.SurfaceInteraction3f()
+    si.sh_frame = mi.Frame3f(mi.Vector3f(0, 0, 1))
+    si.wi = mi.Vector3f(0.3, 0.0, -0.954)  # from below: twosided mirrors it onto the front
+    back = np.array(bsdf.eval(ctx, si, mi.Vector3f(-0.3, 0.1, -0.949)))
+    si.wi = mi.Vector3f(0.3, 0.0, 0.954)
+    front = np.array(bsdf.eval(ctx, si, mi.Vector3f(-0.3, 0.1, 0.949)))
+    assert np.all(front > 0) and np.allclose(back, front, rtol=1e-5)
