@@ -9,12 +9,23 @@ import os
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import patina
 from patina.errors import FormatError
-from patina.export.rgl import RglSource, check_pairs, is_isotropic, table_source, write_rgl_file
+from patina.export.rgl import (
+    HOLE_DEG,
+    RglSource,
+    check_incidence,
+    check_pairs,
+    is_isotropic,
+    table_source,
+    write_rgl_file,
+)
 from patina.synthetic.analytic import ggx_anisotropic
 from patina.table.formats.rgl_brdf import read_rgl_brdf
+from patina.table.formats.rgl_writer import RglLayout
 from rgl_tables import MODEL, WAVELENGTHS, plastic_table, shallow_table, spectral_table
 
 # the bounds docs/export.md states for a table written at the default layout
@@ -89,3 +100,21 @@ def test_a_function_source_is_written_everywhere(tmp_path):
     report = write_rgl_file(RglSource("model", MODEL), out, "rgb")
     assert report["theta_i_deg"][1] == pytest.approx(85.0, abs=1e-3)
     assert report["read_back_error"]["relative_error_median"] < MEDIAN_BOUND
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.floats(0.0, 89.9), min_size=1, max_size=12))
+def test_incidence_check_refuses_exactly_the_tables_with_a_hole(incidences):
+    """Refused iff some incident angle the file holds (12 from 0 to 85 deg) has no measured
+    incidence within 10 deg; the message names those angles."""
+    layout = RglLayout()
+    needed = np.linspace(0.0, layout.max_theta_i_deg, layout.theta_i)
+    have = np.round(np.array(incidences), 3)
+    holes = [t for t in needed if np.min(np.abs(have - t)) > HOLE_DEG]
+    source = RglSource("t.ptab", MODEL, incidences_deg=np.array(incidences))
+    if not holes:
+        check_incidence(source, layout)
+        return
+    with pytest.raises(FormatError) as e:
+        check_incidence(source, layout)
+    assert e.value.where == "incident angles" and f"{holes[-1]:.3g} deg" in e.value.problem
