@@ -113,5 +113,5 @@ def test_a_measured_table_is_a_source_refitted_for_an_analytic_target(tmp_path):
     report = export(path, "materialx", str(tmp_path / "plastic.mtlx"))
     assert report["refitted"] and report["measured_against"] == "the table's own samples"
     # a GGX plastic's table refitted to Lambert + GGX: close to exact
-    assert report["error_against_source"]["relative_error_median"] < 0.05
-    assert report["error_against_source"]["ciede2000_mean"] < 1.0
+    assert report["error_against_source"]["relative_error_median"] < 0.01  # measured 0.0012
+    assert report["error_against_source"]["ciede2000_mean"] < 0.2  # measured 0.03
