@@ -5,10 +5,12 @@ colour has three coefficients c, fetched from Mitsuba's own precomputed sRGB tab
 a quadratic in the wavelength (nm), s(l) = 1/2 + x / (2 sqrt(1 + x^2)), x = c0 l^2 + c1 l + c2.
 
 The model holds reflectances within [0, 1]; a BRDF value is unbounded, so each colour is
-first divided by twice its largest component and the spectrum multiplied back, as Mitsuba's
-`srgb` texture does with `unbounded`. Upsampling is then linear in a colour's scale
-(k rgb becomes k s), so values that are the same colour times different factors (an RGL
-file's stored values) upsample consistently.
+first divided by twice its largest component and the spectrum multiplied back, as Mitsuba
+upsamples an unbounded emitter colour (its `d65` spectrum given a `color`: the same spectrum
+times D65). Mitsuba's `srgb` reflectance texture would look the colour up as it is, which
+loses the scale of values above 1. Upsampling is then linear in a colour's scale (k rgb
+becomes k s), so values that are the same colour times different factors (an RGL file's
+stored values) upsample consistently.
 """
 
 from __future__ import annotations

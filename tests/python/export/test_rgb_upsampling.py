@@ -14,16 +14,18 @@ from patina.table.colour_matching import xyz_to_linear_srgb, xyz_weights
 pytest.importorskip("mitsuba")  # the coefficient table is Mitsuba's
 
 
-def test_the_spectrum_is_mitsubas_own():
+@pytest.mark.parametrize("rgb", [(0.2, 0.4, 0.1), (3.0, 1.0, 0.5), (0.0, 0.05, 20.0)])
+def test_the_spectrum_is_mitsubas_own(rgb):
+    """Mitsuba's `d65` spectrum given a colour is that colour upsampled (unbounded) times D65."""
     import mitsuba as mi
 
     mi.set_variant("scalar_spectral")
-    rgb = mi.Color3f(0.2, 0.4, 0.1)
-    # Mitsuba's `srgb` texture with `unbounded`: the colour over twice its largest component
-    coefficients = mi.srgb_model_fetch(rgb / 0.8)
     lam = [450.0, 520.0, 610.0, 700.0]
-    want = 0.8 * np.array(mi.srgb_model_eval(coefficients, mi.Spectrum(lam)))
-    assert np.allclose(upsample(np.array([[0.2, 0.4, 0.1]]), np.array(lam))[0], want, rtol=1e-5)
+    si = mi.SurfaceInteraction3f()
+    si.wavelengths = mi.Spectrum(lam)
+    d65 = np.array(mi.load_dict({"type": "d65"}).eval(si))
+    want = np.array(mi.load_dict({"type": "d65", "color": list(rgb)}).eval(si)) / d65
+    assert np.allclose(upsample(np.array([rgb]), np.array(lam))[0], want, rtol=1e-4)  # Mitsuba in float32
 
 
 @settings(max_examples=40, deadline=None)
