@@ -46,10 +46,29 @@ def cmd_info(args: argparse.Namespace) -> int:
 def cmd_convert(args: argparse.Namespace) -> int:
 
     brdf = load_brdf(args.input)
+    if args.output.lower().endswith(".bsdf"):
+        return _convert_to_rgl(brdf, args)
+    if args.channels:
+        raise UsageError("convert: --channels is for an RGL .bsdf output")
     brdf.save(args.output)
     print(
         f"wrote {printable(args.output)} ({brdf.parametrization}, {'x'.join(str(a.size) for a in brdf.axes)}, "
         f"{brdf.channels} channels)"
+    )
+    return 0
+
+
+def _convert_to_rgl(brdf: Any, args: argparse.Namespace) -> int:
+    from patina.export.rgl import table_source, write_rgl_file
+
+    report = write_rgl_file(table_source(brdf, args.input), args.output, args.channels or "spectral", progress=True)
+    err = report["read_back_error"]
+    kind = "isotropic" if report["isotropic"] else "anisotropic"
+    channels = " and ".join(report["channels"]) + (f" from {report['spectra_from']}" if report["spectra_from"] else "")
+    print(f"wrote {args.output} (RGL tensor file, {kind}, {report['incident_angles']} incident directions, {channels})")
+    print(
+        f"  read back against {args.input} at {err['pairs']} direction pairs: relative error median "
+        f"{err['relative_error_median']:.3g}, 95% {err['relative_error_p95']:.3g}"
     )
     return 0
 
@@ -116,9 +135,14 @@ def add_table_commands(sub: Any) -> None:
     s.add_argument("--json", action="store_true", help="machine-readable output")
     s.set_defaults(func=cmd_info)
 
-    s = sub.add_parser("convert", help="convert any supported table to .ptab")
-    s.add_argument("input", help="a .ptab, MERL .binary, ASTM E1392 or CSV table")
-    add_output(s, "output", extensions=(".ptab",), help="the .ptab to write")
+    s = sub.add_parser("convert", help="convert any supported table to .ptab or an RGL .bsdf tensor file")
+    s.add_argument("input", help="a .ptab, MERL .binary, ASTM E1392, CSV, RGL .bsdf or other table")
+    add_output(s, "output", extensions=(".ptab", ".bsdf"), help="the .ptab or .bsdf (RGL tensor file) to write")
+    s.add_argument(
+        "--channels",
+        choices=("spectral", "rgb"),
+        help=".bsdf: spectra (default; pbrt-v4, Mitsuba's spectral variants) or RGB (Mitsuba's RGB variants)",
+    )
     s.set_defaults(func=cmd_convert)
 
     s = sub.add_parser("eval", help="evaluate a table at one direction pair (degrees)")

@@ -1,9 +1,10 @@
-"""Fitted materials out to renderers: Mitsuba 3, pbrt-v4, MaterialX (OpenPBR), glTF, USD and
-Blender (docs/export.md). The source (a fit.json, a ranking, a scene's material: source)
-becomes an AnalyticMaterial (material), refitted to the target's model where it is not one
-(refit), written by the target's writer (targets and one module per target), with its
-error against the source in a sidecar FILE.export.json. Tabulated materials (Mitsuba's and
-pbrt's `measured`, an RGL tensor file) come as another target once the RGL writer lands."""
+"""Materials out to renderers: Mitsuba 3, pbrt-v4, MaterialX (OpenPBR), glTF, USD, Blender and
+RGL tensor files (docs/export.md). The source (a fit.json, a ranking, a measured table, a
+scene's material: source) becomes an AnalyticMaterial (material), refitted to the target's
+model where it is not one (refit), written by the target's writer (targets and one module per
+target), with its error against the source in a sidecar FILE.export.json. A measured table
+for Mitsuba or pbrt, and anything for `rgl`, is written as an RGL tensor file instead, and
+Mitsuba's and pbrt's `measured` material reading it (measured)."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ from typing import Any
 from patina.atomic import write_text
 from patina.errors import FormatError
 from patina.export.material import AnalyticMaterial, Coat, Lobe
+from patina.export.measured import MEASURED_TARGETS, export_measured
 from patina.export.mitsuba import mitsuba_eval, to_mitsuba_dict
 from patina.export.refit import (
     MAX_REFIT_DE,
@@ -59,17 +61,41 @@ def _in_target(reference: Reference, material: AnalyticMaterial, target: str) ->
     return {"evaluator": "mitsuba scalar_rgb", **error_metrics(values, exported, wi[:, 2])}
 
 
+def _measured_against(source: Source) -> str:
+    if source.table is not None:
+        return "the table's own samples"
+    return "the source fit, evaluated at dense direction pairs"
+
+
 def export(
     spec: str, target: str, out: str, table: str | None = None, progress: bool = False, **options: Any
 ) -> dict[str, Any]:
     """Writes MATERIAL `spec` for `target` to `out` and its sidecar `out`.export.json; returns
     the sidecar's contents. `table`: the measured table the fit came from, which the refit and
-    the errors are then measured against. ValueError for an unknown target; FormatError for
-    bad input."""
+    the errors are then measured against. `channels` (rgl, and a table to mitsuba or pbrt):
+    "spectral" (default) or "rgb". ValueError for an unknown target; FormatError for bad input."""
     if target not in TARGETS:
         raise ValueError(f"unknown target '{target}' (known: {', '.join(TARGETS)})")
+    channels = options.pop("channels", None)
     source = load_source(spec)
-    reference = table_reference(load_brdf(table)) if table else fit_reference(source.evaluate)
+    if target == "rgl" or (source.table is not None and target in MEASURED_TARGETS):
+        if table:
+            raise ValueError("--table is for an analytic export's refit; an RGL tensor file is MATERIAL resampled")
+        if target == "pbrt" and channels == "rgb":
+            raise ValueError("pbrt-v4's measured material reads spectral files only: leave out --channels rgb")
+        report = export_measured(source, target, out, channels or "spectral", progress)
+        write_text(f"{out}.export.json", json.dumps(report, indent=2))
+        return report
+    if channels:
+        raise ValueError(
+            f"--channels is for an RGL tensor file (--to rgl, or a table to {' or '.join(MEASURED_TARGETS)})"
+        )
+    if table:
+        reference = table_reference(load_brdf(table))
+    elif source.table is not None:
+        reference = table_reference(source.table)  # a table to an analytic target: refitted against its samples
+    else:
+        reference = fit_reference(source.evaluate)
     try:
         material = prepare(source, target, reference, progress)
     except RefitError as e:
@@ -86,7 +112,7 @@ def export(
         "out": os.fspath(out),
         "source": source.path,
         "source_model": source.model,
-        "measured_against": table or "the source fit, evaluated at dense direction pairs",
+        "measured_against": table or _measured_against(source),
         "material": material.as_json(),
         "refitted": material is not source.exact,
         "error_against_source": metrics,

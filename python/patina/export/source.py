@@ -1,5 +1,6 @@
 """The MATERIAL an export starts from: a fit.json, a ranking written by `fit --compare --out`
-(its best usable fit), or `SCENE.json#name`, a scene's material by name. Each becomes a
+(its best usable fit), a measured table (any format `patina.load_brdf` reads: not .json), or
+`SCENE.json#name`, a scene's material by name. Each becomes a
 `Source`: something Patina evaluates (the reference every export is measured against) and,
 where the model already is Lambert + GGX or Beckmann lobes with shared shapes, the
 AnalyticMaterial that says it exactly; other models are refitted (patina.export.refit)."""
@@ -19,7 +20,9 @@ from patina.export.material import DISTRIBUTIONS, AnalyticMaterial, Coat, Lobe
 from patina.fitting import FittedModel, read_fit
 from patina.fitting.fit_file import MAX_FIT_BYTES
 from patina.scene import load_scene
-from patina.scene.types import CarpaintMaterial, FitMaterial, LambertMaterial
+from patina.scene.types import CarpaintMaterial, FitMaterial, LambertMaterial, TableMaterial
+from patina.table import load_brdf
+from patina.table.spectral import as_linear_srgb
 
 
 @dataclass
@@ -30,6 +33,8 @@ class Source:
     evaluate: Any  # (wi, wo) -> (n, 3) RGB, the reference
     exact: AnalyticMaterial | None  # the material itself, when no refit is needed
     fitted: FittedModel | None = None
+    table: Any = None  # a measured table (Brdf): written as `measured` where the target has it
+    two_sided: bool = False  # a scene's table material: lit from both sides
 
 
 def _name(path: str) -> str:
@@ -86,6 +91,18 @@ def _fit_source(path: str, name: str | None = None, where: str = "") -> Source:
     return Source(name, shown, fitted.model, fitted.eval, analytic_from_fit(fitted, name, shown), fitted)
 
 
+def _table_source(path: str, name: str | None = None, shown: str | None = None, two_sided: bool = False) -> Source:
+    """A measured table (any format load_brdf reads), its values in linear sRGB the reference."""
+    brdf = load_brdf(path)
+    rgb = as_linear_srgb(brdf)
+
+    def evaluate(wi: np.ndarray, wo: np.ndarray) -> np.ndarray:
+        return np.asarray(rgb.eval(wi, wo), np.float64)
+
+    model = f"table ({brdf.source_format})"
+    return Source(name or _name(path), shown or path, model, evaluate, None, None, brdf, two_sided)
+
+
 def _scene_source(path: str, material: str) -> Source:
     scene = load_scene(path)
     if material not in scene.materials:
@@ -102,6 +119,8 @@ def _scene_source(path: str, material: str) -> Source:
         coat = Coat(max(m.coat.roughness, 1e-3), m.coat.eta)
         exact = AnalyticMaterial(material, tuple(m.base.albedo), (), coat, m.two_sided, "carpaint", shown)
         return Source(material, shown, "carpaint", exact.eval, exact)
+    if isinstance(m, TableMaterial) and m.scale == 1.0 and tuple(m.tint) == (1.0, 1.0, 1.0):
+        return _table_source(m.file, material, f"{m.file} (materials.{material} of {path})", m.two_sided)
     if isinstance(m, FitMaterial) and m.scale == 1.0 and tuple(m.tint) == (1.0, 1.0, 1.0):
         src = _fit_source(m.file, material, f" (materials.{material} of {path})")
         if src.exact is not None:
@@ -110,8 +129,8 @@ def _scene_source(path: str, material: str) -> Source:
     raise FormatError(
         path,
         f"materials.{material}",
-        f"a {m.type} material has no analytic export (supported: fit without scale or tint, lambert, "
-        "carpaint over lambert; tabulated materials wait for the RGL tensor writer)",
+        f"a {m.type} material has no export (supported: fit or table without scale or tint, lambert, "
+        "carpaint over lambert)",
     )
 
 
@@ -122,6 +141,8 @@ def load_source(spec: str) -> Source:
         if not material:
             raise FormatError(path, "#", "give a material name after '#' (SCENE.json#name)")
         return _scene_source(path, material)
+    if not path.lower().endswith(".json"):
+        return _table_source(path)
     return _fit_source(path)
 
 

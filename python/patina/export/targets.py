@@ -1,4 +1,5 @@
-"""The export targets: what model each holds and how each writes a file."""
+"""The export targets: what model each holds and how each writes a file (an RGL tensor file,
+and a measured table for Mitsuba and pbrt, by patina.export.measured)."""
 
 from __future__ import annotations
 
@@ -42,6 +43,10 @@ def _materialx(material: AnalyticMaterial, notes: list[str], standard_surface: b
     return to_materialx(material, "standard_surface" if standard_surface else "open_pbr_surface", notes)
 
 
+def _tensor_file(material: AnalyticMaterial, path: str, notes: list[str], options: dict) -> None:
+    raise ValueError("an RGL tensor file is written from what the material evaluates to: patina.export.measured")
+
+
 ONE_GGX = (1, ("ggx",))
 TARGETS = {
     "mitsuba": Target("mitsuba", None, ("ggx", "beckmann"), (".xml",), _text(to_mitsuba_xml)),
@@ -50,4 +55,5 @@ TARGETS = {
     "gltf": Target("gltf", *ONE_GGX, (".gltf", ".glb"), _file(write_gltf)),
     "usd": Target("usd", *ONE_GGX, (".usda", ".usd", ".usdc"), _file(write_usd)),
     "blender": Target("blender", *ONE_GGX, (".py",), _text(to_blender_script)),
+    "rgl": Target("rgl", None, ("ggx", "beckmann"), (".bsdf",), _tensor_file),  # patina.export.measured
 }
