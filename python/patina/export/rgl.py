@@ -123,14 +123,14 @@ def rgl_file_arrays(
     layout = layout or default_layout(source)
     check_incidence(source, layout)
     if source.spectral is not None:
-        arrays = rgl_arrays(source.spectral, source.wavelengths, layout=layout, description=description, cosine=True)
+        arrays = rgl_arrays(source.spectral, source.wavelengths, layout=layout, description=description)
         if channels == "rgb":
             stored = arrays.pop("spectra").astype(np.float64)
             del arrays["wavelengths"]
             rgb = np.einsum("kc,pqchw->pqkhw", _spectral_to_rgb(source.wavelengths), stored)
             arrays["rgb"] = rgb.astype(np.float32)
         return arrays
-    arrays = rgl_arrays(source.rgb, layout=layout, description=description, cosine=True)
+    arrays = rgl_arrays(source.rgb, layout=layout, description=description)
     if channels == "spectral":
         rgb = arrays.pop("rgb").astype(np.float64)  # (phi_i, theta_i, 3, H, W)
         flat = np.moveaxis(rgb, 2, -1).reshape(-1, 3)
@@ -151,10 +151,10 @@ def check_pairs(max_theta_i_deg: float) -> tuple[np.ndarray, np.ndarray]:
 def read_back_errors(arrays: dict[str, np.ndarray], source: RglSource, name: str) -> dict[str, float]:
     """The written fields read back by Patina's RGL evaluator (spectra through the CIE
     observer) against the source in linear sRGB: relative error median, 95th percentile.
-    The file holds f cos(theta_o) (rgl_file_arrays), which that evaluator returns as it is."""
+    The file holds f cos(theta_o), which that evaluator divides out again."""
     wi, wo = check_pairs(float(np.degrees(arrays["theta_i"][-1])))
     brdf = RglBrdf(parse_tensor_file(name, tensor_file_bytes(arrays)))
-    err = relative_error(brdf.eval(wi, wo) / wo[:, 2:3], source.rgb(wi, wo))
+    err = relative_error(brdf.eval(wi, wo), source.rgb(wi, wo))
     return {"relative_error_median": err["median"], "relative_error_p95": err["p95"], "pairs": len(wi)}
 
 

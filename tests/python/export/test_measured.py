@@ -44,8 +44,8 @@ def test_mitsuba_measured_agrees_with_patinas_evaluation_of_the_source(table_fil
     keep = (wi[:, 2] > np.cos(np.radians(85))) & (wo[:, 2] > np.cos(np.radians(80)))
     wi, wo = wi[keep], wo[keep]
     mitsuba = mitsuba_measured_eval(out, wi, wo, spectral=True)
-    # the same file by Patina's evaluator of the format (which returns its f cos(theta_o)): only float32 apart
-    same_file = upsample(read_rgl_brdf(out).eval(wi, wo) / wo[:, 2:3], MITSUBA_WAVELENGTHS)
+    # the same file by Patina's evaluator of the format (f: its f cos(theta_o) over the cosine): only float32 apart
+    same_file = upsample(read_rgl_brdf(out).eval(wi, wo), MITSUBA_WAVELENGTHS)
     # the source table, upsampled as the file's spectra were
     source = upsample(np.asarray(table.eval(wi, wo), np.float64), MITSUBA_WAVELENGTHS)
     rel_file, rel_source = _relative(mitsuba, same_file), _relative(mitsuba, source)

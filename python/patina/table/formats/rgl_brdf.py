@@ -202,7 +202,10 @@ class RglBrdf:
         )
         if self.jacobian:
             value *= (self.ndf.eval(u_m) / (4.0 * self.sigma.eval(u_wi)))[:, None]
-        out[above] = np.maximum(value, 0.0)
+        # the file holds f cos(theta_o), as the format's own readers return it (brdf-loader's
+        # eval, "f_r * cos"; Mitsuba 3's measured, whose eval includes the cosine): f is that
+        # over cos(theta_o) (the fold flips only x and y)
+        out[above] = np.maximum(value, 0.0) / b[:, 2:3]
         return out
 
 

@@ -68,13 +68,12 @@ def rgl_arrays(
     ndf: NdfFunction | None = None,
     layout: RglLayout | None = None,
     description: str = "written by Patina",
-    cosine: bool = False,
 ) -> dict[str, np.ndarray]:
-    """The fields of an RGL file of `brdf` (RGB, or spectral at `wavelengths` nm). `cosine`:
-    store f cos(theta_o) (theta_o of the direction the file is not conditioned on), the value
+    """The fields of an RGL file of `brdf` (RGB, or spectral at `wavelengths` nm). The values
+    stored are f cos(theta_o) (theta_o of the direction the file is not conditioned on), what
     the format's own readers return (brdf-loader's `eval`, "f_r * cos"; Mitsuba 3's
-    `measured`, whose `eval` includes the cosine as every Mitsuba BSDF's does): files for
-    renderers. Without it f itself, the convention of Patina's reader (rgl_brdf)."""
+    `measured`, whose `eval` includes the cosine as every Mitsuba BSDF's does); Patina's
+    reader (rgl_brdf) divides it out again."""
     layout = layout or RglLayout()
     ndf = ndf or backscatter_ndf(brdf)
     isotropic = layout.phi_i <= 1
@@ -125,9 +124,7 @@ def rgl_arrays(
             above = wo[:, 2] > 0
             f = np.zeros((n, channels))
             if above.any():
-                f[above] = brdf(wi[above], wo[above])
-                if cosine:
-                    f[above] *= wo[above, 2:3]
+                f[above] = brdf(wi[above], wo[above]) * wo[above, 2:3]
             u_m_rel = np.stack([u_m[:, 0], u_m[:, 1]], axis=1)
             u_wi = np.stack([theta_to_u(np.full(n, th)), phi_to_u(np.full(n, ph))], axis=1)
             stored = f * (4.0 * sigma_table.eval(u_wi) / ndf_table.eval(u_m_rel))[:, None]
@@ -160,7 +157,6 @@ def write_rgl(
     ndf: NdfFunction | None = None,
     layout: RglLayout | None = None,
     description: str = "written by Patina",
-    cosine: bool = False,
 ) -> None:
     """Writes `brdf` as an RGL .bsdf file (atomically)."""
-    write_tensor_file(path, rgl_arrays(brdf, wavelengths, ndf, layout, description, cosine))
+    write_tensor_file(path, rgl_arrays(brdf, wavelengths, ndf, layout, description))

@@ -95,6 +95,8 @@ def _parse(path: str, raw: bytes) -> ET.Element:
         raise FormatError(
             path, f"line {line + skipped}, column {column + 1}", f"not well-formed XML ({problem})"
         ) from None
+    except LookupError as e:  # the declaration names an encoding Python does not know
+        raise FormatError(path, f"line {skipped + 1}", f"the XML declaration's {e}") from None
     if _local(root.tag) != "WindowElement":
         raise FormatError(path, "root element", f"<{_local(root.tag)}>: expected <WindowElement> (a BSDF XML document)")
     return root
