@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from patina.native import _core
-from patina.render.illuminance import Grid, compute
+from patina.render.illuminance import Grid
 from patina.render.prepare import PreparedScene
 from patina.render.run import render
 from patina.scene.reading import load_scene, with_overrides
@@ -74,17 +74,21 @@ def render_digests(widths: list[int]) -> dict[str, str]:
 
 
 def illuminance_digests(widths: list[int]) -> dict[str, str]:
+    """The sensor kernels themselves (direct light sampling, and with sensor paths), as
+    `patina illuminance` calls them for what it does not sum exactly."""
     out: dict[str, str] = {}
     grids = {
         "street-luminaire": Grid(-3.5, -15, 3.5, 15, 5, 9),
         "cache-ies-interior": Grid(-2, -1.5, 2, 1.5, 5, 4, 0.75),
     }
     for name, grid in grids.items():
-        scene = load_scene(SCENES / f"{name}.json")
+        prepared = PreparedScene(load_scene(SCENES / f"{name}.json"))
+        points = grid.points()[2]
+        normals = np.ascontiguousarray(np.tile(np.float32([0, 1, 0]), (len(points), 1)))
         for width in widths:
-            for indirect in (False, True):
-                report = compute(scene, grid, samples=8, threads=2, width=width, indirect=indirect)
-                out[f"illuminance/{name}/w{width}/indirect{int(indirect)}"] = digest(report.lux)
+            for depth in (0, 3):
+                lux = _core.sensor_illuminance(prepared.core, points, normals, 8, 3, width, 2, depth)
+                out[f"illuminance/{name}/w{width}/depth{depth}"] = digest(np.asarray(lux))
     return out
 
 
