@@ -8,6 +8,7 @@ import sys
 from typing import Any
 
 from patina.cli.files import add_output
+from patina.cli.values import number
 from patina.lighting.ugr_table import format_table, ugr_table
 from patina.photometry.luminaire import load_luminaire
 from patina.plot.luminaire import plot_luminaire
@@ -68,7 +69,6 @@ def cmd_luminaire_plot(args: argparse.Namespace) -> int:
 
 
 def cmd_luminaire_ugr(args: argparse.Namespace) -> int:
-
     table = ugr_table(load_luminaire(args.file), args.spacing)
     if args.json:
         json.dump(table.to_json(), sys.stdout, indent=2)
@@ -90,12 +90,13 @@ def add_luminaire_commands(sub: Any) -> None:
     p.add_argument("file", metavar="FILE")
     add_output(p, "--out", required=True, metavar="PNG", extensions=(".png",), help="the PNG to write")
     p.set_defaults(func=cmd_luminaire_plot)
-    p = lsub.add_parser(
-        "ugr", help="the UGR table by the tabular method (CIE 117 formula, CIE 190 standard rooms)", allow_abbrev=False
-    )
+    p = lsub.add_parser("ugr", help="the UGR table by the tabular method (CIE 117 formula, CIE 190 standard rooms)")
     p.add_argument("file", metavar="FILE")
     p.add_argument(
-        "--spacing", type=float, default=1.0, help="luminaire spacing in H (CIE 190: 1.0; CIE 117's table: 0.25)"
+        "--spacing",
+        type=number(0, 2, above=True),
+        default=1.0,
+        help="luminaire spacing in H (CIE 190: 1.0; CIE 117's table: 0.25)",
     )
     p.add_argument("--json", action="store_true", help="the table as JSON")
     p.set_defaults(func=cmd_luminaire_ugr)
