@@ -42,7 +42,6 @@ def plan_figure(
     title: str = "",
     luminaires: list[PlanLuminaire] | None = None,
     label: str = "illuminance (lx)",
-    unit: str = "lx",
 ):
     """A matplotlib figure of lux (nz, nx) over sensor coordinates x (nx,), z (nz,)."""
     import matplotlib
@@ -72,14 +71,18 @@ def plan_figure(
     mesh = ax.pcolormesh(xe, ze, lux, cmap="inferno", shading="flat")
     if lux.shape[0] > 1 and lux.shape[1] > 1 and np.ptp(lux) > 0:
         lines = ax.contour(x, z, lux, levels=ISO_LEVELS, colors="white", linewidths=0.8)
-        ax.clabel(lines, fmt=f"%g {unit}", fontsize=7, inline=True)
+        # the values alone, their unit the colour bar's: with it on every label they crowded
+        # round the luminaires of a road plan
+        ax.clabel(lines, fmt="%g", fontsize=7, inline=True, inline_spacing=2)
     gx, gz = np.meshgrid(x, z)
     ax.plot(gx.ravel(), gz.ravel(), ".", color="0.75", markersize=1.5, label="sensors")
     for i, lum in enumerate(luminaires):
         ax.plot(lum.x, lum.z, "o", mfc="cyan", mec="black", ms=7, label="luminaires" if i == 0 else None)
+        right_half = lum.x > 0.5 * (xe[0] + xe[-1])  # its height label inwards, never past the plot's edge
         ax.annotate(
-            f"{lum.height:g} m", (lum.x, lum.z), xytext=(4, 4), textcoords="offset points", fontsize=7, color="cyan"
-        )
+            f"{lum.height:g} m", (lum.x, lum.z), xytext=(-4 if right_half else 4, 4), textcoords="offset points",
+            fontsize=7, color="cyan", ha="right" if right_half else "left",
+        )  # fmt: skip
         dx, dz = lum.aim[0], lum.aim[2]
         if abs(dx) + abs(dz) > 1e-6:  # aimed off the vertical: the axis' horizontal direction
             ax.annotate("", (lum.x + dx, lum.z + dz), (lum.x, lum.z), arrowprops={"arrowstyle": "->", "color": "cyan"})

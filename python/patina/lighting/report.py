@@ -46,8 +46,7 @@ def write_report(result: Result, out_dir: str, pdf: bool = True) -> list[str]:
         name = f"plan-{i + 1}.png"
         v = plane.values
         title = f"{plane.name}: min {v.min():.3g}, mean {v.mean():.3g}, max {v.max():.3g}"
-        unit = "cd/m²" if plane.label.startswith("luminance") else "lx"
-        write_plan(os.path.join(out_dir, name), v, plane.grid.x, plane.grid.z, title, lums, plane.label, unit)
+        write_plan(os.path.join(out_dir, name), v, plane.grid.x, plane.grid.z, title, lums, plane.label)
         plans.append({"file": name, "caption": f"{plane.name} — {plane.grid.rule}; {plane.label}, maintained."})
     write_text(os.path.join(out_dir, "result.json"), json.dumps(result.as_json(), indent=1) + "\n")
     checks = [
