@@ -34,6 +34,7 @@ from patina.signals import held_from_children, terminate_as_interrupt
 
 RETRIES = 2  # a task whose worker died (or that raised) is run up to this many times more
 WORKERS_TIMEOUT_S = 20  # a scheduler with no worker: waited for this long, then reported
+CLOSE_TIMEOUT_S = 2  # closing the local client and cluster once its workers are killed: no longer
 # The local cluster's housekeeping at a slower beat than Dask's defaults (a 10 ms profiler,
 # a 100 ms memory monitor, a 20 ms event-loop tick): idle, its 2 workers and scheduler took
 # 0.13 s of CPU a second on this project's 2-core machine, with these 0.03 s; every
@@ -201,14 +202,20 @@ def connect(scheduler: str | None, workers: int | None) -> Iterator[tuple[Any, s
                     silence_logs=logging.ERROR,  # the batch's own lines and progress, not the cluster's log
                     dashboard_address=":8787",
                 )
-            with Client(cluster) as client:
+            client = Client(cluster)
+            try:
                 yield client, f"a local Dask cluster of {n} worker process{'es' if n > 1 else ''}"
+            finally:
+                # the workers stop first, not after the tasks in flight (closing asks them to
+                # finish those: 10 s after a render's second Ctrl-C)
+                kill_workers(cluster)
+                with contextlib.suppress(Exception):
+                    client.close(timeout=CLOSE_TIMEOUT_S)
         finally:
-            # the work is done, aborted or failed: the workers stop now, not after the tasks in
-            # flight (closing asks them to finish those: 10 s after a render's second Ctrl-C)
             if cluster is not None:
                 kill_workers(cluster)
-                cluster.close()
+                with contextlib.suppress(Exception):  # what is left of it goes with this process
+                    cluster.close(timeout=CLOSE_TIMEOUT_S)
         return
     if workers is not None:
         raise ValueError("--workers: sets the size of the local cluster; a --scheduler has its own workers")
@@ -258,6 +265,10 @@ def kill_workers(cluster: Any) -> None:
     for logger in _dask_loggers():  # for good: this process is closing its cluster
         logger.disabled = True
     for nanny in list(getattr(cluster, "workers", {}).values()):
+        # told first that the cluster is closing: a nanny restarts a worker that dies otherwise,
+        # and closing the cluster then waits for the new one (the 10 s a second Ctrl-C sometimes took)
+        with contextlib.suppress(Exception):
+            nanny.close_gracefully(reason="patina: the work is over")
         pid = getattr(nanny, "pid", None)  # None: not started, or already gone
         if pid:
             with contextlib.suppress(OSError):
