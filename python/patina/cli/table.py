@@ -10,6 +10,7 @@ import numpy as np
 from patina.cli.common import UsageError, add_simd_option, channel_labels, print_json
 from patina.cli.files import add_output
 from patina.cli.values import number
+from patina.export.rgl import table_source, write_rgl_file
 from patina.file_names import printable, refuse_special_file
 from patina.plot.slices import plot_inplane_slices
 from patina.table import Tolerances, format_report, load_brdf, validate
@@ -59,8 +60,6 @@ def cmd_convert(args: argparse.Namespace) -> int:
 
 
 def _convert_to_rgl(brdf: Any, args: argparse.Namespace) -> int:
-    from patina.export.rgl import table_source, write_rgl_file
-
     report = write_rgl_file(table_source(brdf, args.input), args.output, args.channels or "spectral", progress=True)
     err = report["read_back_error"]
     kind = "isotropic" if report["isotropic"] else "anisotropic"

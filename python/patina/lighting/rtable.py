@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from patina.atomic import write_text
 from patina.errors import FormatError
 
 MAX_BYTES = 1 << 20  # an r-table is a few kilobytes; more is not an r-table
@@ -176,8 +177,6 @@ def write_rtable(
     path: str, table_e4: np.ndarray, beta_deg: np.ndarray, tan_gamma: np.ndarray, header: dict[str, str]
 ) -> str:
     """The text of an r-table file (values already x 10^4), written to `path` atomically."""
-    from patina.atomic import write_text
-
     lines = ["# r-table: reduced luminance coefficients r x 10^4 (1/sr), rows tan gamma, columns beta (degrees)"]
     lines += [f"{k}: {v}" for k, v in header.items()]
     lines.append("beta: " + " ".join(f"{b:g}" for b in beta_deg))

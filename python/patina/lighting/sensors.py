@@ -15,6 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from patina.errors import FormatError
+
 UP = np.array([0.0, 1.0, 0.0])  # the scenes' vertical (docs/scene.md: y up)
 KINDS = ("planar", "cylindrical", "semicylindrical")
 
@@ -79,8 +81,6 @@ SENSOR_SPECS = "up, down, vertical:AZ, cylindrical or semicylindrical:AZ (AZ in 
 
 def parse_sensor(spec: str, option: str = "--sensor") -> tuple[str, float | None]:
     """'up', 'down', 'vertical:AZ', 'cylindrical', 'semicylindrical:AZ' -> (name, azimuth)."""
-    from patina.errors import FormatError
-
     name, colon, rest = spec.partition(":")
     if name in ("up", "down", "cylindrical") and not colon:
         return name, None
