@@ -31,7 +31,8 @@ from patina.export.rgb_upsampling import WAVELENGTHS, upsample
 from patina.fitting.samples import table_samples
 from patina.progress import Progress
 from patina.table.colour_matching import xyz_to_linear_srgb, xyz_weights
-from patina.table.formats.rgl import error_pairs, relative_error
+from patina.table.formats.resample import relative_error
+from patina.table.formats.rgl import error_pairs
 from patina.table.formats.rgl_brdf import RglBrdf
 from patina.table.formats.rgl_writer import RglLayout, rgl_arrays
 from patina.table.formats.tensor_file import parse_tensor_file, tensor_file_bytes, write_tensor_file

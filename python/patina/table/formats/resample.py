@@ -148,3 +148,12 @@ def resample(
         relative_max=float(rel.max()),
     )
     return axes, grid, error
+
+
+def relative_error(table_values: np.ndarray, reference: np.ndarray) -> dict[str, float]:
+    """A resampled table against its source (the readers' resampling error): the relative
+    error per pair, largest over the channels, with a floor of 1e-3 of the median reference
+    value so that near-zero values do not dominate; its median, 95th percentile and maximum."""
+    floor = max(1e-3 * float(np.median(np.abs(reference))), 1e-12)
+    rel = (np.abs(table_values - reference) / np.maximum(np.abs(reference), floor)).max(axis=1)
+    return {"median": float(np.median(rel)), "p95": float(np.percentile(rel, 95)), "max": float(rel.max())}

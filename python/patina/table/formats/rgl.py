@@ -19,6 +19,7 @@ import numpy as np
 
 from patina.progress import Progress
 from patina.table.angles import angles_to_directions, halfdiff_to_directions
+from patina.table.formats.resample import relative_error
 from patina.table.formats.rgl_brdf import RglBrdf, read_rgl_brdf, u_to_theta
 from patina.table.formats.tabledata import TableData, table_from_data
 
@@ -73,14 +74,6 @@ def error_pairs(count: int, seed: int = 29) -> tuple[np.ndarray, np.ndarray]:
     mirror[:, 2] = np.abs(mirror[:, 2]) + 0.05
     wo[:half] = mirror / np.linalg.norm(mirror, axis=1, keepdims=True)
     return wi, wo
-
-
-def relative_error(table_values: np.ndarray, reference: np.ndarray) -> dict[str, float]:
-    """Relative error per pair (largest over the channels), with a floor of 1e-3 of the
-    median reference value so that near-zero values do not dominate."""
-    floor = max(1e-3 * float(np.median(np.abs(reference))), 1e-12)
-    rel = (np.abs(table_values - reference) / np.maximum(np.abs(reference), floor)).max(axis=1)
-    return {"median": float(np.median(rel)), "p95": float(np.percentile(rel, 95)), "max": float(rel.max())}
 
 
 def read_rgl(path: str) -> TableData:

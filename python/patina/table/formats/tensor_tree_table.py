@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from patina.table.angles import angles_to_directions
+from patina.table.formats.resample import relative_error
 from patina.table.formats.tabledata import TableData
 from patina.table.formats.tensor_tree import TensorTree, tree_coordinates
 
@@ -72,6 +73,5 @@ def _resampling_error(trees: list[TensorTree], axes: list[np.ndarray], values: n
         at = np.stack(angles, axis=1)
     want = _evaluate(trees, *_pairs(dims, angles))
     got = RegularGridInterpolator(axes, values)(at)
-    floor = max(1e-3 * float(np.median(np.abs(want))), 1e-12)
-    rel = (np.abs(got - want) / np.maximum(np.abs(want), floor)).max(axis=1)
-    return float(np.median(rel)), float(np.percentile(rel, 95))
+    err = relative_error(got, want)
+    return err["median"], err["p95"]

@@ -31,6 +31,7 @@ import numpy as np
 
 from patina.errors import FormatError
 from patina.file_names import printable
+from patina.table.formats.resample import relative_error
 from patina.table.formats.tabledata import TableData
 from patina.table.formats.tensor_tree import parse_tree
 from patina.table.formats.tensor_tree_table import tree_table
@@ -289,6 +290,5 @@ def _resampling_error(basis: AngleBasis, matrix: np.ndarray, axes: list[np.ndarr
     pi, po = rng.uniform(0, 360, (2, ERROR_PAIRS))
     want = matrix[basis.index(to, po + 180.0), basis.index(ti, pi)]
     got = RegularGridInterpolator(axes, values)(np.radians(np.stack([ti, pi, to, po], axis=1)))
-    floor = max(1e-3 * float(np.median(np.abs(want))), 1e-12)
-    rel = (np.abs(got - want) / np.maximum(np.abs(want), floor)).max(axis=1)
-    return float(np.median(rel)), float(np.percentile(rel, 95))
+    err = relative_error(got, want)
+    return err["median"], err["p95"]
