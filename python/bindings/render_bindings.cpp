@@ -811,6 +811,8 @@ void bind_render(nb::module_& m) {
         },
         "The radiance cache's scene settings as (key, integer, lo, hi), inclusive ranges: the one table "
         "(render/cache/cache_settings.h) the scene reader's and the command line's checks read.");
+    m.attr("cache_region_pixels") = patina::kCacheRegionPixels;
+    m.attr("cache_region_budget_bytes") = patina::kCacheRegionBudgetBytes;
     m.def("aa_pattern", &aa_pattern, "The adaptive antialiasing's positions, comparisons, zone tables, weights.");
     m.def("sensor_illuminance", &sensor_illuminance, nb::arg("scene"), nb::arg("points"), nb::arg("normals"),
           nb::arg("samples") = 64, nb::arg("seed") = 0, nb::arg("width") = 0, nb::arg("threads") = 0,

@@ -74,7 +74,20 @@ std::shared_ptr<const CacheRegion> CacheRegions::acquire(int region, const Build
     }
 }
 
+// Room for a region about to be built: the regions no item holds are dropped until the
+// kept ones, the builds in flight and this one (reckoned as large as the largest built so
+// far) fit the budget. Made before the build, not after it: a region can be a large part
+// of the budget (R = 128 at --cache-block 1: 100 MB and more), and the kept regions and a
+// finished build together would exceed it by that much.
+size_t CacheRegions::reserve_for_build() {
+    std::lock_guard<std::mutex> lock(m_lock);
+    m_building += m_largest;
+    evict_over_budget();
+    return m_largest;
+}
+
 std::shared_ptr<const CacheRegion> CacheRegions::build_into(int region, const Build& build) {
+    const size_t reserved = reserve_for_build();
     auto made = std::make_shared<CacheRegion>();
     const int k = kCacheRegionPixels;
     const int x0 = (region % m_x) * k, y0 = (region / m_x) * k;
@@ -82,6 +95,7 @@ std::shared_ptr<const CacheRegion> CacheRegions::build_into(int region, const Bu
         build(region, x0, y0, std::min(x0 + k, m_width), std::min(y0 + k, m_height), *made);
     } catch (...) {
         std::lock_guard<std::mutex> lock(m_lock);
+        m_building -= reserved;
         m_slots[region].state = kEmpty;
         m_changed.notify_all();
         throw;
@@ -90,6 +104,8 @@ std::shared_ptr<const CacheRegion> CacheRegions::build_into(int region, const Bu
     for (const CachePoint& a : made->points) made->bytes += cache_point_bytes(a);
     for (const RegionHemisphere& h : made->hemispheres) made->bytes += region_hemisphere_bytes(h);
     std::lock_guard<std::mutex> lock(m_lock);
+    m_building -= reserved;
+    m_largest = std::max(m_largest, made->bytes);
     Slot& s = m_slots[region];
     s.points = std::move(made);
     s.state = kBuilt;
@@ -112,10 +128,11 @@ void CacheRegions::release(int region) {
     s.state = kEmpty;
 }
 
-// Drops the least recently used regions that no item holds until the rest fit the budget;
+// Drops the least recently used regions that no item holds until the rest and the builds in
+// flight fit the budget;
 // an item that wants one again builds it again, the same points.
 void CacheRegions::evict_over_budget() {
-    while (m_bytes.load() > m_budget) {
+    while (m_bytes.load() + m_building > m_budget) {
         Slot* oldest = nullptr;
         for (Slot& s : m_slots)
             if (s.state == kBuilt && s.points.use_count() == 1 && (!oldest || s.last_use < oldest->last_use)) oldest = &s;

@@ -8,7 +8,9 @@
 // a region, in whatever order, builds the same points -- and a region dropped from memory
 // and built again is the same region, which is what bounds the memory: a region is freed
 // when its last item is done, and regions no item holds are dropped (least recently used
-// first) when the regions kept exceed a budget.
+// first) to keep the regions kept and the builds in flight within a budget -- room made
+// before each build. The regions the items in flight hold are beyond any budget's reach:
+// python/patina/render/cache_memory.py states them before a render.
 #pragma once
 
 #include <atomic>
@@ -71,6 +73,7 @@ private:
         uint64_t last_use = 0;                      // under m_lock
     };
     std::shared_ptr<const CacheRegion> build_into(int region, const Build& build);
+    size_t reserve_for_build();  // what it reserved, given back when the build ends
     void evict_over_budget();  // under m_lock
 
     int m_width, m_height, m_x, m_y;
@@ -80,6 +83,8 @@ private:
     std::condition_variable m_changed;  // a region built, or its build failed
     std::atomic<size_t> m_bytes{0}, m_builds{0};
     uint64_t m_clock = 0;  // under m_lock
+    size_t m_largest = 0;   // the largest region built so far (under m_lock)
+    size_t m_building = 0;  // what the builds in flight were reckoned at (under m_lock)
 };
 
 }  // namespace patina

@@ -34,6 +34,7 @@ from patina.errors import FormatError
 from patina.geometry.mesh import load_mesh
 from patina.lighting.sensors import parse_sensor
 from patina.render import illuminance as il
+from patina.render.cache_memory import cache_memory_notice
 from patina.render.images import read_image
 from patina.render.outputs import auto_exposure, metadata, write_outputs
 from patina.render.prepare import PreparedScene, check_render_memory
@@ -219,7 +220,10 @@ def preview_exposure(env: str | None) -> str:
 
 def _render_and_write(scene: Any, args: argparse.Namespace, exposure_choice: str) -> int:
     exr, image = _outputs(args)
-    check_render_memory(scene)
+    check_render_memory(scene, args.threads)
+    notice = cache_memory_notice(scene, args.threads)
+    if notice:
+        print(notice, file=sys.stderr)
     with _dask_client(args) as client:
         prepared = PreparedScene(scene)
         print(

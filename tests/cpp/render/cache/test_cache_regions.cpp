@@ -3,6 +3,7 @@
 // announced use, and dropped (then built again, the same) over the memory budget.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <thread>
 #include <vector>
@@ -23,6 +24,13 @@ CacheRegions::Build counting_build(std::atomic<int>& builds) {
         a.radiance.resize(1 << 16);  // 256 KiB: a budget of a few regions is easy to pass
         out.points.push_back(a);
     };
+}
+
+// the bytes of a region counting_build makes
+size_t region_bytes() {
+    CachePoint a;
+    a.radiance.resize(1 << 16);
+    return cache_point_bytes(a);
 }
 
 }  // namespace
@@ -62,11 +70,7 @@ TEST(CacheRegions, ARegionIsBuiltOnceForEveryThreadThatWantsIt) {
 
 TEST(CacheRegions, OverTheBudgetTheLeastRecentlyUsedRegionIsDroppedAndBuiltAgain) {
     const int k = kCacheRegionPixels;
-    const size_t one = cache_point_bytes([] {
-        CachePoint a;
-        a.radiance.resize(1 << 16);
-        return a;
-    }());
+    const size_t one = region_bytes();
     CacheRegions regions(3 * k, k, 2 * one + one / 2);  // room for two regions
     for (int r = 0; r < 3; ++r) regions.expect(r, 10);
     std::atomic<int> builds{0};
@@ -84,4 +88,24 @@ TEST(CacheRegions, OverTheBudgetTheLeastRecentlyUsedRegionIsDroppedAndBuiltAgain
     EXPECT_EQ(builds.load(), 4);  // built again...
     EXPECT_EQ(again->points[0].radiance[0], 1.0f);  // ...the same
     EXPECT_EQ(again->points[0].radiance[1], static_cast<float>(k));
+}
+
+TEST(CacheRegions, ABuildMakesRoomFirstSoTheKeptRegionsAndTheNewOneFitTheBudget) {
+    const int k = kCacheRegionPixels;
+    const size_t one = region_bytes();
+    const size_t budget = 2 * one + one / 2;  // room for two regions
+    CacheRegions regions(4 * k, k, budget);
+    for (int r = 0; r < 4; ++r) regions.expect(r, 10);
+    std::atomic<int> builds{0};
+    const CacheRegions::Build counted = counting_build(builds);
+    size_t most = 0;  // the kept regions' bytes while one is built, plus the one built
+    const CacheRegions::Build build = [&](int region, int x0, int y0, int x1, int y1, CacheRegion& out) {
+        counted(region, x0, y0, x1, y1, out);
+        most = std::max(most, regions.bytes() + one);
+    };
+    const auto held = regions.acquire(0, build);
+    for (int r = 1; r < 4; ++r) regions.acquire(r, build);
+    EXPECT_EQ(builds.load(), 4);
+    EXPECT_LE(most, budget);  // dropping after the build would have held three regions at once
+    EXPECT_LE(regions.bytes(), budget);
 }
