@@ -85,21 +85,31 @@ PATINA_INLINE F source_lux(const DirectSource& s, SensorKind kind, const SensorL
     return select(lit, lux, F(0.0f));
 }
 
+// Sensors [begin, end) in runs of kRunPackets packets, each run luminaire by luminaire: one
+// luminaire's shadow rays from neighbouring packets walk the same part of the tree while it is
+// in the cache.
+constexpr size_t kRunPackets = 32;
+
 inline void direct_sum(const DirectLighting& lighting, const IlluminanceSensors& sensors, float* lux,
                        float* per_source, size_t begin, size_t end) {
     enter_kernel();
     const TreeView tree = lighting.occluders ? tree_view(*lighting.occluders) : TreeView{};
     const TreeView* occluders = lighting.occluders ? &tree : nullptr;
-    for (size_t i = begin; i < end; i += N) {
-        const int lanes = static_cast<int>(std::min<size_t>(N, end - i));
-        const SensorLanes at = load_sensors(sensors, i, lanes);
-        F total(0.0f);
+    F total[kRunPackets];
+    for (size_t run = begin; run < end; run += kRunPackets * N) {
+        const size_t run_end = std::min(end, run + kRunPackets * N);
+        for (F& t : total) t = F(0.0f);
         for (size_t k = 0; k < lighting.count; ++k) {
-            const F e = source_lux(lighting.sources[k], sensors.kind, at, occluders, lighting.ray_offset);
-            total += e;
-            if (per_source) store_lanes(per_source + k * sensors.count, i, lanes, e);
+            for (size_t i = run, p = 0; i < run_end; i += N, ++p) {
+                const int lanes = static_cast<int>(std::min<size_t>(N, run_end - i));
+                const SensorLanes at = load_sensors(sensors, i, lanes);
+                const F e = source_lux(lighting.sources[k], sensors.kind, at, occluders, lighting.ray_offset);
+                total[p] += e;  // the luminaires' terms in their order, whatever the width
+                if (per_source) store_lanes(per_source + k * sensors.count, i, lanes, e);
+            }
         }
-        store_lanes(lux, i, lanes, total);
+        for (size_t i = run, p = 0; i < run_end; i += N, ++p)
+            store_lanes(lux, i, static_cast<int>(std::min<size_t>(N, run_end - i)), total[p]);
     }
 }
 

@@ -2,9 +2,11 @@
 // E = I cos / d^2 to float precision, a cylinder sensor I sin(eps) / (pi d^2); a panel casts a
 // sharp shadow; a spot follows its smoothstep cone and a goniometric luminaire its table; and
 // every width gives the scalar path's bits, lane by lane, for every luminaire and sensor kind
-// over a scene with triangles and spheres in the way (with a last packet part full).
+// over a scene with triangles and spheres in the way (with a last packet part full), whatever
+// the order the sensors come in.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -215,4 +217,23 @@ TEST(DirectIlluminance, EveryWidthGivesTheScalarPathsBitsLaneByLane) {
                 ASSERT_EQ(std::memcmp(&terms[j], &scalar_terms[j], sizeof(float)), 0) << "width " << w << " term " << j;
         }
     }
+}
+
+TEST(DirectIlluminance, TheSensorsOrderChangesNothingButTheOrder) {
+    const KdTree tree = occluders(1.2f, -1.0f, 0.2f);
+    const std::vector<DirectSource> sources{point_source(-1.0f, 2.5f, 0.5f, 700.0f), spot(1.5f, 3.0f, -0.5f, 900.0f)};
+    const Row row(203, -5, 5, kUp);
+    std::vector<size_t> shuffled(row.points.size() / 3);
+    for (size_t i = 0; i < shuffled.size(); ++i) shuffled[i] = i;
+    std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(3));
+    std::vector<float> points, normals;
+    for (size_t i : shuffled) {
+        points.insert(points.end(), &row.points[3 * i], &row.points[3 * i] + 3);
+        normals.insert(normals.end(), &row.normals[3 * i], &row.normals[3 * i] + 3);
+    }
+    const std::vector<float> lux = lux_of(sources, row.sensors(), &tree, 0);
+    const IlluminanceSensors reordered{SensorKind::Planar, points.data(), normals.data(), shuffled.size()};
+    const std::vector<float> lux_shuffled = lux_of(sources, reordered, &tree, 0);
+    for (size_t j = 0; j < shuffled.size(); ++j)
+        ASSERT_EQ(std::memcmp(&lux_shuffled[j], &lux[shuffled[j]], sizeof(float)), 0) << j;
 }
