@@ -17,6 +17,7 @@
 #include "fit/lobe_kernels.h"
 #include "render/accel/bvh.h"
 #include "render/accel/kdtree.h"
+#include "render/lights/grid2.h"
 
 namespace patina_py {
 
@@ -66,6 +67,16 @@ struct Accel {
 // The accel's BVH, built on first use; callers hold the GIL (released while building or waiting).
 const patina::Bvh& bvh_of(Accel& a);
 
+// patina._core.Grid2: a 2-D table (a goniometric light's candela over C-plane and gamma
+// angles), checked and kept; evaluated by the render kernels' grid2_eval at any width, read by
+// the renderer's lights and the lighting calculations' luminaires.
+struct Grid2Handle {
+    std::vector<float> x, y, values;
+    patina::Grid2View view() const {
+        return {x.data(), static_cast<int>(x.size()), y.data(), static_cast<int>(y.size()), values.data()};
+    }
+};
+
 // A mixture's parameters from its kernel name (e.g. "ggx", "ggx+coat") and flat values:
 // rho r g b, then per lobe its shape (r g b when per_channel) and weight r g b; with a
 // coat, coat alpha and eta last. Throws std::invalid_argument.
@@ -75,5 +86,6 @@ void bind_table(nb::module_& m);
 void bind_accel(nb::module_& m);
 void bind_fit(nb::module_& m);
 void bind_render(nb::module_& m);
+void bind_lighting(nb::module_& m);
 
 }  // namespace patina_py

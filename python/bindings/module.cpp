@@ -118,4 +118,5 @@ NB_MODULE(_core, m) {
     bind_accel(m);
     bind_fit(m);
     bind_render(m);
+    bind_lighting(m);
 }

@@ -45,15 +45,6 @@ struct SceneHandle {
     std::vector<nb::object> keep;  // arrays, tables and the accel the pointers point into
 };
 
-// A 2-D table (a goniometric light's candela over C-plane and gamma angles), checked and
-// kept; evaluated by the render kernels' grid2_eval at any width.
-struct Grid2Handle {
-    std::vector<float> x, y, values;
-    patina::Grid2View view() const {
-        return {x.data(), static_cast<int>(x.size()), y.data(), static_cast<int>(y.size()), values.data()};
-    }
-};
-
 // A material's, light's or camera's dictionary read key by key: every value the renderer
 // takes must be there (the defaults are the scene reader's, python/patina/scene/reading.py,
 // not ours), and a key nothing read is an error naming it, as Mitsuba 3 rejects unused

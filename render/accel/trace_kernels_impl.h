@@ -15,11 +15,6 @@ PATINA_BEGIN_TARGET
 namespace {
 using namespace kernel_width;  // N rays per packet: the traversal's K is N here
 
-TreeView view_of(const KdTree& tree) {
-    return TreeView{tree.nodes.empty() ? nullptr : tree.nodes.data(), tree.leaf_prims.data(), tree.triangles.data(),
-                    tree.bounds, &tree.spheres};
-}
-
 // Loads rays [i, i + lanes) as one packet; missing lanes get an empty interval.
 RayPacket<N> load_packet(const RayBatch& rays, size_t i, int lanes) {
     RayPacket<N> r;
@@ -50,7 +45,7 @@ RayPacket<N> load_packet(const RayBatch& rays, size_t i, int lanes) {
 void intersect_kernel(const KdTree& tree, const RayBatch& rays, const HitBatch& hits, size_t begin, size_t end) {
     enter_kernel();
     if (ray_recording_on()) record_rays(rays, begin, end, false);
-    const TreeView view = view_of(tree);
+    const TreeView view = tree_view(tree);
     for (size_t i = begin; i < end; i += N) {
         const int lanes = static_cast<int>(std::min<size_t>(N, end - i));
         const RayPacket<N> r = load_packet(rays, i, lanes);
@@ -74,7 +69,7 @@ void intersect_kernel(const KdTree& tree, const RayBatch& rays, const HitBatch& 
 void occluded_kernel(const KdTree& tree, const RayBatch& rays, uint8_t* blocked, size_t begin, size_t end) {
     enter_kernel();
     if (ray_recording_on()) record_rays(rays, begin, end, true);
-    const TreeView view = view_of(tree);
+    const TreeView view = tree_view(tree);
     for (size_t i = begin; i < end; i += N) {
         const int lanes = static_cast<int>(std::min<size_t>(N, end - i));
         const RayPacket<N> r = load_packet(rays, i, lanes);

@@ -30,6 +30,11 @@ struct TreeView {
     const SphereSet* spheres;  // tested before the tree: their hits bound its traversal
 };
 
+inline TreeView tree_view(const KdTree& tree) {
+    return TreeView{tree.nodes.empty() ? nullptr : tree.nodes.data(), tree.leaf_prims.data(), tree.triangles.data(),
+                    tree.bounds, &tree.spheres};
+}
+
 namespace traverse_detail {
 constexpr int kStackSize = 128;
 // A packet with this many active lanes or fewer continues as single rays (measured: 2 of 8

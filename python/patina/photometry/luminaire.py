@@ -66,6 +66,11 @@ class Luminaire:
     def path(self) -> str:
         return self.photometry.path
 
+    @property
+    def table(self) -> _core.Grid2:
+        """The candela table over (h, v) in radians, as the native kernels read it."""
+        return self._table
+
     def grid(self) -> tuple[str, np.ndarray, np.ndarray, np.ndarray]:
         """(kind "C" or "B", h knots in radians, v knots in radians, candela (n_h, n_v)), all float32."""
         return self.kind, self._h.copy(), self._v.copy(), self._candela.copy()
