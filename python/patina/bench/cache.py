@@ -23,6 +23,7 @@ room's pixels, not 2 as at 64; `--quick` 16), all renders on every core:
    reference of that size, as one seed's swings with the rare bright texels a cache point
    shares) and `cache.<scene>.bias_se` (that mean's standard error), `cache.threads`
    (`cache` on every core against one thread),
+   `cache.<scene>.block_steps` (the mosaic in `cache`'s error: bench/block_steps.py),
    `cache.<scene>.vs_mitsuba_llvm` (bench/cache_mitsuba.py: Patina's fastest integrator
    against Mitsuba 3's llvm_ad_rgb path tracer on the scene's analytic counterpart).
 
@@ -40,6 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from patina.bench.block_steps import block_step_ratios
 from patina.bench.cache_mitsuba import vs_mitsuba_record
 from patina.bench.convergence import (
     ErrorCurve,
@@ -93,7 +95,9 @@ def _scene_records(
         why = integrator_missing(scene, integrator)
         if why is not None:
             names = (
-                ["biased_vs_path", "bias", "bias_se"] if role == "biased" else ["guided_vs_path", "guided_equal_time"]
+                ["biased_vs_path", "bias", "bias_se", "block_steps"]
+                if role == "biased"
+                else ["guided_vs_path", "guided_equal_time"]
             )
             out.skipped += [(f"cache.{name}.{n}", why) for n in names]
             continue
@@ -125,6 +129,18 @@ def _scene_records(
         else:
             bias_sizes = QUICK_BIAS_SIZES if sizes == QUICK else BIAS_SIZES
             out.records += bias_records(name, scene_file, scene, integrator, bias_sizes, threads)
+            out.records.append(block_steps_record(name, what, images[i][0], ref))
+
+
+def block_steps_record(name: str, what: str, image: np.ndarray, ref: Reference) -> Record:
+    """`cache.<name>.block_steps`: the largest, over k in BLOCK_SIZES, of the mean step of the
+    image's error across a k x k grid over its mean step elsewhere (bench/block_steps.py; 1:
+    no mosaic; issue 31's bound 1.2)."""
+    ratios = block_step_ratios(image, ref.image)
+    steps = ", ".join(f"k = {k}: {r:.3f}" for k, r in ratios.items())
+    worst = max(ratios.values())
+    base = "the error's mean step off the k x k grid lines (reference: the path tracer's)"
+    return Record(f"cache.{name}.block_steps", f"{what}; {steps}", base, worst, worst, "ratio")
 
 
 def bias_over_seeds(

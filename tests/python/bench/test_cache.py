@@ -16,7 +16,7 @@ def test_quick_group_with_path_standing_in_for_the_cache_integrators(tmp_path, m
     stand_in = {"biased": "path", "guided": "path"}
     result = cb.run_cache_bench(1, quick=True, scenes=("cache-studio",), integrators=stand_in, mitsuba=False)
     names = {r.name for r in result.records}
-    kinds = ("biased_vs_path", "bias", "bias_se", "guided_vs_path", "guided_equal_time")
+    kinds = ("biased_vs_path", "bias", "bias_se", "block_steps", "guided_vs_path", "guided_equal_time")
     expected = {f"cache.cache-studio.{k}" for k in kinds}
     assert names == expected | {"cache.threads"} and not result.skipped
     for r in result.records:
@@ -40,6 +40,7 @@ def test_a_missing_integrator_skips_its_records_with_the_reason(tmp_path, monkey
         "cache.cache-studio.biased_vs_path",
         "cache.cache-studio.bias",
         "cache.cache-studio.bias_se",
+        "cache.cache-studio.block_steps",
         "cache.cache-studio.guided_vs_path",
         "cache.cache-studio.guided_equal_time",
         "cache.threads",
