@@ -208,22 +208,22 @@ def test_a_cancelled_render_keeps_its_first_pass_and_a_second_cancel_stops_at_on
     tiles = math.ceil(scene.camera.width / 16) * math.ceil(scene.camera.height / 16)
     # cancelled before it starts: one cancel still lets the first pass finish, so no pixel is
     # left without a sample (it used to leave every pixel at 0)
-    job = _core.RenderJob(prepared.core, spp=64, max_depth=4, seed=0, threads=1, passes=8)
+    job = _core.RenderJob(prepared.core, _core.RenderOptions(spp=64, max_depth=5, seed=0, threads=1, passes=8))
     job.cancel()
     job.start()
     job.wait()
     images = job.resolve()
     p = job.progress()
-    assert not p["finished"] and p["cancelled"] and p["items_done"] == tiles
-    assert np.isfinite(images["rgb"]).all()
-    assert set(np.unique(images["samples"])) == {8.0}  # every pixel: the whole first pass of 8
+    assert not p.finished and p.cancelled and p.items_done == tiles
+    assert np.isfinite(images.rgb).all()
+    assert set(np.unique(images.samples)) == {8.0}  # every pixel: the whole first pass of 8
     # a second cancel stops at the items in flight: here none has started
-    job = _core.RenderJob(prepared.core, spp=64, max_depth=4, seed=0, threads=1, passes=8)
+    job = _core.RenderJob(prepared.core, _core.RenderOptions(spp=64, max_depth=5, seed=0, threads=1, passes=8))
     job.cancel()
     job.cancel()
     job.start()
     job.wait()
-    assert job.progress()["items_done"] == 0
+    assert job.progress().items_done == 0
 
 
 def test_a_render_cancelled_later_keeps_whole_passes_per_tile():
@@ -231,13 +231,13 @@ def test_a_render_cancelled_later_keeps_whole_passes_per_tile():
 
     scene = scene_of(small_preview(spp=64))
     prepared = PreparedScene(scene)
-    job = _core.RenderJob(prepared.core, spp=64, max_depth=4, seed=0, threads=1, passes=8)
+    job = _core.RenderJob(prepared.core, _core.RenderOptions(spp=64, max_depth=5, seed=0, threads=1, passes=8))
     job.start()
-    while job.progress()["items_done"] < 2 * math.ceil(scene.camera.width / 16) * math.ceil(scene.camera.height / 16):
+    while job.progress().items_done < 2 * math.ceil(scene.camera.width / 16) * math.ceil(scene.camera.height / 16):
         pass
     job.cancel()
     job.wait()
-    samples = job.resolve()["samples"]
+    samples = job.resolve().samples
     # every pixel is the mean of the samples it got: whole passes of 8, at least the first two
     assert set(np.unique(samples)) <= {16.0, 24.0, 32.0, 40.0, 48.0, 56.0, 64.0}
 
