@@ -87,7 +87,8 @@ def illuminance_digests(widths: list[int]) -> dict[str, str]:
         normals = np.ascontiguousarray(np.tile(np.float32([0, 1, 0]), (len(points), 1)))
         for width in widths:
             for depth in (0, 3):  # the sensor paths' vertices: max_depth 0 (none), 4 (3 vertices)
-                lux = _core.sensor_illuminance(prepared.core, points, normals, 8, 3, width, 2, depth + 1 if depth else 0)
+                max_depth = depth + 1 if depth else 0
+                lux = _core.sensor_illuminance(prepared.core, points, normals, 8, 3, width, 2, max_depth)
                 out[f"illuminance/{name}/w{width}/depth{depth}"] = digest(np.asarray(lux))
     return out
 

@@ -5,9 +5,12 @@
 #pragma once
 
 #include <nanobind/nanobind.h>
+#include <nanobind/stl/vector.h>
 
+#include <algorithm>
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -30,6 +33,20 @@ public:
         return *this;
     }
 
+    // Three floats (a point or direction): any 3 numbers in Python, read as a tuple.
+    Record& vector3(const char* name, float (T::*member)[3], const char* doc) {
+        auto get = [member](const T& t) { return nb::make_tuple((t.*member)[0], (t.*member)[1], (t.*member)[2]); };
+        auto set = [member, name, type = m_name](T& t, nb::handle value) {
+            std::vector<float> v;
+            if (!nb::try_cast(value, v) || v.size() != 3)
+                throw std::invalid_argument(type + "." + name + ": must be 3 numbers");
+            std::copy(v.begin(), v.end(), t.*member);
+        };
+        m_class.def_prop_rw(name, get, [set](T& t, nb::handle v) { set(t, v); }, doc);
+        m_fields->push_back({name, [get](const T& t) { return nb::object(get(t)); }, set});
+        return *this;
+    }
+
     // A field Python sees as a name (an enum): `get` gives it, `set` takes it (and throws
     // std::invalid_argument naming the field and the names it knows).
     Record& named(const char* name, std::string (*get)(const T&), void (*set)(T&, const std::string&), const char* doc) {
@@ -49,7 +66,7 @@ public:
                 new (t) T{};
                 set_all(*fields, *t, values, type);
             },
-            ("Every field at its default but those given by name (" + type + "(spp=16))").c_str());
+            "Every field at its default but those given by name.");
         m_class.def("__getstate__", [fields](const T& t) { return state(*fields, t); });
         m_class.def("__setstate__", [fields, type](T& t, const nb::dict& values) {
             new (&t) T{};

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "bindings.h"
+#include "record.h"
 #include "core/parallel.h"
 #include "render/integrators/integrator.h"
 #include "render/lights/grid2.h"
@@ -45,7 +46,7 @@ struct Grid2Handle {
     }
 };
 
-// A material's, light's or camera's dictionary read key by key: every value the renderer
+// A material's or light's dictionary read key by key: every value the renderer
 // takes must be there (the defaults are the scene reader's, python/patina/scene/reading.py,
 // not ours), and a key nothing read is an error naming it, as Mitsuba 3 rejects unused
 // properties, so a misspelled key cannot silently leave its value at the struct's default.
@@ -111,9 +112,24 @@ private:
     std::vector<std::string> read_;
 };
 
+// The camera's numbers finite (as 32-bit floats), else the one-line error naming the field.
+void check_camera(const patina::Camera& c) {
+    auto finite = [](const char* name, const float* v, int n) {
+        for (int k = 0; k < n; ++k)
+            if (!std::isfinite(v[k])) throw std::invalid_argument(std::string("the camera: '") + name + "' is not finite");
+    };
+    finite("position", c.position, 3);
+    finite("forward", c.forward, 3);
+    finite("right", c.right, 3);
+    finite("up", c.up, 3);
+    finite("tan_half_fov", &c.tan_half_fov, 1);
+    finite("aperture_radius", &c.aperture_radius, 1);
+    finite("focus_distance", &c.focus_distance, 1);
+}
+
 // Arrays are taken as Python objects and kept: the scene points into their buffers.
 std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, nb::object indices_obj, nb::object normals_obj,
-                                        nb::object tangents, nb::object tri_material_obj, const nb::dict& camera) {
+                                        nb::object tangents, nb::object tri_material_obj, const patina::Camera& camera) {
     auto h = std::make_unique<SceneHandle>();
     const Tris indices = nb::cast<Tris>(indices_obj);
     const Rows3 normals = nb::cast<Rows3>(normals_obj);
@@ -146,18 +162,8 @@ std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, nb::object indices
         s.tangents = t.data();
         h->keep.push_back(tangents);
     }
-    patina::Camera& c = s.camera;
-    Fields f(camera, "the camera");
-    f.vec3("position", c.position);
-    f.vec3("forward", c.forward);
-    f.vec3("right", c.right);
-    f.vec3("up", c.up);
-    c.tan_half_fov = f.real("tan_half_fov");
-    c.width = f.integer("width");
-    c.height = f.integer("height");
-    c.aperture_radius = f.real("aperture_radius");
-    c.focus_distance = f.real("focus_distance");
-    f.finish();
+    check_camera(camera);
+    s.camera = camera;
     patina::prepare_scale(s);
     return h;
 }
@@ -534,6 +540,18 @@ void bind_render(nb::module_& m) {
         .def(nb::new_(&make_grid2), nb::arg("x"), nb::arg("y"), nb::arg("values"))
         .def("eval", &grid2_eval, nb::arg("x"), nb::arg("y"), nb::arg("width") = 0,
              "values at (x[i], y[i]) by the coherent search and bilinear interpolation, N points at a time");
+    using C = patina::Camera;
+    Record<C>(m, "Camera", "The renderer's camera (render/camera/camera.h), its frame computed beside the scene.")
+        .vector3("position", &C::position, "the eye, world space")
+        .vector3("forward", &C::forward, "the view direction, unit")
+        .vector3("right", &C::right, "the image's x direction, unit, orthogonal to forward")
+        .vector3("up", &C::up, "the image's upward direction, unit: cross(right, forward)")
+        .field("tan_half_fov", &C::tan_half_fov, "tan(vertical field of view / 2)")
+        .field("width", &C::width, "image width, pixels")
+        .field("height", &C::height, "image height, pixels")
+        .field("aperture_radius", &C::aperture_radius, "the thin lens's aperture radius (0: a pinhole)")
+        .field("focus_distance", &C::focus_distance, "the distance in focus, along forward")
+        .finish();
     nb::class_<SceneHandle>(m, "RenderScene", "Geometry, materials, lights, environment and camera for RenderJob.")
         .def(nb::new_(&make_scene), nb::arg("accel"), nb::arg("indices"), nb::arg("normals"),
              nb::arg("tangents").none(), nb::arg("tri_material"), nb::arg("camera"))

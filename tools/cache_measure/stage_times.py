@@ -8,7 +8,6 @@ import os
 import statistics
 import sys
 
-from patina import _core
 from patina.bench.cache import FULL
 from patina.bench.convergence import sized
 from patina.bundled import materials_path

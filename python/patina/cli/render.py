@@ -33,11 +33,11 @@ from patina.colour_constants import luminance
 from patina.errors import FormatError
 from patina.geometry.mesh import load_mesh
 from patina.lighting.sensors import parse_sensor
+from patina.native import _core
 from patina.render import illuminance as il
 from patina.render.images import read_image
 from patina.render.outputs import auto_exposure, metadata, write_outputs
 from patina.render.prepare import PreparedScene, check_render_memory
-from patina.native import _core
 from patina.render.run import RenderAborted, render
 from patina.scene.preview import preview_scene_dict
 from patina.scene.reading import (

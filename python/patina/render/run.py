@@ -188,7 +188,8 @@ def check_prepared(scene: Scene, prepared: PreparedScene | None) -> PreparedScen
 
 
 def render_result(
-    scene: Scene, images: _core.ResolvedImages, settings: _core.RenderOptions, *, seconds: float, rays: int, camera_rays: int, complete: bool,
+    scene: Scene, images: _core.ResolvedImages, settings: _core.RenderOptions, *,
+    seconds: float, rays: int, camera_rays: int, complete: bool,
     threads: int, simd_width: int, interrupted: bool, cache: dict | None = None,
 ) -> RenderResult:  # fmt: skip
     """A RenderResult from a job's resolved `images` and its `settings` (job_settings);

@@ -303,7 +303,9 @@ def test_tile_sizes_give_the_same_image(size):
     prepared = PreparedScene(scene_of(obj))
     images = []
     for tile in (1, 3, 16):
-        job = _core.RenderJob(prepared.core, _core.RenderOptions(spp=2, max_depth=2, seed=0, threads=2, tile_size=tile, aa="adaptive"))
+        job = _core.RenderJob(
+            prepared.core, _core.RenderOptions(spp=2, max_depth=2, seed=0, threads=2, tile_size=tile, aa="adaptive")
+        )
         job.start()
         job.wait()
         images.append(job.resolve())
