@@ -25,23 +25,18 @@ void for_each_pixel(const TileRect& r, int width, F&& f) {
 
 }  // namespace
 
-RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
+RenderJob::RenderJob(const RenderScene& scene, const RenderOptions& settings)
     : m_scene(scene),
       m_settings(settings),
+      m_seed(stream_seed(settings.seed)),
       m_kernels(&render_kernels_for(settings.width)),
       m_film(std::max(scene.camera.width, 1), std::max(scene.camera.height, 1)) {
-    if (settings.spp < 1) throw std::invalid_argument("spp must be at least 1");
-    if (settings.max_depth < 1) throw std::invalid_argument("max_depth must be at least 1");
-    if (settings.tile_size < 0) throw std::invalid_argument("tile_size must be at least 1 (or 0: the sampler's own)");
+    check_render_options(settings);
     if (m_settings.tile_size == 0)
-        m_settings.tile_size = settings.aa == RenderSettings::Aa::Adaptive ? kAdaptiveTileSize : kUniformTileSize;
-    if (settings.max_pass_spp < 1) throw std::invalid_argument("max_pass_spp must be at least 1");
-    if (!(settings.aa_threshold >= 0) || !std::isfinite(settings.aa_threshold))
-        throw std::invalid_argument("aa_threshold must be a finite number >= 0");
+        m_settings.tile_size = settings.aa == RenderOptions::Aa::Adaptive ? kAdaptiveTileSize : kUniformTileSize;
     const Camera& c = scene.camera;
     if (c.width < 1 || c.height < 1) throw std::invalid_argument("the image must be at least 1 x 1 pixels");
-    check_cache_settings(settings.cache);
-    m_integrator.max_depth = settings.max_depth;
+    m_integrator.max_depth = path_vertices(settings.max_depth);
     m_integrator.indirect_illuminance = settings.indirect_illuminance;
     m_integrator.sampler = settings.sampler;
     m_integrator.mode = settings.mode;
@@ -51,7 +46,7 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     // (only the BRDF-sampled direction, whose ray can reach nothing that emits): independent
     // numbers give the same image bit for bit and cost a third of Owen-scrambled Sobol's
     // (docs/antialiasing.md, "Measured").
-    if (settings.aa == RenderSettings::Aa::Adaptive && aa_sample_is_signal(scene, m_integrator))
+    if (settings.aa == RenderOptions::Aa::Adaptive && aa_sample_is_signal(scene, m_integrator))
         m_integrator.sampler = SamplerKind::Independent;
     m_tiles_x = (c.width + m_settings.tile_size - 1) / m_settings.tile_size;
     m_tiles_y = (c.height + m_settings.tile_size - 1) / m_settings.tile_size;
@@ -59,7 +54,7 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     // integrators as few as that allows: a pass's cache points serve its samples only
     const int min_passes = settings.mode == IntegratorMode::Path ? std::max(settings.passes, 1) : 1;
     // the adaptive sampler: one pattern a pass (its rounds are the levels)
-    const int per_pass = settings.aa == RenderSettings::Aa::Adaptive
+    const int per_pass = settings.aa == RenderOptions::Aa::Adaptive
                              ? 1
                              : std::clamp((settings.spp + min_passes - 1) / min_passes, 1, settings.max_pass_spp);
     const int passes = (settings.spp + per_pass - 1) / per_pass;
@@ -73,12 +68,12 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderSettings& settings)
     // the radiance cache's shared points (cache_regions.h), where the cache stage runs
     // (cache-guided with a trained guide: the guide's training, and no cache points)
     const bool trained_guide = settings.mode == IntegratorMode::CacheGuided && settings.cache.train_passes > 0;
-    if (settings.mode != IntegratorMode::Path && settings.max_depth > 1 && !trained_guide)
+    if (settings.mode != IntegratorMode::Path && m_integrator.max_depth > 1 && !trained_guide)
         m_cache_regions = std::make_unique<CacheRegions>(c.width, c.height);
-    const int train_depth = settings.cache.train_max_depth > 0 ? settings.cache.train_max_depth : settings.max_depth;
+    const int train_depth = path_vertices(settings.cache.train_max_depth > 0 ? settings.cache.train_max_depth : settings.max_depth);
     if (trained_guide && train_depth > 1)
-        m_guide_training = std::make_unique<guiding::GuideTraining>(scene, m_integrator, *m_kernels, settings.seed);
-    if (settings.aa == RenderSettings::Aa::Adaptive) {
+        m_guide_training = std::make_unique<guiding::GuideTraining>(scene, m_integrator, *m_kernels, m_seed);
+    if (settings.aa == RenderOptions::Aa::Adaptive) {
         m_aa_stats.level.assign(static_cast<size_t>(c.width) * c.height, 0);
         m_aa_stats.rays.assign(static_cast<size_t>(c.width) * c.height, 0);
     }
@@ -96,7 +91,7 @@ void RenderJob::start() {
     m_start = std::chrono::steady_clock::now();
     // the adaptive sampler's geometric pre-pass: part of the render's time
     const int threads = m_settings.threads > 0 ? m_settings.threads : default_thread_count();
-    if (m_settings.aa == RenderSettings::Aa::Adaptive)
+    if (m_settings.aa == RenderOptions::Aa::Adaptive)
         m_aa_hints = project_feature_edges(m_scene, m_settings.aa_threshold, threads);
     std::vector<int> all(m_tile_passes.size());
     for (size_t t = 0; t < all.size(); ++t) all[t] = static_cast<int>(t);
@@ -137,10 +132,10 @@ struct RenderJob::Samplers {
     AdaptiveSampler adaptive;
     PixelSampler& active;
     explicit Samplers(RenderJob& j)
-        : uniform(j.m_film, *j.m_kernels, j.m_settings.seed, j.m_settings.sampler, j.m_pass_begin, kMaxBatch),
-          adaptive(j.m_film, j.m_scene, *j.m_kernels, j.m_integrator, j.m_settings.seed, j.m_settings.aa_threshold,
+        : uniform(j.m_film, *j.m_kernels, j.m_seed, j.m_settings.sampler, j.m_pass_begin, kMaxBatch),
+          adaptive(j.m_film, j.m_scene, *j.m_kernels, j.m_integrator, j.m_seed, j.m_settings.aa_threshold,
                    j.m_aa_stats, &j.m_aa_hints),
-          active(j.m_settings.aa == RenderSettings::Aa::Adaptive ? static_cast<PixelSampler&>(adaptive)
+          active(j.m_settings.aa == RenderOptions::Aa::Adaptive ? static_cast<PixelSampler&>(adaptive)
                                                                  : static_cast<PixelSampler&>(uniform)) {}
 };
 
@@ -229,7 +224,7 @@ void RenderJob::expect_cache_regions(const std::vector<int>& tiles, int passes) 
 // stream keyed by the seed and the pixel (salted), traced on the calling thread's scratch.
 void RenderJob::build_cache_region(int x0, int y0, int x1, int y1, CacheRegion& out, PathScratch& scratch) const {
     std::vector<CameraSample> prepass;
-    const uint32_t seed = m_settings.seed ^ kCacheRegionSalt;
+    const uint32_t seed = m_seed ^ kCacheRegionSalt;
     for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) {
             const uint32_t pixel = static_cast<uint32_t>(y) * static_cast<uint32_t>(m_scene.camera.width) + x;
@@ -293,7 +288,7 @@ RenderJob::TileWork RenderJob::render_tiles(const std::vector<int>& tiles, int f
     // threads too: the hints are the same for any count), the same for every tile
     std::call_once(m_aa_hints_once, [this] {
         const int threads = m_settings.threads > 0 ? m_settings.threads : default_thread_count();
-        if (m_settings.aa == RenderSettings::Aa::Adaptive)
+        if (m_settings.aa == RenderOptions::Aa::Adaptive)
             m_aa_hints = project_feature_edges(m_scene, m_settings.aa_threshold, threads);
     });
     // The calling thread's buffers, kept from call to call as a local worker keeps them from

@@ -21,32 +21,10 @@
 #include "render/camera/pixel_sampler.h"
 #include "render/guiding/guide_training.h"
 #include "render/integrators/integrator.h"
+#include "render/render_options.h"
 #include "render/scene.h"
 
 namespace patina {
-
-struct RenderSettings {
-    int spp = 16;
-    int max_depth = 8;  // 1: direct lighting
-    uint32_t seed = 0;
-    int threads = 0;    // 0: all hardware threads
-    int width = 0;      // SIMD width 1, 4, 8; 0: the widest the CPU runs
-    // 0: the sampler's own, 16 for the uniform sampler, kAdaptiveTileSize for the adaptive
-    // one (its levels 2 and 3 trace scattered pixels: larger tiles make larger wavefronts)
-    int tile_size = 0;
-    int passes = 8;     // a pixel's samples are split into at least this many passes (fewer if spp is smaller)...
-    int max_pass_spp = 16;  // ...of at most this many samples, so a cancel never waits long for a pass
-    // The pixel sampler: uniform (spp jittered samples a pixel) or the adaptive antialiasing
-    // (render/antialiasing/adaptive_sampler.h; spp patterns a pixel, one a pass, each of 1 to 25 rays).
-    enum class Aa { Uniform, Adaptive } aa = Aa::Uniform;
-    float aa_threshold = kDefaultAaThreshold;  // the adaptive sampler's contrast threshold, >= 0
-    bool indirect_illuminance = false;  // the illuminance AOV counts reflected light (IntegratorSettings)
-    // The paths' numbers (render/samplers/sample_numbers.h): Owen-scrambled Sobol or independent.
-    SamplerKind sampler = SamplerKind::Sobol;
-    bool stage_cpu_time = false;  // stage timers on each thread's CPU time, not wall time (render/integrators/stage_timer.h)
-    IntegratorMode mode = IntegratorMode::Path;  // path, or the radiance cache's (docs/radiance-cache.md)
-    CacheSettings cache;
-};
 
 struct RenderProgress {
     size_t items_done = 0, items_total = 0;
@@ -61,7 +39,7 @@ struct RenderProgress {
 
 class RenderJob {
 public:
-    RenderJob(const RenderScene& scene, const RenderSettings& settings);
+    RenderJob(const RenderScene& scene, const RenderOptions& options);  // checks the options (check_render_options)
     ~RenderJob();
     RenderJob(const RenderJob&) = delete;
     RenderJob& operator=(const RenderJob&) = delete;
@@ -121,7 +99,8 @@ private:
     void build_cache_region(int x0, int y0, int x1, int y1, CacheRegion& out, PathScratch& scratch) const;
 
     const RenderScene& m_scene;
-    RenderSettings m_settings;
+    RenderOptions m_settings;
+    uint32_t m_seed;  // stream_seed of the options' seed
     IntegratorSettings m_integrator;
     const RenderKernels* m_kernels;
     int m_tiles_x = 0, m_tiles_y = 0;

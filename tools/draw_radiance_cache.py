@@ -67,44 +67,44 @@ def draw(out: str) -> None:
     prep = PreparedScene(load_scene(SCENE))
     probe = {
         masks: _core.cache_probe(
-            prep.core, A, UP, B, UP, resolution=RESOLUTION, max_depth=3, seed=1, unknown_masks=masks
+            prep.core, A, UP, B, UP, resolution=RESOLUTION, max_depth=4, seed=1, unknown_masks=masks
         )
         for masks in (True, False)
     }
     p = probe[True]
-    scale = 1.0 / max(float(np.percentile(p["a_radiance"], 99)), 1e-6)
+    scale = 1.0 / max(float(np.percentile(p.a_radiance, 99)), 1e-6)
     rng = np.random.default_rng(3)
 
     fig, axes = plt.subplots(1, 4, figsize=(12, 3.4))
-    _panel(axes[0], _tonemap(p["a_radiance"], scale), "A: incident indirect radiance")
-    dist = np.where(np.isfinite(p["a_dist"]), p["a_dist"], np.nan)
+    _panel(axes[0], _tonemap(p.a_radiance, scale), "A: incident indirect radiance")
+    dist = np.where(np.isfinite(p.a_dist), p.a_dist, np.nan)
     _panel(axes[1], np.log(dist), "A: hit distance (log)", cmap="viridis")
-    layers = np.where(p["a_layer"] >= 0, p["a_layer"], np.nan)
+    layers = np.where(p.a_layer >= 0, p.a_layer, np.nan)
     _panel(axes[2], layers, "A: depth layers", cmap="tab20", vmin=0, vmax=19)
-    colours = ListedColormap(rng.uniform(0.2, 1.0, (max(int(p["surfels"]), 1), 3)))
-    surfels = np.where(p["a_surfel"] >= 0, p["a_surfel"], np.nan)
-    _panel(axes[3], surfels, f"A: {p['surfels']} surfels (merged blocks)", cmap=colours, vmin=0, vmax=p["surfels"])
+    colours = ListedColormap(rng.uniform(0.2, 1.0, (max(int(p.surfels), 1), 3)))
+    surfels = np.where(p.a_surfel >= 0, p.a_surfel, np.nan)
+    _panel(axes[3], surfels, f"A: {p.surfels} surfels (merged blocks)", cmap=colours, vmin=0, vmax=p.surfels)
     fig.suptitle(f"a cache point on the floor of the Cornell box, {RESOLUTION} x {RESOLUTION} texels", fontsize=10)
     _save(fig, os.path.join(out, "radiance-cache-point.png"))
     plt.close(fig)
 
     fig, axes = plt.subplots(2, 3, figsize=(9.5, 6.6))
     grey = {"cmap": "gray", "vmin": 0, "vmax": 1}
-    _panel(axes[0, 0], p["filled"], "B: fill mask", **grey)
-    _panel(axes[0, 1], p["unknown"], "B: unknown (shadow) mask", **grey)
-    _panel(axes[0, 2], p["to_trace"], f"B: to trace ({100 * p['to_trace'].mean():.1f} %)", **grey)
-    _panel(axes[1, 0], _holes(p["b_reprojected"], scale), "B: reprojected from A (holes magenta)")
-    _panel(axes[1, 1], _tonemap(p["b_radiance"], scale), "B: holes traced")
-    _panel(axes[1, 2], _tonemap(p["b_reference"], scale), "B: its own hemisphere traced")
+    _panel(axes[0, 0], p.filled, "B: fill mask", **grey)
+    _panel(axes[0, 1], p.unknown, "B: unknown (shadow) mask", **grey)
+    _panel(axes[0, 2], p.to_trace, f"B: to trace ({100 * p.to_trace.mean():.1f} %)", **grey)
+    _panel(axes[1, 0], _holes(p.b_reprojected, scale), "B: reprojected from A (holes magenta)")
+    _panel(axes[1, 1], _tonemap(p.b_radiance, scale), "B: holes traced")
+    _panel(axes[1, 2], _tonemap(p.b_reference, scale), "B: its own hemisphere traced")
     fig.suptitle(f"A reprojected into B, {np.linalg.norm(np.subtract(B, A)):.2f} m away", fontsize=10)
     _save(fig, os.path.join(out, "radiance-cache-reprojection.png"))
     plt.close(fig)
 
     fig, axes = plt.subplots(1, 3, figsize=(9.5, 3.4))
     q = probe[False]
-    _panel(axes[0], _holes(q["b_reprojected"], scale), "without unknown masks")
-    _panel(axes[1], _holes(p["b_reprojected"], scale), "with them")
-    leak = (q["to_trace"] == 0) & (p["to_trace"] == 1)
+    _panel(axes[0], _holes(q.b_reprojected, scale), "without unknown masks")
+    _panel(axes[1], _holes(p.b_reprojected, scale), "with them")
+    leak = (q.to_trace == 0) & (p.to_trace == 1)
     _panel(axes[2], leak, f"texels the masks stop ({int(leak.sum())})", **grey)
     fig.suptitle("B's reprojection: the wall A saw beside the sphere, seen through its side", fontsize=10)
     _save(fig, os.path.join(out, "radiance-cache-leak.png"))

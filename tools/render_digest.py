@@ -86,8 +86,9 @@ def illuminance_digests(widths: list[int]) -> dict[str, str]:
         points = grid.points()[2]
         normals = np.ascontiguousarray(np.tile(np.float32([0, 1, 0]), (len(points), 1)))
         for width in widths:
-            for depth in (0, 3):
-                lux = _core.sensor_illuminance(prepared.core, points, normals, 8, 3, width, 2, depth)
+            for depth in (0, 3):  # the sensor paths' vertices: max_depth 0 (none), 4 (3 vertices)
+                max_depth = depth + 1 if depth else 0
+                lux = _core.sensor_illuminance(prepared.core, points, normals, 8, 3, width, 2, max_depth)
                 out[f"illuminance/{name}/w{width}/depth{depth}"] = digest(np.asarray(lux))
     return out
 

@@ -18,6 +18,7 @@
 #include "render/accel/bvh.h"
 #include "render/accel/kdtree.h"
 #include "render/lights/grid2.h"
+#include "render/scene.h"
 
 namespace patina_py {
 
@@ -82,10 +83,22 @@ struct Grid2Handle {
 // coat, coat alpha and eta last. Throws std::invalid_argument.
 patina::MixtureParams mixture_params(const std::string& kind, const std::vector<float>& values, bool per_channel);
 
+// patina._core.RenderScene: the scene with references to everything its pointers point into.
+struct SceneHandle {
+    patina::RenderScene scene;
+    std::vector<nb::object> keep;  // arrays, tables and the accel the pointers point into
+};
+
+// Before a render, a sensor or cache probe: every triangle's material checked, the light
+// selection prepared (render_bindings.cpp). Throws std::invalid_argument.
+void prepare_for_render(SceneHandle& h);
+
 void bind_table(nb::module_& m);
 void bind_accel(nb::module_& m);
 void bind_fit(nb::module_& m);
 void bind_render(nb::module_& m);
 void bind_lighting(nb::module_& m);
+void bind_render_job(nb::module_& m);
+void bind_cache_probe(nb::module_& m);
 
 }  // namespace patina_py

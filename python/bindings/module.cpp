@@ -119,4 +119,6 @@ NB_MODULE(_core, m) {
     bind_fit(m);
     bind_render(m);
     bind_lighting(m);
+    bind_render_job(m);
+    bind_cache_probe(m);
 }

@@ -1,31 +1,29 @@
-// patina._core.RenderScene and RenderJob: the preview renderer. The Python side
-// (python/patina/render/prepare.py) checks the scene file, computes what follows from it
-// (light geometry, sampling proxies) and builds these; here values are only converted and
-// checked, with std::invalid_argument (ValueError) naming the material, light or key.
-#include <nanobind/stl/optional.h>
+// patina._core.RenderScene: the preview renderer's scene (RenderJob, its options and results:
+// render_job_bindings.cpp), and the kernels' own entry points (sensor illuminance, sample
+// points, Grid2). The Python side (python/patina/render/prepare.py) checks the scene file,
+// computes what follows from it (light geometry, sampling proxies) and builds these; here
+// values are only converted and checked, with std::invalid_argument (ValueError) naming the
+// material, light or key.
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/unique_ptr.h>
 #include <nanobind/stl/vector.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <initializer_list>
 #include <memory>
-#include <optional>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
 #include "bindings.h"
+#include "record.h"
 #include "core/parallel.h"
-#include "render/cache/cache_settings.h"
 #include "render/integrators/integrator.h"
 #include "render/lights/grid2.h"
-#include "render/render_job.h"
+#include "render/render_options.h"
 #include "render/samplers/sample_numbers.h"
 #include "render/scene.h"
 
@@ -39,13 +37,7 @@ using Tris = nb::ndarray<const int32_t, nb::shape<-1, 3>, nb::c_contig, nb::devi
 using IntVector = nb::ndarray<const int32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using Image = nb::ndarray<const float, nb::shape<-1, -1, 3>, nb::c_contig, nb::device::cpu>;
 
-// The scene with references to everything its pointers point into.
-struct SceneHandle {
-    patina::RenderScene scene;
-    std::vector<nb::object> keep;  // arrays, tables and the accel the pointers point into
-};
-
-// A material's, light's or camera's dictionary read key by key: every value the renderer
+// A material's or light's dictionary read key by key: every value the renderer
 // takes must be there (the defaults are the scene reader's, python/patina/scene/reading.py,
 // not ours), and a key nothing read is an error naming it, as Mitsuba 3 rejects unused
 // properties, so a misspelled key cannot silently leave its value at the struct's default.
@@ -111,9 +103,24 @@ private:
     std::vector<std::string> read_;
 };
 
+// The camera's numbers finite (as 32-bit floats), else the one-line error naming the field.
+void check_camera(const patina::Camera& c) {
+    auto finite = [](const char* name, const float* v, int n) {
+        for (int k = 0; k < n; ++k)
+            if (!std::isfinite(v[k])) throw std::invalid_argument(std::string("the camera: '") + name + "' is not finite");
+    };
+    finite("position", c.position, 3);
+    finite("forward", c.forward, 3);
+    finite("right", c.right, 3);
+    finite("up", c.up, 3);
+    finite("tan_half_fov", &c.tan_half_fov, 1);
+    finite("aperture_radius", &c.aperture_radius, 1);
+    finite("focus_distance", &c.focus_distance, 1);
+}
+
 // Arrays are taken as Python objects and kept: the scene points into their buffers.
 std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, nb::object indices_obj, nb::object normals_obj,
-                                        nb::object tangents, nb::object tri_material_obj, const nb::dict& camera) {
+                                        nb::object tangents, nb::object tri_material_obj, const patina::Camera& camera) {
     auto h = std::make_unique<SceneHandle>();
     const Tris indices = nb::cast<Tris>(indices_obj);
     const Rows3 normals = nb::cast<Rows3>(normals_obj);
@@ -146,18 +153,8 @@ std::unique_ptr<SceneHandle> make_scene(nb::object accel_obj, nb::object indices
         s.tangents = t.data();
         h->keep.push_back(tangents);
     }
-    patina::Camera& c = s.camera;
-    Fields f(camera, "the camera");
-    f.vec3("position", c.position);
-    f.vec3("forward", c.forward);
-    f.vec3("right", c.right);
-    f.vec3("up", c.up);
-    c.tan_half_fov = f.real("tan_half_fov");
-    c.width = f.integer("width");
-    c.height = f.integer("height");
-    c.aperture_radius = f.real("aperture_radius");
-    c.focus_distance = f.real("focus_distance");
-    f.finish();
+    check_camera(camera);
+    s.camera = camera;
     patina::prepare_scale(s);
     return h;
 }
@@ -388,198 +385,6 @@ void check_materials(const SceneHandle& h) {
             throw std::invalid_argument("an emitter material must name a quad or triangles light");
 }
 
-struct JobHandle {
-    nb::object scene_ref;
-    std::unique_ptr<patina::RenderJob> job;
-};
-
-// The documented seeds are 0 to 2^63 - 1; the samplers key their streams by 32 bits. Seeds
-// below 2^32 are used as they are (images stay the same), higher bits are mixed into them.
-uint32_t stream_seed(uint64_t seed) {
-    return static_cast<uint32_t>(seed) ^ (static_cast<uint32_t>(seed >> 32) * 0x9e3779b1u);
-}
-
-std::unique_ptr<JobHandle> make_job(nb::object scene_obj, int spp, int max_depth, uint64_t seed, int threads,
-                                    int width, int tile_size, int passes, const std::string& aa, float aa_threshold,
-                                    bool indirect_illuminance, const std::string& sampler,
-                                    const std::string& stage_clock, const std::string& integrator, int cache_resolution, float cache_error,
-                                    float cache_guide, int cache_block, int cache_hit_paths,
-                                    int cache_train_passes, int cache_train_spp,
-                                    float cache_train_guide, int cache_train_bounces,
-                                    int cache_train_max_depth) {
-    SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
-    check_materials(h);
-    patina::prepare_light_selection(h.scene);
-    patina::RenderSettings st;
-    st.spp = spp;
-    st.max_depth = max_depth;
-    st.seed = stream_seed(seed);
-    st.threads = threads;
-    st.width = width;
-    st.tile_size = tile_size;
-    st.passes = passes;
-    if (aa == "adaptive")
-        st.aa = patina::RenderSettings::Aa::Adaptive;
-    else if (aa != "uniform")
-        throw std::invalid_argument("aa: '" + aa + "' is not one of 'uniform', 'adaptive'");
-    st.aa_threshold = aa_threshold;
-    st.indirect_illuminance = indirect_illuminance;
-    if (sampler == "independent")
-        st.sampler = patina::SamplerKind::Independent;
-    else if (sampler != "sobol")
-        throw std::invalid_argument("sampler: '" + sampler + "' is not one of 'sobol', 'independent'");
-    if (stage_clock == "cpu")
-        st.stage_cpu_time = true;
-    else if (stage_clock != "wall")
-        throw std::invalid_argument("stage_clock: '" + stage_clock + "' is not one of 'wall', 'cpu'");
-    if (integrator == "cache")
-        st.mode = patina::IntegratorMode::Cache;
-    else if (integrator == "cache-guided")
-        st.mode = patina::IntegratorMode::CacheGuided;
-    else if (integrator != "path")
-        throw std::invalid_argument("integrator: '" + integrator + "' is not one of 'path', 'cache', 'cache-guided'");
-    st.cache.resolution = cache_resolution;
-    st.cache.error = cache_error;
-    st.cache.guide = cache_guide;
-    st.cache.block = cache_block;
-    st.cache.hit_paths = cache_hit_paths;
-    st.cache.train_passes = cache_train_passes;
-    st.cache.train_spp = cache_train_spp;
-    st.cache.train_guide = cache_train_guide;
-    st.cache.train_bounces = cache_train_bounces;
-    st.cache.train_max_depth = cache_train_max_depth;
-    patina::check_cache_settings(st.cache);
-    auto j = std::make_unique<JobHandle>();
-    j->scene_ref = scene_obj;
-    j->job = std::make_unique<patina::RenderJob>(h.scene, st);
-    return j;
-}
-
-nb::dict progress(const JobHandle& j) {
-    const patina::RenderProgress p = j.job->progress();
-    return dict_of({{"items_done", nb::cast(p.items_done)},
-                    {"items_total", nb::cast(p.items_total)},
-                    {"rays", nb::cast(p.rays)},
-                    {"samples_done", nb::cast(p.samples_done)},
-                    {"seconds", nb::cast(p.seconds)},
-                    {"finished", nb::cast(p.finished)},
-                    {"cancelled", nb::cast(p.cancelled)},
-                    {"cache_points", nb::cast(p.cache_points)},
-                    {"cache_queries", nb::cast(p.cache_queries)},
-                    {"cache_texels_reprojected", nb::cast(p.cache_texels_reprojected)},
-                    {"cache_texels_traced", nb::cast(p.cache_texels_traced)}});
-}
-
-// Seconds per integrator stage summed over the workers (render/integrators/stage_timer.h: names in stage
-// order), the workers' seconds in work items, and the rays and shading points counted.
-nb::dict stage_times(const JobHandle& j) {
-    const patina::StageTimes t = j.job->stage_times();
-    nb::dict stages;
-    for (int k = 0; k < patina::kStageCount; ++k)
-        stages[patina::stage_name(static_cast<patina::Stage>(k))] = 1e-9 * static_cast<double>(t.ns[k]);
-    return dict_of({{"stages", stages},
-                    {"item_seconds", nb::cast(1e-9 * static_cast<double>(t.item_ns))},
-                    {"camera_rays", nb::cast(t.camera_rays)},
-                    {"secondary_rays", nb::cast(t.secondary_rays)},
-                    {"shadow_rays", nb::cast(t.shadow_rays)},
-                    {"shading_points", nb::cast(t.shading_points)}});
-}
-
-nb::dict resolve(const JobHandle& j) {
-    const auto& cam = j.job->camera();
-    const size_t hgt = cam.height, wid = cam.width;
-    float *rgb, *albedo, *normal, *depth, *lux, *samples;
-    const size_t s3[3] = {hgt, wid, 3}, s2[2] = {hgt, wid};
-    auto a_rgb = new_array<float, 3>(s3, &rgb);
-    auto a_albedo = new_array<float, 3>(s3, &albedo);
-    auto a_normal = new_array<float, 3>(s3, &normal);
-    auto a_depth = new_array<float, 2>(s2, &depth);
-    auto a_lux = new_array<float, 2>(s2, &lux);
-    auto a_samples = new_array<float, 2>(s2, &samples);
-    {
-        nb::gil_scoped_release release;
-        j.job->resolve(rgb, albedo, normal, depth, lux, samples);
-    }
-    nb::dict d;
-    d["rgb"] = a_rgb;
-    d["albedo"] = a_albedo;
-    d["normal"] = a_normal;
-    d["depth"] = a_depth;
-    d["illuminance"] = a_lux;
-    d["samples"] = a_samples;
-    // the adaptive sampler: each pixel's level (1-3) and its own rays (see render/antialiasing/adaptive_sampler.h)
-    const patina::AaStats& aa = j.job->aa_stats();
-    if (!aa.level.empty()) {
-        float *level, *rays;
-        auto a_level = new_array<float, 2>(s2, &level);
-        auto a_rays = new_array<float, 2>(s2, &rays);
-        for (size_t i = 0; i < hgt * wid; ++i) {
-            level[i] = aa.level[i];
-            rays[i] = aa.rays[i];
-        }
-        d["aa_level"] = a_level;
-        d["aa_rays"] = a_rays;
-    }
-    return d;
-}
-
-// A distributed render's tile (python/patina/batch/render_tiles.py): its sums (rows x
-// columns x Film::kChannels doubles) and the adaptive sampler's per-pixel level and rays.
-using TileSums = nb::ndarray<const double, nb::ndim<3>, nb::c_contig, nb::device::cpu>;
-using TileStats = nb::ndarray<const uint8_t, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
-
-nb::dict read_tile(const JobHandle& j, int tile) {
-    const patina::TileRect r = j.job->tile_rect(tile);
-    const size_t rows = r.y1 - r.y0, cols = r.x1 - r.x0;
-    const size_t s3[3] = {rows, cols, patina::Film::kChannels}, s2[2] = {rows, cols};
-    double* sums;
-    auto a_sums = new_array<double, 3>(s3, &sums);
-    nb::dict d;
-    if (j.job->aa_stats().level.empty()) {
-        j.job->read_tile(tile, sums, nullptr, nullptr);
-    } else {
-        uint8_t *level, *rays;
-        auto a_level = new_array<uint8_t, 2>(s2, &level);
-        auto a_rays = new_array<uint8_t, 2>(s2, &rays);
-        j.job->read_tile(tile, sums, level, rays);
-        d["aa_level"] = a_level;
-        d["aa_rays"] = a_rays;
-    }
-    d["sums"] = a_sums;
-    return d;
-}
-
-void write_tile(JobHandle& j, int tile, TileSums sums, std::optional<TileStats> level, std::optional<TileStats> rays) {
-    const patina::TileRect r = j.job->tile_rect(tile);
-    const size_t rows = r.y1 - r.y0, cols = r.x1 - r.x0;
-    const auto name = "tile " + std::to_string(tile) + ": ";
-    if (sums.shape(0) != rows || sums.shape(1) != cols || sums.shape(2) != patina::Film::kChannels)
-        throw std::invalid_argument(name + "sums must have shape (" + std::to_string(rows) + ", " + std::to_string(cols) +
-                                    ", " + std::to_string(patina::Film::kChannels) + ")");
-    const bool adaptive = !j.job->aa_stats().level.empty();
-    if (adaptive != (level.has_value() && rays.has_value()))
-        throw std::invalid_argument(name + (adaptive ? "the adaptive sampler's tile needs aa_level and aa_rays"
-                                                     : "aa_level and aa_rays are the adaptive sampler's"));
-    for (const auto* a : {level ? &*level : nullptr, rays ? &*rays : nullptr})
-        if (a && (a->shape(0) != rows || a->shape(1) != cols))
-            throw std::invalid_argument(name + "aa_level and aa_rays must have the tile's rows and columns");
-    j.job->write_tile(tile, sums.data(), level ? level->data() : nullptr, rays ? rays->data() : nullptr);
-}
-
-nb::dict render_tiles(JobHandle& j, const std::vector<int>& tiles, int first, int end) {
-    patina::RenderJob::TileWork w;
-    {
-        nb::gil_scoped_release release;  // other threads render other tiles of the job meanwhile
-        w = j.job->render_tiles(tiles, first, end);
-    }
-    return dict_of({{"rays", nb::cast(w.rays)},
-                    {"samples", nb::cast(w.samples)},
-                    {"cache_points", nb::cast(w.cache_points)},
-                    {"cache_queries", nb::cast(w.cache_queries)},
-                    {"cache_texels_reprojected", nb::cast(w.cache_texels_reprojected)},
-                    {"cache_texels_traced", nb::cast(w.cache_texels_traced)}});
-}
-
 void check_axis(const FloatVector& a, const char* name) {
     if (a.shape(0) < 1) throw std::invalid_argument(std::string(name) + ": needs at least one knot");
     for (size_t i = 0; i < a.shape(0); ++i) {
@@ -608,7 +413,7 @@ nb::ndarray<nb::numpy, float, nb::ndim<2>> sample_points(const std::string& samp
     float* out;
     const size_t shape[2] = {n, static_cast<size_t>(dims)};
     auto a = new_array<float, 2>(shape, &out);
-    const uint32_t key = patina::stream_key(stream_seed(seed), 0);
+    const uint32_t key = patina::stream_key(patina::stream_seed(seed), 0);
     const auto kind = sobol ? patina::SamplerKind::Sobol : patina::SamplerKind::Independent;
     constexpr int camera = patina::kDimLightPick, per_bounce = patina::kDimRoulette - patina::kDimLightPick + 1;
     for (size_t i = 0; i < n; ++i) {
@@ -684,17 +489,16 @@ nb::object grid2_eval(const Grid2Handle& g, FloatVector x, FloatVector y, int wi
 }
 
 // Illuminance (lux) on sensors: points and unit normals (n, 3); split over threads. Direct
-// light; with indirect_depth > 0 also the light reflected by the scene, by sensor paths of
-// at most that many vertices.
+// light; with max_depth > 0 also the light reflected by the scene, by sensor paths of the
+// vertices a camera path of that max_depth has (the scene file's convention, path_vertices).
 nb::object sensor_illuminance(nb::object scene_obj, Rows3 points, Rows3 normals, int samples, uint64_t seed,
-                              int width, int threads, int indirect_depth) {
+                              int width, int threads, int max_depth) {
     SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
     const size_t n = points.shape(0);
     if (normals.shape(0) != n) throw std::invalid_argument("points and normals have different lengths");
     if (samples < 1) throw std::invalid_argument("samples must be at least 1");
-    if (indirect_depth < 0) throw std::invalid_argument("indirect_depth must be at least 0");
-    check_materials(h);
-    patina::prepare_light_selection(h.scene);
+    if (max_depth < 0) throw std::invalid_argument("max_depth must be at least 0 (0: direct light only)");
+    prepare_for_render(h);
     float* out;
     auto result = new_array<float, 1>({n}, &out);
     const patina::RenderKernels& k = patina::render_kernels_for(width);
@@ -702,80 +506,43 @@ nb::object sensor_illuminance(nb::object scene_obj, Rows3 points, Rows3 normals,
         nb::gil_scoped_release release;
         patina::parallel_for(n, 256, threads, [&](size_t b, size_t e) {
             patina::PathScratch scratch;
-            k.sensor_illuminance(h.scene, points.data(), normals.data(), b, e, samples, stream_seed(seed), out,
+            k.sensor_illuminance(h.scene, points.data(), normals.data(), b, e, samples, patina::stream_seed(seed), out,
                                   scratch);
-            if (indirect_depth > 0) {
+            if (max_depth > 0) {
                 patina::IntegratorSettings settings;
-                settings.max_depth = indirect_depth;
+                settings.max_depth = patina::path_vertices(max_depth);
                 k.sensor_illuminance_indirect(h.scene, settings, points.data(), normals.data(), b, e, samples,
-                                              stream_seed(seed), out, scratch);
+                                              patina::stream_seed(seed), out, scratch);
             }
         });
     }
     return nb::cast(result);
 }
 
-// The radiance cache at point a reprojected into point b (render/cache/cache_probe.h), for
-// tools/draw_radiance_cache.py and the tests: arrays of R x R texels (texel j * R + i at [j, i]).
-nb::dict cache_probe(nb::object scene_obj, const std::vector<float>& a, const std::vector<float>& na,
-                     const std::vector<float>& b, const std::vector<float>& nb_, int resolution, float error,
-                     int max_depth, uint64_t seed, int width, bool unknown_masks) {
-    SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
-    for (const auto* v : {&a, &na, &b, &nb_})
-        if (v->size() != 3) throw std::invalid_argument("points and normals must be 3 numbers");
-    if (max_depth < 2) throw std::invalid_argument("max_depth must be at least 2 (the cache holds indirect light)");
+}  // namespace
+
+void prepare_for_render(SceneHandle& h) {
     check_materials(h);
     patina::prepare_light_selection(h.scene);
-    patina::IntegratorSettings st;
-    st.max_depth = max_depth;
-    st.cache.resolution = resolution;
-    st.cache.error = error;
-    patina::check_cache_settings(st.cache);
-    const patina::RenderKernels& k = patina::render_kernels_for(width);
-    patina::CacheProbe p;
-    {
-        nb::gil_scoped_release release;
-        k.cache_probe(h.scene, st, a.data(), na.data(), b.data(), nb_.data(), stream_seed(seed), unknown_masks, p);
-    }
-    const size_t R = static_cast<size_t>(p.resolution);
-    const size_t s3[3] = {R, R, 3}, s2[2] = {R, R};
-    auto rgb = [&](const std::vector<float>& v) {
-        float* out;
-        auto arr = new_array<float, 3>(s3, &out);
-        std::copy(v.begin(), v.end(), out);
-        return arr;
-    };
-    auto plane = [&](const auto& v) {
-        float* out;
-        auto arr = new_array<float, 2>(s2, &out);
-        for (size_t i = 0; i < R * R; ++i) out[i] = static_cast<float>(v[i]);
-        return arr;
-    };
-    nb::dict d;
-    d["resolution"] = p.resolution;
-    d["a_radiance"] = rgb(p.a_radiance);
-    d["a_dist"] = plane(p.a_dist);
-    d["a_kind"] = plane(p.a_kind);
-    d["a_layer"] = plane(p.a_layer);
-    d["a_surfel"] = plane(p.a_surfel);
-    d["surfels"] = p.surfels;
-    d["silhouettes"] = p.silhouettes;
-    d["filled"] = plane(p.filled);
-    d["unknown"] = plane(p.unknown);
-    d["to_trace"] = plane(p.to_trace);
-    d["b_reprojected"] = rgb(p.b_reprojected);
-    d["b_radiance"] = rgb(p.b_radiance);
-    d["b_reference"] = rgb(p.b_reference);
-    return d;
 }
-
-}  // namespace
 
 void bind_render(nb::module_& m) {
     nb::class_<Grid2Handle>(m, "Grid2", "A 2-D table on an irregular tensor grid, bilinear, clamped to its axes.")
         .def(nb::new_(&make_grid2), nb::arg("x"), nb::arg("y"), nb::arg("values"))
         .def("eval", &grid2_eval, nb::arg("x"), nb::arg("y"), nb::arg("width") = 0,
              "values at (x[i], y[i]) by the coherent search and bilinear interpolation, N points at a time");
+    using C = patina::Camera;
+    Record<C>(m, "Camera", "The renderer's camera (render/camera/camera.h), its frame computed beside the scene.")
+        .vector3("position", &C::position, "the eye, world space")
+        .vector3("forward", &C::forward, "the view direction, unit")
+        .vector3("right", &C::right, "the image's x direction, unit, orthogonal to forward")
+        .vector3("up", &C::up, "the image's upward direction, unit: cross(right, forward)")
+        .field("tan_half_fov", &C::tan_half_fov, "tan(vertical field of view / 2)")
+        .field("width", &C::width, "image width, pixels")
+        .field("height", &C::height, "image height, pixels")
+        .field("aperture_radius", &C::aperture_radius, "the thin lens's aperture radius (0: a pinhole)")
+        .field("focus_distance", &C::focus_distance, "the distance in focus, along forward")
+        .finish();
     nb::class_<SceneHandle>(m, "RenderScene", "Geometry, materials, lights, environment and camera for RenderJob.")
         .def(nb::new_(&make_scene), nb::arg("accel"), nb::arg("indices"), nb::arg("normals"),
              nb::arg("tangents").none(), nb::arg("tri_material"), nb::arg("camera"))
@@ -787,69 +554,13 @@ void bind_render(nb::module_& m) {
     m.def("sample_points", &sample_points, nb::arg("sampler"), nb::arg("n"), nb::arg("dims"), nb::arg("seed") = 0,
           nb::arg("first") = 0, nb::arg("scramble") = true,
           "The sampler's numbers of one stream: samples [first, first + n) x dimensions [0, dims).");
-    m.def("cache_probe", &cache_probe, nb::arg("scene"), nb::arg("a"), nb::arg("a_normal"), nb::arg("b"),
-          nb::arg("b_normal"), nb::arg("resolution") = patina::CacheSettings{}.resolution,
-          nb::arg("error") = patina::CacheSettings{}.error, nb::arg("max_depth") = 2, nb::arg("seed") = 0,
-          nb::arg("width") = 0, nb::arg("unknown_masks") = true,
-          "The radiance cache at point a reprojected into point b: textures and masks (docs/radiance-cache.md).");
-    m.def(
-        "cache_setting_ranges",
-        [] {
-            nb::list out;
-            for (const patina::CacheSettingRange& r : patina::kCacheSettingRanges)
-                out.append(nb::make_tuple(r.key, r.integer, r.lo, r.hi));
-            return out;
-        },
-        "The radiance cache's scene settings as (key, integer, lo, hi), inclusive ranges: the one table "
-        "(render/cache/cache_settings.h) the scene reader's and the command line's checks read.");
-    m.attr("cache_region_pixels") = patina::kCacheRegionPixels;
-    m.attr("cache_region_budget_bytes") = patina::kCacheRegionBudgetBytes;
     m.def("aa_pattern", &aa_pattern, "The adaptive antialiasing's positions, comparisons, zone tables, weights.");
     m.def("sensor_illuminance", &sensor_illuminance, nb::arg("scene"), nb::arg("points"), nb::arg("normals"),
           nb::arg("samples") = 64, nb::arg("seed") = 0, nb::arg("width") = 0, nb::arg("threads") = 0,
-          nb::arg("indirect_depth") = 0,
+          nb::arg("max_depth") = 0,
           "Illuminance in lux on sensors at points facing normals: direct by shadowed light sampling, and with "
-          "indirect_depth > 0 the light the scene reflects, by cosine-weighted sensor paths of that many vertices.");
-    nb::class_<JobHandle>(m, "RenderJob", "A render running on worker threads: start, poll progress, cancel, resolve.")
-        .def(nb::new_(&make_job), nb::arg("scene"), nb::arg("spp"), nb::arg("max_depth"), nb::arg("seed") = 0,
-             nb::arg("threads") = 0, nb::arg("width") = 0, nb::arg("tile_size") = 0, nb::arg("passes") = 8,
-             nb::arg("aa") = "uniform", nb::arg("aa_threshold") = patina::kDefaultAaThreshold,
-             nb::arg("indirect_illuminance") = false, nb::arg("sampler") = "sobol",
-             nb::arg("stage_clock") = "wall", nb::arg("integrator") = "path", nb::arg("cache_resolution") = patina::CacheSettings{}.resolution,
-             nb::arg("cache_error") = patina::CacheSettings{}.error,
-             nb::arg("cache_guide") = patina::CacheSettings{}.guide,
-             nb::arg("cache_block") = patina::CacheSettings{}.block,
-             nb::arg("cache_hit_paths") = patina::CacheSettings{}.hit_paths,
-             nb::arg("cache_train_passes") = patina::CacheSettings{}.train_passes,
-             nb::arg("cache_train_spp") = patina::CacheSettings{}.train_spp,
-             nb::arg("cache_train_guide") = patina::CacheSettings{}.train_guide,
-             nb::arg("cache_train_bounces") = patina::CacheSettings{}.train_bounces,
-             nb::arg("cache_train_max_depth") = patina::CacheSettings{}.train_max_depth)
-        .def("start", [](JobHandle& j) { j.job->start(); })
-        .def("cancel", [](JobHandle& j) { j.job->cancel(); })
-        .def("wait",
-             [](JobHandle& j) {
-                 nb::gil_scoped_release release;
-                 j.job->wait();
-             })
-        .def("progress", &progress)
-        .def("stage_times", &stage_times, "After wait(): seconds per integrator stage, summed over the threads.")
-        .def("resolve", &resolve)
-        // a distributed render's tiles (render/render_job.h); on a job that is not started
-        .def_prop_ro("tile_count", [](const JobHandle& j) { return j.job->tile_count(); })
-        .def_prop_ro("pass_count", [](const JobHandle& j) { return j.job->pass_count(); })
-        .def(
-            "tile_rect",
-            [](const JobHandle& j, int tile) {
-                const patina::TileRect r = j.job->tile_rect(tile);
-                return nb::make_tuple(r.x0, r.y0, r.x1, r.y1);
-            },
-            nb::arg("tile"), "(x0, y0, x1, y1): the tile's pixels [x0, x1) x [y0, y1)")
-        .def("render_tiles", &render_tiles, nb::arg("tiles"), nb::arg("first"), nb::arg("end"),
-             "passes [first, end) of each tile on this thread, added to their sums; {rays, samples, cache counts}")
-        .def("read_tile", &read_tile, nb::arg("tile"), "the tile's sums (and the adaptive sampler's aa_level, aa_rays)")
-        .def("write_tile", &write_tile, nb::arg("tile"), nb::arg("sums"), nb::arg("aa_level").none() = nb::none(),
-             nb::arg("aa_rays").none() = nb::none(), "sets the tile's sums (as read_tile gave them)");
+          "max_depth > 0 the light the scene reflects, by cosine-weighted sensor paths as long as a camera path of "
+          "that max_depth (the scene file's render.max_depth).");
 }
 
 }  // namespace patina_py

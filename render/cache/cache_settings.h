@@ -3,6 +3,8 @@
 // reader's checks read too, naming the key or option); check_cache_settings is the C++ side's own guard.
 #pragma once
 
+#include "render/setting_range.h"
+
 namespace patina {
 
 struct CacheSettings {
@@ -17,25 +19,18 @@ struct CacheSettings {
     int train_spp = 1;
     float train_guide = 0.1f;  // ...and the probability of drawing a bounce from it...
     int train_bounces = 1;     // ...at the first this many bounces of a path (1: the first hit's)
-    // the training paths' max_depth (IntegratorSettings' count; 0: the render's). A measuring
+    // the training paths' max_depth (in segments, as the render's; 0: the render's). A measuring
     // knob of the low-level binding only (tools/cache_measure/variance_split.py: a render cut
     // to direct light that samples the guide trained on full paths)
     int train_max_depth = 0;
 };
 
-// Each scene-file setting's allowed range, declared here once: check_cache_settings reads
-// it, and so do the Python scene reader's and the command line's messages (through the
-// binding cache_setting_ranges), so no second copy can drift.
-struct CacheSettingRange {
-    const char* key;  // render.cache.<key> in a scene file, --cache-<key> on the command line
-    bool integer;     // an integer setting (else a number)
-    double lo, hi;    // inclusive; a float setting is compared in float (0.01 means 0.01f)
-    double (*value)(const CacheSettings&);
-};
-extern const CacheSettingRange kCacheSettingRanges[9];
+// Each scene-file setting's allowed range (render.cache.<key> in a scene file, --cache-<key>
+// on the command line), declared here once (render/setting_range.h).
+extern const SettingRange<CacheSettings> kCacheSettingRanges[9];
 
 // train_max_depth, a knob of the low-level binding only (no scene key): its range
-constexpr int kCacheTrainMaxDepthMin = 0, kCacheTrainMaxDepthMax = 64;
+constexpr int kCacheTrainMaxDepthMin = 0, kCacheTrainMaxDepthMax = 1024;
 
 // Throws std::invalid_argument naming the key (cache.resolution, ...) and its range.
 void check_cache_settings(const CacheSettings& s);

@@ -28,7 +28,7 @@ GuideTraining::GuideTraining(const RenderScene& scene, const IntegratorSettings&
     m_settings.indirect_illuminance = false;  // no sensor paths: the records are the camera paths'
     m_settings.mode = IntegratorMode::CacheGuided;
     m_settings.passes = 1;
-    if (settings.cache.train_max_depth > 0) m_settings.max_depth = settings.cache.train_max_depth;
+    if (settings.cache.train_max_depth > 0) m_settings.max_depth = path_vertices(settings.cache.train_max_depth);
 }
 
 void GuideTraining::train_tile(int pass, int tile, PathScratch& scratch) {

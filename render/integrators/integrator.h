@@ -56,8 +56,13 @@ struct PathResult {
 // combined by MIS (unbiased).
 enum class IntegratorMode : int { Path = 0, Cache = 1, CacheGuided = 2 };
 
+// The kernels count a path's vertices, where the scene file's (and RenderOptions') max_depth
+// counts its segments, Mitsuba 3's convention (2: direct light): this is the one place where
+// one becomes the other. Max_depth 1 (emitters seen directly) renders as 2 does.
+inline int path_vertices(int max_depth) { return max_depth > 1 ? max_depth - 1 : 1; }
+
 struct IntegratorSettings {
-    int max_depth = 8;  // 1: direct lighting only
+    int max_depth = 8;  // path vertices (path_vertices of the scene's max_depth); 1: direct lighting only
     int rr_depth = 3;   // Russian roulette from this bounce on
     // The illuminance AOV also counts light reflected by the scene: from each first hit, one
     // cosine-weighted sensor ray continued as a path of at most max_depth - 1 further

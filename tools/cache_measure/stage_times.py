@@ -8,11 +8,10 @@ import os
 import statistics
 import sys
 
-from patina import _core
 from patina.bench.cache import FULL
 from patina.bench.convergence import sized
 from patina.bundled import materials_path
-from patina.render.run import PreparedScene, job_settings
+from patina.render.run import PreparedScene, job_settings, new_job
 from patina.scene.reading import load_scene, with_overrides
 
 widths = [int(w) for w in (sys.argv[1] if len(sys.argv) > 1 else "16").split(",")]
@@ -21,12 +20,14 @@ scenes = os.environ.get("SCENES", "cache-room,cache-studio,cache-ies-interior").
 
 
 def stage_ms(prep: PreparedScene, scene, width: int) -> dict[str, float]:
-    job = _core.RenderJob(prep.core, threads=1, stage_clock="cpu", **job_settings(scene, width, None, None, None))
+    options = job_settings(scene, width, None, None, None)
+    options.stage_clock = "cpu"
+    job = new_job(prep, options, threads=1)
     job.start()
     job.wait()
     times = job.stage_times()
-    out = {k: 1e3 * v for k, v in times["stages"].items() if k.startswith("cache_")}
-    out["total"] = 1e3 * times["item_seconds"]
+    out = {k: 1e3 * v for k, v in times.stages.items() if k.startswith("cache_")}
+    out["total"] = 1e3 * times.item_seconds
     return out
 
 

@@ -3,7 +3,8 @@ the room built at A for many seeds (patina.native._core.cache_probe), its hemisp
 irradiance-like sum (sum of L cos x texel solid angle) per seed, and the texels that carry
 the largest values: their share of the sum, what they hit (the floor, judged by the hit's
 height), and how the tail changes with the cache's own path depth.
-Run from the checkout: python tools/cache_measure/texel_tail.py [SEEDS] [max_depth ...]
+Run from the checkout: python tools/cache_measure/texel_tail.py [SEEDS] [max_depth ...] (in segments,
+as a scene file's render.max_depth)
 (A on the ceiling facing down, unless A=x,y,z N=x,y,z are given in the environment)."""
 
 import os
@@ -17,7 +18,7 @@ from patina.render.prepare import PreparedScene
 from patina.scene.reading import load_scene
 
 seeds = int(sys.argv[1]) if len(sys.argv) > 1 else 64
-depths = [int(a) for a in sys.argv[2:]] or [3, 8]
+depths = [int(a) for a in sys.argv[2:]] or [4, 9]
 a = [float(x) for x in os.environ.get("A", "0.0,2.59,0.0").split(",")]
 n = [float(x) for x in os.environ.get("N", "0,-1,0").split(",")]
 scene = load_scene(materials_path("scenes", os.environ.get("SCENE", "cache-room") + ".json"))
@@ -28,7 +29,7 @@ for depth in depths:
     sums, top_share, top_floor, tops = [], [], [], []
     for seed in range(seeds):
         p = _core.cache_probe(prep.core, a, n, a, n, resolution=R, max_depth=depth, seed=seed)
-        rad = np.asarray(p["a_radiance"]).mean(axis=2)  # (R, R)
+        rad = np.asarray(p.a_radiance).mean(axis=2)  # (R, R)
         u = (np.arange(R) + 0.5) / R
         # the texel centres' cos theta (z = 1 - r^2 with r the concentric map's radius)
         uu, vv = np.meshgrid(2 * u - 1, 2 * u - 1)
@@ -39,7 +40,7 @@ for depth in depths:
         k = np.argmax(contrib)
         tops.append(contrib.flat[k])
         top_share.append(contrib.flat[k] / s if s > 0 else 0)
-        dist = np.asarray(p["a_dist"]).flat[k]
+        dist = np.asarray(p.a_dist).flat[k]
         # A faces the floor: a hit at distance d along cos z lies at height a_y - d z
         top_floor.append(bool(np.isfinite(dist) and abs(a[1] - dist * z.flat[k]) < 0.05))
     sums = np.array(sums)

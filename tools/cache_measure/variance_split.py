@@ -8,7 +8,7 @@ The split is exact per sample: a render cut to `max_depth` 2 (or 3) with the sam
 the same numbers at the vertices it keeps (render/samplers/sample_numbers.h: they are functions of stream,
 index, bounce and use), so it is the full render's first part (first two parts) and the
 differences are the others. For `cache-guided` the cut renders sample the guide trained on full
-paths (the low-level binding's `cache_train_max_depth`), so their vertices are the full
+paths (the options' `cache.train_max_depth`), so their vertices are the full
 render's. The error e = x - r splits as the parts' errors against the same split of the
 reference (`path` cut at CUT_SPP spp, and the bench's reference); with the bench's per-pixel
 weight w = 1 / (r^2 + eps) (both images over r's mean) the relMSE is the sum of each part's
@@ -34,8 +34,7 @@ from path_ladder import path_ladder
 
 from patina.bench.cache import FULL
 from patina.bench.convergence import DISCARD_FRACTION, RELMSE_EPSILON, reference
-from patina.native import _core
-from patina.render.run import PreparedScene, core_depth, job_settings
+from patina.render.run import PreparedScene, job_settings, new_job, path_depth
 from patina.scene.reading import with_overrides
 
 CUT_DEPTHS = (2, 3)  # Mitsuba's count: direct light at the first vertex; and at the second
@@ -47,12 +46,13 @@ def cut(scene, depth):
 
 def rendered(scene, prep, train_max_depth=0):
     """The scene's rgb on 2 threads, its guide (cache-guided) trained on paths of
-    train_max_depth (C++'s count; 0: the render's)."""
+    train_max_depth (in segments, as render.max_depth; 0: the render's)."""
     settings = job_settings(scene, None, None, None, None)
-    job = _core.RenderJob(prep.core, threads=2, cache_train_max_depth=train_max_depth, **settings)
+    settings.cache.train_max_depth = train_max_depth
+    job = new_job(prep, settings, threads=2)
     job.start()
     job.wait()
-    return np.asarray(job.resolve()["rgb"], np.float64)
+    return np.asarray(job.resolve().rgb, np.float64)
 
 
 def split_terms(parts, ref_parts, ref):
@@ -96,7 +96,7 @@ def main():
             for k in range(seeds):
                 seed = scene.render.seed + k
                 images = [
-                    rendered(with_overrides(s, seed=seed), p, core_depth(full_scene)) for s, p in zip(scenes_cut, preps)
+                    rendered(with_overrides(s, seed=seed), p, path_depth(full_scene)) for s, p in zip(scenes_cut, preps)
                 ]
                 parts = [images[0]] + [b - a for a, b in itertools.pairwise(images)]
                 if min(float(p.min()) for p in parts) < -1e-3 * float(images[-1].max()):

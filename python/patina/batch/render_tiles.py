@@ -54,6 +54,7 @@ from patina.render.run import (
     RenderResult,
     check_prepared,
     job_settings,
+    new_job,
     render_result,
 )
 from patina.scene.types import Scene
@@ -87,7 +88,7 @@ class SceneBundle:
 
     scene: Scene
     files: dict[str, bytes]  # path in `scene` -> content
-    settings: dict[str, Any]  # job_settings
+    settings: _core.RenderOptions  # job_settings
     scene_checksum: str
     checksum: str
     # path in `scene` -> {the path relative to it of a file it reads in turn: its content}
@@ -154,7 +155,7 @@ def gltf_companions(path: str, content: bytes) -> list[str]:
     return found
 
 
-def bundle_scene(scene: Scene, settings: dict[str, Any]) -> SceneBundle:
+def bundle_scene(scene: Scene, settings: _core.RenderOptions) -> SceneBundle:
     """The scene, its files' bytes (and a .gltf's buffers and images) and the job settings,
     with their checksum."""
     files: dict[str, bytes] = {}
@@ -177,7 +178,7 @@ def bundle_scene(scene: Scene, settings: dict[str, Any]) -> SceneBundle:
             digest.update(relative.encode())
             digest.update(hashlib.sha256(extra).digest())
     scene_checksum = digest.hexdigest()
-    digest.update(pickle.dumps(sorted(settings.items()), protocol=4))
+    digest.update(repr(settings).encode())  # every option by name
     return SceneBundle(scene, files, settings, scene_checksum, digest.hexdigest(), companions)
 
 
@@ -234,7 +235,7 @@ def _worker_job(bundle: SceneBundle) -> _WorkerJob:
         prepared = _cached(_scenes, bundle.scene_checksum, lambda: _prepare(bundle))
 
         def make() -> _WorkerJob:
-            job = _core.RenderJob(prepared.core, threads=1, **bundle.settings)
+            job = new_job(prepared, bundle.settings, threads=1)
             return _WorkerJob(job, [threading.Lock() for _ in range(job.tile_count)])
 
         return _cached(_jobs, bundle.checksum, make)
@@ -256,7 +257,7 @@ def render_passes(
     out: dict[str, Any] = {
         "tiles": {},
         **{k: before[k] if before is not None else 0 for k in COUNTS},
-        "simd_width": bundle.settings["width"],
+        "simd_width": bundle.settings.width,
     }
     with contextlib.ExitStack() as locked:
         for tile in tiles:  # in increasing order, as every task takes them: no deadlock
@@ -266,7 +267,7 @@ def render_passes(
         work = job.render_tiles(list(tiles), *passes)
         out["tiles"] = {tile: job.read_tile(tile) for tile in tiles}
     for k in COUNTS:
-        out[k] += work[k]
+        out[k] += getattr(work, k)
     out["simd_width"] = out["simd_width"] or _core.default_width()
     return out
 
@@ -430,7 +431,7 @@ def render_on_dask(
         )
     settings = job_settings(scene, simd, aa, aa_threshold)
     prep = check_prepared(scene, prepared)
-    merged = _core.RenderJob(prep.core, threads=1, **settings)
+    merged = new_job(prep, settings, threads=1)
     threads = sum(client.nthreads().values())
     pixels = scene.camera.width * scene.camera.height
     shape = task_shape(merged.tile_count, merged.pass_count, threads, pixels * scene.render.spp)

@@ -21,7 +21,7 @@ from patina.bench.records import Record, simd_widths
 from patina.bench.render import llvm_variant_works, preview_scene
 from patina.bundled import materials_path
 from patina.native import _core
-from patina.render.run import PreparedScene, core_depth
+from patina.render.run import PreparedScene, path_depth
 from patina.scene.reading import load_scene, with_overrides
 from patina.scene.types import Scene
 
@@ -59,21 +59,21 @@ KINDS: dict[str, tuple[str, ...]] = {
 def stage_seconds(prep: PreparedScene, scene: Scene, simd: int) -> dict[str, float]:
     """One single-thread render's CPU seconds per stage, plus sampler_film (the pixel sampler and
     film between batches: the work items' time not in a stage) and total (the items' time)."""
-    job = _core.RenderJob(
-        prep.core,
+    options = _core.RenderOptions(
         spp=scene.render.spp,
-        max_depth=core_depth(scene),
+        max_depth=path_depth(scene),
         seed=scene.render.seed,
         threads=1,
         width=simd,
         stage_clock="cpu",  # the thread's CPU time: a shared machine's waits for a core left out
     )
+    job = _core.RenderJob(prep.core, options)
     job.start()
     job.wait()
     times = job.stage_times()
-    out = dict(times["stages"])
-    out["sampler_film"] = max(times["item_seconds"] - sum(out.values()), 0.0)
-    out["total"] = times["item_seconds"]
+    out = dict(times.stages)
+    out["sampler_film"] = max(times.item_seconds - sum(out.values()), 0.0)
+    out["total"] = times.item_seconds
     return out
 
 

@@ -23,7 +23,7 @@ from patina.atomic import atomic_output
 from patina.bundled import materials_path
 from patina.geometry.mesh import Mesh
 from patina.native import _core
-from patina.render.run import PreparedScene, core_depth
+from patina.render.run import PreparedScene, path_depth
 from patina.scene.reading import load_scene, with_overrides
 
 RECORD_LIMIT = 4_000_000  # rays kept at most: a preview at the bench's size traces fewer
@@ -57,7 +57,8 @@ def _record(scene_file: str, quick: bool) -> tuple[PreparedScene, dict[str, np.n
     w, h, spp = _settings(quick)
     scene = with_overrides(load_scene(scene_file), integrator="path", width=w, height=h, spp=spp)
     prep = PreparedScene(scene)
-    job = _core.RenderJob(prep.core, spp=spp, max_depth=core_depth(scene), seed=scene.render.seed, threads=1)
+    options = _core.RenderOptions(spp=spp, max_depth=path_depth(scene), seed=scene.render.seed, threads=1)
+    job = _core.RenderJob(prep.core, options)
     _core.start_ray_recording(RECORD_LIMIT)
     try:
         job.start()

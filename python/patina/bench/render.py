@@ -28,7 +28,7 @@ from patina.bench.mitsuba_scenes import mitsuba_scene_dict, preview_mitsuba_scen
 from patina.bench.records import Record, median_times_and_values, simd_widths
 from patina.bundled import materials_path
 from patina.native import _core
-from patina.render.run import PreparedScene, core_depth
+from patina.render.run import PreparedScene, path_depth
 from patina.scene.mitsuba import to_mitsuba
 from patina.scene.reading import load_scene, with_overrides
 from patina.scene.types import Scene
@@ -54,18 +54,18 @@ def _render(
 ) -> np.ndarray:
     """One render of the prepared scene, start to resolved image; the linear RGB image. simd: 1, 4, 8 (0: default);
     seed, sampler: the scene's unless given."""
-    job = _core.RenderJob(
-        prep.core,
+    options = _core.RenderOptions(
         spp=spp or scene.render.spp,
-        max_depth=core_depth(scene),
+        max_depth=path_depth(scene),
         seed=scene.render.seed if seed is None else seed,
         threads=threads,
         width=simd,
         sampler=sampler or scene.render.sampler,
     )
+    job = _core.RenderJob(prep.core, options)
     job.start()
     job.wait()
-    return np.asarray(job.resolve()["rgb"], np.float64)
+    return np.asarray(job.resolve().rgb, np.float64)
 
 
 # --- SIMD width and threads on the preview scene ---------------------------------------------

@@ -33,6 +33,7 @@ from patina.colour_constants import luminance
 from patina.errors import FormatError
 from patina.geometry.mesh import load_mesh
 from patina.lighting.sensors import parse_sensor
+from patina.native import _core
 from patina.render import illuminance as il
 from patina.render.cache_memory import cache_memory_notice
 from patina.render.images import read_image
@@ -119,15 +120,7 @@ def _with_options(scene: Scene, args: argparse.Namespace) -> Scene:
         aa_threshold=args.aa_threshold,
         indirect_illuminance=True if args.indirect_illuminance else None,
         sampler=args.sampler,
-        cache_resolution=args.cache_resolution,
-        cache_error=args.cache_error,
-        cache_guide=args.cache_guide,
-        cache_block=args.cache_block,
-        cache_hit_paths=args.cache_hit_paths,
-        cache_train_passes=args.cache_train_passes,
-        cache_train_spp=args.cache_train_spp,
-        cache_train_guide=args.cache_train_guide,
-        cache_train_bounces=args.cache_train_bounces,
+        **{f"cache_{key}": getattr(args, f"cache_{key}") for key in CACHE_RANGES},
     )
 
 
@@ -388,18 +381,8 @@ def _output_options(s: argparse.ArgumentParser, default_out: str, exposure_help:
         help="the integrator (default: the scene's); cache and cache-guided: docs/radiance-cache.md",
     )
     defaults = CacheParams()
-    for key, what in (
-        ("resolution", "texels per side of a cache point's hemisphere"),
-        ("error", "the cache's reuse criterion bound (larger: fewer cache points, more reuse)"),
-        ("guide", "cache-guided: probability of drawing the first bounce from the cache points"),
-        ("block", "pixels per side of the blocks whose close points share one reconstruction"),
-        ("hit_paths", "cache: paths from a cache point's texel hit on a glossy surface"),
-        ("train_passes", "cache-guided: training passes of the trained guide (0: cache points guide)"),
-        ("train_spp", "cache-guided: samples a pixel in each training pass"),
-        ("train_guide", "cache-guided: probability of drawing a bounce from the trained guide"),
-        ("train_bounces", "cache-guided: the bounces of a path the trained guide draws (1: the first hit's)"),
-    ):
-        lo, hi = CACHE_RANGES[key]
+    for key, (lo, hi) in CACHE_RANGES.items():
+        what = getattr(_core.CacheSettings, key).__doc__  # the renderer's field, documented once
         whole = key in CACHE_INTEGER_KEYS
         s.add_argument(
             f"--cache-{key.replace('_', '-')}",

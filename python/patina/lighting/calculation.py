@@ -187,7 +187,7 @@ def _ugr(project: Project, scene: Scene, prepared: PreparedScene, result: Result
     a = math.radians(project.azimuth)
     pts = np.ascontiguousarray([eye], np.float32)
     normal = np.ascontiguousarray([[math.cos(a), 0.0, math.sin(a)]], np.float32)
-    depth = il.indirect_depth(scene)
+    depth = il.sensor_depth(scene)
     samples, seed, width = max(project.samples, 1024), scene.render.seed, core_width(None)
     total = _core.sensor_illuminance(prepared.core, pts, normal, samples, seed, width, 0, depth)
     direct = _core.sensor_illuminance(prepared.core, pts, normal, samples, seed, width, 0, 0)

@@ -32,7 +32,6 @@ from patina.lighting.sensors import make_sensors, parse_sensor
 from patina.native import _core
 from patina.progress import Progress
 from patina.render.prepare import PreparedScene
-from patina.render.run import core_depth
 from patina.scene.types import Scene
 from patina.widths import core_width
 
@@ -138,7 +137,7 @@ def compute(
     patina.lighting.direct with a shadow ray each (no sampling; deterministic). The other
     lights (area, sun, environment): by `samples` light samples per sensor, and with
     `indirect` the interreflections of every light by `samples` sensor paths of at most
-    `indirect_depth(scene)` vertices; both through `_core.sensor_illuminance`, CHUNK_SENSORS
+    the vertices of a camera path of render.max_depth; both through `_core.sensor_illuminance`, CHUNK_SENSORS
     sensors per call (progress shown with `progress`, Ctrl-C stops between chunks). Each
     chunk's sensors are numbered from 0 in its random streams, so the result depends on the
     seed and the chunk size only (not on threads or width)."""
@@ -163,7 +162,7 @@ def compute(
         )
     normals = np.ascontiguousarray(sensors.normals, np.float32)
     simd, seed = core_width(width), scene.render.seed
-    depth = indirect_depth(scene) if indirect else 0
+    depth = sensor_depth(scene) if indirect else 0
     # a chunk of sensor paths costs about a camera path per sample: show progress sooner
     chunk = CHUNK_SENSORS // 16 if indirect else CHUNK_SENSORS
     chunks = range(0, len(pts), chunk)
@@ -195,11 +194,11 @@ def ray_offset(prepared: PreparedScene) -> float:
     return max(1e-5, 2e-5 * max(extent, float(prepared.core.scene_radius)))
 
 
-def indirect_depth(scene: Scene) -> int:
-    """Vertices a sensor path may have: those of the scene's camera paths under the path
-    integrator (render.max_depth in segments, Mitsuba's convention, whatever render.integrator
-    says): a sensor sees what a camera at its place would, minus the emitters."""
-    return core_depth(dataclasses.replace(scene, render=dataclasses.replace(scene.render, integrator="path")))
+def sensor_depth(scene: Scene) -> int:
+    """The max_depth of the sensor paths (`_core.sensor_illuminance`): the scene's camera
+    paths' under the path integrator (render.max_depth in segments, whatever render.integrator
+    says), so a sensor sees what a camera at its place would, minus the emitters."""
+    return scene.render.max_depth
 
 
 def write_csv(report: IlluminanceReport, path: str) -> None:

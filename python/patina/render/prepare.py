@@ -374,20 +374,21 @@ def _emitter_mesh(light: Light) -> tuple[np.ndarray, ...] | None:
     return None
 
 
-def camera_dict(scene: Scene) -> dict[str, Any]:
+def core_camera(scene: Scene) -> _core.Camera:
+    """The scene's camera as the renderer takes it: its frame and the tangent of half its fov."""
     cam = scene.camera
     right, up, forward = cam.basis()
-    return {
-        "position": [float(x) for x in cam.position],
-        "forward": forward.tolist(),
-        "right": right.tolist(),
-        "up": up.tolist(),
-        "tan_half_fov": math.tan(math.radians(cam.fov) / 2),
-        "width": int(cam.width),
-        "height": int(cam.height),
-        "aperture_radius": float(cam.aperture_radius),
-        "focus_distance": float(cam.focus_distance),
-    }
+    return _core.Camera(
+        position=[float(x) for x in cam.position],
+        forward=forward.tolist(),
+        right=right.tolist(),
+        up=up.tolist(),
+        tan_half_fov=math.tan(math.radians(cam.fov) / 2),
+        width=int(cam.width),
+        height=int(cam.height),
+        aperture_radius=float(cam.aperture_radius),
+        focus_distance=float(cam.focus_distance),
+    )
 
 
 # Memory a render holds per pixel at its peak: the film's sums (13 doubles: rgb, albedo,
@@ -504,7 +505,7 @@ class PreparedScene:
         self.core_lights = lights
         self.arrays = (indices, normals, tangents, tri_material)
         self.accel = _core.Accel(vertices, indices, **spheres.accel_arguments())
-        self.core = _core.RenderScene(self.accel, indices, normals, tangents, tri_material, camera_dict(scene))
+        self.core = _core.RenderScene(self.accel, indices, normals, tangents, tri_material, core_camera(scene))
         for m in core_materials:
             self.core.add_material(m)
         for light in lights:

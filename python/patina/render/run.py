@@ -12,20 +12,19 @@ per pixel done, rays/s, time left) and turns Ctrl-C into a cancel:
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import os
 import threading
-from dataclasses import dataclass
 
 import numpy as np
 
 from patina.native import _core
 from patina.progress import Progress
 from patina.render.prepare import PreparedScene
-from patina.scene.reading import AA_SAMPLERS, SAMPLERS
-from patina.scene.types import Scene
+from patina.scene.types import CacheParams, Scene
 from patina.widths import core_width
 
-UNBOUNDED_DEPTH = 64  # a Mitsuba-style max_depth of -1 ("unbounded"); Russian roulette ends paths long before
 POLL_S = 0.1  # how often the progress display and Ctrl-C are looked at while a render runs
 
 
@@ -33,7 +32,7 @@ class RenderAborted(KeyboardInterrupt):
     """A render stopped by a second interrupt: there is no image to keep."""
 
 
-@dataclass
+@dataclasses.dataclass
 class RenderResult:
     """A finished (or interrupted) render: linear images and what it took."""
 
@@ -66,19 +65,7 @@ class RenderResult:
 
 
 CACHE_COUNTS = ("cache_points", "cache_queries", "cache_texels_reprojected", "cache_texels_traced")
-
-
-def core_integrator(scene: Scene) -> str:
-    """The C++ integrator mode: direct lighting is the path tracer at depth 1."""
-    return scene.render.integrator if scene.render.integrator in ("cache", "cache-guided") else "path"
-
-
-def core_depth(scene: Scene) -> int:
-    """The C++ integrator's bounce limit from the scene's (Mitsuba-style) max_depth and integrator."""
-    if scene.render.integrator == "direct":
-        return 1
-    depth = scene.render.max_depth
-    return UNBOUNDED_DEPTH if depth < 0 else max(1, depth - 1)
+DIRECT_DEPTH = 2  # the `direct` integrator: the path tracer at max_depth 2 (emitters and direct light)
 
 
 class _Waiter(threading.Thread):
@@ -111,8 +98,8 @@ def _run_job(job: _core.RenderJob, pixels: int, spp: int, progress: bool, by_ite
 
         def show() -> None:
             p = job.progress()
-            rate = p["rays"] / max(p["seconds"], 1e-9) / 1e6
-            done = spp * p["items_done"] / max(p["items_total"], 1) if by_items else p["samples_done"] / pixels
+            rate = p.rays / max(p.seconds, 1e-9) / 1e6
+            done = spp * p.items_done / max(p.items_total, 1) if by_items else p.samples_done / pixels
             bar.update(round(done, 1), postfix=f"{rate:.2f} Mrays/s")
 
         job.start()
@@ -150,39 +137,43 @@ def job_settings(
     aa: str | None = None,
     aa_threshold: float | None = None,
     sampler: str | None = None,
-) -> dict:
-    """The `_core.RenderJob` settings of `scene` (all but the thread count): what makes its
-    image, so a distributed render (patina.batch.render_tiles) gives the same. simd, aa,
-    aa_threshold, sampler: as `render`. ValueError for a sampler or threshold out of range."""
-    aa = scene.render.aa if aa is None else aa
-    threshold = scene.render.aa_threshold if aa_threshold is None else aa_threshold
-    if aa not in AA_SAMPLERS:
-        raise ValueError(f"aa: {aa!r} is not one of {', '.join(repr(a) for a in AA_SAMPLERS)}")
-    sampler = scene.render.sampler if sampler is None else sampler
-    if sampler not in SAMPLERS:
-        raise ValueError(f"sampler: {sampler!r} is not one of {', '.join(repr(s) for s in SAMPLERS)}")
-    if isinstance(threshold, bool) or not isinstance(threshold, (int, float)) or not 0.0 <= threshold <= 1.0:
-        raise ValueError(f"aa_threshold: must be a number in [0, 1], got {threshold!r}")
-    return {
-        "spp": scene.render.spp,
-        "max_depth": core_depth(scene),
-        "seed": scene.render.seed,
-        "width": core_width(simd),
-        "aa": aa,
-        "aa_threshold": float(threshold),
-        "indirect_illuminance": scene.render.indirect_illuminance,
-        "sampler": sampler,
-        "integrator": core_integrator(scene),
-        "cache_resolution": scene.render.cache.resolution,
-        "cache_error": float(scene.render.cache.error),
-        "cache_guide": float(scene.render.cache.guide),
-        "cache_block": scene.render.cache.block,
-        "cache_hit_paths": scene.render.cache.hit_paths,
-        "cache_train_passes": scene.render.cache.train_passes,
-        "cache_train_spp": scene.render.cache.train_spp,
-        "cache_train_guide": float(scene.render.cache.train_guide),
-        "cache_train_bounces": scene.render.cache.train_bounces,
-    }
+) -> _core.RenderOptions:
+    """The `_core.RenderOptions` of `scene` (all but the thread count): what makes its image,
+    so a distributed render (patina.batch.render_tiles) gives the same. simd, aa,
+    aa_threshold, sampler: as `render`. ValueError naming a setting out of its range."""
+    r = scene.render
+    options = _core.RenderOptions(
+        spp=r.spp,
+        max_depth=path_depth(scene),
+        seed=r.seed,
+        width=core_width(simd),
+        aa=r.aa if aa is None else aa,
+        aa_threshold=r.aa_threshold if aa_threshold is None else aa_threshold,
+        indirect_illuminance=r.indirect_illuminance,
+        sampler=r.sampler if sampler is None else sampler,
+        integrator="path" if r.integrator == "direct" else r.integrator,
+        cache=cache_settings(r.cache),
+    )
+    options.check()
+    return options
+
+
+def path_depth(scene: Scene) -> int:
+    """The max_depth `scene`'s paths are traced to: render.max_depth, or DIRECT_DEPTH for the
+    `direct` integrator (the path tracer cut to direct light)."""
+    return DIRECT_DEPTH if scene.render.integrator == "direct" else scene.render.max_depth
+
+
+def cache_settings(params: CacheParams) -> _core.CacheSettings:
+    """The scene's render.cache as the renderer takes it, key by key."""
+    return _core.CacheSettings(**dataclasses.asdict(params))
+
+
+def new_job(prepared: PreparedScene, options: _core.RenderOptions, threads: int) -> _core.RenderJob:
+    """A job of `options` on `threads` worker threads (0: all); `options` is left as it is."""
+    options = copy.copy(options)
+    options.threads = threads
+    return _core.RenderJob(prepared.core, options)
 
 
 def check_prepared(scene: Scene, prepared: PreparedScene | None) -> PreparedScene:
@@ -197,22 +188,23 @@ def check_prepared(scene: Scene, prepared: PreparedScene | None) -> PreparedScen
 
 
 def render_result(
-    scene: Scene, images: dict, settings: dict, *, seconds: float, rays: int, camera_rays: int, complete: bool,
+    scene: Scene, images: _core.ResolvedImages, settings: _core.RenderOptions, *,
+    seconds: float, rays: int, camera_rays: int, complete: bool,
     threads: int, simd_width: int, interrupted: bool, cache: dict | None = None,
 ) -> RenderResult:  # fmt: skip
     """A RenderResult from a job's resolved `images` and its `settings` (job_settings);
     `cache`: the job's radiance-cache counts (CACHE_COUNTS of its progress), if any."""
     # the adaptive sampler's weights sum to 1 a pass up to float rounding
-    if float(images["samples"].min()) < 1 - 1e-4:
+    if float(images.samples.min()) < 1 - 1e-4:
         # cannot happen (a cancel finishes the first pass); never hand out unsampled pixels
         raise RuntimeError("the render stopped with pixels that have no sample")
     return RenderResult(
-        rgb=images["rgb"],
-        albedo=images["albedo"],
-        normal=images["normal"],
-        depth=images["depth"],
-        illuminance=images["illuminance"],
-        samples=images["samples"],
+        rgb=images.rgb,
+        albedo=images.albedo,
+        normal=images.normal,
+        depth=images.depth,
+        illuminance=images.illuminance,
+        samples=images.samples,
         spp=scene.render.spp,
         seconds=seconds,
         rays=rays,
@@ -220,12 +212,12 @@ def render_result(
         simd_width=simd_width,
         threads=threads,
         interrupted=interrupted,
-        aa=settings["aa"],
-        aa_threshold=settings["aa_threshold"],
-        sampler=settings["sampler"],
+        aa=settings.aa,
+        aa_threshold=float(str(np.float32(settings.aa_threshold))),  # the float32 taken, as its shortest decimal
+        sampler=settings.sampler,
         camera_rays=camera_rays,
-        aa_level=images.get("aa_level"),
-        aa_rays=images.get("aa_rays"),
+        aa_level=images.aa_level,
+        aa_rays=images.aa_rays,
         **{k: int((cache or {}).get(k, 0)) for k in CACHE_COUNTS},
     )
 
@@ -250,20 +242,20 @@ def render(
     Ctrl-C: see the module docstring (a second one raises `RenderAborted`)."""
     settings = job_settings(scene, simd, aa, aa_threshold, sampler)
     prep = check_prepared(scene, prepared)
-    job = _core.RenderJob(prep.core, threads=threads, **settings)
+    job = new_job(prep, settings, threads)
     pixels = scene.camera.width * scene.camera.height
-    interrupted = _run_job(job, pixels, scene.render.spp, progress, by_items=settings["aa"] == "adaptive")
+    interrupted = _run_job(job, pixels, scene.render.spp, progress, by_items=settings.aa == "adaptive")
     p = job.progress()
     return render_result(
         scene,
         job.resolve(),
         settings,
-        seconds=float(p["seconds"]),
-        rays=int(p["rays"]),
-        camera_rays=int(p["samples_done"]),
-        complete=bool(p["finished"]),  # an interrupt after the last item still leaves a whole image
+        seconds=p.seconds,
+        rays=p.rays,
+        camera_rays=p.samples_done,
+        complete=p.finished,  # an interrupt after the last item still leaves a whole image
         threads=threads if threads > 0 else (os.cpu_count() or 1),
-        simd_width=settings["width"] or _core.default_width(),
+        simd_width=settings.width or _core.default_width(),
         interrupted=interrupted,
-        cache={k: p[k] for k in CACHE_COUNTS},
+        cache={k: getattr(p, k) for k in CACHE_COUNTS},
     )

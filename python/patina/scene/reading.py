@@ -71,8 +71,12 @@ from patina.scene.types import (
 VERSION = 1
 MAX_FILE_BYTES = 16 << 20  # a scene is a few kB; anything this large is not one
 MAX_IMAGE_SIDE = 16384
-MAX_SPP = 1 << 20
-MAX_DEPTH = 1024
+# the renderer's ranges of render.spp, render.max_depth, render.aa_threshold and --threads: its
+# one table (render/render_options.h), read through the binding
+RENDER_RANGES = {key: (lo, hi) for key, _integer, lo, hi in _core.render_option_ranges()}
+MAX_SPP = int(RENDER_RANGES["spp"][1])
+MAX_DEPTH = int(RENDER_RANGES["max_depth"][1])
+AA_THRESHOLD_RANGE = RENDER_RANGES["aa_threshold"]
 MAX_SEED = (1 << 63) - 1
 # Ranges that keep a render inside the renderer's 32-bit floats (docs/scene.md, "Limits"):
 # radiance times BRDF times the sums of up to MAX_SPP samples must stay far below 3.4e38.
@@ -216,7 +220,7 @@ def _render(o: Obj) -> Render:
         max_depth=o.read("max_depth", integer, 8, lo=1, hi=MAX_DEPTH),
         seed=o.read("seed", integer, 0, lo=0, hi=MAX_SEED),
         aa=o.read("aa", choice, "uniform", options=AA_SAMPLERS),
-        aa_threshold=o.read("aa_threshold", number, AA_THRESHOLD, lo=0.0, hi=1.0),
+        aa_threshold=o.read("aa_threshold", number, AA_THRESHOLD, lo=AA_THRESHOLD_RANGE[0], hi=AA_THRESHOLD_RANGE[1]),
         indirect_illuminance=o.read("indirect_illuminance", boolean, False),
         sampler=o.read("sampler", choice, "sobol", options=SAMPLERS),
         cache=_cache_params(o.obj("cache", {})),
@@ -676,37 +680,23 @@ def with_overrides(
     aa_threshold: float | None = None,
     indirect_illuminance: bool | None = None,
     sampler: str | None = None,
-    cache_resolution: int | None = None,
-    cache_error: float | None = None,
-    cache_guide: float | None = None,
-    cache_block: int | None = None,
-    cache_hit_paths: int | None = None,
-    cache_train_passes: int | None = None,
-    cache_train_spp: int | None = None,
-    cache_train_guide: float | None = None,
-    cache_train_bounces: int | None = None,
+    **cache: float | None,
 ) -> Scene:
     """The scene with command-line settings replacing the file's; bad values are FormatErrors
-    naming the option (file "command line")."""
+    naming the option (file "command line"). `cache`: cache_<key> for each render.cache key
+    (cache_train_bounces=2, --cache-train-bounces); None leaves the file's."""
     ctx = Ctx("command line", os.getcwd())
     render, camera = scene.render, scene.camera
     if spp is not None:
         render = dataclasses.replace(render, spp=integer(ctx, "--spp", spp, lo=1, hi=MAX_SPP))
     if integrator is not None:
         render = dataclasses.replace(render, integrator=choice(ctx, "--integrator", integrator, INTEGRATORS))
-    cache = render.cache
-    given_cache = {
-        "resolution": cache_resolution,
-        "error": cache_error,
-        "guide": cache_guide,
-        "block": cache_block,
-        "hit_paths": cache_hit_paths,
-        "train_passes": cache_train_passes,
-        "train_spp": cache_train_spp,
-        "train_guide": cache_train_guide,
-        "train_bounces": cache_train_bounces,
-    }
-    for key, given in given_cache.items():
+    unknown = sorted(set(cache) - {f"cache_{key}" for key in CACHE_RANGES})
+    if unknown:
+        raise TypeError(f"with_overrides() got an unexpected keyword argument {unknown[0]!r}")
+    params = render.cache
+    for key in CACHE_RANGES:
+        given = cache.get(f"cache_{key}")
         if given is not None:
             lo, hi = CACHE_RANGES[key]
             option = f"--cache-{key.replace('_', '-')}"
@@ -714,14 +704,15 @@ def with_overrides(
                 value = integer(ctx, option, given, lo=int(lo), hi=int(hi))
             else:
                 value = number(ctx, option, given, lo=lo, hi=hi)
-            cache = dataclasses.replace(cache, **{key: value})
-    render = dataclasses.replace(render, cache=cache)
+            params = dataclasses.replace(params, **{key: value})
+    render = dataclasses.replace(render, cache=params)
     if seed is not None:
         render = dataclasses.replace(render, seed=integer(ctx, "--seed", seed, lo=0, hi=MAX_SEED))
     if aa is not None:
         render = dataclasses.replace(render, aa=choice(ctx, "--aa", aa, AA_SAMPLERS))
     if aa_threshold is not None:
-        render = dataclasses.replace(render, aa_threshold=number(ctx, "--aa-threshold", aa_threshold, lo=0.0, hi=1.0))
+        lo, hi = AA_THRESHOLD_RANGE
+        render = dataclasses.replace(render, aa_threshold=number(ctx, "--aa-threshold", aa_threshold, lo=lo, hi=hi))
     if indirect_illuminance is not None:
         render = dataclasses.replace(render, indirect_illuminance=bool(indirect_illuminance))
     if sampler is not None:
@@ -733,7 +724,7 @@ def with_overrides(
     return dataclasses.replace(scene, render=render, camera=camera)
 
 
-MAX_THREADS = 1024  # worker threads; more than any machine's cores is a typo, not a request
+MAX_THREADS = int(RENDER_RANGES["threads"][1])  # worker threads; more than any machine's cores is a typo
 MAX_EXPOSURE = 64.0  # stops either way: 2^64 brightens 1e-19 to 1, well past any real image
 
 

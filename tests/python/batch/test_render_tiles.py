@@ -20,7 +20,7 @@ from patina.cli import main
 from patina.native import _core
 from patina.render.images import read_image
 from patina.render.prepare import PreparedScene
-from patina.render.run import RenderAborted, job_settings, render
+from patina.render.run import RenderAborted, job_settings, new_job, render
 from patina.scene.reading import load_scene, with_overrides
 
 IMAGES = ("rgb", "albedo", "normal", "depth", "illuminance", "samples", "aa_level", "aa_rays")
@@ -99,7 +99,7 @@ def _tasks_in_process(scene, groups: int):
     """The Dask tasks' work run here, one after the other, merged as render_on_dask merges it."""
     settings = job_settings(scene)
     bundle = render_tiles.bundle_scene(scene, settings)
-    merged = _core.RenderJob(_prepared().core, threads=1, **settings)
+    merged = new_job(_prepared(), settings, threads=1)
     for tiles in render_tiles.tile_groups(merged.tile_count, groups):
         before = None
         for passes in render_tiles.pass_runs(merged.pass_count):
@@ -116,20 +116,20 @@ def test_tiles_rendered_in_chained_tasks_give_the_local_image_bit_for_bit(aa):
     local = _local(scene)
     for name in IMAGES:
         if getattr(local, name) is not None:
-            assert np.array_equal(images[name], getattr(local, name)), name
-    assert ("aa_level" in images) == (aa == "adaptive")
+            assert np.array_equal(getattr(images, name), getattr(local, name)), name
+    assert (images.aa_level is not None) == (aa == "adaptive")
 
 
 def test_a_worker_job_with_another_renders_sums_starts_its_first_pass_from_zero():
     scene = _scene(spp=2)
     first, _ = _tasks_in_process(scene, groups=2)
     again, _ = _tasks_in_process(scene, groups=3)  # the cached worker job still holds the first run's sums
-    assert np.array_equal(first["rgb"], again["rgb"])
+    assert np.array_equal(first.rgb, again.rgb)
 
 
 def test_write_tile_checks_what_it_is_given():
     scene = _scene(spp=1)
-    job = _core.RenderJob(_prepared().core, **job_settings(scene))
+    job = _core.RenderJob(_prepared().core, job_settings(scene))
     sums = job.read_tile(0)["sums"]
     with pytest.raises(ValueError, match="tile 0: sums must have shape"):
         job.write_tile(0, sums[:, :-1])

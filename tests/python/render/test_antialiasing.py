@@ -280,18 +280,18 @@ def test_cli_options_and_the_exr_header(tmp_path, capsys):
 
 def test_a_cancelled_adaptive_render_keeps_its_first_pass():
     prepared = PreparedScene(scene_of(disc_scene((0, 0, -1))))
-    job = _core.RenderJob(prepared.core, spp=4, max_depth=1, seed=0, threads=1, aa="adaptive")
+    job = _core.RenderJob(prepared.core, _core.RenderOptions(spp=4, max_depth=2, seed=0, threads=1, aa="adaptive"))
     job.cancel()  # before it starts: the first pass (one pattern a pixel) still finishes
     job.start()
     job.wait()
     images = job.resolve()
-    assert not job.progress()["finished"]
-    assert np.allclose(images["samples"], 1.0, atol=1e-4)
-    assert np.isfinite(images["rgb"]).all() and (images["aa_level"] >= 1).all()
+    assert not job.progress().finished
+    assert np.allclose(images.samples, 1.0, atol=1e-4)
+    assert np.isfinite(images.rgb).all() and (images.aa_level >= 1).all()
     with pytest.raises(ValueError, match="aa"):
-        _core.RenderJob(prepared.core, spp=1, max_depth=1, aa="smart")
+        _core.RenderJob(prepared.core, _core.RenderOptions(spp=1, max_depth=2, aa="smart"))
     with pytest.raises(ValueError, match="aa_threshold"):
-        _core.RenderJob(prepared.core, spp=1, max_depth=1, aa="adaptive", aa_threshold=-1.0)
+        _core.RenderJob(prepared.core, _core.RenderOptions(spp=1, max_depth=2, aa="adaptive", aa_threshold=-1.0))
 
 
 @pytest.mark.parametrize("size", [(1, 1), (33, 17)])
@@ -303,10 +303,12 @@ def test_tile_sizes_give_the_same_image(size):
     prepared = PreparedScene(scene_of(obj))
     images = []
     for tile in (1, 3, 16):
-        job = _core.RenderJob(prepared.core, spp=2, max_depth=1, seed=0, threads=2, tile_size=tile, aa="adaptive")
+        job = _core.RenderJob(
+            prepared.core, _core.RenderOptions(spp=2, max_depth=2, seed=0, threads=2, tile_size=tile, aa="adaptive")
+        )
         job.start()
         job.wait()
         images.append(job.resolve())
     for im in images[1:]:
-        assert np.array_equal(im["rgb"], images[0]["rgb"])
-    assert np.allclose(images[0]["samples"], 2.0, atol=1e-4)
+        assert np.array_equal(im.rgb, images[0].rgb)
+    assert np.allclose(images[0].samples, 2.0, atol=1e-4)

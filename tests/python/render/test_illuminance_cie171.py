@@ -143,7 +143,7 @@ def test_a_closed_box_of_uniform_reflectance_reflects_rho_phi_over_s_one_minus_r
     w, h, d, cd = 4.0, 2.5, 3.0, 1000.0
     s = scene(box_shapes(w, h, d), [{"type": "point", "position": [0.7, 1.9, -0.4], "intensity_cd": cd}], rho, 64)
     pts, nrm, area = box_sensors(w, h, d, 10)
-    e = interreflected(PreparedScene(s), pts, nrm, 128, il.indirect_depth(s))
+    e = interreflected(PreparedScene(s), pts, nrm, 128, il.sensor_depth(s))
     phi, total_area = 4 * math.pi * cd, 2 * (w * d + w * h + h * d)
     expected = rho * phi / (total_area * (1 - rho))
     assert (e * area).sum() / area.sum() == pytest.approx(expected, rel=0.01)

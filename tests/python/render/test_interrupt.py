@@ -22,7 +22,7 @@ from patina.render.images import read_exr_layers
 from repo_paths import ROOT
 
 BALL = os.path.join(ROOT, "materials", "scenes", "preview-ball.json")
-FIRST_PASS_SPP = 16  # RenderSettings::max_pass_spp: the first pass of a render of many samples
+FIRST_PASS_SPP = 16  # RenderOptions::max_pass_spp: the first pass of a render of many samples
 
 
 def start(out, *options: str) -> subprocess.Popen:

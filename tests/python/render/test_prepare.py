@@ -15,9 +15,10 @@ import numpy as np
 import pytest
 
 from patina.errors import FormatError
+from patina.native import _core
 from patina.render.prepare import (
     PreparedScene,
-    camera_dict,
+    core_camera,
     orthonormal_frame32,
     quad_normal_area,
     sun_cone,
@@ -150,15 +151,16 @@ def test_wrong_types_and_values_name_the_key(prepared):
         prepared.core.add_light(point(kind="pont"))
 
 
-def test_the_camera_keys_are_checked_too(prepared):
-    cam = camera_dict(prepared.scene)
-    core = prepared.core
+def test_the_camera_fields_are_checked_too(prepared):
+    cam = core_camera(prepared.scene)
     args = (prepared.accel, *prepared.arrays)
-    bad = dict(cam, focus_distanse=cam.pop("focus_distance"))
-    with pytest.raises(ValueError, match="the camera: missing key 'focus_distance'"):
-        type(core)(*args, bad)
-    with pytest.raises(ValueError, match="the camera: unknown key 'fov'"):
-        type(core)(*args, dict(camera_dict(prepared.scene), fov=40))
+    with pytest.raises(TypeError, match="Camera: no field 'fov'"):
+        _core.Camera(fov=40)
+    with pytest.raises(ValueError, match=r"Camera\.position: must be 3 numbers"):
+        cam.position = [0.0, 1.0]
+    cam.focus_distance = math.inf
+    with pytest.raises(ValueError, match="the camera: 'focus_distance' is not finite"):
+        type(prepared.core)(*args, cam)
 
 
 def light_entry(prepared: PreparedScene, kind: str) -> dict:

@@ -208,22 +208,22 @@ def test_a_cancelled_render_keeps_its_first_pass_and_a_second_cancel_stops_at_on
     tiles = math.ceil(scene.camera.width / 16) * math.ceil(scene.camera.height / 16)
     # cancelled before it starts: one cancel still lets the first pass finish, so no pixel is
     # left without a sample (it used to leave every pixel at 0)
-    job = _core.RenderJob(prepared.core, spp=64, max_depth=4, seed=0, threads=1, passes=8)
+    job = _core.RenderJob(prepared.core, _core.RenderOptions(spp=64, max_depth=5, seed=0, threads=1, passes=8))
     job.cancel()
     job.start()
     job.wait()
     images = job.resolve()
     p = job.progress()
-    assert not p["finished"] and p["cancelled"] and p["items_done"] == tiles
-    assert np.isfinite(images["rgb"]).all()
-    assert set(np.unique(images["samples"])) == {8.0}  # every pixel: the whole first pass of 8
+    assert not p.finished and p.cancelled and p.items_done == tiles
+    assert np.isfinite(images.rgb).all()
+    assert set(np.unique(images.samples)) == {8.0}  # every pixel: the whole first pass of 8
     # a second cancel stops at the items in flight: here none has started
-    job = _core.RenderJob(prepared.core, spp=64, max_depth=4, seed=0, threads=1, passes=8)
+    job = _core.RenderJob(prepared.core, _core.RenderOptions(spp=64, max_depth=5, seed=0, threads=1, passes=8))
     job.cancel()
     job.cancel()
     job.start()
     job.wait()
-    assert job.progress()["items_done"] == 0
+    assert job.progress().items_done == 0
 
 
 def test_a_render_cancelled_later_keeps_whole_passes_per_tile():
@@ -231,13 +231,13 @@ def test_a_render_cancelled_later_keeps_whole_passes_per_tile():
 
     scene = scene_of(small_preview(spp=64))
     prepared = PreparedScene(scene)
-    job = _core.RenderJob(prepared.core, spp=64, max_depth=4, seed=0, threads=1, passes=8)
+    job = _core.RenderJob(prepared.core, _core.RenderOptions(spp=64, max_depth=5, seed=0, threads=1, passes=8))
     job.start()
-    while job.progress()["items_done"] < 2 * math.ceil(scene.camera.width / 16) * math.ceil(scene.camera.height / 16):
+    while job.progress().items_done < 2 * math.ceil(scene.camera.width / 16) * math.ceil(scene.camera.height / 16):
         pass
     job.cancel()
     job.wait()
-    samples = job.resolve()["samples"]
+    samples = job.resolve().samples
     # every pixel is the mean of the samples it got: whole passes of 8, at least the first two
     assert set(np.unique(samples)) <= {16.0, 24.0, 32.0, 40.0, 48.0, 56.0, 64.0}
 
@@ -253,3 +253,57 @@ def test_bundled_scenes_render_without_nan_or_inf(name):
     for image in (r.rgb, r.albedo, r.normal, r.illuminance):
         assert np.isfinite(image).all()
     assert r.rgb.max() > 0
+
+
+def test_job_settings_take_the_scene_files_max_depth_as_it_is():
+    from patina.native import _core
+    from patina.render.run import job_settings
+    from patina.scene.reading import with_overrides
+
+    scene = scene_of(small_preview(spp=4))
+    options = job_settings(scene)
+    assert options.max_depth == scene.render.max_depth and options.integrator == "path"
+    assert options.cache == _core.CacheSettings()
+    direct = job_settings(with_overrides(scene, integrator="direct"))
+    assert direct.max_depth == 2 and direct.integrator == "path"  # direct light: two segments
+    cached = job_settings(with_overrides(scene, integrator="cache-guided", cache_train_bounces=3))
+    assert cached.integrator == "cache-guided" and cached.cache.train_bounces == 3
+
+
+def test_render_options_are_named_checked_in_one_place_and_travel_whole():
+    import pickle
+
+    from patina.native import _core
+    from patina.scene.reading import MAX_DEPTH, MAX_SPP
+
+    options = _core.RenderOptions(spp=8, max_depth=5, aa="adaptive", sampler="independent")
+    options.cache.train_bounces = 4
+    again = pickle.loads(pickle.dumps(options))
+    assert again == options and again.cache.train_bounces == 4 and again.aa == "adaptive"
+    with pytest.raises(TypeError, match="no field 'depth'"):
+        _core.RenderOptions(depth=3)
+    with pytest.raises(ValueError, match="integrator: 'bidir' is not one of 'path', 'cache', 'cache-guided'"):
+        _core.RenderOptions(integrator="bidir")
+    for field, value, message in [
+        ("spp", 0, "spp: must be an integer from 1 to 1048576, got 0"),
+        ("max_depth", 1025, "max_depth: must be an integer from 1 to 1024, got 1025"),
+        ("aa_threshold", 1.5, r"aa_threshold: must be a number in \[0, 1\], got 1.5"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            _core.RenderOptions(**{field: value}).check()
+    # the scene reader's limits are the renderer's table
+    ranges = {key: (lo, hi) for key, _integer, lo, hi in _core.render_option_ranges()}
+    assert ranges["spp"][1] == MAX_SPP and ranges["max_depth"][1] == MAX_DEPTH
+
+
+def test_a_jobs_results_are_typed():
+    from patina.native import _core
+
+    prepared = PreparedScene(scene_of(small_preview(spp=2)))
+    job = _core.RenderJob(prepared.core, _core.RenderOptions(spp=2, max_depth=3, threads=1))
+    job.start()
+    job.wait()
+    p, images, times = job.progress(), job.resolve(), job.stage_times()
+    assert p.finished and p.items_done == p.items_total and p.cache_points == 0
+    assert images.rgb.shape[2] == 3 and images.aa_level is None and (images.samples == 2).all()
+    assert times.camera_rays == p.samples_done and "trace_camera" in times.stages

@@ -206,7 +206,7 @@ def test_bad_sampler_values_are_one_line_naming_the_key_or_option(tmp_path, caps
     with pytest.raises(ValueError, match="sampler"):
         render(scene, sampler="halton")
     with pytest.raises(ValueError, match="sampler"):
-        _core.RenderJob(PreparedScene(scene).core, spp=1, max_depth=1, sampler="halton")
+        _core.RenderJob(PreparedScene(scene).core, _core.RenderOptions(spp=1, max_depth=2, sampler="halton"))
     with pytest.raises(ValueError, match="sampler"):
         _core.sample_points("halton", 4, 2)
 

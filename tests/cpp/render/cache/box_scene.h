@@ -98,11 +98,11 @@ inline std::vector<CameraSample> pixel_samples(int width, int height, int spp, u
     return cs;
 }
 
-// A render job's settings for the box: tiles of 8 pixels, 4 segments, cache points of 16 x 16.
-inline RenderSettings box_job_settings(IntegratorMode mode, int threads, int spp, int width = 0) {
-    RenderSettings st;
+// A render job's settings for the box: tiles of 8 pixels, paths of 5 segments, cache points of 16 x 16.
+inline RenderOptions box_job_settings(IntegratorMode mode, int threads, int spp, int width = 0) {
+    RenderOptions st;
     st.spp = spp;
-    st.max_depth = 4;
+    st.max_depth = 5;
     st.seed = 5;
     st.threads = threads;
     st.width = width;

@@ -22,16 +22,16 @@ using namespace patina::test;
 
 namespace {
 
-RenderSettings trained(IntegratorMode mode, int threads, int spp, int width = 0) {
-    RenderSettings st = box_job_settings(mode, threads, spp, width);
-    st.max_depth = 5;
+RenderOptions trained(IntegratorMode mode, int threads, int spp, int width = 0) {
+    RenderOptions st = box_job_settings(mode, threads, spp, width);
+    st.max_depth = 6;
     st.cache.train_passes = 2;
     st.cache.train_bounces = 16;  // every bounce
     st.cache.train_spp = 2;
     return st;
 }
 
-std::vector<float> image(const RenderScene& scene, const RenderSettings& st) {
+std::vector<float> image(const RenderScene& scene, const RenderOptions& st) {
     RenderJob job(scene, st);
     job.start();
     job.wait();
@@ -97,17 +97,17 @@ TEST(TrainedGuide, DrawsFromTheGuideAndKeepsThePathTracersMean) {
 }
 
 // cache.train_max_depth (the low-level binding's measuring knob): a render cut to direct light
-// (max_depth 1) samples the guide trained on paths of 5 vertices, so its first vertex is the
+// (max_depth 2) samples the guide trained on paths of 5 vertices, so its first vertex is the
 // full render's -- the cut image is the full one's first part, below it in every pixel -- and
 // not the path tracer's direct light (the guide draws some first bounces that hit the light).
 TEST(TrainedGuide, ACutRenderSamplesTheGuideTrainedOnFullPaths) {
     const BoxScene b(16, 16);
-    RenderSettings cut = trained(IntegratorMode::CacheGuided, 2, 8);
+    RenderOptions cut = trained(IntegratorMode::CacheGuided, 2, 8);
     cut.cache.train_bounces = 1;
-    RenderSettings full = cut;
-    cut.max_depth = 1;
+    RenderOptions full = cut;
+    cut.max_depth = 2;
     cut.cache.train_max_depth = full.max_depth;
-    RenderSettings untrained = cut;
+    RenderOptions untrained = cut;
     untrained.cache.train_max_depth = 0;  // trained on the cut paths: no indirect records, no guide
     const std::vector<float> first = image(b.scene, cut), whole = image(b.scene, full);
     const std::vector<float> direct = image(b.scene, untrained);
@@ -120,15 +120,15 @@ TEST(TrainedGuide, ACutRenderSamplesTheGuideTrainedOnFullPaths) {
 }
 
 TEST(TrainedGuide, TrainMaxDepthOutOfRangeNamesTheSetting) {
-    for (int bad : {-1, 65}) {
+    for (int bad : {-1, 1025}) {
         CacheSettings s;
         s.train_max_depth = bad;
         try {
             check_cache_settings(s);
             FAIL() << "train_max_depth " << bad << " accepted";
         } catch (const std::invalid_argument& e) {
-            EXPECT_NE(std::string(e.what()).find("cache_train_max_depth"), std::string::npos) << e.what();
-            EXPECT_NE(std::string(e.what()).find("0 to 64"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("cache.train_max_depth"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("0 to 1024"), std::string::npos) << e.what();
         }
     }
 }

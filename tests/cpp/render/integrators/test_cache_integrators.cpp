@@ -43,8 +43,8 @@ double mean_radiance(const std::vector<PathResult>& r) {
     return s / (3.0 * static_cast<double>(r.size()));
 }
 
-RenderSettings job_settings(IntegratorMode mode, int threads, int spp, int width = 0) {
-    RenderSettings st = box_job_settings(mode, threads, spp, width);
+RenderOptions job_settings(IntegratorMode mode, int threads, int spp, int width = 0) {
+    RenderOptions st = box_job_settings(mode, threads, spp, width);
     st.max_pass_spp = 1;  // a pass a sample: the regions' cache points serve every pass
     st.cache.train_passes = 0;  // cache-guided: the cache points guide (the trained guide: tests/cpp/render/guiding)
     return st;
@@ -131,7 +131,7 @@ TEST(CacheIntegrators, SharedRegionsKeepTheImageIndependentOfWidthAndTileOrder) 
 TEST(CacheIntegrators, PassesShareTheRegionsReconstructions) {
     const BoxScene b(32, 32);
     auto run = [&](IntegratorMode mode, int spp, int pass_spp, size_t* traced) {
-        RenderSettings st = job_settings(mode, 2, spp);
+        RenderOptions st = job_settings(mode, 2, spp);
         st.max_pass_spp = pass_spp;
         RenderJob job(b.scene, st);
         job.start();
