@@ -216,10 +216,10 @@ TileRect RenderJob::tile_rect(int tile) const {
     return TileRect{x0, y0, std::min(x0 + ts, cam.width), std::min(y0 + ts, cam.height)};
 }
 
-// The regions whose hemispheres the tile's pixels may take: those under the tile and its
-// margin of half a block (a pixel draws its hemisphere from the block-sized window around it,
-// across a region's edge too: cache_stages_impl.h, jittered_pixel). Their cache points serve
-// the tile's own queries only from the regions under the tile itself.
+// The regions whose hemispheres the tile's pixels may take: those under the tile and within
+// a block of it (for `cache`, a pixel draws its hemisphere from the window of 2 x 2 blocks
+// around it, across region edges too: cache_stages_impl.h, jittered_pixel). Only the
+// regions under the tile itself serve its own queries' cache points.
 std::vector<int> RenderJob::cache_regions_near(int tile) const {
     const TileRect r = tile_rect(tile);
     const int margin = m_integrator.mode == IntegratorMode::Cache ? m_integrator.cache.block : 0;

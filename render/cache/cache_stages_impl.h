@@ -132,16 +132,15 @@ inline int64_t block_of_pixel(const Camera& cam, int K, int64_t px, int64_t py) 
     return (py / K) * blocks_x + px / K;
 }
 
-// The hemisphere a region reconstructed for point sp of pixel (px, py), as an index in
-// st.stored (added there at first use), or -1: the one the pixel's own pre-pass point took
-// if sp shares its surface (the sample lies within a pixel of that point), else the first
-// of its block and region sharing sp's surface with sp within its reach.
 // The pre-pass pixel whose hemisphere pixel (px, py) tries first: a pixel drawn uniformly
-// from the block-sized window around it (kept inside the image; the item holds the regions
-// the window reaches: RenderJob::cache_regions_near), by a number of its own for each pass. Pixels near a block's edge so take the neighbouring block's hemisphere as
-// often as the window overlaps it -- a stochastic bilinear blend of the blocks' hemispheres:
-// their noise, shared by a block, no longer steps at the block grid's lines (the mosaic,
-// docs/radiance-cache.md), and progressive passes average the blend out.
+// from the window of 2 x 2 blocks around it (kept inside the image; the item holds the
+// regions the window reaches: RenderJob::cache_regions_near), by a number of the pixel's
+// own for each pass. A pixel near a block's edge so takes the neighbouring block's
+// hemisphere as often as the window overlaps that block -- a stochastic tent-weighted blend
+// of the blocks' reconstructions: their noise, shared by a block, no longer steps at the
+// block grid's lines (docs/radiance-cache.md, "The mosaic"), and progressive passes average
+// the blend out. Two blocks wide rather than one: the studio's and the IES interior's
+// mosaic measures (k = 16) went 1.28 -> 1.24 and 1.17 -> 1.10.
 template <class W>
 inline int64_t jittered_pixel(const W& w, int64_t px, int64_t py, uint32_t key) {
     const Camera& cam = w.s.camera;
@@ -154,6 +153,11 @@ inline int64_t jittered_pixel(const W& w, int64_t px, int64_t py, uint32_t key) 
     return draw(py, 1, 0, cam.height) * cam.width + draw(px, 0, 0, cam.width);
 }
 
+// The hemisphere a region reconstructed for point sp of pixel (px, py), as an index in
+// st.stored (added there at first use), or -1: the one the jittered pixel's pre-pass point
+// took if sp shares its surface within its reach, else the one the pixel's own pre-pass
+// point took if sp shares its surface (the sample lies within a pixel of that point), else
+// the first of its block and region sharing sp's surface with sp within its reach.
 template <class W>
 inline int32_t stored_hemisphere(const W& w, CacheState& st, const ShadingPoint& sp, int64_t px, int64_t py,
                                  float footprint, uint32_t key) {
