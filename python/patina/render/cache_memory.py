@@ -1,14 +1,15 @@
 """The radiance cache's memory, estimated before a render starts (docs/radiance-cache.md,
-"Regions"): what `patina render` states and checks before any work.
+"Regions"): what `patina render` states before any work.
 
 The cache keeps the regions no tile needs at the moment within a budget
 (`_core.cache_region_budget_bytes`, 256 MB), dropping the least recently used ones and
 making room before each region is built. What the budget cannot bound is the regions the
 tiles in flight need: each thread holds the regions under the tile it renders (and, for
-`cache`, within a block of it) and may be building another, and one region's points are fixed by the settings and the scene, not by
-the budget. At R texels a side a cache point keeps about CACHE_BYTES_PER_TEXEL x R^2 bytes,
-and a region of P x P pixels may hold a cache point for every block of K x K pixels (more
-only where one block sees several surfaces), so a region may weigh (P / K)^2 of them."""
+`cache`, within a block of it) and may be building another, and a region's points are set
+by the settings and the scene, not by the budget. At R texels a side a cache point keeps
+about CACHE_BYTES_PER_TEXEL x R^2 bytes, and a region of P x P pixels may hold a cache
+point for every block of K x K pixels (more only where one block sees several surfaces),
+so a region may weigh (P / K)^2 of them."""
 
 from __future__ import annotations
 
