@@ -211,13 +211,22 @@ TileRect RenderJob::tile_rect(int tile) const {
     return TileRect{x0, y0, std::min(x0 + ts, cam.width), std::min(y0 + ts, cam.height)};
 }
 
+// The regions whose hemispheres the tile's pixels may take: those under the tile and within
+// a block of it (for `cache`, a pixel draws its hemisphere from the window of 2 x 2 blocks
+// around it, across region edges too: cache_stages_impl.h, jittered_pixel). Only the
+// regions under the tile itself serve its own queries' cache points.
+std::vector<int> RenderJob::cache_regions_near(int tile) const {
+    const TileRect r = tile_rect(tile);
+    const int margin = m_integrator.mode == IntegratorMode::Cache ? m_integrator.cache.block : 0;
+    const Camera& cam = m_scene.camera;
+    return m_cache_regions->overlapping(std::max(r.x0 - margin, 0), std::max(r.y0 - margin, 0),
+                                        std::min(r.x1 + margin, cam.width), std::min(r.y1 + margin, cam.height));
+}
+
 void RenderJob::expect_cache_regions(const std::vector<int>& tiles, int passes) {
     if (!m_cache_regions) return;
-    for (const int tile : tiles) {
-        const TileRect r = tile_rect(tile);
-        for (const int region : m_cache_regions->overlapping(r.x0, r.y0, r.x1, r.y1))
-            m_cache_regions->expect(region, passes);
-    }
+    for (const int tile : tiles)
+        for (const int region : cache_regions_near(tile)) m_cache_regions->expect(region, passes);
 }
 
 // A region's cache points from its pre-pass: a camera ray through every pixel's centre, its
@@ -253,17 +262,17 @@ size_t RenderJob::run_item(const Item& item, PixelSampler& sampler, PathScratch&
     scratch.cache_shared.clear();
     scratch.cache_shared_hemispheres.clear();
     if (m_cache_regions) {
-        const std::vector<int> ids = m_cache_regions->overlapping(rect.x0, rect.y0, rect.x1, rect.y1);
+        const std::vector<int> under = m_cache_regions->overlapping(rect.x0, rect.y0, rect.x1, rect.y1);
         const CacheRegions::Build build = [&](int, int x0, int y0, int x1, int y1, CacheRegion& made) {
             build_cache_region(x0, y0, x1, y1, made, scratch);
         };
-        for (const int r : ids) {
+        for (const int r : cache_regions_near(item.tile)) {
             hold.held.push_back(m_cache_regions->acquire(r, build));
             hold.ids.push_back(r);
-        }
-        for (const auto& region : hold.held) {
-            for (const CachePoint& a : region->points) scratch.cache_shared.push_back(&a);
-            for (const RegionHemisphere& h : region->hemispheres) scratch.cache_shared_hemispheres.push_back(&h);
+            if (std::find(under.begin(), under.end(), r) != under.end())
+                for (const CachePoint& a : hold.held.back()->points) scratch.cache_shared.push_back(&a);
+            for (const RegionHemisphere& h : hold.held.back()->hemispheres)
+                scratch.cache_shared_hemispheres.push_back(&h);
         }
     }
     sampler.begin(rect, item.pass);

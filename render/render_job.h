@@ -96,6 +96,7 @@ private:
                     std::vector<PathResult>& out);
     // the radiance cache's regions: announce the items of `passes` passes of `tiles`; build one
     void expect_cache_regions(const std::vector<int>& tiles, int passes);
+    std::vector<int> cache_regions_near(int tile) const;
     void build_cache_region(int x0, int y0, int x1, int y1, CacheRegion& out, PathScratch& scratch) const;
 
     const RenderScene& m_scene;

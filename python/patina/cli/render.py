@@ -213,7 +213,7 @@ def preview_exposure(env: str | None) -> str:
 
 def _render_and_write(scene: Any, args: argparse.Namespace, exposure_choice: str) -> int:
     exr, image = _outputs(args)
-    check_render_memory(scene, args.threads)
+    check_render_memory(scene)
     notice = cache_memory_notice(scene, args.threads)
     if notice:
         print(notice, file=sys.stderr)

@@ -1,14 +1,15 @@
 """The radiance cache's memory, estimated before a render starts (docs/radiance-cache.md,
-"Regions"): what `patina render` states and checks before any work.
+"Regions"): what `patina render` states before any work.
 
 The cache keeps the regions no tile needs at the moment within a budget
 (`_core.cache_region_budget_bytes`, 256 MB), dropping the least recently used ones and
 making room before each region is built. What the budget cannot bound is the regions the
-tiles in flight need: each thread holds the region of the tile it renders and may be
-building another, and one region's points are fixed by the settings and the scene, not by
-the budget. At R texels a side a cache point keeps about CACHE_BYTES_PER_TEXEL x R^2 bytes,
-and a region of P x P pixels may hold a cache point for every block of K x K pixels (more
-only where one block sees several surfaces), so a region may weigh (P / K)^2 of them."""
+tiles in flight need: each thread holds the regions under the tile it renders (and, for
+`cache`, within a block of it) and may be building another, and a region's points are set
+by the settings and the scene, not by the budget. At R texels a side a cache point keeps
+about CACHE_BYTES_PER_TEXEL x R^2 bytes, and a region of P x P pixels may hold a cache
+point for every block of K x K pixels (more only where one block sees several surfaces),
+so a region may weigh (P / K)^2 of them."""
 
 from __future__ import annotations
 
@@ -38,14 +39,30 @@ def render_threads(threads: int) -> int:
     return threads or os.cpu_count() or 1  # 0: one a core, as the render job takes it
 
 
+# The render job's tiles: the adaptive sampler's and the uniform sampler's (render/render_job.cpp)
+TILE_PIXELS = {"adaptive": 32, "uniform": 16}
+
+
+def regions_held(scene: Scene) -> int:
+    """The regions a tile's item may hold: those under the tile and, for `cache`, its margin
+    of a block, whose hemispheres its pixels may take (RenderJob::cache_regions_near)."""
+    margin = scene.render.cache.block if scene.render.integrator == "cache" else 0
+    size, tile = _core.cache_region_pixels, TILE_PIXELS[scene.render.aa]
+    across = max(
+        (x0 + tile + margin - 1) // size - max(x0 - margin, 0) // size + 1 for x0 in range(0, size * tile, tile)
+    )
+    return across * across
+
+
 def cache_memory(scene: Scene, threads: int) -> int:
     """Bytes the radiance cache may take at most: the kept regions' budget and, for each of
-    `threads` (0: one a core), a region held and one being built (0 without a cache)."""
+    `threads` (0: one a core), the regions its item holds and one being built (0 without a
+    cache)."""
     if scene.render.integrator not in CACHE_INTEGRATORS:
         return 0
     cache = scene.render.cache
-    held = 2 * render_threads(threads) * cache_region_bytes(cache.resolution, cache.block)
-    return _core.cache_region_budget_bytes + held
+    per_thread = (regions_held(scene) + 1) * cache_region_bytes(cache.resolution, cache.block)
+    return _core.cache_region_budget_bytes + render_threads(threads) * per_thread
 
 
 def cache_memory_notice(scene: Scene, threads: int) -> str | None:
@@ -60,7 +77,8 @@ def cache_memory_notice(scene: Scene, threads: int) -> str | None:
         f"radiance cache: may take up to {need / 2**30:.1f} GiB: at resolution {cache.resolution} a cache point "
         f"keeps about {cache_point_bytes(cache.resolution) / 2**20:.2f} MB and at block {cache.block} a "
         f"{pixels}x{pixels}-pixel region up to {math.ceil(pixels / cache.block) ** 2} of them; a thread "
-        f"holds a region and may build another ({render_threads(threads)} threads here), beyond the "
+        f"holds up to {regions_held(scene)} regions and may build another ({render_threads(threads)} threads here), "
+        "beyond the "
         f"{budget / 2**20:.0f} MB the cache keeps between tiles (a larger --cache-block or a smaller "
         "--cache-resolution takes less)"
     )

@@ -27,7 +27,6 @@ from patina.geometry import shapes
 from patina.native import _core
 from patina.photometry.luminaire import load_luminaire
 from patina.photometry.placement import luminaire_axes, rgb_per_candela
-from patina.render.cache_memory import cache_memory
 from patina.render.images import read_image
 from patina.render.materials import core_material
 from patina.scene.reading import MAX_EMISSION, MAX_LENGTH, OVERFLOWS, similarity_scale
@@ -421,24 +420,17 @@ def render_memory(width: int, height: int) -> int:
     return width * height * RENDER_BYTES_PER_PIXEL
 
 
-def check_render_memory(scene: Scene, threads: int = 0) -> None:
-    """Before any work: the image and the radiance cache of `threads` threads (0: one a
-    core) fit in memory, or a FormatError saying how large they may be (instead of a
-    MemoryError once the film, the cache or the outputs are allocated)."""
+def check_render_memory(scene: Scene) -> None:
+    """Before any work: the image fits in memory, or a FormatError saying how large it may be
+    (instead of a MemoryError once the film or the outputs are allocated). The radiance
+    cache's is stated, not checked (patina.render.cache_memory: its bound is a cache point a
+    pixel, which scenes rarely come near)."""
     w, h = scene.camera.width, scene.camera.height
     available = available_memory()
     if available is None:
         return
     budget = int(available * MEMORY_SHARE)
-    cache = cache_memory(scene, threads)
-    if cache > budget // 2:
-        raise FormatError(
-            scene.path,
-            "render.cache.resolution and render.cache.block (or --cache-resolution, --cache-block)",
-            f"the radiance cache may need {cache / 2**30:.1f} GiB; {budget / 2**30:.1f} GiB may be used here: "
-            "use a larger block or a smaller resolution",
-        )
-    need = render_memory(w, h) + cache
+    need = render_memory(w, h)
     if need > budget:
         side = math.isqrt(max(budget // RENDER_BYTES_PER_PIXEL, 1))
         raise FormatError(

@@ -172,8 +172,11 @@ def test_the_radiance_cache_renders_on_the_cluster_as_here_bit_for_bit(cluster, 
     assert there.complete
     assert_same_image(there, here, same_rays=False)  # the regions' rays, traced in each process
     assert there.rays >= here.rays
-    counts = ("cache_queries", "cache_texels_reprojected", "cache_texels_traced")
-    assert [getattr(there, k) for k in counts] == [getattr(here, k) for k in counts]
+    # the items' queries are the same; the regions' pre-pass queries and their texels are
+    # counted by every process that builds the region
+    assert there.cache_queries == here.cache_queries
+    counts = ("cache_texels_reprojected", "cache_texels_traced")
+    assert all(getattr(there, k) >= getattr(here, k) for k in counts)
     if integrator == "cache-guided" and train_passes > 0:
         assert there.cache_points == here.cache_points == 0
     else:
