@@ -5,8 +5,6 @@ from __future__ import annotations
 
 import os
 
-import pytest
-
 from patina.cli import main
 from patina.native import _core
 from patina.render.cache_memory import (
