@@ -83,6 +83,7 @@ struct Grid2Handle {
 patina::MixtureParams mixture_params(const std::string& kind, const std::vector<float>& values, bool per_channel);
 
 void bind_table(nb::module_& m);
+void bind_rgl(nb::module_& m);
 void bind_accel(nb::module_& m);
 void bind_fit(nb::module_& m);
 void bind_render(nb::module_& m);
