@@ -82,6 +82,11 @@ def test_below_the_horizon_is_zero(materials):
     wi = np.array([[0.3, 0.0, 0.954], [0.3, 0.0, -0.954], [0.0, 0.6, 0.8]], np.float32)
     wo = np.array([[-0.2, 0.1, -0.97], [0.0, 0.0, 1.0], [0.0, -0.6, 0.0]], np.float32)
     assert np.all(native.eval(wi, wo) == 0) and np.all(native.pdf(wi, wo) == 0)
+    # non-finite directions read no memory outside the grids (every index is clamped)
+    bad = np.array([[np.nan, 0.0, 0.8], [np.inf, 0.1, 0.9], [0.1, -np.inf, np.inf]], np.float32)
+    for width in (1, 0):
+        assert native.eval(bad, wi[[2, 2, 2]], width=width).shape == (3, 3)
+        assert native.pdf(wi[[2, 2, 2]], bad, width=width).shape == (3,)
 
 
 def _reference_pdf(brdf: RglBrdf, wi: np.ndarray, wo: np.ndarray) -> np.ndarray:
@@ -168,3 +173,27 @@ def test_pdf_follows_the_luminance_of_the_reflected_energy(materials):
     density = pdf / (pdf.mean() * 2 * math.pi)
     significant = shape > 0.2 * shape.max()
     assert np.median(np.abs(density[significant] / shape[significant] - 1)) < 0.1
+
+
+@pytest.mark.parametrize("name", ["isotropic rgb", "anisotropic half range"])
+def test_sampling_estimator_mean_is_the_albedo(materials, name):
+    """White furnace: the mean of f cos(theta_o) / pdf over the sampler's directions is the
+    directional albedo, integral of f cos(theta_o) over the hemisphere (here by a 256 x 512
+    midpoint rule in (cos theta_o, phi_o))."""
+    native = native_rgl(materials[name])
+    wi = angles_to_directions(np.radians(40.0), 2.0).astype(np.float32)
+    cos_o = (np.arange(256) + 0.5) / 256
+    phi_o = (np.arange(512) + 0.5) / 512 * 2 * math.pi - math.pi
+    c, p = np.meshgrid(cos_o, phi_o, indexing="ij")
+    grid = angles_to_directions(np.arccos(c.ravel()), p.ravel()).astype(np.float32)
+    f = native.eval(np.repeat(wi[None, :], len(grid), axis=0), grid).astype(np.float64)
+    albedo = (f * grid[:, 2:3]).sum(axis=0) * (2 * math.pi / len(grid))
+    samples = 200_000
+    rng = np.random.default_rng(12)
+    wis = np.repeat(wi[None, :], samples, axis=0)
+    wo, pdf = native.sample(wis, rng.random((samples, 2), dtype=np.float32))
+    kept = pdf > 0
+    weight = np.zeros((samples, 3))
+    weight[kept] = native.eval(wis[kept], wo[kept]) * wo[kept, 2:3] / pdf[kept, None]
+    mean, error = weight.mean(axis=0), weight.std(axis=0) / math.sqrt(samples)
+    assert np.all(np.abs(mean - albedo) < 4 * error + 2e-3 * albedo), (mean, albedo, error)
