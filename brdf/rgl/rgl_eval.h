@@ -97,7 +97,7 @@ PATINA_INLINE void rgl_eval_block(const RglView& v, const Vec3<vfloat<N>>& wi, c
                                   RglHints& hints, vfloat<N> (&rgb)[kRglChannels]) {
     using F = vfloat<N>;
     const RglPairs<N> q = rgl_pairs<N>(v, wi, wo, hints);
-    const RglInverse<N> s = rgl_warp_invert<N>(v.vndf, q.params, q.u_m_x, q.u_m_y);
+    const RglWarpPoint<N> s = rgl_warp_invert<N>(v.vndf, q.params, q.u_m_x, q.u_m_y);
     const RglPatch<N> patch = rgl_patch<N>(s.x, s.y, v.values.height, v.values.width);
     F scale = F(1.0f) / q.wo.z;  // the file holds f cos(theta_o)
     if (v.jacobian) {
@@ -118,7 +118,7 @@ PATINA_INLINE vfloat<N> rgl_pdf_block(const RglView& v, const Vec3<vfloat<N>>& w
                                       RglHints& hints) {
     using F = vfloat<N>;
     const RglPairs<N> q = rgl_pairs<N>(v, wi, wo, hints);
-    const RglInverse<N> s = rgl_warp_invert<N>(v.vndf, q.params, q.u_m_x, q.u_m_y);
+    const RglWarpPoint<N> s = rgl_warp_invert<N>(v.vndf, q.params, q.u_m_x, q.u_m_y);
     const F luminance = rgl_warp_density<N>(v.luminance, q.params, s.x, s.y);
     // d(omega_m) / d(u_m) = 2 pi^2 u sin(theta_m), and d(omega_o) / d(omega_m) = 4 <wi, m>
     const F sin_m = sqrt_exact(q.half.x * q.half.x + q.half.y * q.half.y);

@@ -78,15 +78,17 @@ PATINA_INLINE vfloat<N> rgl_warp_density(const RglWarpView& w, const RglParams<N
     return value * vfloat<N>(static_cast<float>((w.width - 1) * (w.height - 1)));
 }
 
-// The inverse of a warp at (x, y): the uniform point (sx, sy) that sampling maps there, and
-// the density there (the sampling's pdf per unit area).
+// A point of the unit square and a warp's density there (per unit area): what inverting a
+// warp gives (the uniform point sampling maps onto the given one) and what sampling gives.
 template <int N>
-struct RglInverse {
+struct RglWarpPoint {
     vfloat<N> x, y, density;
 };
 
+// The inverse of a warp at (x, y).
+
 template <int N>
-PATINA_INLINE RglInverse<N> rgl_warp_invert(const RglWarpView& w, const RglParams<N>& params, vfloat<N> x,
+PATINA_INLINE RglWarpPoint<N> rgl_warp_invert(const RglWarpView& w, const RglParams<N>& params, vfloat<N> x,
                                             vfloat<N> y) {
     using F = vfloat<N>;
     using I = vint<N>;
@@ -99,7 +101,7 @@ PATINA_INLINE RglInverse<N> rgl_warp_invert(const RglWarpView& w, const RglParam
     const F v11 = rgl_blend<N>(w.data, cells, params, p.node + I(w.width + 1));
     const F c0 = (one - p.fy) * v00 + p.fy * v01;  // the density along the point's row, at its columns
     const F c1 = (one - p.fy) * v10 + p.fy * v11;
-    RglInverse<N> r;
+    RglWarpPoint<N> r;
     r.density = ((one - p.fx) * c0 + p.fx * c1) * F(static_cast<float>((w.width - 1) * (w.height - 1)));
     F ux = p.fx * (c0 + half * p.fx * (c1 - c0));
     ux = ux + (one - p.fy) * rgl_blend<N>(w.conditional, cells, params, p.node) +

@@ -19,4 +19,10 @@ void rgl_pdf_batch(const RglView& v, const float* wi, const float* wo, float* pd
     parallel_for(n, 64, threads, [&](size_t begin, size_t end) { kernel(v, wi, wo, pdf, begin, end); });
 }
 
+void rgl_sample_batch(const RglView& v, const float* wi, const float* u1, const float* u2, float* wo, float* pdf,
+                      size_t n, int width, int threads) {
+    const auto kernel = rgl_kernels_for(width).sample;
+    parallel_for(n, 64, threads, [&](size_t begin, size_t end) { kernel(v, wi, u1, u2, wo, pdf, begin, end); });
+}
+
 }  // namespace patina

@@ -5,7 +5,7 @@
 namespace patina {
 
 const RglKernels& rgl_kernels_w16() {
-    static const RglKernels k{16, &rgl_eval_kernel, &rgl_pdf_kernel};
+    static const RglKernels k{16, &rgl_eval_kernel, &rgl_pdf_kernel, &rgl_sample_kernel};
     return k;
 }
 

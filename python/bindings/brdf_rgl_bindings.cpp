@@ -9,7 +9,6 @@
 
 #include "bindings.h"
 #include "brdf/rgl/rgl_kernels.h"
-#include "brdf/rgl/rgl_sample.h"
 
 namespace nb = nanobind;
 
@@ -111,7 +110,7 @@ nb::object rgl_pdf(const RglHandle& h, Directions wi, Directions wo, int width, 
     return result;
 }
 
-nb::object rgl_sample(const RglHandle& h, Directions wi, Uniforms u) {
+nb::object rgl_sample(const RglHandle& h, Directions wi, Uniforms u, int width, int threads) {
     const size_t n = wi.shape(0);
     if (u.shape(0) != n) throw std::invalid_argument("wi and u have different numbers of rows");
     float *wo, *pdf;
@@ -119,14 +118,12 @@ nb::object rgl_sample(const RglHandle& h, Directions wi, Uniforms u) {
     nb::object pdf_array = nb::cast(new_array<float, 1>({n}, &pdf));
     {
         nb::gil_scoped_release release;
+        std::vector<float> u1(n), u2(n);  // the kernels read each uniform as lanes of its own array
         for (size_t i = 0; i < n; ++i) {
-            const float* d = wi.data() + 3 * i;
-            const patina::RglSample s = patina::rgl_sample(h.view, {d[0], d[1], d[2]}, u.data()[2 * i], u.data()[2 * i + 1]);
-            wo[3 * i] = s.wo.x;
-            wo[3 * i + 1] = s.wo.y;
-            wo[3 * i + 2] = s.wo.z;
-            pdf[i] = s.pdf;
+            u1[i] = u.data()[2 * i];
+            u2[i] = u.data()[2 * i + 1];
         }
+        patina::rgl_sample_batch(h.view, wi.data(), u1.data(), u2.data(), wo, pdf, n, width, threads);
     }
     return nb::make_tuple(wo_array, pdf_array);
 }
@@ -158,7 +155,7 @@ void bind_rgl(nb::module_& m) {
              "f(wi, wo) (n, 3) linear sRGB in 1/sr for float32 (n, 3) unit directions; 0 below the horizon.")
         .def("pdf", &rgl_pdf, nb::arg("wi"), nb::arg("wo"), nb::arg("width") = 0, nb::arg("threads") = 1,
              "The density (n,) per steradian with which `sample` draws wo given wi.")
-        .def("sample", &rgl_sample, nb::arg("wi"), nb::arg("u"),
+        .def("sample", &rgl_sample, nb::arg("wi"), nb::arg("u"), nb::arg("width") = 0, nb::arg("threads") = 1,
              "wo (n, 3) and its pdf (n,) for directions wi (n, 3) and uniform points u (n, 2); pdf 0 "
              "where the sample falls below the horizon.");
 }

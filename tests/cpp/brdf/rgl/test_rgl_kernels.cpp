@@ -1,6 +1,7 @@
 // The RGL evaluator and pdf: widths 4, 8 and 16 bit-identical to width 1, lane by lane, on
 // coherent and random pairs, isotropic and anisotropic (reduced) materials; the sampler's
-// pdf against the pdf kernel's, and its directions above the horizon. (Accuracy against
+// pdf against the pdf kernel's, and its directions above the horizon; its widths likewise
+// bit-identical to width 1. (Accuracy against
 // the double-precision reference is tested from Python: tests/python/table/formats/.)
 #include <gtest/gtest.h>
 
@@ -10,7 +11,6 @@
 #include <vector>
 
 #include "brdf/rgl/rgl_kernels.h"
-#include "brdf/rgl/rgl_sample.h"
 #include "core/constants.h"
 #include "core/cpu.h"
 
@@ -146,26 +146,59 @@ TEST_P(RglLanes, AnisotropicMatchesWidth1) {
 
 INSTANTIATE_TEST_SUITE_P(Widths, RglLanes, ::testing::Values(4, 8, 16));
 
+// Sampled directions and pdfs for random incident directions (a few below the horizon).
+struct Samples {
+    std::vector<float> wi, wo, pdf;
+};
+
+Samples sample(const Material& m, int width) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const size_t n = 999;
+    Samples s;
+    std::vector<float> u1(n), u2(n);
+    for (size_t k = 0; k < n; ++k) {
+        push_direction(s.wi, 1.65 * u(rng), 2 * kPiDouble * u(rng));
+        u1[k] = u(rng);
+        u2[k] = u(rng);
+    }
+    s.wo.resize(3 * n);
+    s.pdf.resize(n);
+    rgl_sample_batch(m.view, s.wi.data(), u1.data(), u2.data(), s.wo.data(), s.pdf.data(), n, width, 1);
+    return s;
+}
+
+TEST_P(RglLanes, SamplesMatchWidth1) {
+    if (!width_supported(GetParam())) GTEST_SKIP() << "width not supported on this CPU";
+    for (bool isotropic : {true, false}) {
+        const Material m(isotropic, isotropic ? 1 : 4);
+        const Samples ref = sample(m, 1), wide = sample(m, GetParam());
+        ASSERT_EQ(std::memcmp(ref.wo.data(), wide.wo.data(), 4 * ref.wo.size()), 0);
+        ASSERT_EQ(std::memcmp(ref.pdf.data(), wide.pdf.data(), 4 * ref.pdf.size()), 0);
+    }
+}
+
 TEST(RglSample, PdfMatchesThePdfKernel) {
     for (bool isotropic : {true, false}) {
         const Material m(isotropic, isotropic ? 1 : 2);
-        std::mt19937 rng(5);
-        std::uniform_real_distribution<float> u(0.0f, 1.0f);
-        int above = 0;
-        for (int k = 0; k < 400; ++k) {
-            std::vector<float> wi;
-            push_direction(wi, 1.4 * u(rng), 2 * kPiDouble * u(rng));
-            const RglSample s = rgl_sample(m.view, {wi[0], wi[1], wi[2]}, u(rng), u(rng));
-            if (s.pdf == 0.0f) continue;
+        const Samples s = sample(m, 1);
+        const size_t n = s.pdf.size();
+        std::vector<float> pdf(n);
+        rgl_pdf_batch(m.view, s.wi.data(), s.wo.data(), pdf.data(), n, 1, 1);
+        size_t above = 0, loose = 0;
+        for (size_t k = 0; k < n; ++k) {
+            if (s.pdf[k] == 0.0f) continue;
             ++above;
-            ASSERT_GT(s.wo.z, 0.0f);
-            ASSERT_NEAR(s.wo.x * s.wo.x + s.wo.y * s.wo.y + s.wo.z * s.wo.z, 1.0f, 1e-5f);
-            const float wo[3] = {s.wo.x, s.wo.y, s.wo.z};
-            float pdf = 0.0f;
-            rgl_pdf_batch(m.view, wi.data(), wo, &pdf, 1, 1, 1);
-            ASSERT_NEAR(pdf, s.pdf, 2e-3f * s.pdf + 1e-5f) << "sample " << k;
+            const float* wo = &s.wo[3 * k];
+            ASSERT_GT(wo[2], 0.0f);
+            ASSERT_NEAR(wo[0] * wo[0] + wo[1] * wo[1] + wo[2] * wo[2], 1.0f, 1e-5f);
+            // near the pole the pdf goes as 1 / u^3 of the square-root mapping, and the round
+            // trip u -> m -> u in float keeps fewer digits there
+            ASSERT_NEAR(pdf[k], s.pdf[k], 2e-2f * s.pdf[k]) << "sample " << k;
+            loose += std::abs(pdf[k] - s.pdf[k]) > 2e-3f * s.pdf[k];
         }
-        EXPECT_GT(above, 200);
+        EXPECT_GT(above, n / 2);
+        EXPECT_LT(loose, above / 100);
     }
 }
 
