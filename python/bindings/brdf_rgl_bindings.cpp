@@ -96,8 +96,10 @@ nb::object rgl_eval(const RglHandle& h, Directions wi, Directions wo, int width,
     const size_t n = pair_count(wi, wo);
     float* out;
     nb::object result = nb::cast(new_array<float, 2>({n, static_cast<size_t>(patina::kRglChannels)}, &out));
-    nb::gil_scoped_release release;
-    patina::rgl_eval_batch(h.view, wi.data(), wo.data(), out, n, width, threads);
+    {
+        nb::gil_scoped_release release;
+        patina::rgl_eval_batch(h.view, wi.data(), wo.data(), out, n, width, threads);
+    }
     return result;
 }
 
@@ -105,8 +107,10 @@ nb::object rgl_pdf(const RglHandle& h, Directions wi, Directions wo, int width, 
     const size_t n = pair_count(wi, wo);
     float* out;
     nb::object result = nb::cast(new_array<float, 1>({n}, &out));
-    nb::gil_scoped_release release;
-    patina::rgl_pdf_batch(h.view, wi.data(), wo.data(), out, n, width, threads);
+    {
+        nb::gil_scoped_release release;
+        patina::rgl_pdf_batch(h.view, wi.data(), wo.data(), out, n, width, threads);
+    }
     return result;
 }
 
