@@ -94,6 +94,7 @@ struct SceneHandle {
 void prepare_for_render(SceneHandle& h);
 
 void bind_table(nb::module_& m);
+void bind_rgl(nb::module_& m);
 void bind_accel(nb::module_& m);
 void bind_fit(nb::module_& m);
 void bind_render(nb::module_& m);

@@ -115,6 +115,7 @@ NB_MODULE(_core, m) {
           "diverging lanes one branch after the other, as the thesis does; 'masked' (default) all at once.");
 
     bind_table(m);
+    bind_rgl(m);
     bind_accel(m);
     bind_fit(m);
     bind_render(m);

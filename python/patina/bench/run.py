@@ -29,6 +29,7 @@ from patina.bench.mitsuba_log import gathered_mitsuba_warnings
 from patina.bench.profile import bench_profile
 from patina.bench.records import Record
 from patina.bench.render import bench_render
+from patina.bench.rgl import bench_rgl
 from patina.bench.trace import bench_trace
 from patina.bundled import materials_path
 from patina.native import _core
@@ -37,6 +38,7 @@ from patina.progress import Progress
 GROUPS: dict[str, Callable[[int, bool], list[Record]]] = {
     "math": bench_math,
     "brdf": bench_brdf,
+    "rgl": bench_rgl,
     "fit": bench_fit,
     "trace": bench_trace,
     "render": bench_render,
