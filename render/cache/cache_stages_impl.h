@@ -40,17 +40,8 @@ constexpr int kLookupSamples = 32;
 inline bool texel_resolvable(const Material& m, int resolution) {
     if (m.coat) return false;
     const float texel = 2.5066283f / static_cast<float>(resolution);
-    switch (m.kind) {
-        case MaterialKind::Lambert:
-            return true;
-        case MaterialKind::Conductor:
-            return std::min(m.alpha_x, m.alpha_y) >= 2 * texel;
-        case MaterialKind::Table:
-        case MaterialKind::Mixture:
-            return m.proxy_alpha >= 2 * texel;
-        default:
-            return false;
-    }
+    const std::optional<float> alpha = reflection_alpha(m);
+    return alpha && *alpha >= 2 * texel;
 }
 
 // Whether `cache` leaves a material's indirect light to the path tracer (the path goes on
@@ -60,17 +51,10 @@ inline bool texel_resolvable(const Material& m, int resolution) {
 // one sample per camera sample: the lookup's error would be many times path's (on the
 // studio's car-paint ball 16x at 16 spp).
 inline bool left_to_path(const Material& m, int resolution) {
-    if (m.kind == MaterialKind::Dielectric || m.coat) return true;
+    if (transmits(m) || m.coat) return true;
     const float half_texel = 0.5f * 2.5066283f / static_cast<float>(resolution);
-    switch (m.kind) {
-        case MaterialKind::Conductor:
-            return std::min(m.alpha_x, m.alpha_y) < half_texel;
-        case MaterialKind::Table:
-        case MaterialKind::Mixture:
-            return m.proxy_alpha < half_texel;
-        default:
-            return false;
-    }
+    const std::optional<float> alpha = reflection_alpha(m);
+    return alpha && *alpha < half_texel;
 }
 
 // Of the materials left to the path tracer, those whose first bounce the cache splits into
@@ -80,7 +64,7 @@ inline bool left_to_path(const Material& m, int resolution) {
 // measured alike on the studio and the IES interior, 16 slower: docs/radiance-cache.md.)
 constexpr int kSplitPaths = 4;
 inline bool split_by_paths(const Material& m, int resolution) {
-    return m.kind != MaterialKind::Dielectric && left_to_path(m, resolution);
+    return !transmits(m) && left_to_path(m, resolution);
 }
 
 // Whether the integrator's first-hit points of material m take their light from the cache's
@@ -277,7 +261,7 @@ inline void mark_split_materials(const std::vector<Material>& materials, const I
     st.hit_paths = settings.cache.hit_paths;
     if (settings.mode != IntegratorMode::Cache || st.hit_paths < 2) return;
     for (const Material& m : materials)
-        st.split_material.push_back(m.kind != MaterialKind::Emitter && !texel_resolvable(m, settings.cache.resolution));
+        st.split_material.push_back(!m.is<Emitter>() && !texel_resolvable(m, settings.cache.resolution));
 }
 
 // The start of either integrator's cache stage: the worker's cache state, timed by its
@@ -438,7 +422,7 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
             const int32_t member = *i;
             const ShadingPoint& sp = sc.sorted[st.member_point[member]];
             const Material& m = w.s.materials[sp.material];
-            const bool plain = m.kind == MaterialKind::Lambert && !m.coat;
+            const bool plain = m.is<Lambert>() && !m.coat;
             if (plain && lambert >= 0 && sc.sorted[st.member_point[lambert]].material == sp.material) {
                 std::copy(st.sums.begin() + 3 * lambert, st.sums.begin() + 3 * lambert + 3, st.sums.begin() + 3 * member);
                 continue;

@@ -65,17 +65,8 @@ constexpr int kGuidedBounces = 1;
 constexpr float kFieldMinAlpha = 0.3f;
 inline bool field_guidable(const Material& m) {
     if (m.coat) return false;
-    switch (m.kind) {
-        case MaterialKind::Lambert:
-            return true;
-        case MaterialKind::Conductor:
-            return std::min(m.alpha_x, m.alpha_y) >= kFieldMinAlpha;
-        case MaterialKind::Table:
-        case MaterialKind::Mixture:
-            return m.proxy_alpha >= kFieldMinAlpha;
-        default:
-            return false;
-    }
+    const std::optional<float> alpha = reflection_alpha(m);
+    return alpha && *alpha >= kFieldMinAlpha;
 }
 
 // cache-guided, at every bounce before light sampling: each shading point's guide -- at the

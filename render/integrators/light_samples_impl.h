@@ -129,7 +129,7 @@ inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
         store_vec3(l, ll + 3 * q);
         // the light must be on the side the local direction says (shading normals bend)
         const float side = dot(ldir, sp.ng);
-        const bool transmissive = w.s.materials[sp.material].kind == MaterialKind::Dielectric;
+        const bool transmissive = transmits(w.s.materials[sp.material]);
         sc.ls_ok[q] = sc.ls_ok[q] && (transmissive ? side * l.z > 0 : side > 0);
     }
     sc.timer.lap(Stage::LightToLocal);

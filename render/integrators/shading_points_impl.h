@@ -21,7 +21,7 @@ inline bool may_shade(const Wavefront& w, const HitBatch& hits, size_t j, int de
     const int32_t prim = hits.prim[j];
     // (a path whose first hit's indirect light the cache gave only looks for emission)
     const bool cached = depth > 0 && !w.sc.cached.empty() && w.sc.cached[w.sc.active[j]];
-    return prim >= 0 && w.s.materials[w.s.tri_material[prim]].kind != MaterialKind::Emitter &&
+    return prim >= 0 && !w.s.materials[w.s.tri_material[prim]].is<Emitter>() &&
            depth < w.st.max_depth && !cached;
 }
 
@@ -50,8 +50,8 @@ inline void group_by_material(const Wavefront& w, const HitBatch& hits, int dept
     sc.material_two_sided.resize(nm);
     for (size_t k = 0; k < nm; ++k) {
         const Material& m = w.s.materials[k];
-        const bool transmissive = m.kind == MaterialKind::Dielectric;
-        sc.material_eta[k] = transmissive ? m.eta[0] : 1.0f;
+        const bool transmissive = transmits(m);
+        sc.material_eta[k] = transmissive ? m.as<Dielectric>().eta : 1.0f;
         sc.material_transmissive[k] = transmissive ? 1.0f : 0.0f;
         sc.material_two_sided[k] = m.two_sided || transmissive ? 1.0f : 0.0f;
     }

@@ -133,7 +133,7 @@ inline void start_given_paths(const Wavefront& w, const float* org, const float*
 
 inline bool scene_has_sun(const RenderScene& s) {
     for (const Light& l : s.lights)
-        if (l.kind == LightKind::Sun) return true;
+        if (l.is<SunLight>()) return true;
     return false;
 }
 
