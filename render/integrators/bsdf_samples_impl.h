@@ -22,11 +22,11 @@ using namespace kernel_width;
 // throughput times BRDF x cosine / pdf, Russian roulette, and the next ray of the paths that
 // go on, appended to sc.next_active in point order.
 inline void update_paths(const Wavefront& w, int depth, size_t np) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     const float* ll = sc.l_local.data();
     const float* fv = sc.f.data();
     const float* pdf = sc.pdf.data();
-    const bool roulette = depth + 1 >= w.st.rr_depth;
+    const bool roulette = depth + 1 >= w.settings.rr_depth;
     sc.next_active.resize(np);
     float* next_org = grow(sc.next_ray_org, 3 * np);
     float* next_dir = grow(sc.next_ray_dir, 3 * np);
@@ -37,7 +37,7 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
         uint32_t all = 0;
         if (roulette)
             for (int k = 0; k < lanes; ++k) {
-                const CameraSample& c = w.cs[sc.pt_path[q0 + k]];
+                const CameraSample& c = w.camera_samples[sc.pt_path[q0 + k]];
                 key[k] = static_cast<int32_t>(c.key);
                 index[k] = static_cast<int32_t>(c.index);
                 all |= c.index;
@@ -60,13 +60,13 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
         go = go & ((T[0] > F(0.0f)) | (T[1] > F(0.0f)) | (T[2] > F(0.0f)));
         if (roulette) {
             const F survive = std_min(F(0.95f), std_max(T[0], std_max(T[1], T[2])));
-            const F u = sample_uniform_lanes(w.st.sampler, load_n<N>(key), load_n<N>(index), bit_length(all), depth,
-                                             kDimRoulette);
+            const F u = sample_uniform_lanes(w.settings.sampler, load_n<N>(key), load_n<N>(index), bit_length(all),
+                                             depth, kDimRoulette);
             const B lives = go & !(u >= survive);
             for (int c = 0; c < 3; ++c) T[c] = select(lives, T[c] / survive, T[c]);
             go = lives;
         }
-        const F side = select(L.z > F(0.0f), F(w.eps), F(-w.eps));
+        const F side = select(L.z > F(0.0f), F(w.ray_offset), F(-w.ray_offset));
         const V3 Pp = load_rows(sc.pt_p.data(), q0, lanes);
         const V3 o = Pp + side * NG;
         alignas(64) float tt[3][N], oo[3][N], dd[3][N], pp[3][N];
@@ -98,7 +98,7 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
 // The numbers BSDF sampling draws at each point: two uniforms, and the lobe pick for the
 // groups whose sampling reads it (every point's with all_picks: a guide picks too).
 inline void draw_bsdf_numbers(const Wavefront& w, int depth, bool all_picks) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     const size_t np = sc.sorted.size();
     float* upick = grow(sc.u_pick, np);
     float* u1 = grow(sc.u1, np);
@@ -115,7 +115,7 @@ inline void draw_bsdf_numbers(const Wavefront& w, int depth, bool all_picks) {
 // Each point's next direction drawn by its material (N points of a material at a time), with
 // its density and the BSDF's value there.
 inline void sample_materials(const Wavefront& w) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     const size_t np = sc.sorted.size();
     const float* vl = sc.v_local.data();
     const float* eta = sc.eta.data();
@@ -134,10 +134,10 @@ inline void sample_materials(const Wavefront& w) {
 // The paths after their BSDF samples: throughput, Russian roulette, and the next bounce's ray
 // for the survivors (sc.next_active), while the path may still bounce.
 inline void continue_paths(const Wavefront& w, int depth) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     sc.timer.lap(Stage::ShadeSample);
     sc.next_active.clear();
-    if (depth + 1 <= w.st.max_depth) update_paths(w, depth, sc.sorted.size());
+    if (depth + 1 <= w.settings.max_depth) update_paths(w, depth, sc.sorted.size());
     sc.timer.lap(Stage::PathUpdate);
 }
 

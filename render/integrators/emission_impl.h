@@ -19,8 +19,8 @@ using namespace kernel_width;
 // BRDF sample: depth > 0) the density of light sampling; and the sun's disc, where they go
 // through it.
 inline void add_environment(const Wavefront& w, int depth) {
-    const RenderScene& s = w.s;
-    PathScratch& sc = w.sc;
+    const RenderScene& s = w.scene;
+    PathScratch& sc = w.scratch;
     const size_t n = sc.misses.size();
     if (n == 0) return;
     const float* thr = sc.throughput.data();
@@ -51,7 +51,7 @@ inline void add_environment(const Wavefront& w, int depth) {
             const float wt = mis ? power_heuristic(prev_pdf[i], (local ? selection_probability(s, from, env_light)
                                                                        : env_selection) * lp[j])
                                  : 1.0f;
-            for (int k = 0; k < 3; ++k) w.out[i].rgb[k] += thr[3 * i + k] * le[3 * j + k] * wt;
+            for (int k = 0; k < 3; ++k) w.results[i].rgb[k] += thr[3 * i + k] * le[3 * j + k] * wt;
         }
         for (size_t li = 0; li < s.lights.size(); ++li) {
             if (!s.lights[li].is<SunLight>()) continue;
@@ -60,7 +60,7 @@ inline void add_environment(const Wavefront& w, int depth) {
             const float wt = mis ? power_heuristic(prev_pdf[i], selection_probability(s, from, int(li)) /
                                                                     (2.0f * kPi * sun.one_minus_cos))
                                  : 1.0f;
-            for (int k = 0; k < 3; ++k) w.out[i].rgb[k] += thr[3 * i + k] * sun.radiance[k] * wt;
+            for (int k = 0; k < 3; ++k) w.results[i].rgb[k] += thr[3 * i + k] * sun.radiance[k] * wt;
         }
     }
 }
@@ -68,8 +68,8 @@ inline void add_environment(const Wavefront& w, int depth) {
 // Emission seen: an area light hit (MIS-weighted after a BRDF sample) adds its radiance; a
 // miss sees the environment and the sun.
 inline void add_emission_and_environment(const Wavefront& w, const HitBatch& hits, int depth) {
-    const RenderScene& s = w.s;
-    PathScratch& sc = w.sc;
+    const RenderScene& s = w.scene;
+    PathScratch& sc = w.scratch;
     sc.misses.clear();
     const bool emission = depth > 0 || w.first_emission;
     for (size_t j = 0; j < sc.active.size(); ++j) {
@@ -91,9 +91,9 @@ inline void add_emission_and_environment(const Wavefront& w, const HitBatch& hit
                 wt = power_heuristic(sc.prev_pdf[i], area_light_pdf(s, load_vec3(sc.prev_pos.data() + 3 * i),
                                                                     light, facing, hits.t[j]));
             const float* T = sc.throughput.data() + 3 * i;
-            for (int k = 0; k < 3; ++k) w.out[i].rgb[k] += T[k] * l.radiance[k] * wt;
+            for (int k = 0; k < 3; ++k) w.results[i].rgb[k] += T[k] * l.radiance[k] * wt;
         }
-        if (depth == 0) w.out[i].depth = hits.t[j];
+        if (depth == 0) w.results[i].depth = hits.t[j];
     }
     add_environment(w, depth);
     sc.timer.lap(Stage::Emission);

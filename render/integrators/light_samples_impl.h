@@ -48,7 +48,7 @@ PATINA_INLINE I load_path_lanes(const int32_t* p, size_t i, int lanes) {
 // BRDF x cosine x radiance x MIS weight / pdf), lux and ray with queue_shadow_ray's operations,
 // and the lanes that carry light written to the queue in point order (a compress-store).
 inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     const float* ll = sc.l_local.data();
     const float* fv = sc.f.data();
     const float* pdf = sc.pdf.data();
@@ -72,7 +72,7 @@ inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
         const B front = z > F(0.0f);
         const F lum = F(0.2126f) * RGB.x + F(0.7152f) * RGB.y + F(0.0722f) * RGB.z;
         const F lux = depth == 0 ? select(front, F(kLumensPerWatt) * lum * cos_l / lp, F(0.0f)) : F(0.0f);
-        const F side = select(front, F(w.eps), F(-w.eps));
+        const F side = select(front, F(w.ray_offset), F(-w.ray_offset));
         const B none_carried = (c[0] <= F(0.0f)) & (c[1] <= F(0.0f)) & (c[2] <= F(0.0f)) & (lux <= F(0.0f));
         const B queued = (cos_l > F(0.0f)) & !none_carried;
         // queue_shadow_ray: from the lifted origin, aimed at the light's point unless at infinity
@@ -112,7 +112,7 @@ inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
 // evaluated for it and its density under BSDF sampling (for the MIS weight), N points of a
 // material at a time. False when no light can light anything (then no shadow ray is queued).
 inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     clear_shadow_rays(sc);
     if (!w.can_sample_lights) return false;
     const size_t np = sc.sorted.size();
@@ -121,7 +121,7 @@ inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
     float* ll = grow(sc.l_local, 3 * np);
     float* fv = grow(sc.f, 3 * np);
     float* pdf = grow(sc.pdf, np);
-    sample_lights(w.s, sc, depth, np);
+    sample_lights(w.scene, sc, depth, np);
     for (size_t q = 0; q < np; ++q) {
         const ShadingPoint& sp = sc.sorted[q];
         const Vec3f ldir = load_vec3(sc.ls_dir.data() + 3 * q);
@@ -129,7 +129,7 @@ inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
         store_vec3(l, ll + 3 * q);
         // the light must be on the side the local direction says (shading normals bend)
         const float side = dot(ldir, sp.ng);
-        const bool transmissive = transmits(w.s.materials[sp.material]);
+        const bool transmissive = transmits(w.scene.materials[sp.material]);
         sc.ls_ok[q] = sc.ls_ok[q] && (transmissive ? side * l.z > 0 : side > 0);
     }
     sc.timer.lap(Stage::LightToLocal);
@@ -143,7 +143,7 @@ inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
 // The light samples' shadow rays queued, each with what it adds if unblocked: throughput x
 // BSDF x cosine x radiance x MIS weight / pdf (and, at the first hit, the illuminance AOV).
 inline void queue_light_shadow_rays(const Wavefront& w, int depth) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     sc.timer.lap(Stage::ShadeLight);
     queue_shadow_lanes(w, depth, sc.sorted.size());
     sc.timer.lap(Stage::ShadowQueue);
@@ -156,13 +156,13 @@ inline void queue_light_samples(const Wavefront& w, int depth) {
 
 // The queued shadow rays, N per packet; the unblocked ones add their light.
 inline void resolve_shadow_rays(const Wavefront& w) {
-    PathScratch& sc = w.sc;
-    const uint8_t* blocked = trace_shadow_rays(w.s, sc);
+    PathScratch& sc = w.scratch;
+    const uint8_t* blocked = trace_shadow_rays(w.scene, sc);
     sc.timer.times.shadow_rays += sc.shadow_path.size();
     sc.timer.lap(Stage::TraceShadow);
     for (size_t q = 0; q < sc.shadow_path.size(); ++q) {
         if (blocked[q]) continue;
-        PathResult& r = w.out[sc.shadow_path[q]];
+        PathResult& r = w.results[sc.shadow_path[q]];
         for (int k = 0; k < 3; ++k) r.rgb[k] += sc.shadow_rgb[3 * q + k];
         r.illuminance += sc.shadow_lux[q];
     }
