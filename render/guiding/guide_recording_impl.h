@@ -55,13 +55,13 @@ inline void note_vertices(const W& w) {
     GuideRecordSink& sink = *sc.guide_sink;
     const size_t np = sc.sorted.size();
     if (sink.point_of_path.size() < sc.throughput.size() / 3) sink.point_of_path.resize(sc.throughput.size() / 3);
-    for (size_t q = 0; q < np; ++q) sink.point_of_path[sc.pt_path[q]] = static_cast<int32_t>(q);
+    for (size_t q = 0; q < np; ++q) sink.point_of_path[sc.point_lanes.path[q]] = static_cast<int32_t>(q);
     for (const int32_t i : sc.next_active) {
         const size_t q = static_cast<size_t>(sink.point_of_path[i]);
         PendingVertex pv;
         pv.path = i;
-        std::copy(sc.pt_p.data() + 3 * q, sc.pt_p.data() + 3 * q + 3, pv.p);
-        std::copy(sc.pt_n.data() + 3 * q, sc.pt_n.data() + 3 * q + 3, pv.n);
+        std::copy(sc.point_lanes.position.data() + 3 * q, sc.point_lanes.position.data() + 3 * q + 3, pv.p);
+        std::copy(sc.point_lanes.normal.data() + 3 * q, sc.point_lanes.normal.data() + 3 * q + 3, pv.n);
         std::copy(sc.dir.data() + 3 * i, sc.dir.data() + 3 * i + 3, pv.d);
         pv.pdf = sc.prev_pdf[i];
         std::copy(sc.throughput.data() + 3 * i, sc.throughput.data() + 3 * i + 3, pv.thr);

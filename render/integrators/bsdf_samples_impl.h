@@ -32,12 +32,12 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
     float* next_dir = grow(sc.next_ray_dir, 3 * np);
     size_t m = 0;
     for_blocks(np, [&](size_t q0, int lanes) {
-        const I path = load_path_lanes(sc.pt_path.data(), q0, lanes), path3 = path * I(3);
+        const I path = load_path_lanes(sc.point_lanes.path.data(), q0, lanes), path3 = path * I(3);
         alignas(64) int32_t key[N] = {}, index[N] = {};
         uint32_t all = 0;
         if (roulette)
             for (int k = 0; k < lanes; ++k) {
-                const CameraSample& c = w.camera_samples[sc.pt_path[q0 + k]];
+                const CameraSample& c = w.camera_samples[sc.point_lanes.path[q0 + k]];
                 key[k] = static_cast<int32_t>(c.key);
                 index[k] = static_cast<int32_t>(c.index);
                 all |= c.index;
@@ -46,10 +46,10 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
         const F P = load_lanes(pdf, q0, lanes);
         B go = (P > F(0.0f)) & (L.z != F(0.0f));
         // to_world(sp, l), normalised
-        const V3 wl = normalize_lanes(L.x * load_rows(sc.pt_t.data(), q0, lanes) +
-                                      L.y * load_rows(sc.pt_b.data(), q0, lanes) +
-                                      L.z * load_rows(sc.pt_n.data(), q0, lanes));
-        const V3 NG = load_rows(sc.pt_ng.data(), q0, lanes);
+        const V3 wl = normalize_lanes(L.x * load_rows(sc.point_lanes.tangent.data(), q0, lanes) +
+                                      L.y * load_rows(sc.point_lanes.bitangent.data(), q0, lanes) +
+                                      L.z * load_rows(sc.point_lanes.normal.data(), q0, lanes));
+        const V3 NG = load_rows(sc.point_lanes.geometric_normal.data(), q0, lanes);
         const V3 FV = load_rows(fv, q0, lanes);
         go = go & (dot(wl, NG) * L.z > F(0.0f));  // the side the local direction says
         const float* thr = sc.throughput.data();
@@ -67,7 +67,7 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
             go = lives;
         }
         const F side = select(L.z > F(0.0f), F(w.ray_offset), F(-w.ray_offset));
-        const V3 Pp = load_rows(sc.pt_p.data(), q0, lanes);
+        const V3 Pp = load_rows(sc.point_lanes.position.data(), q0, lanes);
         const V3 o = Pp + side * NG;
         alignas(64) float tt[3][N], oo[3][N], dd[3][N], pp[3][N];
         for (int c = 0; c < 3; ++c) store_n<N>(tt[c], T[c]);
@@ -76,13 +76,13 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
         store_lanes3(dd, wl);
         for (int bits = updated; bits; bits &= bits - 1) {
             const int k = __builtin_ctz(static_cast<unsigned>(bits));
-            float* Tk = sc.throughput.data() + 3 * sc.pt_path[q0 + k];
+            float* Tk = sc.throughput.data() + 3 * sc.point_lanes.path[q0 + k];
             for (int c = 0; c < 3; ++c) Tk[c] = tt[c][k];
         }
         for (int bits = movemask(go) & ((1 << lanes) - 1); bits; bits &= bits - 1) {
             const int k = __builtin_ctz(static_cast<unsigned>(bits));
             const size_t q = q0 + k;
-            const int32_t i = sc.pt_path[q];
+            const int32_t i = sc.point_lanes.path[q];
             for (int c = 0; c < 3; ++c) {
                 sc.org[3 * i + c] = next_org[3 * m + c] = oo[c][k];
                 sc.dir[3 * i + c] = next_dir[3 * m + c] = dd[c][k];

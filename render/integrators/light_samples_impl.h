@@ -57,13 +57,13 @@ inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
     for_blocks(np, [&](size_t q0, int lanes) {
         int ok_bits = 0, delta_bits = 0;
         for (int k = 0; k < lanes; ++k) {
-            ok_bits |= (sc.ls_ok[q0 + k] ? 1 : 0) << k;
-            delta_bits |= (sc.ls_delta[q0 + k] ? 1 : 0) << k;
+            ok_bits |= (sc.light_samples.ok[q0 + k] ? 1 : 0) << k;
+            delta_bits |= (sc.light_samples.delta[q0 + k] ? 1 : 0) << k;
         }
         if (ok_bits == 0) return;
-        const V3 L = load_rows(ll, q0, lanes), FV = load_rows(fv, q0, lanes), RGB = load_rows(sc.ls_rgb.data(), q0, lanes);
-        const F z = L.z, lp = load_lanes(sc.ls_pdf.data(), q0, lanes), cos_l = abs(z);
-        const I path3 = load_path_lanes(sc.pt_path.data(), q0, lanes) * I(3);
+        const V3 L = load_rows(ll, q0, lanes), FV = load_rows(fv, q0, lanes), RGB = load_rows(sc.light_samples.rgb.data(), q0, lanes);
+        const F z = L.z, lp = load_lanes(sc.light_samples.pdf.data(), q0, lanes), cos_l = abs(z);
+        const I path3 = load_path_lanes(sc.point_lanes.path.data(), q0, lanes) * I(3);
         const float* thr = sc.throughput.data();
         const F wt = select(mask_of_bits(delta_bits), F(1.0f), power_heuristic_lanes(lp, load_lanes(pdf, q0, lanes)));
         const F c[3] = {gather(thr, path3) * FV.x * cos_l * RGB.x * wt / lp,
@@ -76,9 +76,9 @@ inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
         const B none_carried = (c[0] <= F(0.0f)) & (c[1] <= F(0.0f)) & (c[2] <= F(0.0f)) & (lux <= F(0.0f));
         const B queued = (cos_l > F(0.0f)) & !none_carried;
         // queue_shadow_ray: from the lifted origin, aimed at the light's point unless at infinity
-        const V3 P = load_rows(sc.pt_p.data(), q0, lanes), D = load_rows(sc.ls_dir.data(), q0, lanes);
-        const F ds = load_lanes(sc.ls_dist.data(), q0, lanes);
-        const V3 o = P + side * load_rows(sc.pt_ng.data(), q0, lanes);
+        const V3 P = load_rows(sc.point_lanes.position.data(), q0, lanes), D = load_rows(sc.light_samples.dir.data(), q0, lanes);
+        const F ds = load_lanes(sc.light_samples.dist.data(), q0, lanes);
+        const V3 o = P + side * load_rows(sc.point_lanes.geometric_normal.data(), q0, lanes);
         const V3 to = P + ds * D - o;
         const F len = sqrt_exact(dot(to, to));
         const B finite = !(abs(ds) == F(kInfinity));
@@ -94,7 +94,7 @@ inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
         store_n<N>(lx, lux);
         for (int bits = movemask(queued) & ok_bits; bits; bits &= bits - 1) {
             const int k = __builtin_ctz(static_cast<unsigned>(bits));
-            sc.shadow_path[m] = sc.pt_path[q0 + k];
+            sc.shadow_path[m] = sc.point_lanes.path[q0 + k];
             for (int a = 0; a < 3; ++a) {
                 sc.shadow_org[3 * m + a] = oo[a][k];
                 sc.shadow_dir[3 * m + a] = dd[a][k];
@@ -124,13 +124,13 @@ inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
     sample_lights(w.scene, sc, depth, np);
     for (size_t q = 0; q < np; ++q) {
         const ShadingPoint& sp = sc.sorted[q];
-        const Vec3f ldir = load_vec3(sc.ls_dir.data() + 3 * q);
-        const Vec3f l = sc.ls_ok[q] ? to_local(sp, ldir) : Vec3f{0, 0, 0};
+        const Vec3f ldir = load_vec3(sc.light_samples.dir.data() + 3 * q);
+        const Vec3f l = sc.light_samples.ok[q] ? to_local(sp, ldir) : Vec3f{0, 0, 0};
         store_vec3(l, ll + 3 * q);
         // the light must be on the side the local direction says (shading normals bend)
         const float side = dot(ldir, sp.ng);
         const bool transmissive = transmits(w.scene.materials[sp.material]);
-        sc.ls_ok[q] = sc.ls_ok[q] && (transmissive ? side * l.z > 0 : side > 0);
+        sc.light_samples.ok[q] = sc.light_samples.ok[q] && (transmissive ? side * l.z > 0 : side > 0);
     }
     sc.timer.lap(Stage::LightToLocal);
     for_material_groups(w, [&](const Material& m, size_t a, size_t count) {

@@ -120,7 +120,7 @@ void sensor_illuminance(const RenderScene& s, const float* points, const float* 
         sample_lights(s, sc, 0, np);
         clear_shadow_rays(sc);
         for (size_t q = 0; q < np; ++q) {
-            if (!sc.ls_ok[q]) continue;
+            if (!sc.light_samples.ok[q]) continue;
             const ShadingPoint& sp = sc.sorted[q];
             const LightSample ls = load_light_sample(sc, q);
             const float cos_s = dot(ls.dir, sp.n);

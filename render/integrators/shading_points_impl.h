@@ -195,9 +195,9 @@ inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int de
     float* eta = grow(sc.eta, most);
     sc.point_keys.resize(most);
     sc.point_index.resize(most);
-    float* rows[5] = {grow(sc.pt_p, 3 * most), grow(sc.pt_ng, 3 * most), grow(sc.pt_t, 3 * most),
-                      grow(sc.pt_b, 3 * most), grow(sc.pt_n, 3 * most)};
-    int32_t* pt_path = grow(sc.pt_path, most);
+    float* rows[5] = {grow(sc.point_lanes.position, 3 * most), grow(sc.point_lanes.geometric_normal, 3 * most), grow(sc.point_lanes.tangent, 3 * most),
+                      grow(sc.point_lanes.bitangent, 3 * most), grow(sc.point_lanes.normal, 3 * most)};
+    int32_t* point_path = grow(sc.point_lanes.path, most);
     std::vector<int32_t>& fill = sc.next_active;  // reused as the write cursors
     fill.assign(sc.material_start.begin(), sc.material_start.end() - 1);
     PointLanes pl;
@@ -232,7 +232,7 @@ inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int de
             const float(*fields[5])[N] = {pl.p, pl.ng, pl.t, pl.b, pl.n};
             for (int f = 0; f < 5; ++f)
                 for (int c = 0; c < 3; ++c) rows[f][3 * q + c] = fields[f][c][k];
-            pt_path[q] = i;
+            point_path[q] = i;
             vl[3 * q] = pl.vl[0][k];
             vl[3 * q + 1] = pl.vl[1][k];
             vl[3 * q + 2] = pl.vl[2][k];
@@ -251,7 +251,7 @@ inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int de
             std::copy(sc.sorted.begin() + a, sc.sorted.begin() + a + count, sc.sorted.begin() + np);
             std::copy(vl + 3 * a, vl + 3 * (a + count), vl + 3 * np);
             for (float* r : rows) std::copy(r + 3 * a, r + 3 * (a + count), r + 3 * np);
-            std::copy(pt_path + a, pt_path + a + count, pt_path + np);
+            std::copy(point_path + a, point_path + a + count, point_path + np);
             std::copy(eta + a, eta + a + count, eta + np);
             std::copy(sc.point_keys.begin() + a, sc.point_keys.begin() + a + count, sc.point_keys.begin() + np);
             std::copy(sc.point_index.begin() + a, sc.point_index.begin() + a + count, sc.point_index.begin() + np);

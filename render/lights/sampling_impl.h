@@ -49,7 +49,7 @@ inline float area_light_pdf(const RenderScene& s, const Vec3f& from, int li, flo
     return selection_probability(s, from, li) * dist * dist / (area_of(s.lights[li]).area * cos_l);
 }
 
-// One point's light sample (sample_lights leaves them in PathScratch's ls_* arrays).
+// One point's light sample (sample_lights leaves them in PathScratch's light_samples).
 struct LightSample {
     Vec3f dir{0, 0, 0};        // unit, from the shading point
     float dist = 0;            // to the light point (inf: environment)
@@ -60,11 +60,11 @@ struct LightSample {
 
 inline LightSample load_light_sample(const PathScratch& sc, size_t q) {
     LightSample ls;
-    ls.dir = load_vec3(sc.ls_dir.data() + 3 * q);
-    std::copy(sc.ls_rgb.data() + 3 * q, sc.ls_rgb.data() + 3 * q + 3, ls.rgb);
-    ls.dist = sc.ls_dist[q];
-    ls.pdf = sc.ls_pdf[q];
-    ls.delta = sc.ls_delta[q] != 0;
+    ls.dir = load_vec3(sc.light_samples.dir.data() + 3 * q);
+    std::copy(sc.light_samples.rgb.data() + 3 * q, sc.light_samples.rgb.data() + 3 * q + 3, ls.rgb);
+    ls.dist = sc.light_samples.dist[q];
+    ls.pdf = sc.light_samples.pdf[q];
+    ls.delta = sc.light_samples.delta[q] != 0;
     return ls;
 }
 
@@ -192,7 +192,7 @@ PATINA_INLINE LightSampleBlock sample(const SunLight& l, const RenderScene&, con
 constexpr size_t kEnvPrefetchBlocks = 4;
 
 // Light samples for the points that chose light `li` (every lane the same light: coherent),
-// N points at a time: inputs gathered from the points, results scattered back to sc.ls_*.
+// N points at a time: inputs gathered from the points, results scattered back to sc.light_samples.
 inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, const int32_t* points, size_t n,
                                const float* u1, const float* u2) {
     float* pos = grow(sc.group_pos, 3 * n);
@@ -250,25 +250,25 @@ inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, co
     const bool delta = light != nullptr && is_delta_light(*light);
     for (size_t j = 0; j < n; ++j) {
         const int32_t q = points[j];
-        std::copy(dir + 3 * j, dir + 3 * j + 3, sc.ls_dir.data() + 3 * q);
-        std::copy(rgb + 3 * j, rgb + 3 * j + 3, sc.ls_rgb.data() + 3 * q);
-        sc.ls_dist[q] = dist[j];
-        sc.ls_pdf[q] = pdf[j];
-        sc.ls_delta[q] = delta;
-        sc.ls_ok[q] = pdf[j] > 0 && std::isfinite(pdf[j]);
+        std::copy(dir + 3 * j, dir + 3 * j + 3, sc.light_samples.dir.data() + 3 * q);
+        std::copy(rgb + 3 * j, rgb + 3 * j + 3, sc.light_samples.rgb.data() + 3 * q);
+        sc.light_samples.dist[q] = dist[j];
+        sc.light_samples.pdf[q] = pdf[j];
+        sc.light_samples.delta[q] = delta;
+        sc.light_samples.ok[q] = pdf[j] > 0 && std::isfinite(pdf[j]);
     }
 }
 
-// One light sample per shading point into sc.ls_*: each point picks a light in proportion to
+// One light sample per shading point into sc.light_samples: each point picks a light in proportion to
 // its estimated irradiance there, the points are grouped by the light they picked, and each
 // group is sampled N points at a time.
 inline void sample_lights(const RenderScene& s, PathScratch& sc, int depth, size_t np) {
-    sc.ls_dir.resize(3 * np);
-    sc.ls_rgb.resize(3 * np);
-    sc.ls_dist.resize(np);
-    sc.ls_pdf.resize(np);
-    sc.ls_delta.resize(np);
-    sc.ls_ok.resize(np);
+    sc.light_samples.dir.resize(3 * np);
+    sc.light_samples.rgb.resize(3 * np);
+    sc.light_samples.dist.resize(np);
+    sc.light_samples.pdf.resize(np);
+    sc.light_samples.delta.resize(np);
+    sc.light_samples.ok.resize(np);
     float* pick = grow(sc.u_pick, np);
     float* u1 = grow(sc.u1, np);
     float* u2 = grow(sc.u2, np);
