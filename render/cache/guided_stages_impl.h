@@ -206,7 +206,7 @@ inline void guided_directions(const W& w) {
     if (!any) return;
     const float* vl = sc.v_local.data();
     const float* eta = sc.eta.data();
-    float* fv = sc.f.data();
+    float* fv = sc.bsdf_rgb.data();
     float* pdf = sc.pdf.data();
     for (size_t k = 0; k < w.scene.materials.size(); ++k) {
         const size_t b = sc.material_start[k], count = sc.material_start[k + 1] - b;

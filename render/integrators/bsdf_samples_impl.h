@@ -24,7 +24,7 @@ using namespace kernel_width;
 inline void update_paths(const Wavefront& w, int depth, size_t np) {
     PathScratch& sc = w.scratch;
     const float* ll = sc.l_local.data();
-    const float* fv = sc.f.data();
+    const float* fv = sc.bsdf_rgb.data();
     const float* pdf = sc.pdf.data();
     const bool roulette = depth + 1 >= w.settings.rr_depth;
     sc.next_active.resize(np);
@@ -120,7 +120,7 @@ inline void sample_materials(const Wavefront& w) {
     const float* vl = sc.v_local.data();
     const float* eta = sc.eta.data();
     float* ll = grow(sc.l_local, 3 * np);
-    float* fv = grow(sc.f, 3 * np);
+    float* fv = grow(sc.bsdf_rgb, 3 * np);
     float* pdf = grow(sc.pdf, np);
     const float* upick = sc.u_pick.data();
     const float* u1 = sc.u1.data();

@@ -97,6 +97,14 @@ struct LightSampleQueue {
     std::vector<uint8_t> delta, ok;
 };
 
+// The bounce's shadow rays (render/integrators/shadow_rays_impl.h): origin, unit direction
+// and length, the RGB and the lux their light adds to path `path` when not `blocked`.
+struct ShadowRayQueue {
+    std::vector<float> org, dir, tmax, rgb, lux;
+    std::vector<int32_t> path;
+    std::vector<uint8_t> blocked;
+};
+
 // Work arrays a thread reuses from batch to batch.
 struct PathScratch {
     // per path
@@ -113,7 +121,7 @@ struct PathScratch {
     std::vector<int32_t> shade_hits;  // the bounce's hits that may become shading points, in hit order
     ShadingPointLanes point_lanes;
     std::vector<float> material_eta, material_transmissive, material_two_sided;  // per material, for gathers
-    std::vector<float> v_local, l_local, f, pdf, eta, u_pick, u1, u2;
+    std::vector<float> v_local, l_local, bsdf_rgb, pdf, eta, u_pick, u1, u2;
     std::vector<int32_t> point_keys, point_index;  // the paths' stream keys and sample indices (uint32 bits)
     SamplerKind sampler = SamplerKind::Sobol;      // what the point_keys and point_index draw from
     // misses (the environment seen), and the points that sample the environment
@@ -125,10 +133,7 @@ struct PathScratch {
     std::vector<float> point_sel;  // each point's probability of its light
     std::vector<float> selection_pos, selection_weights;  // the points' positions; their lights' weights
     LightSampleQueue light_samples;
-    // shadow rays
-    std::vector<float> shadow_org, shadow_dir, shadow_tmax, shadow_rgb, shadow_lux;
-    std::vector<int32_t> shadow_path;
-    std::vector<uint8_t> blocked;
+    ShadowRayQueue shadow_rays;
     // sensor paths (indirect illuminance): their sensors, keys and results
     std::vector<ShadingPoint> sensors;
     std::vector<CameraSample> sensor_samples;

@@ -50,7 +50,7 @@ PATINA_INLINE I load_path_lanes(const int32_t* p, size_t i, int lanes) {
 inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
     PathScratch& sc = w.scratch;
     const float* ll = sc.l_local.data();
-    const float* fv = sc.f.data();
+    const float* fv = sc.bsdf_rgb.data();
     const float* pdf = sc.pdf.data();
     resize_shadow_rays(sc, np);
     size_t m = 0;
@@ -94,14 +94,14 @@ inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
         store_n<N>(lx, lux);
         for (int bits = movemask(queued) & ok_bits; bits; bits &= bits - 1) {
             const int k = __builtin_ctz(static_cast<unsigned>(bits));
-            sc.shadow_path[m] = sc.point_lanes.path[q0 + k];
+            sc.shadow_rays.path[m] = sc.point_lanes.path[q0 + k];
             for (int a = 0; a < 3; ++a) {
-                sc.shadow_org[3 * m + a] = oo[a][k];
-                sc.shadow_dir[3 * m + a] = dd[a][k];
-                sc.shadow_rgb[3 * m + a] = cc[a][k];
+                sc.shadow_rays.org[3 * m + a] = oo[a][k];
+                sc.shadow_rays.dir[3 * m + a] = dd[a][k];
+                sc.shadow_rays.rgb[3 * m + a] = cc[a][k];
             }
-            sc.shadow_tmax[m] = tt[k];
-            sc.shadow_lux[m] = lx[k];
+            sc.shadow_rays.tmax[m] = tt[k];
+            sc.shadow_rays.lux[m] = lx[k];
             ++m;
         }
     });
@@ -119,7 +119,7 @@ inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
     const float* vl = sc.v_local.data();
     const float* eta = sc.eta.data();
     float* ll = grow(sc.l_local, 3 * np);
-    float* fv = grow(sc.f, 3 * np);
+    float* fv = grow(sc.bsdf_rgb, 3 * np);
     float* pdf = grow(sc.pdf, np);
     sample_lights(w.scene, sc, depth, np);
     for (size_t q = 0; q < np; ++q) {
@@ -158,13 +158,13 @@ inline void queue_light_samples(const Wavefront& w, int depth) {
 inline void resolve_shadow_rays(const Wavefront& w) {
     PathScratch& sc = w.scratch;
     const uint8_t* blocked = trace_shadow_rays(w.scene, sc);
-    sc.timer.times.shadow_rays += sc.shadow_path.size();
+    sc.timer.times.shadow_rays += sc.shadow_rays.path.size();
     sc.timer.lap(Stage::TraceShadow);
-    for (size_t q = 0; q < sc.shadow_path.size(); ++q) {
+    for (size_t q = 0; q < sc.shadow_rays.path.size(); ++q) {
         if (blocked[q]) continue;
-        PathResult& r = w.results[sc.shadow_path[q]];
-        for (int k = 0; k < 3; ++k) r.rgb[k] += sc.shadow_rgb[3 * q + k];
-        r.illuminance += sc.shadow_lux[q];
+        PathResult& r = w.results[sc.shadow_rays.path[q]];
+        for (int k = 0; k < 3; ++k) r.rgb[k] += sc.shadow_rays.rgb[3 * q + k];
+        r.illuminance += sc.shadow_rays.lux[q];
     }
     sc.timer.lap(Stage::ShadowResolve);
 }

@@ -130,8 +130,8 @@ void sensor_illuminance(const RenderScene& s, const float* points, const float* 
                              kLumensPerWatt * luminance(ls.rgb) * cos_s / ls.pdf);
         }
         const uint8_t* blocked = trace_shadow_rays(s, sc);
-        for (size_t j = 0; j < sc.shadow_path.size(); ++j)
-            if (!blocked[j]) sum[sc.shadow_path[j]] += sc.shadow_lux[j];
+        for (size_t j = 0; j < sc.shadow_rays.path.size(); ++j)
+            if (!blocked[j]) sum[sc.shadow_rays.path[j]] += sc.shadow_rays.lux[j];
     }
     for (size_t q = 0; q < np; ++q) lux[begin + q] = static_cast<float>(sum[q] / samples);
 }
