@@ -126,46 +126,15 @@ void prepare_scale(RenderScene& s) {
     s.ray_offset = std::max(1e-5f, 2e-5f * std::max(extent, s.scene_radius));
 }
 
-// An area light's flux (W of luminance), for its selection weight.
-static double area_light_flux(const Light& l) {
-    return l.area * kPiDouble * std::max(0.0, luminance<double>(l.power)) * (l.two_sided ? 2 : 1);
-}
-
 void prepare_light_selection(RenderScene& s) {
     // area lights by flux and distance, delta lights by intensity (towards the point, when
     // selecting) and distance, infinite ones (sun, environment) by irradiance
     s.selection.clear();
     const float small2 = 1e-4f * s.scene_radius * s.scene_radius;
-    for (const Light& l : s.lights) {
-        RenderScene::Selection sel{true, false, 0, {l.position[0], l.position[1], l.position[2]}, small2};
-        if (l.kind == LightKind::Sun) {
-            // uniform radiance over a cone of half-angle d: irradiance pi sin^2 d L facing it
-            sel.local = false;
-            sel.weight = static_cast<float>(kPiDouble * l.sun_one_minus_cos * (1 + double(l.cos_sun)) *
-                                            std::max(0.0, luminance<double>(l.power)));
-            s.selection.push_back(sel);
-            continue;
-        }
-        if (is_delta_light(l)) {
-            sel.delta = true;
-            sel.weight = static_cast<float>(std::max(0.0, luminance<double>(l.power)));
-            s.selection.push_back(sel);
-            continue;
-        }
-        sel.weight = static_cast<float>(area_light_flux(l));  // quads and triangles
-        sel.size2 = std::max(small2, static_cast<float>(l.area / kPiDouble));
-        if (l.kind == LightKind::Triangles) {  // the area-weighted centroid
-            double c[3] = {0, 0, 0}, prev = 0;
-            for (size_t t = 0; t < l.triangles.size(); ++t) {
-                const float* v = s.tree->triangles.data() + 9 * static_cast<size_t>(l.triangles[t]);
-                const double w = l.area_cdf[t + 1] - prev;
-                prev = l.area_cdf[t + 1];
-                for (int k = 0; k < 3; ++k) c[k] += w * (v[k] + v[3 + k] + v[6 + k]) / 3;
-            }
-            for (int k = 0; k < 3; ++k) sel.center[k] = static_cast<float>(c[k]);
-        }
-        s.selection.push_back(sel);
-    }
+    const float* triangle_vertices = s.tree != nullptr ? s.tree->triangles.data() : nullptr;
+    for (const Light& l : s.lights)
+        s.selection.push_back(
+            visit_kind(l, [&](const auto& kind) { return kind.selection(small2, triangle_vertices); }));
     if (s.env.present) {  // a uniform environment of mean luminance Y gives irradiance pi Y
         const double mean = s.env.is_map ? s.env.mean_luminance
                                          : std::max(0.0, luminance<double>(s.env.constant)) * s.env.intensity;

@@ -175,83 +175,115 @@ Fields kind_fields(const nb::dict& d, const std::string& where, const char* what
     f.fail("unknown " + std::string(what) + " kind '" + name + "'");
 }
 
-// The keys of a material, by kind, are exactly what the renderer reads for that kind (see
-// render/scene.h's Material): a Lambert's albedo, a conductor's GGX roughness, complex
-// index and tint, a table's or mixture's tint and sampling proxy; the clear coat over any
-// of the four (its three values present exactly when "coat" is true); an emitter only the
-// light whose triangles it covers; a dielectric its roughness alpha_x and eta (eta[0] is read).
-int add_material(SceneHandle& h, const nb::dict& d) {
-    patina::Material m;
-    using K = patina::MaterialKind;
-    Fields f = kind_fields<K>(d, "material " + std::to_string(h.scene.materials.size()), "material",
-                              {{"lambert", K::Lambert}, {"conductor", K::Conductor}, {"table", K::Table},
-                               {"mixture", K::Mixture}, {"emitter", K::Emitter}, {"dielectric", K::Dielectric}},
-                              m.kind);
-    // GGX roughness: 0 (smooth) is taken as 1e-3, a very narrow lobe the same code samples
+// GGX roughness: 0 (smooth) is taken as 1e-3, a very narrow lobe the same code samples.
+float roughness(Fields& f, const char* key) {
     constexpr float kSmooth = 1e-3f;
-    auto roughness = [&](const char* key) {
-        const float a = f.real(key);
-        if (!(a >= 0)) f.fail("'" + std::string(key) + "' must be >= 0");
-        return std::max(a, kSmooth);
-    };
-    if (m.kind == K::Emitter) {
-        m.light = f.integer("light");
+    const float a = f.real(key);
+    if (!(a >= 0)) f.fail("'" + std::string(key) + "' must be >= 0");
+    return std::max(a, kSmooth);
+}
+
+patina::Conductor read_conductor(Fields& f) {
+    patina::Conductor c;
+    c.alpha_x = roughness(f, "alpha_x");
+    c.alpha_y = roughness(f, "alpha_y");
+    f.vec3("eta", c.eta);
+    f.vec3("k", c.k);
+    f.vec3("tint", c.tint);
+    return c;
+}
+
+// A table's or mixture's tint and sampling proxy.
+void read_tint_and_proxy(Fields& f, float* tint, patina::ProxySampling& proxy) {
+    f.vec3("tint", tint);
+    proxy.diffuse = f.real("proxy_diffuse");
+    if (!(proxy.diffuse >= 0 && proxy.diffuse <= 1)) f.fail("'proxy_diffuse' must be in [0, 1]");
+    proxy.alpha = roughness(f, "proxy_alpha");
+}
+
+patina::TableMaterial read_table(Fields& f, SceneHandle& h) {
+    patina::TableMaterial t;
+    nb::object o = f.take("table");
+    const TableHandle* table = nullptr;
+    if (!nb::try_cast<const TableHandle*>(o, table) || table == nullptr) f.fail("'table' must be a patina._core.Table");
+    if (table->table.channels != 3) f.fail("a table material needs an RGB table");
+    t.table = &table->prepared.view;
+    h.keep.push_back(o);
+    read_tint_and_proxy(f, t.tint, t.proxy);
+    return t;
+}
+
+patina::Mixture read_mixture(Fields& f) {
+    patina::Mixture m;
+    nb::tuple mix = f.as<nb::tuple>("mixture", "a tuple (kernel name, values, per_channel)");
+    if (mix.size() != 3) f.fail("'mixture' must be a tuple (kernel name, values, per_channel)");
+    try {
+        m.params = mixture_params(nb::cast<std::string>(mix[0]), nb::cast<std::vector<float>>(mix[1]),
+                                  nb::cast<bool>(mix[2]));
+    } catch (const nb::cast_error&) {
+        f.fail("'mixture' must be a tuple (kernel name, values, per_channel)");
+    } catch (const std::invalid_argument& e) {
+        f.fail(std::string("'mixture': ") + e.what());
+    }
+    read_tint_and_proxy(f, m.tint, m.proxy);
+    return m;
+}
+
+patina::Dielectric read_dielectric(Fields& f) {
+    patina::Dielectric d;
+    d.alpha = roughness(f, "alpha_x");
+    float eta[3];
+    f.vec3("eta", eta);
+    if (!(eta[0] > 0)) f.fail("dielectric eta must be > 0");
+    d.eta = eta[0];
+    return d;
+}
+
+// The keys of a material, by kind, are exactly what the renderer reads for that kind (see
+// render/materials/): a Lambert's albedo, a conductor's GGX roughness, complex index and
+// tint, a table's or mixture's tint and sampling proxy; the clear coat over any of the four
+// (its three values present exactly when "coat" is true); an emitter only the light whose
+// triangles it covers; a dielectric its roughness alpha_x and eta (eta[0] is read).
+int add_material(SceneHandle& h, const nb::dict& d) {
+    enum class Kind { Lambert, Conductor, Table, Mixture, Emitter, Dielectric };
+    Kind kind;
+    Fields f = kind_fields<Kind>(d, "material " + std::to_string(h.scene.materials.size()), "material",
+                                 {{"lambert", Kind::Lambert},
+                                  {"conductor", Kind::Conductor},
+                                  {"table", Kind::Table},
+                                  {"mixture", Kind::Mixture},
+                                  {"emitter", Kind::Emitter},
+                                  {"dielectric", Kind::Dielectric}},
+                                 kind);
+    patina::Material m;
+    if (kind == Kind::Emitter) {
+        m.model = patina::Emitter{f.integer("light")};
         f.finish();  // the light index is checked against the lights by check_materials
         h.scene.materials.push_back(m);
         return static_cast<int>(h.scene.materials.size()) - 1;
     }
     f.vec3("albedo", m.albedo);
-    switch (m.kind) {
-        case K::Conductor:
-            m.alpha_x = roughness("alpha_x");
-            m.alpha_y = roughness("alpha_y");
-            f.vec3("eta", m.eta);
-            f.vec3("k", m.k);
-            f.vec3("tint", m.tint);
-            break;
-        case K::Table: {
-            nb::object t = f.take("table");
-            const TableHandle* table = nullptr;
-            if (!nb::try_cast<const TableHandle*>(t, table) || table == nullptr)
-                f.fail("'table' must be a patina._core.Table");
-            if (table->table.channels != 3) f.fail("a table material needs an RGB table");
-            m.table = &table->prepared.view;
-            h.keep.push_back(t);
+    switch (kind) {
+        case Kind::Lambert: {
+            patina::Lambert lambert;
+            std::copy(m.albedo, m.albedo + 3, lambert.reflectance);
+            m.model = lambert;
             break;
         }
-        case K::Mixture: {
-            nb::tuple mix = f.as<nb::tuple>("mixture", "a tuple (kernel name, values, per_channel)");
-            if (mix.size() != 3) f.fail("'mixture' must be a tuple (kernel name, values, per_channel)");
-            try {
-                m.mixture = mixture_params(nb::cast<std::string>(mix[0]), nb::cast<std::vector<float>>(mix[1]),
-                                           nb::cast<bool>(mix[2]));
-            } catch (const nb::cast_error&) {
-                f.fail("'mixture' must be a tuple (kernel name, values, per_channel)");
-            } catch (const std::invalid_argument& e) {
-                f.fail(std::string("'mixture': ") + e.what());
-            }
-            break;
-        }
-        case K::Dielectric:
-            m.alpha_x = roughness("alpha_x");
-            f.vec3("eta", m.eta);
-            if (!(m.eta[0] > 0)) f.fail("dielectric eta must be > 0");
-            break;
-        default: break;
+        case Kind::Conductor: m.model = read_conductor(f); break;
+        case Kind::Table: m.model = read_table(f, h); break;
+        case Kind::Mixture: m.model = read_mixture(f); break;
+        case Kind::Dielectric: m.model = read_dielectric(f); break;
+        case Kind::Emitter: break;
     }
-    if (m.kind == K::Table || m.kind == K::Mixture) {
-        f.vec3("tint", m.tint);
-        m.proxy_diffuse = f.real("proxy_diffuse");
-        if (!(m.proxy_diffuse >= 0 && m.proxy_diffuse <= 1)) f.fail("'proxy_diffuse' must be in [0, 1]");
-        m.proxy_alpha = roughness("proxy_alpha");
-    }
-    if (m.kind != K::Dielectric) {  // a dielectric refracts: it has no back face to cull, nor a coat
+    if (kind != Kind::Dielectric) {  // a dielectric refracts: it has no back face to cull, nor a coat
         m.two_sided = f.flag("two_sided");
-        m.coat = f.flag("coat");
-        if (m.coat) {
-            m.coat_eta = f.real("coat_eta");
-            m.coat_alpha = roughness("coat_alpha");
-            f.vec3("coat_tint", m.coat_tint);
+        if (f.flag("coat")) {
+            patina::ClearCoat coat;
+            coat.eta = f.real("coat_eta");
+            coat.alpha = roughness(f, "coat_alpha");
+            f.vec3("coat_tint", coat.tint);
+            m.coat = coat;
         }
     }
     f.finish();
@@ -262,88 +294,126 @@ int add_material(SceneHandle& h, const nb::dict& d) {
 using FloatVector = nb::ndarray<const float, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using FloatMatrix = nb::ndarray<const float, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 
-// The keys of a light, by kind, are what the renderer reads for it (render/scene.h's Light).
-// What follows from the geometry — a quad's normal and area, the sun's cone and frame, an
-// emissive mesh's area cdf, unit directions — is computed beside the scene
-// (python/patina/render/prepare.py) and only checked here.
+// Each kind's fields after "power" (power: its RGB intensity, radiance or per-candela factor).
+patina::PointLight read_point(Fields& f, const float power[3]) {
+    patina::PointLight point;
+    f.vec3("position", point.position);
+    std::copy(power, power + 3, point.intensity);
+    return point;
+}
+
+patina::QuadLight read_quad(Fields& f, const float power[3]) {
+    patina::QuadLight q;
+    std::copy(power, power + 3, q.radiance);
+    f.vec3("position", q.center);
+    f.vec3("u", q.u);
+    f.vec3("v", q.v);
+    f.unit3("normal", q.normal);
+    return q;
+}
+
+patina::SpotLight read_spot(Fields& f, const float power[3]) {
+    patina::SpotLight spot;
+    std::copy(power, power + 3, spot.intensity);
+    f.vec3("position", spot.position);
+    f.unit3("direction", spot.direction);
+    spot.cos_inner = f.real("cos_inner");
+    spot.cos_outer = f.real("cos_outer");
+    if (!(spot.cos_outer < spot.cos_inner)) f.fail("a spot light's cone: cos_outer < cos_inner");
+    return spot;
+}
+
+patina::SunLight read_sun(Fields& f, const float power[3]) {
+    patina::SunLight sun;
+    std::copy(power, power + 3, sun.radiance);
+    f.unit3("direction", sun.direction);
+    sun.cos_sun = f.real("cos_sun");
+    sun.one_minus_cos = f.real("sun_one_minus_cos");
+    // a disc of angular radius below 1.5 rad, its two cosines describing the same cone
+    if (!(sun.cos_sun > std::cos(1.5f) && sun.cos_sun < 1 && sun.one_minus_cos > 0 &&
+          std::abs(sun.cos_sun + sun.one_minus_cos - 1) <= 1e-6f))
+        f.fail("the sun's disc: cos_sun in (cos 1.5, 1) and sun_one_minus_cos = 1 - cos_sun");
+    f.unit3("frame_t", sun.frame_t);
+    f.unit3("frame_b", sun.frame_b);
+    return sun;
+}
+
+patina::TriangleLight read_triangles(Fields& f, const float power[3], const SceneHandle& h) {
+    patina::TriangleLight t;
+    std::copy(power, power + 3, t.radiance);
+    IntVector tris;
+    FloatVector cdf;
+    if (!nb::try_cast<IntVector>(f.take("triangles"), tris)) f.fail("'triangles' must be a 1-D int32 array");
+    if (!nb::try_cast<FloatVector>(f.take("area_cdf"), cdf)) f.fail("'area_cdf' must be a 1-D float32 array");
+    const size_t n = tris.shape(0);
+    if (n == 0) f.fail("an emissive mesh needs triangles");
+    if (cdf.shape(0) != n + 1) f.fail("'area_cdf' needs one value per triangle and a leading 0");
+    const patina::KdTree& tree = *h.scene.tree;
+    for (size_t i = 0; i < n; ++i)
+        if (tris.data()[i] < 0 || static_cast<size_t>(tris.data()[i]) >= tree.triangle_count())
+            f.fail("triangle id " + std::to_string(tris.data()[i]) + " is out of range");
+    const float* c = cdf.data();
+    for (size_t i = 1; i <= n; ++i)
+        if (!(c[i] >= c[i - 1])) f.fail("'area_cdf' must not decrease (at " + std::to_string(i) + ")");
+    if (c[0] != 0.0f || c[n] != 1.0f) f.fail("'area_cdf' must go from 0 to exactly 1");
+    t.triangles.assign(tris.data(), tris.data() + n);
+    t.area_cdf.assign(c, c + n + 1);
+    return t;
+}
+
+patina::GoniometricLight read_goniometric(Fields& f, const float power[3], SceneHandle& h) {
+    patina::GoniometricLight g;
+    std::copy(power, power + 3, g.rgb_per_candela);
+    f.vec3("position", g.position);
+    f.unit3("axis_x", g.axis_x);
+    f.unit3("axis_y", g.axis_y);
+    f.unit3("axis_z", g.axis_z);
+    g.type_b = f.flag("type_b");
+    nb::object grid = f.take("candela");
+    const Grid2Handle* table = nullptr;
+    if (!nb::try_cast<const Grid2Handle*>(grid, table) || table == nullptr)
+        f.fail("'candela' must be a patina._core.Grid2");
+    g.candela = table->view();
+    h.keep.push_back(grid);
+    return g;
+}
+
+// An area light's area and sides, read after its shape.
+template <class Area>
+Area with_area(Fields& f, Area light) {
+    const float area = f.real("area");
+    if (!(area > 0)) f.fail("'area' must be > 0");
+    light.area = area;
+    light.two_sided = f.flag("two_sided");
+    return light;
+}
+
+// The keys of a light, by kind, are what the renderer reads for it (render/lights/): "power"
+// is a point's or spot's intensity, a quad's, triangles' or the sun's radiance, a
+// goniometric light's RGB per candela. What follows from the geometry — a quad's normal and
+// area, the sun's cone and frame, an emissive mesh's area cdf, unit directions — is computed
+// beside the scene (python/patina/render/prepare.py) and only checked here.
 int add_light(SceneHandle& h, const nb::dict& d) {
+    enum class Kind { Point, Quad, Spot, Sun, Triangles, Goniometric };
+    Kind kind;
+    Fields f = kind_fields<Kind>(d, "light " + std::to_string(h.scene.lights.size()), "light",
+                                 {{"point", Kind::Point},
+                                  {"quad", Kind::Quad},
+                                  {"spot", Kind::Spot},
+                                  {"sun", Kind::Sun},
+                                  {"triangles", Kind::Triangles},
+                                  {"goniometric", Kind::Goniometric}},
+                                 kind);
+    float power[3];
+    f.vec3("power", power);
     patina::Light l;
-    using L = patina::LightKind;
-    Fields f = kind_fields<L>(d, "light " + std::to_string(h.scene.lights.size()), "light",
-                              {{"point", L::Point}, {"quad", L::Quad}, {"spot", L::Spot}, {"sun", L::Sun},
-                               {"triangles", L::Triangles}, {"goniometric", L::Goniometric}},
-                              l.kind);
-    f.vec3("power", l.power);
-    auto positive = [&](const char* key) {
-        const float x = f.real(key);
-        if (!(x > 0)) f.fail("'" + std::string(key) + "' must be > 0");
-        return x;
-    };
-    switch (l.kind) {
-        case patina::LightKind::Point: f.vec3("position", l.position); break;
-        case patina::LightKind::Quad:
-            f.vec3("position", l.position);
-            f.vec3("u", l.u);
-            f.vec3("v", l.v);
-            f.unit3("normal", l.normal);
-            l.area = positive("area");
-            l.two_sided = f.flag("two_sided");
-            break;
-        case patina::LightKind::Spot:
-            f.vec3("position", l.position);
-            f.unit3("direction", l.direction);
-            l.cos_inner = f.real("cos_inner");
-            l.cos_outer = f.real("cos_outer");
-            if (!(l.cos_outer < l.cos_inner)) f.fail("a spot light's cone: cos_outer < cos_inner");
-            break;
-        case patina::LightKind::Sun:
-            f.unit3("direction", l.direction);
-            l.cos_sun = f.real("cos_sun");
-            l.sun_one_minus_cos = f.real("sun_one_minus_cos");
-            // a disc of angular radius below 1.5 rad, its two cosines describing the same cone
-            if (!(l.cos_sun > std::cos(1.5f) && l.cos_sun < 1 && l.sun_one_minus_cos > 0 &&
-                  std::abs(l.cos_sun + l.sun_one_minus_cos - 1) <= 1e-6f))
-                f.fail("the sun's disc: cos_sun in (cos 1.5, 1) and sun_one_minus_cos = 1 - cos_sun");
-            f.unit3("frame_t", l.frame_t);
-            f.unit3("frame_b", l.frame_b);
-            break;
-        case patina::LightKind::Triangles: {
-            IntVector tris;
-            FloatVector cdf;
-            if (!nb::try_cast<IntVector>(f.take("triangles"), tris)) f.fail("'triangles' must be a 1-D int32 array");
-            if (!nb::try_cast<FloatVector>(f.take("area_cdf"), cdf)) f.fail("'area_cdf' must be a 1-D float32 array");
-            const size_t n = tris.shape(0);
-            if (n == 0) f.fail("an emissive mesh needs triangles");
-            if (cdf.shape(0) != n + 1) f.fail("'area_cdf' needs one value per triangle and a leading 0");
-            const patina::KdTree& tree = *h.scene.tree;
-            for (size_t i = 0; i < n; ++i)
-                if (tris.data()[i] < 0 || static_cast<size_t>(tris.data()[i]) >= tree.triangle_count())
-                    f.fail("triangle id " + std::to_string(tris.data()[i]) + " is out of range");
-            const float* c = cdf.data();
-            for (size_t i = 1; i <= n; ++i)
-                if (!(c[i] >= c[i - 1])) f.fail("'area_cdf' must not decrease (at " + std::to_string(i) + ")");
-            if (c[0] != 0.0f || c[n] != 1.0f) f.fail("'area_cdf' must go from 0 to exactly 1");
-            l.triangles.assign(tris.data(), tris.data() + n);
-            l.area_cdf.assign(c, c + n + 1);
-            l.area = positive("area");
-            l.two_sided = f.flag("two_sided");
-            break;
-        }
-        case patina::LightKind::Goniometric: {
-            f.vec3("position", l.position);
-            f.unit3("axis_x", l.axis_x);
-            f.unit3("axis_y", l.axis_y);
-            f.unit3("axis_z", l.axis_z);
-            l.type_b = f.flag("type_b");
-            nb::object grid = f.take("candela");
-            const Grid2Handle* g = nullptr;
-            if (!nb::try_cast<const Grid2Handle*>(grid, g) || g == nullptr)
-                f.fail("'candela' must be a patina._core.Grid2");
-            l.candela = g->view();
-            h.keep.push_back(grid);
-            break;
-        }
-        default: break;
+    switch (kind) {
+        case Kind::Point: l.model = read_point(f, power); break;
+        case Kind::Quad: l.model = with_area(f, read_quad(f, power)); break;
+        case Kind::Spot: l.model = read_spot(f, power); break;
+        case Kind::Sun: l.model = read_sun(f, power); break;
+        case Kind::Triangles: l.model = with_area(f, read_triangles(f, power, h)); break;
+        case Kind::Goniometric: l.model = read_goniometric(f, power, h); break;
     }
     f.finish();
     h.scene.lights.push_back(l);
@@ -377,12 +447,13 @@ void check_materials(const SceneHandle& h) {
     for (size_t i = 0; i < s.triangle_count; ++i)
         if (s.tri_material[i] < 0 || s.tri_material[i] >= nm)
             throw std::invalid_argument("triangle " + std::to_string(i) + " has no material");
-    for (const auto& m : s.materials)
-        if (m.kind == patina::MaterialKind::Emitter &&
-            (m.light < 0 || m.light >= static_cast<int>(s.lights.size()) ||
-             (s.lights[m.light].kind != patina::LightKind::Quad &&
-              s.lights[m.light].kind != patina::LightKind::Triangles)))
+    for (const auto& m : s.materials) {
+        if (!m.is<patina::Emitter>()) continue;
+        const int light = m.as<patina::Emitter>().light;
+        if (light < 0 || light >= static_cast<int>(s.lights.size()) ||
+            !patina::is_area_light(s.lights[light]))
             throw std::invalid_argument("an emitter material must name a quad or triangles light");
+    }
 }
 
 void check_axis(const FloatVector& a, const char* name) {

@@ -52,10 +52,9 @@ float aa_contrast(const AaSignal& a, const AaSignal& b) {
 bool aa_sample_is_signal(const RenderScene& scene, const IntegratorSettings& integrator) {
     if (integrator.max_depth != 1 || scene.camera.aperture_radius > 0 || scene.env.present) return false;
     if (scene.lights.size() != 1) return false;
-    const LightKind k = scene.lights[0].kind;
-    if (k != LightKind::Point && k != LightKind::Spot && k != LightKind::Goniometric) return false;
+    if (!is_delta_light(scene.lights[0])) return false;
     for (const Material& m : scene.materials)
-        if (m.kind == MaterialKind::Emitter) return false;
+        if (m.is<Emitter>()) return false;
     return true;
 }
 

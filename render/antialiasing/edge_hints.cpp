@@ -371,8 +371,10 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
         const TraceKernels& kernels = trace_kernels_w1();  // one width: the same hits for every SIMD width
         for (const Light& light : s.lights) {
             const bool local = is_delta_light(light);
-            if (!local && light.kind != LightKind::Sun) continue;  // area lights and environments: soft shadows
-            const V3 lp = load(light.position), sun = load(light.direction);
+            const SunLight* sun_light = std::get_if<SunLight>(&light.model);
+            if (!local && !sun_light) continue;  // area lights and environments: soft shadows
+            const V3 lp = local ? load(delta_position(light)) : V3{0, 0, 0};
+            const V3 sun = sun_light ? load(sun_light->direction) : V3{0, 0, 0};
             const auto towards_light = [&](V3 p) { return local ? sub(lp, p) : sun; };
             // where the light's ray past p lands: the receiver, or false when nothing is behind p
             const auto receiver = [&](V3 p, V3& q) {

@@ -43,14 +43,6 @@ V3 shading_normal(const Tri& t, const double b[3]) { return unit(b[0] * t.n[0] +
 
 }  // namespace
 
-float sharpest_alpha(const Material& m) {
-    float a = std::numeric_limits<float>::infinity();
-    if (m.coat) a = std::min(a, m.coat_alpha);
-    if (m.kind == MaterialKind::Conductor) a = std::min(a, std::max(m.alpha_x, m.alpha_y));
-    if (m.kind == MaterialKind::Dielectric) a = std::min(a, m.alpha_x);
-    return a;
-}
-
 std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
     std::vector<AaSpot> pieces;
     const bool triangles = s.tree != nullptr && s.indices != nullptr && s.triangle_count > 0 &&
@@ -90,11 +82,13 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
     const auto search = [&](size_t t_begin, size_t t_end, std::vector<Rect>& spots) {
         for (const Light& light : s.lights) {
             const bool local = is_delta_light(light);
-            if (!local && light.kind != LightKind::Sun) continue;  // area lights and environments: broad highlights
-            const V3 lp = load(light.position), sun = load(light.direction);
+            const SunLight* sun_light = std::get_if<SunLight>(&light.model);
+            if (!local && !sun_light) continue;  // area lights and environments: broad highlights
+            const V3 lp = local ? load(delta_position(light)) : V3{0, 0, 0};
+            const V3 sun = sun_light ? load(sun_light->direction) : V3{0, 0, 0};
             // the sun is a disc: its mirror image is spread over half its angular radius of normals
-            const double sun_spread =
-                light.kind == LightKind::Sun ? 0.5 * std::acos(std::clamp<double>(light.cos_sun, -1, 1)) : 0;
+            const double sun_spread = sun_light ? 0.5 * std::acos(std::clamp<double>(sun_light->cos_sun, -1, 1)) : 0;
+            const SpotLight* spot = std::get_if<SpotLight>(&light.model);
             const auto to_light = [&](V3 p) { return local ? unit(lp - p) : unit(sun); };
             const auto half = [&](V3 p) { return unit(to_light(p) + unit(eye - p)); };
             // the spot at p, a point where the shading normal is the half-vector (ngp: the geometric
@@ -103,7 +97,7 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
             const auto place = [&](V3 p, V3 ngp, double alpha, const auto& normal_at) {
                 const V3 l = to_light(p), v = unit(eye - p);
                 if (dot(ngp, l) <= 0 || dot(ngp, v) <= 0) return;
-                if (light.kind == LightKind::Spot && dot(-1.0 * l, load(light.direction)) < light.cos_outer) return;
+                if (spot && dot(-1.0 * l, load(spot->direction)) < spot->cos_outer) return;
                 // seen: the camera's ray towards p hits nothing before it
                 const double dist = std::sqrt(dot(p - eye, p - eye));
                 const double slack = 1e-4 * dist + 10 * double(s.ray_offset);
@@ -152,7 +146,7 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
                 const size_t mi = s.tri_material != nullptr ? static_cast<size_t>(s.tri_material[t]) : 0;
                 if (mi >= s.materials.size()) continue;  // no material: nothing to place
                 const Material& m = s.materials[mi];
-                const double alpha = double(sharpest_alpha(m)) + sun_spread;
+                const double alpha = double(highlight_alpha(m)) + sun_spread;
                 if (!(alpha < 0.5)) continue;  // no lobe, or one too broad to be sub-pixel anywhere near
                 Tri T;
                 for (int e = 0; e < 3; ++e) {
@@ -234,7 +228,7 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
             for (size_t k = 0; t_begin == 0 && k < balls.size(); ++k) {
                 const size_t mi = static_cast<size_t>(s.tri_material[balls.prim_base + static_cast<int32_t>(k)]);
                 if (mi >= s.materials.size()) continue;
-                const double alpha = double(sharpest_alpha(s.materials[mi])) + sun_spread;
+                const double alpha = double(highlight_alpha(s.materials[mi])) + sun_spread;
                 if (!(alpha < 0.5)) continue;
                 const V3 centre{balls.cx[k], balls.cy[k], balls.cz[k]};
                 const double radius = balls.radius[k];

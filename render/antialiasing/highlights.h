@@ -41,9 +41,4 @@ inline constexpr double kAaSpotMaxHalf = 2;
 // threads (the same pieces for any count).
 std::vector<AaSpot> find_highlight_spots(const RenderScene& scene, int threads = 1);
 
-// The GGX roughness of a material's sharpest specular lobe (clear coat, conductor,
-// dielectric), or infinity for none (Lambert; measured tables and fitted mixtures have no
-// analytic lobe to place).
-float sharpest_alpha(const Material& m);
-
 }  // namespace patina

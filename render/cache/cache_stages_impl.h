@@ -40,17 +40,8 @@ constexpr int kLookupSamples = 32;
 inline bool texel_resolvable(const Material& m, int resolution) {
     if (m.coat) return false;
     const float texel = 2.5066283f / static_cast<float>(resolution);
-    switch (m.kind) {
-        case MaterialKind::Lambert:
-            return true;
-        case MaterialKind::Conductor:
-            return std::min(m.alpha_x, m.alpha_y) >= 2 * texel;
-        case MaterialKind::Table:
-        case MaterialKind::Mixture:
-            return m.proxy_alpha >= 2 * texel;
-        default:
-            return false;
-    }
+    const std::optional<float> alpha = reflection_alpha(m);
+    return alpha && *alpha >= 2 * texel;
 }
 
 // Whether `cache` leaves a material's indirect light to the path tracer (the path goes on
@@ -60,17 +51,10 @@ inline bool texel_resolvable(const Material& m, int resolution) {
 // one sample per camera sample: the lookup's error would be many times path's (on the
 // studio's car-paint ball 16x at 16 spp).
 inline bool left_to_path(const Material& m, int resolution) {
-    if (m.kind == MaterialKind::Dielectric || m.coat) return true;
+    if (transmits(m) || m.coat) return true;
     const float half_texel = 0.5f * 2.5066283f / static_cast<float>(resolution);
-    switch (m.kind) {
-        case MaterialKind::Conductor:
-            return std::min(m.alpha_x, m.alpha_y) < half_texel;
-        case MaterialKind::Table:
-        case MaterialKind::Mixture:
-            return m.proxy_alpha < half_texel;
-        default:
-            return false;
-    }
+    const std::optional<float> alpha = reflection_alpha(m);
+    return alpha && *alpha < half_texel;
 }
 
 // Of the materials left to the path tracer, those whose first bounce the cache splits into
@@ -80,7 +64,7 @@ inline bool left_to_path(const Material& m, int resolution) {
 // measured alike on the studio and the IES interior, 16 slower: docs/radiance-cache.md.)
 constexpr int kSplitPaths = 4;
 inline bool split_by_paths(const Material& m, int resolution) {
-    return m.kind != MaterialKind::Dielectric && left_to_path(m, resolution);
+    return !transmits(m) && left_to_path(m, resolution);
 }
 
 // Whether the integrator's first-hit points of material m take their light from the cache's
@@ -143,8 +127,8 @@ inline int64_t block_of_pixel(const Camera& cam, int K, int64_t px, int64_t py) 
 // mosaic measures (k = 16) went 1.28 -> 1.24 and 1.17 -> 1.10.
 template <class W>
 inline int64_t jittered_pixel(const W& w, int64_t px, int64_t py, uint32_t key) {
-    const Camera& cam = w.s.camera;
-    const int K = 2 * w.st.cache.block;
+    const Camera& cam = w.scene.camera;
+    const int K = 2 * w.settings.cache.block;
     key = hash_u32(key ^ 0x5be0cd19u);  // not the numbers the sample's own rays draw
     auto draw = [&](int64_t p, uint32_t dim, int64_t lo, int64_t hi) {
         const int64_t q = p + static_cast<int64_t>(std::floor((uniform(key, dim) - 0.5f) * static_cast<float>(K) + 0.5f));
@@ -173,17 +157,17 @@ inline int32_t stored_hemisphere(const W& w, CacheState& st, const ShadingPoint&
     auto within_reach = [&](const RegionHemisphere& h) { return dot(sp.p - h.p, sp.p - h.p) <= h.reach * h.reach; };
     const auto near = st.pixel_hemisphere.find(jittered_pixel(w, px, py, key));
     if (near != st.pixel_hemisphere.end()) {
-        const RegionHemisphere& h = *w.sc.cache_shared_hemispheres[near->second];
+        const RegionHemisphere& h = *w.scratch.cache_shared_hemispheres[near->second];
         if (shares(h) && within_reach(h)) return take(h);
     }
-    const auto own = st.pixel_hemisphere.find(py * w.s.camera.width + px);
-    if (own != st.pixel_hemisphere.end() && shares(*w.sc.cache_shared_hemispheres[own->second]))
-        return take(*w.sc.cache_shared_hemispheres[own->second]);
-    const auto found = st.block_hemispheres.find(block_of_pixel(w.s.camera, w.st.cache.block, px, py));
+    const auto own = st.pixel_hemisphere.find(py * w.scene.camera.width + px);
+    if (own != st.pixel_hemisphere.end() && shares(*w.scratch.cache_shared_hemispheres[own->second]))
+        return take(*w.scratch.cache_shared_hemispheres[own->second]);
+    const auto found = st.block_hemispheres.find(block_of_pixel(w.scene.camera, w.settings.cache.block, px, py));
     if (found == st.block_hemispheres.end()) return -1;
-    const int32_t region = region_of_pixel(w.s.camera, px, py);
+    const int32_t region = region_of_pixel(w.scene.camera, px, py);
     for (const int32_t i : found->second) {
-        const RegionHemisphere& h = *w.sc.cache_shared_hemispheres[i];
+        const RegionHemisphere& h = *w.scratch.cache_shared_hemispheres[i];
         if (h.region == region && shares(h) && within_reach(h)) return take(h);
     }
     return -1;
@@ -194,10 +178,10 @@ inline int32_t stored_hemisphere(const W& w, CacheState& st, const ShadingPoint&
 // where there is one (stored_hemisphere) and makes or joins a query only where there is not.
 template <class W, class Accept>
 inline size_t collect_queries(const W& w, CacheState& st, Accept accept, bool stored) {
-    const PathScratch& sc = w.sc;
+    const PathScratch& sc = w.scratch;
     const size_t np = sc.sorted.size();
-    const Camera& cam = w.s.camera;
-    const int K = w.st.cache.block;
+    const Camera& cam = w.scene.camera;
+    const int K = w.settings.cache.block;
     st.block_hemispheres.clear();
     st.pixel_hemisphere.clear();
     st.stored.clear();
@@ -213,17 +197,17 @@ inline size_t collect_queries(const W& w, CacheState& st, Accept accept, bool st
     st.member_query.clear();
     st.member_own.clear();
     st.query_of.assign(np, -1);
-    for (size_t k = 0; k < w.s.materials.size(); ++k) {
-        if (!accept(w.s.materials[k])) continue;
+    for (size_t k = 0; k < w.scene.materials.size(); ++k) {
+        if (!accept(w.scene.materials[k])) continue;
         st.pixel_member.clear();  // per material
         st.block_queries.clear();
         const size_t first = sc.material_start[k], last = sc.material_start[k + 1];
         for (size_t q = first; q < last; ++q) {
             const ShadingPoint& sp = sc.sorted[q];
-            const CameraSample& c = w.cs[sp.path];
+            const CameraSample& c = w.camera_samples[sp.path];
             const int64_t px = static_cast<int64_t>(std::floor(c.fx)), py = static_cast<int64_t>(std::floor(c.fy));
             const int64_t pixel = py * cam.width + px;
-            const float footprint = w.out[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
+            const float footprint = w.results[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
             auto found = st.pixel_member.find(pixel);
             if (found != st.pixel_member.end() && shares_with(sc.sorted[st.member_point[found->second]], sp, footprint)) {
                 st.query_of[q] = found->second;
@@ -233,7 +217,7 @@ inline size_t collect_queries(const W& w, CacheState& st, Accept accept, bool st
             std::vector<int32_t>& block = st.block_queries[block_of_pixel(cam, K, px, py)];
             // the sample's own key (the stream key is the pixel's, shared by its samples)
             const uint32_t key = sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q]));
-            const Query own{sp.p, sp.ng, sp.t, sp.b, sp.n, key, kMinReusePixels * footprint / w.st.cache.error};
+            const Query own{sp.p, sp.ng, sp.t, sp.b, sp.n, key, kMinReusePixels * footprint / w.settings.cache.error};
             const int32_t h = st.block_hemispheres.empty() ? -1 : stored_hemisphere(w, st, sp, px, py, footprint, key);
             int32_t query = h >= 0 ? -1 - h : -1;
             for (size_t i = 0; i < block.size() && h < 0 && query < 0; ++i)
@@ -289,11 +273,11 @@ inline void eval_at_texels(const Material& m, const float* v, float eta, CacheSt
 
 template <class W>
 inline void add_counts(const W& w, const CacheCounts& c, const CacheState& st, size_t rays_before) {
-    w.sc.cache_points += c.points;
-    w.sc.cache_queries += c.queries;
-    w.sc.cache_texels_reprojected += c.reprojected + c.from_misses;
-    w.sc.cache_texels_traced += c.traced;
-    w.sc.rays_traced += st.inner.rays_traced - rays_before;
+    w.scratch.cache_points += c.points;
+    w.scratch.cache_queries += c.queries;
+    w.scratch.cache_texels_reprojected += c.reprojected + c.from_misses;
+    w.scratch.cache_texels_traced += c.traced;
+    w.scratch.rays_traced += st.inner.rays_traced - rays_before;
 }
 
 // `cache`: the materials whose texel hits take cache.hit_paths paths (split_glossy_hits): those
@@ -305,7 +289,7 @@ inline void mark_split_materials(const std::vector<Material>& materials, const I
     st.hit_paths = settings.cache.hit_paths;
     if (settings.mode != IntegratorMode::Cache || st.hit_paths < 2) return;
     for (const Material& m : materials)
-        st.split_material.push_back(m.kind != MaterialKind::Emitter && !texel_resolvable(m, settings.cache.resolution));
+        st.split_material.push_back(!m.is<Emitter>() && !texel_resolvable(m, settings.cache.resolution));
 }
 
 // The start of either integrator's cache stage: the worker's cache state, timed by its
@@ -313,14 +297,14 @@ inline void mark_split_materials(const std::vector<Material>& materials, const I
 // shared points of the item's regions to start from, and the texel directions.
 template <class W>
 inline CacheState& start_cache_stage(const W& w) {
-    CacheState& st = cache_state(w.sc);
-    st.timer = &w.sc.timer;
-    const int R = w.st.cache.resolution;
-    collect_queries(w, st, [&](const Material& m) { return served_by_cache(w.st.mode, m, R); },
-                    w.st.mode == IntegratorMode::Cache);
-    st.shared = &w.sc.cache_shared;
+    CacheState& st = cache_state(w.scratch);
+    st.timer = &w.scratch.timer;
+    const int R = w.settings.cache.resolution;
+    collect_queries(w, st, [&](const Material& m) { return served_by_cache(w.settings.mode, m, R); },
+                    w.settings.mode == IntegratorMode::Cache);
+    st.shared = &w.scratch.cache_shared;
     st.dirs.prepare(R);
-    mark_split_materials(w.s.materials, w.st, st);
+    mark_split_materials(w.scene.materials, w.settings, st);
     return st;
 }
 
@@ -330,9 +314,9 @@ inline CacheState& start_cache_stage(const W& w) {
 // next hit with its MIS weight). An unbiased estimate: path's with its first bounce split.
 template <class W, class Tracer>
 inline void split_narrow_lobes(const W& w, Tracer& trace) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     CacheState& st = cache_state(sc);
-    const int R = w.st.cache.resolution;
+    const int R = w.settings.cache.resolution;
     const size_t K = kSplitPaths;
     st.rays.clear();
     st.split_weight.clear();
@@ -344,8 +328,8 @@ inline void split_narrow_lobes(const W& w, Tracer& trace) {
     float* l = grow(st.lobe_l, 3 * K);
     float* pdf = grow(st.pdf, K);
     const size_t rays_before = st.inner.rays_traced;
-    for (size_t k = 0; k < w.s.materials.size(); ++k) {
-        const Material& m = w.s.materials[k];
+    for (size_t k = 0; k < w.scene.materials.size(); ++k) {
+        const Material& m = w.scene.materials[k];
         if (!split_by_paths(m, R)) continue;
         const size_t first = sc.material_start[k], last = sc.material_start[k + 1];
         for (size_t q = first; q < last; ++q) {
@@ -362,7 +346,7 @@ inline void split_narrow_lobes(const W& w, Tracer& trace) {
             render_detail::material_sample(m, vv, ee, u0, u1, u2, l, pdf, K);
             float* f = grow(st.f, 3 * K);
             render_detail::material_eval(m, l, vv, ee, f, K);
-            const Vec3f o = sp.p + w.eps * sp.ng;
+            const Vec3f o = sp.p + w.ray_offset * sp.ng;
             for (size_t j = 0; j < K; ++j) {
                 const float* d = l + 3 * j;
                 if (!(pdf[j] > 0) || !(d[2] > 0)) continue;
@@ -381,9 +365,9 @@ inline void split_narrow_lobes(const W& w, Tracer& trace) {
         const int32_t path = sc.sorted[st.rays.where[r]].path;
         const float* Tp = sc.throughput.data() + 3 * path;
         for (int c = 0; c < 3; ++c)
-            w.out[path].rgb[c] += Tp[c] * st.split_weight[3 * r + c] * st.results[r].rgb[c];
+            w.results[path].rgb[c] += Tp[c] * st.split_weight[3 * r + c] * st.results[r].rgb[c];
     }
-    w.sc.rays_traced += st.inner.rays_traced - rays_before;
+    w.scratch.rays_traced += st.inner.rays_traced - rays_before;
     st.lap(Stage::CacheSplit);
 }
 
@@ -391,9 +375,9 @@ inline void split_narrow_lobes(const W& w, Tracer& trace) {
 // (left_to_path), from the cache.
 template <class W, class Tracer>
 inline void add_cached_indirect(const W& w, Tracer& trace) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     CacheState& st = start_cache_stage(w);
-    const CacheSettings& cfg = w.st.cache;
+    const CacheSettings& cfg = w.settings.cache;
     const int R = cfg.resolution;
     const size_t T = static_cast<size_t>(R) * R;
     const float texel = texel_solid_angle(R);
@@ -403,7 +387,7 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
     auto integrate = [&](int32_t member, const float* radiance, size_t count) {
         const size_t q = st.member_point[member];
         const ShadingPoint& sp = sc.sorted[q];
-        const Material& m = w.s.materials[sp.material];
+        const Material& m = w.scene.materials[sp.material];
         float v[3];
         view_in_query_frame(sc, st, member, v);
         double sum[3] = {0, 0, 0};
@@ -465,8 +449,8 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
         for (const int32_t* i = begin; i < end; ++i) {
             const int32_t member = *i;
             const ShadingPoint& sp = sc.sorted[st.member_point[member]];
-            const Material& m = w.s.materials[sp.material];
-            const bool plain = m.kind == MaterialKind::Lambert && !m.coat;
+            const Material& m = w.scene.materials[sp.material];
+            const bool plain = m.is<Lambert>() && !m.coat;
             if (plain && lambert >= 0 && sc.sorted[st.member_point[lambert]].material == sp.material) {
                 std::copy(st.sums.begin() + 3 * lambert, st.sums.begin() + 3 * lambert + 3, st.sums.begin() + 3 * member);
                 continue;
@@ -480,7 +464,7 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
         consume_members(m + st.query_first[qi], m + st.query_first[qi + 1], radiance);
     };
     st.sums.assign(3 * st.member_point.size(), 0.0f);
-    CacheCounts c = reconstruct_hemispheres(cfg, w.eps, true, st, trace, consume);
+    CacheCounts c = reconstruct_hemispheres(cfg, w.ray_offset, true, st, trace, consume);
     // the members of the regions' hemispheres
     for (size_t s = 0; s < st.stored.size(); ++s) {
         const int32_t* m = st.stored_members.data();
@@ -494,7 +478,7 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
         if (st.query_of[q] < 0) continue;
         const int32_t path = sc.sorted[q].path;
         const float* Tp = sc.throughput.data() + 3 * path;
-        for (int k = 0; k < 3; ++k) w.out[path].rgb[k] += Tp[k] * st.sums[3 * st.query_of[q] + k];
+        for (int k = 0; k < 3; ++k) w.results[path].rgb[k] += Tp[k] * st.sums[3 * st.query_of[q] + k];
         sc.cached[path] = 1;
     }
     split_narrow_lobes(w, trace);
@@ -513,21 +497,22 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
 template <class W, class Tracer>
 inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoint>& out,
                                 std::vector<RegionHemisphere>& hemispheres) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     CacheState& st = cache_state(sc);
     st.timer = &sc.timer;
-    const CacheSettings& cfg = w.st.cache;
-    collect_queries(w, st, [&](const Material& m) { return served_by_cache(w.st.mode, m, cfg.resolution); }, false);
+    const CacheSettings& cfg = w.settings.cache;
+    const auto served = [&](const Material& m) { return served_by_cache(w.settings.mode, m, cfg.resolution); };
+    collect_queries(w, st, served, false);
     st.shared = nullptr;
-    mark_split_materials(w.s.materials, w.st, st);
+    mark_split_materials(w.scene.materials, w.settings, st);
     const size_t rays_before = st.inner.rays_traced;
     hemispheres.clear();
-    if (w.st.mode == IntegratorMode::Cache) {
-        const Camera& cam = w.s.camera;
+    if (w.settings.mode == IntegratorMode::Cache) {
+        const Camera& cam = w.scene.camera;
         const size_t T = static_cast<size_t>(cfg.resolution) * cfg.resolution;
         auto keep = [&](size_t qi, const float* radiance) {
             const ShadingPoint& sp = sc.sorted[st.query_point[qi]];
-            const CameraSample& c = w.cs[sp.path];
+            const CameraSample& c = w.camera_samples[sp.path];
             const int64_t px = static_cast<int64_t>(std::floor(c.fx)), py = static_cast<int64_t>(std::floor(c.fy));
             RegionHemisphere h;
             h.block = block_of_pixel(cam, cfg.block, px, py);
@@ -538,17 +523,17 @@ inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoin
             h.radiance.assign(radiance, radiance + 3 * T);
             hemispheres.push_back(std::move(h));
         };
-        const CacheCounts c = reconstruct_hemispheres(cfg, w.eps, true, st, trace, keep);
+        const CacheCounts c = reconstruct_hemispheres(cfg, w.ray_offset, true, st, trace, keep);
         // (consumed in order: hemisphere u is query u) each pre-pass pixel's
         for (size_t m = 0; m < st.member_point.size(); ++m) {
-            const CameraSample& cm = w.cs[sc.sorted[st.member_point[m]].path];
+            const CameraSample& cm = w.camera_samples[sc.sorted[st.member_point[m]].path];
             const int64_t px = static_cast<int64_t>(std::floor(cm.fx)), py = static_cast<int64_t>(std::floor(cm.fy));
             hemispheres[st.member_query[m]].pixels.push_back(py * cam.width + px);
         }
         sc.cache_texels_reprojected += c.reprojected + c.from_misses;
         sc.cache_texels_traced += c.traced;
     } else {
-        place_cache_points(cfg, w.eps, st.queries.data(), st.queries.size(), st, trace);
+        place_cache_points(cfg, w.ray_offset, st.queries.data(), st.queries.size(), st, trace);
     }
     out.clear();
     for (size_t a = 0; a < st.used; ++a) {

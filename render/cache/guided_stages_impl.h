@@ -35,16 +35,16 @@ inline bool cache_points_guide(const PathScratch& sc, const CacheSettings& cfg) 
 // that none of those serves.
 template <class W, class Tracer>
 inline void place_guide_points(const W& w, Tracer& trace) {
-    if (!cache_points_guide(w.sc, w.st.cache)) return;
+    if (!cache_points_guide(w.scratch, w.settings.cache)) return;
     CacheState& st = start_cache_stage(w);
     const size_t rays_before = st.inner.rays_traced;
-    place_cache_points(w.st.cache, w.eps, st.queries.data(), st.queries.size(), st, trace);
-    w.sc.cache_points += st.used;
-    w.sc.cache_queries += st.queries.size();
-    w.sc.rays_traced += st.inner.rays_traced - rays_before;
+    place_cache_points(w.settings.cache, w.ray_offset, st.queries.data(), st.queries.size(), st, trace);
+    w.scratch.cache_points += st.used;
+    w.scratch.cache_queries += st.queries.size();
+    w.scratch.rays_traced += st.inner.rays_traced - rays_before;
     if (st.pool.empty())  // no queries: the shared points alone
-        for (const CachePoint* a : w.sc.cache_shared) st.pool.push_back(a);
-    st.guides.prepare(st.pool, w.st.cache.resolution);
+        for (const CachePoint* a : w.scratch.cache_shared) st.pool.push_back(a);
+    st.guides.prepare(st.pool, w.settings.cache.resolution);
     st.lap(Stage::CachePlace);
 }
 
@@ -65,17 +65,8 @@ constexpr int kGuidedBounces = 1;
 constexpr float kFieldMinAlpha = 0.3f;
 inline bool field_guidable(const Material& m) {
     if (m.coat) return false;
-    switch (m.kind) {
-        case MaterialKind::Lambert:
-            return true;
-        case MaterialKind::Conductor:
-            return std::min(m.alpha_x, m.alpha_y) >= kFieldMinAlpha;
-        case MaterialKind::Table:
-        case MaterialKind::Mixture:
-            return m.proxy_alpha >= kFieldMinAlpha;
-        default:
-            return false;
-    }
+    const std::optional<float> alpha = reflection_alpha(m);
+    return alpha && *alpha >= kFieldMinAlpha;
 }
 
 // cache-guided, at every bounce before light sampling: each shading point's guide -- at the
@@ -85,10 +76,10 @@ inline bool field_guidable(const Material& m) {
 // takes.
 template <class W>
 inline void assign_guides(const W& w, int depth) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     CacheState& st = cache_state(sc);
     GuidePool& g = st.guides;
-    const int R = w.st.cache.resolution;
+    const int R = w.settings.cache.resolution;
     const size_t np = sc.sorted.size();
     g.of.assign(np, -1);
     g.field_of.assign(np, -1);
@@ -96,8 +87,8 @@ inline void assign_guides(const W& w, int depth) {
     g.field = sc.guide_field;
     if (depth < kGuidedBounces && !g.points.empty() && g.resolution == R) {
         st.dirs.prepare(R);
-        for (size_t k = 0; k < w.s.materials.size(); ++k) {
-            if (!texel_resolvable(w.s.materials[k], R)) continue;
+        for (size_t k = 0; k < w.scene.materials.size(); ++k) {
+            if (!texel_resolvable(w.scene.materials[k], R)) continue;
             const size_t first = sc.material_start[k], last = sc.material_start[k + 1];
             for (size_t q = first; q < last; ++q) {
                 const ShadingPoint& sp = sc.sorted[q];
@@ -106,9 +97,9 @@ inline void assign_guides(const W& w, int depth) {
             }
         }
     }
-    if (g.field != nullptr && !g.field->empty() && depth < w.st.cache.train_bounces)
-        for (size_t k = 0; k < w.s.materials.size(); ++k) {
-            if (!field_guidable(w.s.materials[k])) continue;
+    if (g.field != nullptr && !g.field->empty() && depth < w.settings.cache.train_bounces)
+        for (size_t k = 0; k < w.scene.materials.size(); ++k) {
+            if (!field_guidable(w.scene.materials[k])) continue;
             const size_t first = sc.material_start[k], last = sc.material_start[k + 1];
             for (size_t q = first; q < last; ++q) {
                 if (g.of[q] >= 0) continue;
@@ -163,13 +154,13 @@ inline void mix_light_pdfs(const PathScratch& sc, const CacheSettings& cfg, cons
 // (the guide's texel, or the BRDF's own lobe).
 template <class W>
 inline void guided_picks(const W& w) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     CacheState& st = cache_state(sc);
     const size_t np = sc.sorted.size();
     st.chose_guide.assign(np, 0);
     st.guide_pick.assign(np, 0.0f);
     if (!guided_here(sc)) return;
-    const float a = guide_probability(st.guides, w.st.cache);
+    const float a = guide_probability(st.guides, w.settings.cache);
     float* pick = sc.u_pick.data();
     for (size_t q = 0; q < np; ++q) {
         if (!st.guides.guides(q)) continue;
@@ -186,13 +177,13 @@ inline void guided_picks(const W& w) {
 // then for every guided point the BRDF value and the mixture's density.
 template <class W>
 inline void guided_directions(const W& w) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     CacheState& st = cache_state(sc);
     if (!guided_here(sc)) return;
     const GuidePool& g = st.guides;
     const int R = g.resolution;
     const size_t T = static_cast<size_t>(R) * R, np = sc.sorted.size();
-    const float a = guide_probability(g, w.st.cache);
+    const float a = guide_probability(g, w.settings.cache);
     float* ll = sc.l_local.data();
     bool any = false;
     for (size_t q = 0; q < np; ++q) {
@@ -215,14 +206,14 @@ inline void guided_directions(const W& w) {
     if (!any) return;
     const float* vl = sc.v_local.data();
     const float* eta = sc.eta.data();
-    float* fv = sc.f.data();
+    float* fv = sc.bsdf_rgb.data();
     float* pdf = sc.pdf.data();
-    for (size_t k = 0; k < w.s.materials.size(); ++k) {
+    for (size_t k = 0; k < w.scene.materials.size(); ++k) {
         const size_t b = sc.material_start[k], count = sc.material_start[k + 1] - b;
         bool guided = false;
         for (size_t q = b; q < b + count && !guided; ++q) guided = g.guides(q);
         if (!guided) continue;
-        const Material& m = w.s.materials[k];
+        const Material& m = w.scene.materials[k];
         render_detail::material_eval(m, ll + 3 * b, vl + 3 * b, eta + b, fv + 3 * b, count);
         render_detail::material_pdf(m, ll + 3 * b, vl + 3 * b, eta + b, pdf + b, count);
     }

@@ -39,10 +39,10 @@ inline void start_records(PathScratch& sc) {
 // bounce's rays note what their paths hold, the next vertex's own emission included.
 template <class W>
 inline void note_arrivals(const W& w) {
-    GuideRecordSink& sink = *w.sc.guide_sink;
+    GuideRecordSink& sink = *w.scratch.guide_sink;
     for (const int32_t v : sink.waiting) {
         PendingVertex& pv = sink.pending[v];
-        std::copy(w.out[pv.path].rgb, w.out[pv.path].rgb + 3, pv.arrived);
+        std::copy(w.results[pv.path].rgb, w.results[pv.path].rgb + 3, pv.arrived);
     }
     sink.waiting.clear();
 }
@@ -51,17 +51,17 @@ inline void note_arrivals(const W& w) {
 // shading point, with the direction, density and throughput update_paths gave it.
 template <class W>
 inline void note_vertices(const W& w) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     GuideRecordSink& sink = *sc.guide_sink;
     const size_t np = sc.sorted.size();
     if (sink.point_of_path.size() < sc.throughput.size() / 3) sink.point_of_path.resize(sc.throughput.size() / 3);
-    for (size_t q = 0; q < np; ++q) sink.point_of_path[sc.pt_path[q]] = static_cast<int32_t>(q);
+    for (size_t q = 0; q < np; ++q) sink.point_of_path[sc.point_lanes.path[q]] = static_cast<int32_t>(q);
     for (const int32_t i : sc.next_active) {
         const size_t q = static_cast<size_t>(sink.point_of_path[i]);
         PendingVertex pv;
         pv.path = i;
-        std::copy(sc.pt_p.data() + 3 * q, sc.pt_p.data() + 3 * q + 3, pv.p);
-        std::copy(sc.pt_n.data() + 3 * q, sc.pt_n.data() + 3 * q + 3, pv.n);
+        std::copy(sc.point_lanes.position.data() + 3 * q, sc.point_lanes.position.data() + 3 * q + 3, pv.p);
+        std::copy(sc.point_lanes.normal.data() + 3 * q, sc.point_lanes.normal.data() + 3 * q + 3, pv.n);
         std::copy(sc.dir.data() + 3 * i, sc.dir.data() + 3 * i + 3, pv.d);
         pv.pdf = sc.prev_pdf[i];
         std::copy(sc.throughput.data() + 3 * i, sc.throughput.data() + 3 * i + 3, pv.thr);
@@ -75,9 +75,9 @@ inline void note_vertices(const W& w) {
 // after it arrived (none where nothing came back: a zero adds nothing to any bin).
 template <class W>
 inline void finish_records(const W& w) {
-    GuideRecordSink& sink = *w.sc.guide_sink;
+    GuideRecordSink& sink = *w.scratch.guide_sink;
     for (const PendingVertex& pv : sink.pending) {
-        const float* rgb = w.out[pv.path].rgb;
+        const float* rgb = w.results[pv.path].rgb;
         float li[3];
         for (int c = 0; c < 3; ++c) {
             const float gathered = std::max(0.0f, rgb[c] - pv.arrived[c]);

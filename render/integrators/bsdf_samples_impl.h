@@ -22,22 +22,22 @@ using namespace kernel_width;
 // throughput times BRDF x cosine / pdf, Russian roulette, and the next ray of the paths that
 // go on, appended to sc.next_active in point order.
 inline void update_paths(const Wavefront& w, int depth, size_t np) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     const float* ll = sc.l_local.data();
-    const float* fv = sc.f.data();
+    const float* fv = sc.bsdf_rgb.data();
     const float* pdf = sc.pdf.data();
-    const bool roulette = depth + 1 >= w.st.rr_depth;
+    const bool roulette = depth + 1 >= w.settings.rr_depth;
     sc.next_active.resize(np);
     float* next_org = grow(sc.next_ray_org, 3 * np);
     float* next_dir = grow(sc.next_ray_dir, 3 * np);
     size_t m = 0;
     for_blocks(np, [&](size_t q0, int lanes) {
-        const I path = load_path_lanes(sc.pt_path.data(), q0, lanes), path3 = path * I(3);
+        const I path = load_path_lanes(sc.point_lanes.path.data(), q0, lanes), path3 = path * I(3);
         alignas(64) int32_t key[N] = {}, index[N] = {};
         uint32_t all = 0;
         if (roulette)
             for (int k = 0; k < lanes; ++k) {
-                const CameraSample& c = w.cs[sc.pt_path[q0 + k]];
+                const CameraSample& c = w.camera_samples[sc.point_lanes.path[q0 + k]];
                 key[k] = static_cast<int32_t>(c.key);
                 index[k] = static_cast<int32_t>(c.index);
                 all |= c.index;
@@ -46,10 +46,10 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
         const F P = load_lanes(pdf, q0, lanes);
         B go = (P > F(0.0f)) & (L.z != F(0.0f));
         // to_world(sp, l), normalised
-        const V3 wl = normalize_lanes(L.x * load_rows(sc.pt_t.data(), q0, lanes) +
-                                      L.y * load_rows(sc.pt_b.data(), q0, lanes) +
-                                      L.z * load_rows(sc.pt_n.data(), q0, lanes));
-        const V3 NG = load_rows(sc.pt_ng.data(), q0, lanes);
+        const V3 wl = normalize_lanes(L.x * load_rows(sc.point_lanes.tangent.data(), q0, lanes) +
+                                      L.y * load_rows(sc.point_lanes.bitangent.data(), q0, lanes) +
+                                      L.z * load_rows(sc.point_lanes.normal.data(), q0, lanes));
+        const V3 NG = load_rows(sc.point_lanes.geometric_normal.data(), q0, lanes);
         const V3 FV = load_rows(fv, q0, lanes);
         go = go & (dot(wl, NG) * L.z > F(0.0f));  // the side the local direction says
         const float* thr = sc.throughput.data();
@@ -60,14 +60,14 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
         go = go & ((T[0] > F(0.0f)) | (T[1] > F(0.0f)) | (T[2] > F(0.0f)));
         if (roulette) {
             const F survive = std_min(F(0.95f), std_max(T[0], std_max(T[1], T[2])));
-            const F u = sample_uniform_lanes(w.st.sampler, load_n<N>(key), load_n<N>(index), bit_length(all), depth,
-                                             kDimRoulette);
+            const F u = sample_uniform_lanes(w.settings.sampler, load_n<N>(key), load_n<N>(index), bit_length(all),
+                                             depth, kDimRoulette);
             const B lives = go & !(u >= survive);
             for (int c = 0; c < 3; ++c) T[c] = select(lives, T[c] / survive, T[c]);
             go = lives;
         }
-        const F side = select(L.z > F(0.0f), F(w.eps), F(-w.eps));
-        const V3 Pp = load_rows(sc.pt_p.data(), q0, lanes);
+        const F side = select(L.z > F(0.0f), F(w.ray_offset), F(-w.ray_offset));
+        const V3 Pp = load_rows(sc.point_lanes.position.data(), q0, lanes);
         const V3 o = Pp + side * NG;
         alignas(64) float tt[3][N], oo[3][N], dd[3][N], pp[3][N];
         for (int c = 0; c < 3; ++c) store_n<N>(tt[c], T[c]);
@@ -76,13 +76,13 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
         store_lanes3(dd, wl);
         for (int bits = updated; bits; bits &= bits - 1) {
             const int k = __builtin_ctz(static_cast<unsigned>(bits));
-            float* Tk = sc.throughput.data() + 3 * sc.pt_path[q0 + k];
+            float* Tk = sc.throughput.data() + 3 * sc.point_lanes.path[q0 + k];
             for (int c = 0; c < 3; ++c) Tk[c] = tt[c][k];
         }
         for (int bits = movemask(go) & ((1 << lanes) - 1); bits; bits &= bits - 1) {
             const int k = __builtin_ctz(static_cast<unsigned>(bits));
             const size_t q = q0 + k;
-            const int32_t i = sc.pt_path[q];
+            const int32_t i = sc.point_lanes.path[q];
             for (int c = 0; c < 3; ++c) {
                 sc.org[3 * i + c] = next_org[3 * m + c] = oo[c][k];
                 sc.dir[3 * i + c] = next_dir[3 * m + c] = dd[c][k];
@@ -98,7 +98,7 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
 // The numbers BSDF sampling draws at each point: two uniforms, and the lobe pick for the
 // groups whose sampling reads it (every point's with all_picks: a guide picks too).
 inline void draw_bsdf_numbers(const Wavefront& w, int depth, bool all_picks) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     const size_t np = sc.sorted.size();
     float* upick = grow(sc.u_pick, np);
     float* u1 = grow(sc.u1, np);
@@ -115,12 +115,12 @@ inline void draw_bsdf_numbers(const Wavefront& w, int depth, bool all_picks) {
 // Each point's next direction drawn by its material (N points of a material at a time), with
 // its density and the BSDF's value there.
 inline void sample_materials(const Wavefront& w) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     const size_t np = sc.sorted.size();
     const float* vl = sc.v_local.data();
     const float* eta = sc.eta.data();
     float* ll = grow(sc.l_local, 3 * np);
-    float* fv = grow(sc.f, 3 * np);
+    float* fv = grow(sc.bsdf_rgb, 3 * np);
     float* pdf = grow(sc.pdf, np);
     const float* upick = sc.u_pick.data();
     const float* u1 = sc.u1.data();
@@ -134,10 +134,10 @@ inline void sample_materials(const Wavefront& w) {
 // The paths after their BSDF samples: throughput, Russian roulette, and the next bounce's ray
 // for the survivors (sc.next_active), while the path may still bounce.
 inline void continue_paths(const Wavefront& w, int depth) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     sc.timer.lap(Stage::ShadeSample);
     sc.next_active.clear();
-    if (depth + 1 <= w.st.max_depth) update_paths(w, depth, sc.sorted.size());
+    if (depth + 1 <= w.settings.max_depth) update_paths(w, depth, sc.sorted.size());
     sc.timer.lap(Stage::PathUpdate);
 }
 

@@ -24,14 +24,15 @@ using namespace kernel_width;
 // direction has under the guide mixed into its BSDF density before the weights.
 inline void queue_guided_light_samples(const Wavefront& w, int depth) {
     if (!sample_and_evaluate_lights(w, depth)) return;
-    cache::mix_light_pdfs(w.sc, w.st.cache, w.sc.l_local.data(), w.sc.pdf.data(), w.sc.sorted.size());
+    PathScratch& sc = w.scratch;
+    cache::mix_light_pdfs(sc, w.settings.cache, sc.l_local.data(), sc.pdf.data(), sc.sorted.size());
     queue_light_shadow_rays(w, depth);
 }
 
 // BSDF sampling where a guide serves the points: each guided point picks the guide or its
 // BSDF, the guide's picks drawn from its texels, their densities the mixture's.
 inline void sample_guided_bsdf(const Wavefront& w, int depth) {
-    if (!cache::guided_here(w.sc)) return sample_bsdf(w, depth);
+    if (!cache::guided_here(w.scratch)) return sample_bsdf(w, depth);
     draw_bsdf_numbers(w, depth, true);  // every point's pick: the guide's choice reads it
     cache::guided_picks(w);
     sample_materials(w);
@@ -41,8 +42,8 @@ inline void sample_guided_bsdf(const Wavefront& w, int depth) {
 
 // The bounces of `cache-guided`'s camera paths.
 inline void cache_guided_bounces(const Wavefront& w) {
-    PathScratch& sc = w.sc;
-    sc.sampler = w.st.sampler;  // what fill_uniforms draws the points' numbers from
+    PathScratch& sc = w.scratch;
+    sc.sampler = w.settings.sampler;  // what fill_uniforms draws the points' numbers from
     const bool recording = guide_recording::recording(sc);  // a training pass of the guide
     for (int depth = 0; !sc.active.empty(); ++depth) {
         const HitBatch hits = trace_bounce(w, depth);
@@ -50,7 +51,7 @@ inline void cache_guided_bounces(const Wavefront& w) {
         if (recording) guide_recording::note_arrivals(w);
         make_shading_points(w, hits, depth);
         if (depth == 0 && cache_serves(w)) {  // the guides of the first hits: nearby cache points
-            CacheRayTracer tracer(w.s, w.st, w.sc);
+            CacheRayTracer tracer(w.scene, w.settings, w.scratch);
             cache::place_guide_points(w, tracer);
         }
         cache::assign_guides(w, depth);
@@ -65,10 +66,10 @@ inline void cache_guided_bounces(const Wavefront& w) {
 // `cache-guided` for a batch of camera samples.
 inline void trace_cache_guided(const Wavefront& w, size_t n) {
     start_camera_paths(w, n);
-    w.sc.timer.lap(Stage::CameraRays);
-    if (guide_recording::recording(w.sc)) guide_recording::start_records(w.sc);
+    w.scratch.timer.lap(Stage::CameraRays);
+    if (guide_recording::recording(w.scratch)) guide_recording::start_records(w.scratch);
     cache_guided_bounces(w);
-    if (guide_recording::recording(w.sc)) guide_recording::finish_records(w);
+    if (guide_recording::recording(w.scratch)) guide_recording::finish_records(w);
 }
 
 }  // namespace render_detail

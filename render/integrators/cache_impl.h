@@ -49,30 +49,30 @@ inline IntegratorSettings cache_ray_settings(const IntegratorSettings& st) {
 // What traces the cache's rays for the batch of `w` (its cache state's own scratch): the
 // path tracer with cache_ray_settings.
 struct CacheRayTracer {
-    const RenderScene& s;
+    const RenderScene& scene;
     const IntegratorSettings inner;
     cache::CacheState& state;
-    CacheRayTracer(const RenderScene& scene, const IntegratorSettings& st, PathScratch& sc)
-        : s(scene), inner(cache_ray_settings(st)), state(cache::cache_state(sc)) {}
+    CacheRayTracer(const RenderScene& s, const IntegratorSettings& st, PathScratch& sc)
+        : scene(s), inner(cache_ray_settings(st)), state(cache::cache_state(sc)) {}
     void operator()(const float* o, const float* d, const uint32_t* k, const uint32_t* idx, size_t m,
                     PathResult* r) const {
-        trace_given_rays(s, inner, o, d, k, idx, m, r, state.inner, state.inner_samples);
+        trace_given_rays(scene, inner, o, d, k, idx, m, r, state.inner, state.inner_samples);
     }
 };
 
 // Whether the cache serves the first hits: there is indirect light to serve.
-inline bool cache_serves(const Wavefront& w) { return w.st.max_depth > 1; }
+inline bool cache_serves(const Wavefront& w) { return w.settings.max_depth > 1; }
 
 // The bounces of `cache`'s camera paths: path_bounces' stages, and at the first hit the
 // cache's indirect light (the served paths marked in sc.cached: may_shade ends them there).
 inline void cache_bounces(const Wavefront& w) {
-    w.sc.sampler = w.st.sampler;  // what fill_uniforms draws the points' numbers from
-    for (int depth = 0; !w.sc.active.empty(); ++depth) {
+    w.scratch.sampler = w.settings.sampler;  // what fill_uniforms draws the points' numbers from
+    for (int depth = 0; !w.scratch.active.empty(); ++depth) {
         const HitBatch hits = trace_bounce(w, depth);
         add_emission_and_environment(w, hits, depth);
         make_shading_points(w, hits, depth);
         if (depth == 0 && cache_serves(w)) {  // the first hits' indirect light: reprojected, holes traced
-            CacheRayTracer tracer(w.s, w.st, w.sc);
+            CacheRayTracer tracer(w.scene, w.settings, w.scratch);
             cache::add_cached_indirect(w, tracer);
         }
         queue_light_samples(w, depth);
@@ -85,8 +85,8 @@ inline void cache_bounces(const Wavefront& w) {
 // `cache` for a batch of camera samples.
 inline void trace_cache(const Wavefront& w, size_t n) {
     start_camera_paths(w, n);
-    w.sc.cached.assign(n, 0);  // none served by the cache yet
-    w.sc.timer.lap(Stage::CameraRays);
+    w.scratch.cached.assign(n, 0);  // none served by the cache yet
+    w.scratch.timer.lap(Stage::CameraRays);
     cache_bounces(w);
 }
 

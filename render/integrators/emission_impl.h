@@ -19,8 +19,8 @@ using namespace kernel_width;
 // BRDF sample: depth > 0) the density of light sampling; and the sun's disc, where they go
 // through it.
 inline void add_environment(const Wavefront& w, int depth) {
-    const RenderScene& s = w.s;
-    PathScratch& sc = w.sc;
+    const RenderScene& s = w.scene;
+    PathScratch& sc = w.scratch;
     const size_t n = sc.misses.size();
     if (n == 0) return;
     const float* thr = sc.throughput.data();
@@ -51,15 +51,16 @@ inline void add_environment(const Wavefront& w, int depth) {
             const float wt = mis ? power_heuristic(prev_pdf[i], (local ? selection_probability(s, from, env_light)
                                                                        : env_selection) * lp[j])
                                  : 1.0f;
-            for (int k = 0; k < 3; ++k) w.out[i].rgb[k] += thr[3 * i + k] * le[3 * j + k] * wt;
+            for (int k = 0; k < 3; ++k) w.results[i].rgb[k] += thr[3 * i + k] * le[3 * j + k] * wt;
         }
         for (size_t li = 0; li < s.lights.size(); ++li) {
-            const Light& l = s.lights[li];
-            if (l.kind != LightKind::Sun || !(dot(load_vec3(d + 3 * j), load_vec3(l.direction)) >= l.cos_sun)) continue;
+            if (!s.lights[li].is<SunLight>()) continue;
+            const SunLight& sun = s.lights[li].as<SunLight>();
+            if (!(dot(load_vec3(d + 3 * j), load_vec3(sun.direction)) >= sun.cos_sun)) continue;
             const float wt = mis ? power_heuristic(prev_pdf[i], selection_probability(s, from, int(li)) /
-                                                                    (2.0f * kPi * l.sun_one_minus_cos))
+                                                                    (2.0f * kPi * sun.one_minus_cos))
                                  : 1.0f;
-            for (int k = 0; k < 3; ++k) w.out[i].rgb[k] += thr[3 * i + k] * l.power[k] * wt;
+            for (int k = 0; k < 3; ++k) w.results[i].rgb[k] += thr[3 * i + k] * sun.radiance[k] * wt;
         }
     }
 }
@@ -67,8 +68,8 @@ inline void add_environment(const Wavefront& w, int depth) {
 // Emission seen: an area light hit (MIS-weighted after a BRDF sample) adds its radiance; a
 // miss sees the environment and the sun.
 inline void add_emission_and_environment(const Wavefront& w, const HitBatch& hits, int depth) {
-    const RenderScene& s = w.s;
-    PathScratch& sc = w.sc;
+    const RenderScene& s = w.scene;
+    PathScratch& sc = w.scratch;
     sc.misses.clear();
     const bool emission = depth > 0 || w.first_emission;
     for (size_t j = 0; j < sc.active.size(); ++j) {
@@ -79,19 +80,20 @@ inline void add_emission_and_environment(const Wavefront& w, const HitBatch& hit
             continue;
         }
         const Material& mat = s.materials[s.tri_material[prim]];
-        if (mat.kind != MaterialKind::Emitter) continue;
-        const Light& l = s.lights[mat.light];
+        if (!mat.is<Emitter>()) continue;
+        const int light = mat.as<Emitter>().light;
+        const AreaLight& l = area_of(s.lights[light]);
         const Vec3f ng = load_vec3(s.tree->normals.data() + 3 * static_cast<size_t>(prim));  // quads: their normal
         const float facing = -dot(load_vec3(sc.dir.data() + 3 * i), ng);
         if (emission && (facing > 0 || (l.two_sided && facing < 0))) {
             float wt = 1.0f;
             if (sc.prev_pdf[i] > 0 && w.can_sample_lights)
                 wt = power_heuristic(sc.prev_pdf[i], area_light_pdf(s, load_vec3(sc.prev_pos.data() + 3 * i),
-                                                                    mat.light, facing, hits.t[j]));
+                                                                    light, facing, hits.t[j]));
             const float* T = sc.throughput.data() + 3 * i;
-            for (int k = 0; k < 3; ++k) w.out[i].rgb[k] += T[k] * l.power[k] * wt;
+            for (int k = 0; k < 3; ++k) w.results[i].rgb[k] += T[k] * l.radiance[k] * wt;
         }
-        if (depth == 0) w.out[i].depth = hits.t[j];
+        if (depth == 0) w.results[i].depth = hits.t[j];
     }
     add_environment(w, depth);
     sc.timer.lap(Stage::Emission);

@@ -86,6 +86,30 @@ struct ShadingPoint {
     float eta;       // dielectrics: index beyond the surface / index on the viewer's side
 };
 
+// The sorted shading points' fields again as (n, 3) rows and (n,) lanes: what the N-wide
+// stages load.
+struct ShadingPointLanes {
+    std::vector<float> position, geometric_normal, tangent, bitangent, normal;
+    std::vector<int32_t> path;  // the path each point is on
+};
+
+// One light sample per shading point (render/lights/sampling_impl.h): the unit direction
+// from the point, the RGB it brings (radiance, or intensity / dist^2 for a delta light), the
+// distance to the light point (inf at infinity), the pdf (selection included), whether the
+// light is a delta light (no MIS), and whether the sample is usable (pdf > 0 and finite).
+struct LightSampleQueue {
+    std::vector<float> dir, rgb, dist, pdf;
+    std::vector<uint8_t> delta, ok;
+};
+
+// The bounce's shadow rays (render/integrators/shadow_rays_impl.h): origin, unit direction
+// and length, the RGB and the lux their light adds to path `path` when not `blocked`.
+struct ShadowRayQueue {
+    std::vector<float> org, dir, tmax, rgb, lux;
+    std::vector<int32_t> path;
+    std::vector<uint8_t> blocked;
+};
+
 // Work arrays a thread reuses from batch to batch.
 struct PathScratch {
     // per path
@@ -100,11 +124,9 @@ struct PathScratch {
     std::vector<ShadingPoint> sorted;
     std::vector<int32_t> material_start;
     std::vector<int32_t> shade_hits;  // the bounce's hits that may become shading points, in hit order
-    // the sorted points' fields again as (n, 3) rows and (n,) lanes: what the N-wide stages load
-    std::vector<float> pt_p, pt_ng, pt_t, pt_b, pt_n;
-    std::vector<int32_t> pt_path;
+    ShadingPointLanes point_lanes;
     std::vector<float> material_eta, material_transmissive, material_two_sided;  // per material, for gathers
-    std::vector<float> v_local, l_local, f, pdf, eta, u_pick, u1, u2;
+    std::vector<float> v_local, l_local, bsdf_rgb, pdf, eta, u_pick, u1, u2;
     std::vector<int32_t> point_keys, point_index;  // the paths' stream keys and sample indices (uint32 bits)
     SamplerKind sampler = SamplerKind::Sobol;      // what the point_keys and point_index draw from
     // misses (the environment seen), and the points that sample the environment
@@ -115,13 +137,8 @@ struct PathScratch {
     std::vector<float> group_pos, group_u1, group_u2, group_dir, group_rgb, group_dist, group_pdf, group_sel;
     std::vector<float> point_sel;  // each point's probability of its light
     std::vector<float> selection_pos, selection_weights;  // the points' positions; their lights' weights
-    // one light sample per shading point
-    std::vector<float> ls_dir, ls_rgb, ls_dist, ls_pdf;
-    std::vector<uint8_t> ls_delta, ls_ok;
-    // shadow rays
-    std::vector<float> shadow_org, shadow_dir, shadow_tmax, shadow_rgb, shadow_lux;
-    std::vector<int32_t> shadow_path;
-    std::vector<uint8_t> blocked;
+    LightSampleQueue light_samples;
+    ShadowRayQueue shadow_rays;
     // sensor paths (indirect illuminance): their sensors, keys and results
     std::vector<ShadingPoint> sensors;
     std::vector<CameraSample> sensor_samples;

@@ -18,8 +18,8 @@ using namespace kernel_width;
 
 // The bounces of the batch's started paths, until every one has ended.
 inline void path_bounces(const Wavefront& w) {
-    w.sc.sampler = w.st.sampler;  // what fill_uniforms draws the points' numbers from
-    for (int depth = 0; !w.sc.active.empty(); ++depth) {
+    w.scratch.sampler = w.settings.sampler;  // what fill_uniforms draws the points' numbers from
+    for (int depth = 0; !w.scratch.active.empty(); ++depth) {
         const HitBatch hits = trace_bounce(w, depth);   // every path's ray, N per packet
         add_emission_and_environment(w, hits, depth);   // lights hit, the environment missed: MIS-weighted
         make_shading_points(w, hits, depth);            // surface hits, grouped by material
@@ -33,7 +33,7 @@ inline void path_bounces(const Wavefront& w) {
 // `path` for a batch of camera samples.
 inline void trace_path(const Wavefront& w, size_t n) {
     start_camera_paths(w, n);
-    w.sc.timer.lap(Stage::CameraRays);
+    w.scratch.timer.lap(Stage::CameraRays);
     path_bounces(w);
 }
 

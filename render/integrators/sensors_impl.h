@@ -22,21 +22,21 @@ using namespace kernel_width;
 
 // Sensor paths: path i starts at sensor sc.sensors[i] (its point, geometric normal and
 // frame) along a cosine-weighted direction about its normal, drawn from the lens dimensions
-// of w.cs[i].key (a sensor has no lens). A direction below the geometric surface (a bent
+// of w.camera_samples[i].key (a sensor has no lens). A direction below the geometric surface (a bent
 // shading normal) starts no path: it adds nothing, as the estimator of a sensor on that
 // surface should. Throughput 1: the radiance found, times pi, is the illuminance estimate
 // (E = integral of L cos over the hemisphere = pi x the mean of L under cosine sampling).
 inline void start_sensor_paths(const Wavefront& w, size_t n) {
     start_paths(w, n);
     for (size_t i = 0; i < n; ++i) {
-        const ShadingPoint& sp = w.sc.sensors[i];
-        const CameraSample& c = w.cs[i];
-        const float u1 = sample_uniform(w.st.sampler, c.key, c.index, 0, kDimLensU);
-        const float u2 = sample_uniform(w.st.sampler, c.key, c.index, 0, kDimLensV);
+        const ShadingPoint& sp = w.scratch.sensors[i];
+        const CameraSample& c = w.camera_samples[i];
+        const float u1 = sample_uniform(w.settings.sampler, c.key, c.index, 0, kDimLensU);
+        const float u2 = sample_uniform(w.settings.sampler, c.key, c.index, 0, kDimLensV);
         const float radius = std::sqrt(u1), phi = kTwoPi * u2;
         const Vec3f l{radius * std::cos(phi), radius * std::sin(phi), std::sqrt(std::max(1.0f - u1, 0.0f))};
         const Vec3f d = normalize(to_world(sp, l));
-        if (dot(d, sp.ng) > 0) start_path(w, i, sp.p + w.eps * sp.ng, d);
+        if (dot(d, sp.ng) > 0) start_path(w, i, sp.p + w.ray_offset * sp.ng, d);
     }
 }
 
@@ -120,7 +120,7 @@ void sensor_illuminance(const RenderScene& s, const float* points, const float* 
         sample_lights(s, sc, 0, np);
         clear_shadow_rays(sc);
         for (size_t q = 0; q < np; ++q) {
-            if (!sc.ls_ok[q]) continue;
+            if (!sc.light_samples.ok[q]) continue;
             const ShadingPoint& sp = sc.sorted[q];
             const LightSample ls = load_light_sample(sc, q);
             const float cos_s = dot(ls.dir, sp.n);
@@ -130,8 +130,8 @@ void sensor_illuminance(const RenderScene& s, const float* points, const float* 
                              kLumensPerWatt * luminance(ls.rgb) * cos_s / ls.pdf);
         }
         const uint8_t* blocked = trace_shadow_rays(s, sc);
-        for (size_t j = 0; j < sc.shadow_path.size(); ++j)
-            if (!blocked[j]) sum[sc.shadow_path[j]] += sc.shadow_lux[j];
+        for (size_t j = 0; j < sc.shadow_rays.path.size(); ++j)
+            if (!blocked[j]) sum[sc.shadow_rays.path[j]] += sc.shadow_rays.lux[j];
     }
     for (size_t q = 0; q < np; ++q) lux[begin + q] = static_cast<float>(sum[q] / samples);
 }

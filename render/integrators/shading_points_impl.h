@@ -20,20 +20,20 @@ using namespace kernel_width;
 inline bool may_shade(const Wavefront& w, const HitBatch& hits, size_t j, int depth) {
     const int32_t prim = hits.prim[j];
     // (a path whose first hit's indirect light the cache gave only looks for emission)
-    const bool cached = depth > 0 && !w.sc.cached.empty() && w.sc.cached[w.sc.active[j]];
-    return prim >= 0 && w.s.materials[w.s.tri_material[prim]].kind != MaterialKind::Emitter &&
-           depth < w.st.max_depth && !cached;
+    const bool cached = depth > 0 && !w.scratch.cached.empty() && w.scratch.cached[w.scratch.active[j]];
+    return prim >= 0 && !w.scene.materials[w.scene.tri_material[prim]].is<Emitter>() &&
+           depth < w.settings.max_depth && !cached;
 }
 
 // Hit j's geometric normal (from the winding; an analytic sphere's outwards), as
 // make_shading_lanes has it before facing the viewer.
 inline Vec3f hit_normal(const Wavefront& w, const HitBatch& hits, size_t j, const float* tn) {
     const int32_t prim = hits.prim[j];
-    const SphereSet& spheres = w.s.tree->spheres;
+    const SphereSet& spheres = w.scene.tree->spheres;
     if (!spheres.owns(prim)) return load_vec3(tn + 3 * static_cast<size_t>(prim));
-    const int32_t i = w.sc.active[j];
-    return sphere_normal<1>(spheres, prim - spheres.prim_base, load_vec3(w.sc.org.data() + 3 * i),
-                            load_vec3(w.sc.dir.data() + 3 * i), hits.t[j]);
+    const int32_t i = w.scratch.active[j];
+    return sphere_normal<1>(spheres, prim - spheres.prim_base, load_vec3(w.scratch.org.data() + 3 * i),
+                            load_vec3(w.scratch.dir.data() + 3 * i), hits.t[j]);
 }
 
 // Grouping by material before the points exist: the hits that become shading points
@@ -42,30 +42,30 @@ inline Vec3f hit_normal(const Wavefront& w, const HitBatch& hits, size_t j, cons
 //    make_shading_points writes each point straight into its group, in hit order (what a
 //    stable counting sort of the points would give, without building and copying them twice).
 inline void group_by_material(const Wavefront& w, const HitBatch& hits, int depth) {
-    PathScratch& sc = w.sc;
-    const size_t nm = w.s.materials.size();
+    PathScratch& sc = w.scratch;
+    const size_t nm = w.scene.materials.size();
     sc.material_start.assign(nm + 1, 0);
     sc.material_eta.resize(nm);
     sc.material_transmissive.resize(nm);
     sc.material_two_sided.resize(nm);
     for (size_t k = 0; k < nm; ++k) {
-        const Material& m = w.s.materials[k];
-        const bool transmissive = m.kind == MaterialKind::Dielectric;
-        sc.material_eta[k] = transmissive ? m.eta[0] : 1.0f;
+        const Material& m = w.scene.materials[k];
+        const bool transmissive = transmits(m);
+        sc.material_eta[k] = transmissive ? m.as<Dielectric>().eta : 1.0f;
         sc.material_transmissive[k] = transmissive ? 1.0f : 0.0f;
         sc.material_two_sided[k] = m.two_sided || transmissive ? 1.0f : 0.0f;
     }
     sc.shade_hits.clear();
-    const float* tn = w.s.tree->normals.data();
+    const float* tn = w.scene.tree->normals.data();
     for (size_t j = 0; j < sc.active.size(); ++j) {
         if (!may_shade(w, hits, j, depth)) continue;
-        const int32_t prim = hits.prim[j], material = w.s.tri_material[prim];
+        const int32_t prim = hits.prim[j], material = w.scene.tri_material[prim];
         // the back of a one-sided surface ends the path (make_shading_lanes' test, so its
         // groups have no gaps)
         if (!(sc.material_two_sided[material] > 0.0f)) {
             const Vec3f wo = -load_vec3(sc.dir.data() + 3 * sc.active[j]);
             if (dot(hit_normal(w, hits, j, tn), wo) < 0.0f) {
-                if (depth == 0) w.out[sc.active[j]].depth = hits.t[j];
+                if (depth == 0) w.results[sc.active[j]].depth = hits.t[j];
                 continue;
             }
         }
@@ -109,8 +109,8 @@ struct PointLanes {
 };
 
 inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t h0, int lanes, PointLanes& out) {
-    const RenderScene& s = w.s;
-    const PathScratch& sc = w.sc;
+    const RenderScene& s = w.scene;
+    const PathScratch& sc = w.scratch;
     // the hits' fields gathered by hit number (the last block's padding repeats its first hit)
     alignas(64) int32_t hit[N];
     if (lanes < N)
@@ -186,8 +186,8 @@ inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t 
 // its path's random-number key and sample index; the first hit also fills the AOVs (and, for
 // the indirect illuminance, is kept as a sensor: sc.sensors).
 inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int depth) {
-    const RenderScene& s = w.s;
-    PathScratch& sc = w.sc;
+    const RenderScene& s = w.scene;
+    PathScratch& sc = w.scratch;
     const size_t nm = s.materials.size();
     const size_t most = sc.material_start[nm];
     sc.sorted.resize(most);
@@ -195,9 +195,9 @@ inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int de
     float* eta = grow(sc.eta, most);
     sc.point_keys.resize(most);
     sc.point_index.resize(most);
-    float* rows[5] = {grow(sc.pt_p, 3 * most), grow(sc.pt_ng, 3 * most), grow(sc.pt_t, 3 * most),
-                      grow(sc.pt_b, 3 * most), grow(sc.pt_n, 3 * most)};
-    int32_t* pt_path = grow(sc.pt_path, most);
+    float* rows[5] = {grow(sc.point_lanes.position, 3 * most), grow(sc.point_lanes.geometric_normal, 3 * most), grow(sc.point_lanes.tangent, 3 * most),
+                      grow(sc.point_lanes.bitangent, 3 * most), grow(sc.point_lanes.normal, 3 * most)};
+    int32_t* point_path = grow(sc.point_lanes.path, most);
     std::vector<int32_t>& fill = sc.next_active;  // reused as the write cursors
     fill.assign(sc.material_start.begin(), sc.material_start.end() - 1);
     PointLanes pl;
@@ -207,7 +207,7 @@ inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int de
             const int32_t j = sc.shade_hits[h0 + k];
             const int32_t i = sc.active[j];
             if (!((pl.ok >> k) & 1)) {
-                if (depth == 0) w.out[i].depth = hits.t[j];
+                if (depth == 0) w.results[i].depth = hits.t[j];
                 continue;  // the slot is taken by the group's next point
             }
             const int32_t material = s.tri_material[hits.prim[j]];
@@ -223,22 +223,22 @@ inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int de
             sp.eta = pl.eta[k];
             if (depth == 0) {
                 const Material& mat = s.materials[material];
-                std::copy(mat.albedo, mat.albedo + 3, w.out[i].albedo);
-                w.out[i].material = material;
-                store_vec3(sp.n, w.out[i].normal);
-                w.out[i].depth = hits.t[j];
-                if (w.st.indirect_illuminance) sc.sensors.push_back(sp);
+                std::copy(mat.albedo, mat.albedo + 3, w.results[i].albedo);
+                w.results[i].material = material;
+                store_vec3(sp.n, w.results[i].normal);
+                w.results[i].depth = hits.t[j];
+                if (w.settings.indirect_illuminance) sc.sensors.push_back(sp);
             }
             const float(*fields[5])[N] = {pl.p, pl.ng, pl.t, pl.b, pl.n};
             for (int f = 0; f < 5; ++f)
                 for (int c = 0; c < 3; ++c) rows[f][3 * q + c] = fields[f][c][k];
-            pt_path[q] = i;
+            point_path[q] = i;
             vl[3 * q] = pl.vl[0][k];
             vl[3 * q + 1] = pl.vl[1][k];
             vl[3 * q + 2] = pl.vl[2][k];
             eta[q] = pl.eta[k];
-            sc.point_keys[q] = static_cast<int32_t>(w.cs[i].key);
-            sc.point_index[q] = static_cast<int32_t>(w.cs[i].index);
+            sc.point_keys[q] = static_cast<int32_t>(w.camera_samples[i].key);
+            sc.point_index[q] = static_cast<int32_t>(w.camera_samples[i].index);
         }
     });
     // paths that ended at a hit (the back of a one-sided surface) left their group short:
@@ -251,7 +251,7 @@ inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int de
             std::copy(sc.sorted.begin() + a, sc.sorted.begin() + a + count, sc.sorted.begin() + np);
             std::copy(vl + 3 * a, vl + 3 * (a + count), vl + 3 * np);
             for (float* r : rows) std::copy(r + 3 * a, r + 3 * (a + count), r + 3 * np);
-            std::copy(pt_path + a, pt_path + a + count, pt_path + np);
+            std::copy(point_path + a, point_path + a + count, point_path + np);
             std::copy(eta + a, eta + a + count, eta + np);
             std::copy(sc.point_keys.begin() + a, sc.point_keys.begin() + a + count, sc.point_keys.begin() + np);
             std::copy(sc.point_index.begin() + a, sc.point_index.begin() + a + count, sc.point_index.begin() + np);
@@ -267,16 +267,16 @@ inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int de
 // Runs kernel(material, first point, count) for each material's group of sorted points.
 template <class Kernel>
 inline void for_material_groups(const Wavefront& w, Kernel kernel) {
-    for (size_t k = 0; k < w.s.materials.size(); ++k) {
-        const size_t a = w.sc.material_start[k], count = w.sc.material_start[k + 1] - a;
-        if (count > 0) kernel(w.s.materials[k], a, count);
+    for (size_t k = 0; k < w.scene.materials.size(); ++k) {
+        const size_t a = w.scratch.material_start[k], count = w.scratch.material_start[k + 1] - a;
+        if (count > 0) kernel(w.scene.materials[k], a, count);
     }
 }
 
 // The bounce's surface hits made shading points, grouped by material (group_by_material,
 // then fill_shading_points).
 inline void make_shading_points(const Wavefront& w, const HitBatch& hits, int depth) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     group_by_material(w, hits, depth);
     sc.timer.lap(Stage::GroupMaterial);
     fill_shading_points(w, hits, depth);

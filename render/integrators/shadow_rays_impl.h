@@ -40,40 +40,44 @@ inline void queue_shadow_ray(PathScratch& sc, int32_t owner, const Vec3f& p, con
         d = Vec3f{to.x / len, to.y / len, to.z / len};
         tmax = len * (1.0f - 1e-4f);
     }
-    sc.shadow_path.push_back(owner);
-    sc.shadow_org.insert(sc.shadow_org.end(), {o.x, o.y, o.z});
-    sc.shadow_dir.insert(sc.shadow_dir.end(), {d.x, d.y, d.z});
-    sc.shadow_rgb.insert(sc.shadow_rgb.end(), rgb, rgb + 3);
-    sc.shadow_tmax.push_back(tmax);
-    sc.shadow_lux.push_back(lux);
+    ShadowRayQueue& queue = sc.shadow_rays;
+    queue.path.push_back(owner);
+    queue.org.insert(queue.org.end(), {o.x, o.y, o.z});
+    queue.dir.insert(queue.dir.end(), {d.x, d.y, d.z});
+    queue.rgb.insert(queue.rgb.end(), rgb, rgb + 3);
+    queue.tmax.push_back(tmax);
+    queue.lux.push_back(lux);
 }
 
 // The queue n rays long (a stage that writes them in place, then cuts it to the rays it wrote).
 inline void resize_shadow_rays(PathScratch& sc, size_t n) {
-    sc.shadow_path.resize(n);
-    sc.shadow_org.resize(3 * n);
-    sc.shadow_dir.resize(3 * n);
-    sc.shadow_rgb.resize(3 * n);
-    sc.shadow_tmax.resize(n);
-    sc.shadow_lux.resize(n);
+    ShadowRayQueue& queue = sc.shadow_rays;
+    queue.path.resize(n);
+    queue.org.resize(3 * n);
+    queue.dir.resize(3 * n);
+    queue.rgb.resize(3 * n);
+    queue.tmax.resize(n);
+    queue.lux.resize(n);
 }
 
 inline void clear_shadow_rays(PathScratch& sc) {
-    sc.shadow_path.clear();
-    sc.shadow_org.clear();
-    sc.shadow_dir.clear();
-    sc.shadow_tmax.clear();
-    sc.shadow_rgb.clear();
-    sc.shadow_lux.clear();
+    ShadowRayQueue& queue = sc.shadow_rays;
+    queue.path.clear();
+    queue.org.clear();
+    queue.dir.clear();
+    queue.tmax.clear();
+    queue.rgb.clear();
+    queue.lux.clear();
 }
 
 // Traces the queued shadow rays (through the BVH if the scene has one, else N per kd-tree
-// packet); returns sc.blocked (one byte per ray).
+// packet); returns sc.shadow_rays.blocked (one byte per ray).
 inline const uint8_t* trace_shadow_rays(const RenderScene& s, PathScratch& sc) {
-    const size_t ns = sc.shadow_path.size();
-    uint8_t* blocked = grow(sc.blocked, ns);
+    ShadowRayQueue& queue = sc.shadow_rays;
+    const size_t ns = queue.path.size();
+    uint8_t* blocked = grow(queue.blocked, ns);
     if (ns > 0) {
-        const RayBatch rays{sc.shadow_org.data(), sc.shadow_dir.data(), 0.0f, sc.shadow_tmax.data(), kInfinity};
+        const RayBatch rays{queue.org.data(), queue.dir.data(), 0.0f, queue.tmax.data(), kInfinity};
         if (s.bvh) trace_kernels().occluded_bvh(*s.bvh, rays, blocked, 0, ns);
         else trace_kernels().occluded(*s.tree, rays, blocked, 0, ns);
         sc.rays_traced += ns;

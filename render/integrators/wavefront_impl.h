@@ -32,14 +32,14 @@ inline Vec3f to_world(const ShadingPoint& sp, const Vec3f& l) { return l.x * sp.
 // throughput, and where and with what density its last BRDF sample left (prev_pos,
 // prev_pdf; 0 for a camera ray), which the MIS weights of emission need.
 struct Wavefront {
-    const RenderScene& s;
-    const IntegratorSettings& st;
-    const CameraSample* cs;
-    PathResult* out;
-    PathScratch& sc;
+    const RenderScene& scene;
+    const IntegratorSettings& settings;
+    const CameraSample* camera_samples;  // one per path
+    PathResult* results;                 // one per path
+    PathScratch& scratch;
     bool can_sample_lights;  // some light (or the environment) can light something
     bool has_sun;
-    float eps;               // secondary rays leave this far off the surface
+    float ray_offset;        // secondary rays leave this far off the surface
     // emission the first segment sees counts; not for sensor paths, whose direct light
     // light sampling counts (sensor_illuminance)
     bool first_emission = true;
@@ -47,7 +47,7 @@ struct Wavefront {
 
 // Path i starts along (o, d) with throughput 1 (its result emptied first by start_paths).
 inline void start_path(const Wavefront& w, size_t i, const Vec3f& o, const Vec3f& d) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     store_vec3(o, sc.org.data() + 3 * i);
     store_vec3(d, sc.dir.data() + 3 * i);
     std::fill(sc.throughput.data() + 3 * i, sc.throughput.data() + 3 * i + 3, 1.0f);
@@ -57,7 +57,7 @@ inline void start_path(const Wavefront& w, size_t i, const Vec3f& o, const Vec3f
 
 // The path arrays sized for n paths, none active yet, the n results empty.
 inline void start_paths(const Wavefront& w, size_t n) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     grow(sc.org, 3 * n);
     grow(sc.dir, 3 * n);
     grow(sc.throughput, 3 * n);
@@ -68,7 +68,7 @@ inline void start_paths(const Wavefront& w, size_t n) {
     sc.cached.clear();  // none served by the radiance cache (start_camera_paths says otherwise)
     if (sc.cache) cache::cache_state(sc).guides.clear();  // no guides until place_guide_points
     for (size_t i = 0; i < n; ++i) {
-        PathResult& r = w.out[i];
+        PathResult& r = w.results[i];
         std::fill(r.rgb, r.rgb + 3, 0.0f);
         std::fill(r.albedo, r.albedo + 3, 0.0f);
         std::fill(r.normal, r.normal + 3, 0.0f);
@@ -104,10 +104,10 @@ inline void pinhole_rays(const Camera& c, const CameraSample* cs, size_t n, floa
 // The batch's camera rays, with throughput 1 and empty results; every path active.
 inline void start_camera_paths(const Wavefront& w, size_t n) {
     start_paths(w, n);
-    const bool lens = w.s.camera.aperture_radius > 0;  // a pinhole draws no lens numbers
+    const bool lens = w.scene.camera.aperture_radius > 0;  // a pinhole draws no lens numbers
     if (!lens) {  // start_path for every path, the rays N at a time
-        PathScratch& sc = w.sc;
-        pinhole_rays(w.s.camera, w.cs, n, sc.org.data(), sc.dir.data());
+        PathScratch& sc = w.scratch;
+        pinhole_rays(w.scene.camera, w.camera_samples, n, sc.org.data(), sc.dir.data());
         std::fill(sc.throughput.data(), sc.throughput.data() + 3 * n, 1.0f);
         std::fill(sc.prev_pdf.data(), sc.prev_pdf.data() + n, 0.0f);
         sc.active.resize(n);
@@ -115,11 +115,11 @@ inline void start_camera_paths(const Wavefront& w, size_t n) {
         return;
     }
     for (size_t i = 0; i < n; ++i) {
-        const CameraSample& c = w.cs[i];
-        const float lu = lens ? sample_uniform(w.st.sampler, c.key, c.index, 0, kDimLensU) : 0.0f;
-        const float lv = lens ? sample_uniform(w.st.sampler, c.key, c.index, 0, kDimLensV) : 0.0f;
+        const CameraSample& c = w.camera_samples[i];
+        const float lu = lens ? sample_uniform(w.settings.sampler, c.key, c.index, 0, kDimLensU) : 0.0f;
+        const float lv = lens ? sample_uniform(w.settings.sampler, c.key, c.index, 0, kDimLensV) : 0.0f;
         Vec3f o, d;
-        camera_ray(w.s.camera, c.fx, c.fy, lu, lv, o, d);
+        camera_ray(w.scene.camera, c.fx, c.fy, lu, lv, o, d);
         start_path(w, i, o, d);
     }
 }
@@ -133,13 +133,13 @@ inline void start_given_paths(const Wavefront& w, const float* org, const float*
 
 inline bool scene_has_sun(const RenderScene& s) {
     for (const Light& l : s.lights)
-        if (l.kind == LightKind::Sun) return true;
+        if (l.is<SunLight>()) return true;
     return false;
 }
 
 // The active paths' rays, N per packet; hit j belongs to path sc.active[j].
 inline HitBatch trace_bounce(const Wavefront& w, int depth) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     const size_t m = sc.active.size();
     float* ro = grow(sc.ray_org, 3 * m);
     float* rd = grow(sc.ray_dir, 3 * m);
@@ -153,8 +153,8 @@ inline HitBatch trace_bounce(const Wavefront& w, int depth) {
     sc.timer.lap(Stage::RayGather);
     const RayBatch rays{ro, rd, 0.0f, nullptr, kInfinity};
     // camera rays are coherent: kd-tree packets; the rest one at a time through the BVH
-    if (depth > 0 && w.s.bvh) trace_kernels().intersect_bvh(*w.s.bvh, rays, hits, 0, m);
-    else trace_kernels().intersect(*w.s.tree, rays, hits, 0, m);
+    if (depth > 0 && w.scene.bvh) trace_kernels().intersect_bvh(*w.scene.bvh, rays, hits, 0, m);
+    else trace_kernels().intersect(*w.scene.tree, rays, hits, 0, m);
     sc.rays_traced += m;
     (depth == 0 ? sc.timer.times.camera_rays : sc.timer.times.secondary_rays) += m;
     sc.timer.lap(depth == 0 ? Stage::TraceCamera : Stage::TraceSecondary);
@@ -164,7 +164,7 @@ inline HitBatch trace_bounce(const Wavefront& w, int depth) {
 // The paths that go on become the next bounce's active paths, with their rays in that order
 // (update_paths wrote them; none if no path goes on).
 inline void next_bounce(const Wavefront& w) {
-    PathScratch& sc = w.sc;
+    PathScratch& sc = w.scratch;
     std::swap(sc.active, sc.next_active);
     std::swap(sc.ray_org, sc.next_ray_org);
     std::swap(sc.ray_dir, sc.next_ray_dir);

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 #include "brdf/search.h"
@@ -17,6 +18,7 @@
 #include "core/simd/kernel_width.h"
 #include "core/vec3.h"
 #include "render/integrators/integrator.h"
+#include "render/lights/delta_intensity_impl.h"
 #include "render/lights/environment_impl.h"
 #include "render/lights/selection_impl.h"
 #include "render/samplers/rng.h"
@@ -44,10 +46,10 @@ inline float power_heuristic(float a, float b) {
 inline float area_light_pdf(const RenderScene& s, const Vec3f& from, int li, float facing, float dist) {
     const float cos_l = std::abs(facing);
     if (cos_l <= 0) return 0;
-    return selection_probability(s, from, li) * dist * dist / (s.lights[li].area * cos_l);
+    return selection_probability(s, from, li) * dist * dist / (area_of(s.lights[li]).area * cos_l);
 }
 
-// One point's light sample (sample_lights leaves them in PathScratch's ls_* arrays).
+// One point's light sample (sample_lights leaves them in PathScratch's light_samples).
 struct LightSample {
     Vec3f dir{0, 0, 0};        // unit, from the shading point
     float dist = 0;            // to the light point (inf: environment)
@@ -58,20 +60,29 @@ struct LightSample {
 
 inline LightSample load_light_sample(const PathScratch& sc, size_t q) {
     LightSample ls;
-    ls.dir = load_vec3(sc.ls_dir.data() + 3 * q);
-    std::copy(sc.ls_rgb.data() + 3 * q, sc.ls_rgb.data() + 3 * q + 3, ls.rgb);
-    ls.dist = sc.ls_dist[q];
-    ls.pdf = sc.ls_pdf[q];
-    ls.delta = sc.ls_delta[q] != 0;
+    ls.dir = load_vec3(sc.light_samples.dir.data() + 3 * q);
+    std::copy(sc.light_samples.rgb.data() + 3 * q, sc.light_samples.rgb.data() + 3 * q + 3, ls.rgb);
+    ls.dist = sc.light_samples.dist[q];
+    ls.pdf = sc.light_samples.pdf[q];
+    ls.delta = sc.light_samples.delta[q] != 0;
     return ls;
 }
 
 // --- sampling: N points of one light at a time ---
 
+// N points' samples of one light: directions (unit, from the points), RGB (radiance, or
+// intensity / dist^2 for a delta light), distances, pdfs (selection included).
+struct LightSampleBlock {
+    V3 dir;
+    F r, g, b;
+    F dist;
+    F pdf;
+};
+
 // The sun: a direction uniform in its disc's cone (pdf 1 / (2 pi (1 - cos))), its radiance.
-PATINA_INLINE F sample_sun(const Light& l, F u1, F u2, V3& w, F& r, F& g, F& b) {
+PATINA_INLINE F sample_sun(const SunLight& l, F u1, F u2, V3& w, F& r, F& g, F& b) {
     // 1 - cos(theta) = u1 (1 - cos_sun), uniform over the cone; sin from it without cancellation
-    const F one_minus = u1 * F(l.sun_one_minus_cos);
+    const F one_minus = u1 * F(l.one_minus_cos);
     const F cos_t = F(1.0f) - one_minus;
     const F sin_t = sqrt_exact(max(one_minus * (F(2.0f) - one_minus), F(0.0f)));
     F sp, cp;
@@ -80,13 +91,13 @@ PATINA_INLINE F sample_sun(const Light& l, F u1, F u2, V3& w, F& r, F& g, F& b) 
     w = V3{madd(a, F(l.frame_t[0]), madd(c, F(l.frame_b[0]), cos_t * F(l.direction[0]))),
            madd(a, F(l.frame_t[1]), madd(c, F(l.frame_b[1]), cos_t * F(l.direction[1]))),
            madd(a, F(l.frame_t[2]), madd(c, F(l.frame_b[2]), cos_t * F(l.direction[2])))};
-    r = F(l.power[0]), g = F(l.power[1]), b = F(l.power[2]);
-    return F(1.0f / (2.0f * kPi * l.sun_one_minus_cos));
+    r = F(l.radiance[0]), g = F(l.radiance[1]), b = F(l.radiance[2]);
+    return F(1.0f / (2.0f * kPi * l.one_minus_cos));
 }
 
 // A point uniform by area over a triangle light's triangles (the triangle by its area cdf,
 // u1 reused within the cell), with that triangle's geometric normal.
-PATINA_INLINE V3 sample_triangles(const RenderScene& s, const Light& l, F u1, F u2, V3& n) {
+PATINA_INLINE V3 sample_triangles(const RenderScene& s, const TriangleLight& l, F u1, F u2, V3& n) {
     const int count = static_cast<int>(l.triangles.size());
     const I k = coherent_search<N>(l.area_cdf.data(), count + 1, u1, F(0.0f) == F(0.0f));
     const F c0 = gather(l.area_cdf.data(), k), c1 = gather(l.area_cdf.data(), k + I(1));
@@ -105,12 +116,83 @@ PATINA_INLINE V3 sample_triangles(const RenderScene& s, const Light& l, F u1, F 
               madd(b0, p[0].z, madd(b1, p[1].z, b2 * p[2].z))};
 }
 
+// The distance from `at` to `target`, the unit direction there into w, the squared distance
+// into dist2.
+PATINA_INLINE F towards(const V3& at, const V3& target, V3& w, F& dist2) {
+    const F dx = target.x - at.x, dy = target.y - at.y, dz = target.z - at.z;
+    dist2 = dx * dx + dy * dy + dz * dz;
+    const F d = sqrt_exact(dist2);
+    const F inv = F(1.0f) / d;
+    w = V3{dx * inv, dy * inv, dz * inv};
+    return d;
+}
+
+// A point `target` of normal n on an area light, seen from `at`.
+PATINA_INLINE LightSampleBlock area_sample(const AreaLight& l, const V3& at, const V3& target, const V3& n, F sel) {
+    LightSampleBlock out;
+    F dist2;
+    out.dist = towards(at, target, out.dir, dist2);
+    // emitting side: -dir . n > 0, or either side when two-sided
+    const V3& w = out.dir;
+    const F facing = -(w.x * n.x + w.y * n.y + w.z * n.z);
+    const F cos_l = l.two_sided ? abs(facing) : facing;
+    out.r = F(l.radiance[0]), out.g = F(l.radiance[1]), out.b = F(l.radiance[2]);
+    out.pdf = select((cos_l > F(0.0f)) & (dist2 > F(0.0f)), sel * dist2 / (F(l.area) * cos_l), F(0.0f));
+    return out;
+}
+
+// A delta light of RGB intensity `rgb` (times its relative intensity towards the point) seen
+// from `at`: intensity / distance^2.
+template <class Delta>
+PATINA_INLINE LightSampleBlock delta_sample(const Delta& l, const float rgb[3], const V3& at, F sel) {
+    LightSampleBlock out;
+    F dist2;
+    out.dist = towards(at, V3{F(l.position[0]), F(l.position[1]), F(l.position[2])}, out.dir, dist2);
+    const V3& w = out.dir;
+    const F scale = relative_intensity<N>(l, V3{-w.x, -w.y, -w.z}) / dist2;
+    out.r = F(rgb[0]) * scale, out.g = F(rgb[1]) * scale, out.b = F(rgb[2]) * scale;
+    out.pdf = select(dist2 > F(0.0f), sel, F(0.0f));
+    return out;
+}
+
+// Each kind's samples for points `at` (not read at infinity) from (u1, u2), selected with
+// probability sel.
+PATINA_INLINE LightSampleBlock sample(const PointLight& l, const RenderScene&, const V3& at, F, F, F sel) {
+    return delta_sample(l, l.intensity, at, sel);
+}
+PATINA_INLINE LightSampleBlock sample(const SpotLight& l, const RenderScene&, const V3& at, F, F, F sel) {
+    return delta_sample(l, l.intensity, at, sel);
+}
+PATINA_INLINE LightSampleBlock sample(const GoniometricLight& l, const RenderScene&, const V3& at, F, F, F sel) {
+    return delta_sample(l, l.rgb_per_candela, at, sel);
+}
+PATINA_INLINE LightSampleBlock sample(const QuadLight& l, const RenderScene&, const V3& at, F u1, F u2, F sel) {
+    // a uniform point on the parallelogram
+    const F ua = madd(F(2.0f), u1, F(-1.0f)), ub = madd(F(2.0f), u2, F(-1.0f));
+    const V3 target{madd(ua, F(l.u[0]), madd(ub, F(l.v[0]), F(l.center[0]))),
+                    madd(ua, F(l.u[1]), madd(ub, F(l.v[1]), F(l.center[1]))),
+                    madd(ua, F(l.u[2]), madd(ub, F(l.v[2]), F(l.center[2])))};
+    return area_sample(l, at, target, V3{F(l.normal[0]), F(l.normal[1]), F(l.normal[2])}, sel);
+}
+PATINA_INLINE LightSampleBlock sample(const TriangleLight& l, const RenderScene& s, const V3& at, F u1, F u2,
+                                      F sel) {
+    V3 n;
+    const V3 target = sample_triangles(s, l, u1, u2, n);
+    return area_sample(l, at, target, n, sel);
+}
+PATINA_INLINE LightSampleBlock sample(const SunLight& l, const RenderScene&, const V3&, F u1, F u2, F sel) {
+    LightSampleBlock out;
+    out.pdf = sample_sun(l, u1, u2, out.dir, out.r, out.g, out.b) * sel;
+    out.dist = F(kInfinity);
+    return out;
+}
+
 // How many blocks ahead the environment's sampling prefetches its cdf lines: far enough
 // for an L3 miss to arrive, near enough that the lines are still in L1/L2 when searched.
 constexpr size_t kEnvPrefetchBlocks = 4;
 
 // Light samples for the points that chose light `li` (every lane the same light: coherent),
-// N points at a time: inputs gathered from the points, results scattered back to sc.ls_*.
+// N points at a time: inputs gathered from the points, results scattered back to sc.light_samples.
 inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, const int32_t* points, size_t n,
                                const float* u1, const float* u2) {
     float* pos = grow(sc.group_pos, 3 * n);
@@ -123,7 +205,9 @@ inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, co
     float* gsel = grow(sc.group_sel, n);
     const bool env = li == static_cast<int>(s.lights.size());
     const Light* light = env ? nullptr : &s.lights[li];
-    const bool at_infinity = env || light->kind == LightKind::Sun;  // the points' positions do not matter
+    // the points' positions do not matter for the environment and the sun
+    const bool at_infinity =
+        env || visit_kind(*light, [](const auto& kind) { return std::decay_t<decltype(kind)>::at_infinity; });
     for (size_t j = 0; j < n; ++j) {
         const int32_t q = points[j];
         if (!at_infinity) store_vec3(sc.sorted[q].p, pos + 3 * j);
@@ -131,79 +215,60 @@ inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, co
         g2[j] = u2[q];
         gsel[j] = sc.point_sel[q];
     }
-    for_blocks(n, [&](size_t i, int lanes) {
-        const F s1 = load_lanes(g1, i, lanes), s2 = load_lanes(g2, i, lanes);
-        const F sel = load_lanes(gsel, i, lanes);
-        V3 w;
-        F r, g, b, d, p;
-        if (env) {
+    const auto store = [&](size_t i, int lanes, const LightSampleBlock& out) {
+        store_rows(dir, i, lanes, out.dir);
+        store_rows(rgb, i, lanes, out.r, out.g, out.b);
+        store_lanes(dist, i, lanes, out.dist);
+        store_lanes(pdf, i, lanes, out.pdf);
+    };
+    if (env) {
+        for_blocks(n, [&](size_t i, int lanes) {
+            const F s1 = load_lanes(g1, i, lanes), s2 = load_lanes(g2, i, lanes);
+            const F sel = load_lanes(gsel, i, lanes);
             // the cdf lines of the block kEnvPrefetchBlocks ahead on their way while this one waits
             const size_t ahead = i + kEnvPrefetchBlocks * N;
             if (ahead < n) {
                 const int la = static_cast<int>(std::min<size_t>(N, n - ahead));
                 env_w::prefetch_sample(s.env, load_lanes(g1, ahead, la), load_lanes(g2, ahead, la));
             }
-            p = sel * env_w::sample(s.env, s1, s2, w, r, g, b);
-            d = F(kInfinity);
-        } else if (light->kind == LightKind::Sun) {
-            p = sample_sun(*light, s1, s2, w, r, g, b) * sel;
-            d = F(kInfinity);
-        } else {
-            const V3 at = load_rows(pos, i, lanes);
-            V3 target{F(light->position[0]), F(light->position[1]), F(light->position[2])};
-            V3 n{F(light->normal[0]), F(light->normal[1]), F(light->normal[2])};
-            if (light->kind == LightKind::Quad) {  // a uniform point on the parallelogram
-                const F ua = madd(F(2.0f), s1, F(-1.0f)), ub = madd(F(2.0f), s2, F(-1.0f));
-                target.x = madd(ua, F(light->u[0]), madd(ub, F(light->v[0]), target.x));
-                target.y = madd(ua, F(light->u[1]), madd(ub, F(light->v[1]), target.y));
-                target.z = madd(ua, F(light->u[2]), madd(ub, F(light->v[2]), target.z));
-            } else if (light->kind == LightKind::Triangles) {
-                target = sample_triangles(s, *light, s1, s2, n);
-            }
-            const F dx = target.x - at.x, dy = target.y - at.y, dz = target.z - at.z;
-            const F dist2 = dx * dx + dy * dy + dz * dz;
-            d = sqrt_exact(dist2);
-            const F inv = F(1.0f) / d;
-            w = V3{dx * inv, dy * inv, dz * inv};
-            if (light->kind == LightKind::Quad || light->kind == LightKind::Triangles) {
-                // emitting side: -dir . n > 0, or either side when two-sided
-                const F facing = -(w.x * n.x + w.y * n.y + w.z * n.z);
-                const F cos_l = light->two_sided ? abs(facing) : facing;
-                r = F(light->power[0]), g = F(light->power[1]), b = F(light->power[2]);
-                p = select((cos_l > F(0.0f)) & (dist2 > F(0.0f)), sel * dist2 / (F(light->area) * cos_l), F(0.0f));
-            } else {  // delta lights: intensity towards the point / distance^2
-                const F scale = delta_intensity<N>(*light, V3{-w.x, -w.y, -w.z}) / dist2;
-                r = F(light->power[0]) * scale, g = F(light->power[1]) * scale, b = F(light->power[2]) * scale;
-                p = select(dist2 > F(0.0f), sel, F(0.0f));
-            }
-        }
-        store_rows(dir, i, lanes, w);
-        store_rows(rgb, i, lanes, r, g, b);
-        store_lanes(dist, i, lanes, d);
-        store_lanes(pdf, i, lanes, p);
-    });
+            LightSampleBlock out;
+            out.pdf = sel * env_w::sample(s.env, s1, s2, out.dir, out.r, out.g, out.b);
+            out.dist = F(kInfinity);
+            store(i, lanes, out);
+        });
+    } else {
+        visit_kind(*light, [&](const auto& kind) {
+            for_blocks(n, [&](size_t i, int lanes) {
+                const F s1 = load_lanes(g1, i, lanes), s2 = load_lanes(g2, i, lanes);
+                const F sel = load_lanes(gsel, i, lanes);
+                V3 at{F(0.0f), F(0.0f), F(0.0f)};
+                if constexpr (!std::decay_t<decltype(kind)>::at_infinity) at = load_rows(pos, i, lanes);
+                store(i, lanes, sample(kind, s, at, s1, s2, sel));
+            });
+        });
+    }
     const bool delta = light != nullptr && is_delta_light(*light);
     for (size_t j = 0; j < n; ++j) {
         const int32_t q = points[j];
-        std::copy(dir + 3 * j, dir + 3 * j + 3, sc.ls_dir.data() + 3 * q);
-        std::copy(rgb + 3 * j, rgb + 3 * j + 3, sc.ls_rgb.data() + 3 * q);
-        sc.ls_dist[q] = dist[j];
-        sc.ls_pdf[q] = pdf[j];
-        sc.ls_delta[q] = delta;
-        sc.ls_ok[q] = pdf[j] > 0 && std::isfinite(pdf[j]);
+        std::copy(dir + 3 * j, dir + 3 * j + 3, sc.light_samples.dir.data() + 3 * q);
+        std::copy(rgb + 3 * j, rgb + 3 * j + 3, sc.light_samples.rgb.data() + 3 * q);
+        sc.light_samples.dist[q] = dist[j];
+        sc.light_samples.pdf[q] = pdf[j];
+        sc.light_samples.delta[q] = delta;
+        sc.light_samples.ok[q] = pdf[j] > 0 && std::isfinite(pdf[j]);
     }
 }
 
-// One light sample per shading point into sc.ls_*: each point picks a light in proportion to
+// One light sample per shading point into sc.light_samples: each point picks a light in proportion to
 // its estimated irradiance there, the points are grouped by the light they picked, and each
 // group is sampled N points at a time.
 inline void sample_lights(const RenderScene& s, PathScratch& sc, int depth, size_t np) {
-    sc.ls_dir.resize(3 * np);
-    sc.ls_rgb.resize(3 * np);
-    sc.ls_dist.resize(np);
-    sc.ls_pdf.resize(np);
-    sc.ls_delta.resize(np);
-    sc.ls_ok.resize(np);
+    sc.light_samples.dir.resize(3 * np);
+    sc.light_samples.rgb.resize(3 * np);
+    sc.light_samples.dist.resize(np);
+    sc.light_samples.pdf.resize(np);
+    sc.light_samples.delta.resize(np);
+    sc.light_samples.ok.resize(np);
     float* pick = grow(sc.u_pick, np);
     float* u1 = grow(sc.u1, np);
     float* u2 = grow(sc.u2, np);

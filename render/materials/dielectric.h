@@ -7,8 +7,25 @@
 // environment shows exactly that environment.
 #pragma once
 
+#include <optional>
+
 #include "fit/microfacet.h"
 #include "render/materials/ggx_aniso.h"
+
+namespace patina {
+
+// The material: its GGX roughness and its index (inside / outside). The shading points
+// carry the relative index the ray sees (eta or 1 / eta by the side it arrives from).
+struct Dielectric {
+    float alpha = 0.1f;
+    float eta = 1;
+    static constexpr bool picks_lobe = true;  // reflection against transmission
+    static constexpr bool transmits = true;
+    std::optional<float> reflection_alpha() const { return std::nullopt; }  // glass: no lobe for the cache
+    float highlight_alpha() const { return alpha; }
+};
+
+}  // namespace patina
 
 PATINA_BEGIN_TARGET
 namespace dielectric {
@@ -66,4 +83,27 @@ PATINA_INLINE Vec3<F> sample(const Vec3<F>& v, F pick, F u1, F u2, F alpha, F et
 }
 
 }  // namespace dielectric
+
+namespace materials {
+
+template <class F>
+PATINA_INLINE Vec3<F> eval(const Dielectric& m, const Vec3<F>& l, const Vec3<F>& v, F eta) {
+    F value, pdf;
+    dielectric::eval_pdf(l, v, F(m.alpha), eta, value, pdf);
+    return Vec3<F>{value, value, value};
+}
+
+template <class F>
+PATINA_INLINE F pdf(const Dielectric& m, const Vec3<F>& l, const Vec3<F>& v, F eta) {
+    F value, pdf;
+    dielectric::eval_pdf(l, v, F(m.alpha), eta, value, pdf);
+    return pdf;
+}
+
+template <class F>
+PATINA_INLINE Vec3<F> sample(const Dielectric& m, const Vec3<F>& v, F pick, F u1, F u2, F eta) {
+    return dielectric::sample(v, pick, u1, u2, F(m.alpha), eta);
+}
+
+}  // namespace materials
 PATINA_END_TARGET

@@ -80,5 +80,11 @@ PATINA_INLINE F pdf(const Vec3<F>& v, const Vec3<F>& l, F ax, F ay) {
     return select((l.z > F(0.0f)) & (vh > F(0.0f)), visible_pdf(v, h, ax, ay) / (F(4.0f) * vh), F(0.0f));
 }
 
+// l reflected about a GGX normal visible from v (density pdf).
+template <class F>
+PATINA_INLINE Vec3<F> sample_reflection(const Vec3<F>& v, F u1, F u2, F ax, F ay) {
+    return microfacet::reflect(v, sample_visible(v, u1, u2, ax, ay));
+}
+
 }  // namespace ggx_aniso
 PATINA_END_TARGET

@@ -1,7 +1,7 @@
 """Scene materials as the C++ renderer takes them (`RenderScene.add_material` dictionaries).
 
 Each dictionary holds exactly the keys the renderer reads for its kind, every one of them
-(the bindings reject a missing or an unread key, naming it): render/scene.h's Material.
+(the bindings reject a missing or an unread key, naming it): render/materials/, a type per kind.
 
 Tables and fitted models are evaluated by the renderer as they are; what this module adds
 is what the renderer needs *about* them: an albedo for the albedo AOV and the coat's lobe

@@ -5,9 +5,9 @@ into one kd-tree; area lights as emitting triangles the rays hit; materials thro
 `patina.render.materials`; the environment map read with OpenImageIO.
 
 Lights cross to C++ as dictionaries of exactly the keys the renderer reads for their kind
-(render/scene.h's Light; the bindings reject a missing or an unread key, naming it), and
-with what follows from their geometry computed here, where the geometry is: a quad's unit
-normal and area, the sun's cone and frame, an emissive mesh's triangle-area cdf, unit
+(render/lights/, a type per kind; the bindings reject a missing or an unread key, naming
+it), and with what follows from their geometry computed here, where the geometry is: a
+quad's unit normal and area, the sun's cone and frame, an emissive mesh's triangle-area cdf, unit
 directions. These are computed in float32 (float64 where the renderer summed in double) in
 the very order of operations the renderer used to compute them in, so images are the same
 bit for bit; the bindings only convert and check.

@@ -131,11 +131,10 @@ TEST(AaEdgeHints, APointLightsShadowOfAStripIsMarkedWhereItFalls) {
     EXPECT_TRUE(marked(dark, 15, 16) || marked(dark, 14, 16));  // the strip's side
     EXPECT_FALSE(marked(dark, 6, 16));
     EXPECT_FALSE(marked(dark, 9, 16));
-    patina::Light light;
-    light.kind = patina::LightKind::Point;
+    patina::PointLight light;
     light.position[0] = 0.5f;
     light.position[2] = 1;
-    s.lights.push_back(light);
+    s.lights.push_back(patina::Light{light});
     const patina::AaEdgeHints lit = patina::project_feature_edges(s, 0.1f);
     for (int y = 8; y < 25; ++y) {
         EXPECT_TRUE(marked(lit, 6, y)) << y;  // the shadow's sides
@@ -177,10 +176,10 @@ TEST(AaEdgeHints, AnyThreadCountGivesTheSameHints) {
     const patina::KdTree tree =
         patina::build_kdtree(v.data(), v.size() / 3, idx.data(), tris, patina::KdBuildOptions{});
     patina::RenderScene s = aa_test::looking_down(tree, idx, normals, mat, 64, 48);
-    patina::Light light;
+    patina::PointLight light;
     light.position[0] = 0.5f;
     light.position[2] = 1;
-    s.lights.push_back(light);
+    s.lights.push_back(patina::Light{light});
     const patina::AaEdgeHints one = patina::project_feature_edges(s, 0.001f, 1);
     int marked = 0;
     for (const uint8_t z : one.zones[0]) marked += z != 0;

@@ -29,18 +29,17 @@ struct Mesh {
 
 patina::Material coat(float alpha) {
     patina::Material m;
-    m.coat = true;
-    m.coat_alpha = alpha;
+    m.coat = patina::ClearCoat{};
+    m.coat->alpha = alpha;
     return m;
 }
 
 patina::Light point_light(float x, float y, float z) {
-    patina::Light l;
-    l.kind = patina::LightKind::Point;
+    patina::PointLight l;
     l.position[0] = x;
     l.position[1] = y;
     l.position[2] = z;
-    return l;
+    return patina::Light{l};
 }
 
 // the centre of the pieces' union on the film, and its half-widths

@@ -14,6 +14,22 @@
 
 namespace patina::test {
 
+inline Material lambert(float r, float g, float b) {
+    Material m;
+    const float rgb[3] = {r, g, b};
+    Lambert model;
+    for (int k = 0; k < 3; ++k) m.albedo[k] = model.reflectance[k] = rgb[k];
+    m.model = model;
+    return m;
+}
+
+inline Conductor metal(float alpha) {
+    Conductor c;
+    c.alpha_x = c.alpha_y = alpha;
+    for (int k = 0; k < 3; ++k) c.eta[k] = 0.2f, c.k[k] = 3.0f;
+    return c;
+}
+
 struct BoxScene {
     std::vector<float> vertices, normals;
     std::vector<int32_t> indices, materials;
@@ -53,30 +69,20 @@ struct BoxScene {
         scene.normals = normals.data();
         scene.tri_material = materials.data();
         scene.triangle_count = indices.size() / 3;
-        Material white, red, green, emitter, glossy, narrow;
-        white.albedo[0] = white.albedo[1] = white.albedo[2] = 0.7f;
-        red.albedo[0] = 0.6f, red.albedo[1] = red.albedo[2] = 0.06f;
-        green.albedo[1] = 0.5f, green.albedo[0] = green.albedo[2] = 0.1f;
-        glossy.kind = MaterialKind::Conductor;  // a rough metal: integrated over the texels
-        glossy.alpha_x = glossy.alpha_y = 0.4f;
-        glossy.eta[0] = glossy.eta[1] = glossy.eta[2] = 0.2f;
-        glossy.k[0] = glossy.k[1] = glossy.k[2] = 3.0f;
-        narrow.kind = MaterialKind::Conductor;  // 0.25 < 2 texels (0.31 at R = 16): split at the texel hits
-        narrow.alpha_x = narrow.alpha_y = 0.25f;
-        narrow.eta[0] = narrow.eta[1] = narrow.eta[2] = 0.2f;
-        narrow.k[0] = narrow.k[1] = narrow.k[2] = 3.0f;
-        emitter.kind = MaterialKind::Emitter;
-        emitter.light = 0;
+        Material white = lambert(0.7f, 0.7f, 0.7f), red = lambert(0.6f, 0.06f, 0.06f),
+                 green = lambert(0.1f, 0.5f, 0.1f), emitter, glossy, narrow;
+        glossy.model = metal(0.4f);   // a rough metal: integrated over the texels
+        narrow.model = metal(0.25f);  // 0.25 < 2 texels (0.31 at R = 16): split at the texel hits
+        emitter.model = Emitter{0};
         for (Material* m : {&white, &red, &green, &emitter, &glossy, &narrow}) m->two_sided = true;
         scene.materials = {white, red, green, emitter, glossy, narrow};
-        Light l;
-        l.kind = LightKind::Quad;
+        QuadLight l;
         const float c[3] = {0, 1.98f, 0}, u[3] = {0.25f, 0, 0}, v[3] = {0, 0, 0.25f};
-        for (int k = 0; k < 3; ++k) l.position[k] = c[k], l.u[k] = u[k], l.v[k] = v[k], l.power[k] = 15.0f;
+        for (int k = 0; k < 3; ++k) l.center[k] = c[k], l.u[k] = u[k], l.v[k] = v[k], l.radiance[k] = 15.0f;
         l.normal[0] = 0, l.normal[1] = -1, l.normal[2] = 0;  // cross(u, v) = (0, -1/16, 0)
         l.area = 4 * 0.25f * 0.25f;
         l.two_sided = true;
-        scene.lights = {l};
+        scene.lights = {Light{l}};
         Camera& cam = scene.camera;
         cam.position[0] = 0, cam.position[1] = 1, cam.position[2] = 0.95f;
         cam.forward[0] = 0, cam.forward[1] = 0, cam.forward[2] = -1;

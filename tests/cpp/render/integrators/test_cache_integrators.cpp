@@ -195,7 +195,7 @@ TEST(CacheIntegrators, BlocksOfPixelsShareReconstructionsButNotAcrossWalls) {
 TEST(CacheIntegrators, ACoatIsPathTracedWithItsFirstBounceSplit) {
     BoxScene b(8, 8);
     for (Material& m : b.scene.materials)
-        if (m.kind != MaterialKind::Emitter) m.coat = true;
+        if (!m.is<Emitter>()) m.coat = ClearCoat{};
     PathScratch sp, sc;
     const std::vector<PathResult> path = trace(b, 0, IntegratorMode::Path, pixel_samples(8, 8, 512, 6), sp);
     const std::vector<PathResult> split = trace(b, 0, IntegratorMode::Cache, pixel_samples(8, 8, 128, 7), sc);

@@ -39,12 +39,12 @@ struct Downlight {
 };
 
 // A luminaire at `at` aimed straight down (type C: gamma from -axis_z, so axis_z is up).
-Light downlight(const Downlight& table, Vec3f at, float per_cd) {
-    Light l;
-    l.kind = LightKind::Goniometric;
+GoniometricLight downlight(const Downlight& table, Vec3f at, float per_cd) {
+    GoniometricLight l;
     const float pos[3] = {at.x, at.y, at.z}, x[3] = {1, 0, 0}, y[3] = {0, 0, -1}, z[3] = {0, 1, 0};
     for (int k = 0; k < 3; ++k)
-        l.position[k] = pos[k], l.axis_x[k] = x[k], l.axis_y[k] = y[k], l.axis_z[k] = z[k], l.power[k] = per_cd;
+        l.position[k] = pos[k], l.axis_x[k] = x[k], l.axis_y[k] = y[k], l.axis_z[k] = z[k],
+        l.rgb_per_candela[k] = per_cd;
     l.candela = table.view();
     return l;
 }
@@ -78,7 +78,7 @@ Probabilities selection(const RenderScene& s, const std::vector<float>& points, 
 
 TEST(LightSelection, ALuminaireSendingAPointNothingIsNeverPicked) {
     const Downlight table;
-    const RenderScene s = light_scene({downlight(table, {-1, 3, 0}, 1), downlight(table, {1, 3, 0}, 1)});
+    const RenderScene s = light_scene({Light{downlight(table, {-1, 3, 0}, 1)}, Light{downlight(table, {1, 3, 0}, 1)}});
     // (-2, 0, 0): 18 degrees off the first one's nadir, 45 off the second's (beyond its 40)
     const Probabilities p = selection(s, {-2, 0, 0}, 0);
     EXPECT_EQ(p.pick[1], 0.0f);
@@ -93,7 +93,7 @@ TEST(LightSelection, ALightAloneIsEveryPointsPick) {
     // its weight not computed (a scene of one light pays nothing for the selection): even where
     // the luminaire sends nothing, its sample (0) is taken with probability 1
     const Downlight table;
-    const RenderScene s = light_scene({downlight(table, {-1, 3, 0}, 1)});
+    const RenderScene s = light_scene({Light{downlight(table, {-1, 3, 0}, 1)}});
     const Probabilities p = selection(s, {-1, 0, 0, 3, 0, 0, -1, 3, 0}, 0);
     for (int q = 0; q < 3; ++q) {
         EXPECT_EQ(p.pick[q], 1.0f) << "point " << q;
@@ -103,18 +103,18 @@ TEST(LightSelection, ALightAloneIsEveryPointsPick) {
 
 TEST(LightSelection, ProbabilitiesFollowTheCandelaTableAndTheConeOverDistanceSquared) {
     const Downlight table;
-    Light spot;
-    spot.kind = LightKind::Spot;
+    SpotLight spot;
     const float sp[3] = {0, 2, 2}, sd[3] = {0, -1, 0};
-    for (int k = 0; k < 3; ++k) spot.position[k] = sp[k], spot.direction[k] = sd[k], spot.power[k] = 3;
+    for (int k = 0; k < 3; ++k) spot.position[k] = sp[k], spot.direction[k] = sd[k], spot.intensity[k] = 3;
     spot.cos_inner = static_cast<float>(std::cos(15 * kDeg));
     spot.cos_outer = static_cast<float>(std::cos(30 * kDeg));
-    Light point;
-    point.kind = LightKind::Point;
+    PointLight point;
     const float pp[3] = {2, 2.5f, -1};
-    for (int k = 0; k < 3; ++k) point.position[k] = pp[k], point.power[k] = 0.5f;
+    for (int k = 0; k < 3; ++k) point.position[k] = pp[k], point.intensity[k] = 0.5f;
     const Vec3f a{-1, 3, 0}, b{1, 3, 0};
-    const RenderScene s = light_scene({downlight(table, a, 0.02f), downlight(table, b, 0.01f), spot, point}, 0.05f);
+    const RenderScene s =
+        light_scene({Light{downlight(table, a, 0.02f)}, Light{downlight(table, b, 0.01f)}, Light{spot}, Light{point}},
+                    0.05f);
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u(-2.5f, 2.5f);
     std::vector<float> points;
@@ -160,20 +160,18 @@ TEST(LightSelection, ProbabilitiesFollowTheCandelaTableAndTheConeOverDistanceSqu
 
 TEST(LightSelection, ThePicksProbabilityIsTheMisWeightsAndTheSameBitsAtEveryWidth) {
     const Downlight table;
-    Light type_b = downlight(table, {0.5f, 2.5f, -1}, 0.02f);
+    GoniometricLight type_b = downlight(table, {0.5f, 2.5f, -1}, 0.02f);
     type_b.type_b = true;  // a floodlight (its beam along axis_z) aimed down and sideways
     const float ax[3] = {0, 0, 1}, ay[3] = {-0.8f, -0.6f, 0}, az[3] = {0.6f, -0.8f, 0};
     for (int k = 0; k < 3; ++k) type_b.axis_x[k] = ax[k], type_b.axis_y[k] = ay[k], type_b.axis_z[k] = az[k];
-    Light spot;
-    spot.kind = LightKind::Spot;
+    SpotLight spot;
     spot.position[1] = 2;
     spot.cos_inner = 0.95f, spot.cos_outer = 0.8f;
-    Light quad;  // an area light: weighed as before, by flux
-    quad.kind = LightKind::Quad;
-    quad.position[1] = 2.9f;
+    QuadLight quad;  // an area light: weighed as before, by flux
+    quad.center[1] = 2.9f;
     quad.area = 0.16f;
-    const Light a = downlight(table, {-1, 3, 0}, 0.02f), b = downlight(table, {1, 3, 0}, 0.01f);
-    const RenderScene s = light_scene({a, type_b, spot, quad, b}, 0.05f);
+    const Light a{downlight(table, {-1, 3, 0}, 0.02f)}, b{downlight(table, {1, 3, 0}, 0.01f)};
+    const RenderScene s = light_scene({a, Light{type_b}, Light{spot}, Light{quad}, b}, 0.05f);
     std::mt19937 rng(11);
     std::uniform_real_distribution<float> u(-3.0f, 3.0f);
     // random points, then the lights' own positions (d = 0) and points on a cone's axis

@@ -61,18 +61,20 @@ std::vector<double> albedo(const Material& m, const Batch& b) {
 }
 
 Material conductor(float ax, float ay) {
+    Conductor c;
+    c.alpha_x = ax;
+    c.alpha_y = ay;
+    for (int ch = 0; ch < 3; ++ch) c.eta[ch] = 1.0f, c.k[ch] = 1e4f;  // |F| = 1: a white lobe
     Material m;
-    m.kind = MaterialKind::Conductor;
-    m.alpha_x = ax;
-    m.alpha_y = ay;
-    for (int c = 0; c < 3; ++c) m.eta[c] = 1.0f, m.k[c] = 1e4f;  // |F| = 1: a white lobe
+    m.model = c;
     return m;
 }
 
 Material glass(float alpha) {
+    Dielectric d;
+    d.alpha = alpha;
     Material m;
-    m.kind = MaterialKind::Dielectric;
-    m.alpha_x = m.alpha_y = alpha;
+    m.model = d;
     return m;
 }
 
@@ -136,10 +138,12 @@ TEST(RenderMaterials, GlassKeepsEnergyAndIsExactWhenSmooth) {
 
 TEST(RenderMaterials, CoatOverLambertSamplesItsPdfAndKeepsEnergy) {
     Material m;
-    m.kind = MaterialKind::Lambert;
+    Lambert white;
+    white.reflectance[0] = white.reflectance[1] = white.reflectance[2] = 1.0f;
+    m.model = white;
     m.albedo[0] = m.albedo[1] = m.albedo[2] = 1.0f;
-    m.coat = true;
-    m.coat_alpha = 0.15f;  // rough enough to bin; the smooth coat is the furnace tests' case
+    m.coat = ClearCoat{};
+    m.coat->alpha = 0.15f;  // rough enough to bin; the smooth coat is the furnace tests' case
     for (double theta : {0.3, 1.2}) {
         auto draw = [&](size_t n) { return sample(m, theta, 1.0f, n, 61).l; };
         const Batch ref = sample(m, theta, 1.0f, 1, 61);
@@ -151,13 +155,15 @@ TEST(RenderMaterials, CoatOverLambertSamplesItsPdfAndKeepsEnergy) {
 
 TEST(RenderMaterials, TableProxySamplesItsPdf) {
     // a Mixture (a fitted model) sampled through the Lambert + GGX proxy
+    Mixture fit;
+    fit.params.rho[0] = fit.params.rho[1] = fit.params.rho[2] = 0.3f;
+    fit.params.lobes = 1;
+    for (int c = 0; c < 3; ++c)
+        fit.params.shape[0][c] = fit.params.shape_y[0][c] = 0.2f, fit.params.weight[0][c] = 0.04f;
+    fit.proxy.diffuse = 0.4f;
+    fit.proxy.alpha = 0.25f;
     Material m;
-    m.kind = MaterialKind::Mixture;
-    m.mixture.rho[0] = m.mixture.rho[1] = m.mixture.rho[2] = 0.3f;
-    m.mixture.lobes = 1;
-    for (int c = 0; c < 3; ++c) m.mixture.shape[0][c] = m.mixture.shape_y[0][c] = 0.2f, m.mixture.weight[0][c] = 0.04f;
-    m.proxy_diffuse = 0.4f;
-    m.proxy_alpha = 0.25f;
+    m.model = fit;
     for (double theta : {0.3, 1.1}) {
         auto draw = [&](size_t n) { return sample(m, theta, 1.0f, n, 81).l; };
         const Batch ref = sample(m, theta, 1.0f, 1, 81);
