@@ -62,24 +62,24 @@ int add_point(SourcesHandle& h, const Vector3& position, float candela) {
 int add_spot(SourcesHandle& h, const Vector3& position, float candela, const Vector3& axis, float cos_inner,
              float cos_outer) {
     patina::DirectSource s = h.placed(patina::SourceKind::Spot, position, candela);
-    h.copy("axis", axis, s.axis, true);
+    h.copy("axis", axis, s.spot.direction, true);
     if (!(cos_inner >= -1.0f && cos_inner <= 1.0f) || !(cos_outer >= -1.0f && cos_outer <= 1.0f))
         h.fail("the cone's cosines must lie in [-1, 1]");
-    s.cos_inner = cos_inner;
-    s.cos_outer = cos_outer;
+    s.spot.cos_inner = cos_inner;
+    s.spot.cos_outer = cos_outer;
     return h.add(s);
 }
 
 int add_goniometric(SourcesHandle& h, const Vector3& position, float scale, const Vector3& axis_x,
                     const Vector3& axis_y, const Vector3& axis_z, bool type_b, nb::object table) {
     patina::DirectSource s = h.placed(patina::SourceKind::Goniometric, position, scale);
-    h.copy("axis_x", axis_x, s.axis_x, true);
-    h.copy("axis_y", axis_y, s.axis_y, true);
-    h.copy("axis_z", axis_z, s.axis_z, true);
-    s.type_b = type_b;
+    h.copy("axis_x", axis_x, s.goniometric.axis_x, true);
+    h.copy("axis_y", axis_y, s.goniometric.axis_y, true);
+    h.copy("axis_z", axis_z, s.goniometric.axis_z, true);
+    s.goniometric.type_b = type_b;
     const Grid2Handle* g = nullptr;
     if (!nb::try_cast<const Grid2Handle*>(table, g) || g == nullptr) h.fail("'candela' must be a patina._core.Grid2");
-    s.candela = g->view();
+    s.goniometric.candela = g->view();
     h.keep.push_back(table);
     return h.add(s);
 }

@@ -49,18 +49,18 @@ DirectSource downlight(const Downlight& table, float x, float y, float z) {
     DirectSource s = point_source(x, y, z, 1.0f);
     s.kind = SourceKind::Goniometric;
     const float ax[3] = {1, 0, 0}, ay[3] = {0, 0, -1}, az[3] = {0, 1, 0};
-    std::memcpy(s.axis_x, ax, sizeof ax);
-    std::memcpy(s.axis_y, ay, sizeof ay);
-    std::memcpy(s.axis_z, az, sizeof az);
-    s.candela = Grid2View{table.c.data(), 2, table.gamma.data(), 4, table.values.data()};
+    std::memcpy(s.goniometric.axis_x, ax, sizeof ax);
+    std::memcpy(s.goniometric.axis_y, ay, sizeof ay);
+    std::memcpy(s.goniometric.axis_z, az, sizeof az);
+    s.goniometric.candela = Grid2View{table.c.data(), 2, table.gamma.data(), 4, table.values.data()};
     return s;
 }
 
 DirectSource spot(float x, float y, float z, float candela) {
     DirectSource s = point_source(x, y, z, candela);
     s.kind = SourceKind::Spot;
-    s.cos_inner = static_cast<float>(std::cos(10 * kDeg));
-    s.cos_outer = static_cast<float>(std::cos(30 * kDeg));
+    s.spot.cos_inner = static_cast<float>(std::cos(10 * kDeg));
+    s.spot.cos_outer = static_cast<float>(std::cos(30 * kDeg));
     return s;
 }
 
@@ -189,7 +189,7 @@ TEST(DirectIlluminance, EveryWidthGivesTheScalarPathsBitsLaneByLane) {
     std::vector<DirectSource> sources{point_source(-1.0f, 2.5f, 0.5f, 700.0f), spot(1.5f, 3.0f, -0.5f, 900.0f),
                                       downlight(table, 0.5f, 2.8f, 0.0f)};
     DirectSource tilted = downlight(table, -2.0f, 2.2f, 1.0f);
-    tilted.type_b = true;  // the same table read as type B, aimed along its frame's +z (up)
+    tilted.goniometric.type_b = true;  // the same table read as type B, aimed along its frame's +z (up)
     sources.push_back(tilted);
     const KdTree tree = occluders(1.2f, -1.0f, 0.2f);
     std::mt19937 rng(7);
