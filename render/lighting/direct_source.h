@@ -1,9 +1,9 @@
 // A luminaire as the exact direct illuminance sums it (render/lighting/direct_illuminance.h):
 // a point, a spot or a goniometric (IES / EULUMDAT) luminaire, in candela. The lighting
-// calculations hand it over themselves (python/patina/lighting/direct.py) rather than reading
-// the renderer's Light, so that the renderer's light kinds and the lighting calculations can
-// change apart; the intensities are the renderer's all the same, by its own functions
-// (source_intensity_impl.h).
+// calculations hand it over themselves (python/patina/lighting/direct.py) rather than as the
+// renderer's Light (a radiometric colour, a place in the light selection); the shape of its
+// intensity is the renderer's spot and goniometric kinds', evaluated by the renderer's own
+// functions (source_intensity_impl.h).
 #pragma once
 
 #include <cstdint>
