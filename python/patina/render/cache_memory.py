@@ -30,9 +30,15 @@ def cache_point_bytes(resolution: int) -> int:
     return CACHE_BYTES_PER_TEXEL * resolution * resolution
 
 
-def cache_region_bytes(resolution: int, block: int) -> int:
-    """A region's points, at one cache point a block."""
-    return math.ceil(_core.cache_region_pixels / block) ** 2 * cache_point_bytes(resolution)
+# `cache` keeps each pre-pass query's reconstructed hemisphere with its region: RGB floats a texel
+HEMISPHERE_BYTES_PER_TEXEL = 12
+
+
+def cache_region_bytes(resolution: int, block: int, hemispheres: bool = False) -> int:
+    """A region's points, at one cache point a block, and with `hemispheres` a reconstruction
+    a block too."""
+    per_texel = CACHE_BYTES_PER_TEXEL + (HEMISPHERE_BYTES_PER_TEXEL if hemispheres else 0)
+    return math.ceil(_core.cache_region_pixels / block) ** 2 * per_texel * resolution * resolution
 
 
 def render_threads(threads: int) -> int:
@@ -61,7 +67,8 @@ def cache_memory(scene: Scene, threads: int) -> int:
     if scene.render.integrator not in CACHE_INTEGRATORS:
         return 0
     cache = scene.render.cache
-    per_thread = (regions_held(scene) + 1) * cache_region_bytes(cache.resolution, cache.block)
+    region = cache_region_bytes(cache.resolution, cache.block, scene.render.integrator == "cache")
+    per_thread = (regions_held(scene) + 1) * region
     return _core.cache_region_budget_bytes + render_threads(threads) * per_thread
 
 

@@ -29,6 +29,7 @@ def test_a_region_holds_a_cache_point_a_block_of_r_squared_texels():
     assert cache_region_bytes(64, 1) == pixels**2 * CACHE_BYTES_PER_TEXEL * 64**2
     assert cache_region_bytes(64, 8) == (pixels // 8) ** 2 * CACHE_BYTES_PER_TEXEL * 64**2
     assert cache_region_bytes(24, 5) == 7**2 * CACHE_BYTES_PER_TEXEL * 24**2  # 32 pixels: 6 blocks and a part
+    assert cache_region_bytes(64, 8, hemispheres=True) == (pixels // 8) ** 2 * (CACHE_BYTES_PER_TEXEL + 12) * 64**2
 
 
 def test_the_estimate_is_the_budget_plus_the_regions_of_a_thread_and_nothing_without_a_cache():
@@ -38,7 +39,7 @@ def test_the_estimate_is_the_budget_plus_the_regions_of_a_thread_and_nothing_wit
     scene = room(integrator="cache", cache_resolution=32, cache_block=4, aa="adaptive")
     assert regions_held(scene) == 9
     assert regions_held(room(integrator="cache", cache_block=4)) == 4
-    assert cache_memory(scene, 3) == budget + 3 * 10 * cache_region_bytes(32, 4)
+    assert cache_memory(scene, 3) == budget + 3 * 10 * cache_region_bytes(32, 4, hemispheres=True)
     guided = room(integrator="cache-guided")  # no hemispheres taken across a tile's edge: its region alone
     assert regions_held(guided) == 1
     assert cache_memory(guided, 1) == budget + 2 * cache_region_bytes(24, guided.render.cache.block)
