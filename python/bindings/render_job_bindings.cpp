@@ -114,6 +114,10 @@ void bind_options(nb::module_& m) {
     // the cache's regions (render/cache/cache_regions.h): what patina.render.cache_memory estimates from
     m.attr("cache_region_pixels") = patina::kCacheRegionPixels;
     m.attr("cache_region_budget_bytes") = patina::kCacheRegionBudgetBytes;
+    // the job's tiles by pixel sampler (render_job.cpp): which regions an item holds
+    m.attr("tile_pixels") = nb::dict();
+    m.attr("tile_pixels")["uniform"] = patina::kUniformTileSize;
+    m.attr("tile_pixels")["adaptive"] = patina::kAdaptiveTileSize;
 }
 
 struct JobHandle {

@@ -14,9 +14,9 @@ so a region may weigh (P / K)^2 of them."""
 from __future__ import annotations
 
 import math
-import os
 
 from patina.native import _core
+from patina.render.run import render_threads
 from patina.scene.types import Scene
 
 # A cache point's kept arrays per texel of its hemisphere: radiance (3 floats), distance,
@@ -41,19 +41,11 @@ def cache_region_bytes(resolution: int, block: int, hemispheres: bool = False) -
     return math.ceil(_core.cache_region_pixels / block) ** 2 * per_texel * resolution * resolution
 
 
-def render_threads(threads: int) -> int:
-    return threads or os.cpu_count() or 1  # 0: one a core, as the render job takes it
-
-
-# The render job's tiles: the adaptive sampler's and the uniform sampler's (render/render_job.cpp)
-TILE_PIXELS = {"adaptive": 32, "uniform": 16}
-
-
 def regions_held(scene: Scene) -> int:
     """The regions a tile's item may hold: those under the tile and, for `cache`, its margin
     of a block, whose hemispheres its pixels may take (RenderJob::cache_regions_near)."""
     margin = scene.render.cache.block if scene.render.integrator == "cache" else 0
-    size, tile = _core.cache_region_pixels, TILE_PIXELS[scene.render.aa]
+    size, tile = _core.cache_region_pixels, _core.tile_pixels[scene.render.aa]
     across = max(
         (x0 + tile + margin - 1) // size - max(x0 - margin, 0) // size + 1 for x0 in range(0, size * tile, tile)
     )

@@ -90,6 +90,11 @@ class _Waiter(threading.Thread):
         self.finished.set()
 
 
+def render_threads(threads: int) -> int:
+    """The threads a render job runs for `threads` (0: one a core)."""
+    return threads or os.cpu_count() or 1
+
+
 def _run_job(job: _core.RenderJob, pixels: int, spp: int, progress: bool, by_items: bool = False) -> bool:
     """Runs `job` to its end, showing progress; True if it was interrupted (once). by_items:
     spp counted from the work items done (the adaptive sampler's samples a pixel vary)."""
@@ -254,7 +259,7 @@ def render(
         rays=p.rays,
         camera_rays=p.samples_done,
         complete=p.finished,  # an interrupt after the last item still leaves a whole image
-        threads=threads if threads > 0 else (os.cpu_count() or 1),
+        threads=render_threads(threads),
         simd_width=settings.width or _core.default_width(),
         interrupted=interrupted,
         cache={k: getattr(p, k) for k in CACHE_COUNTS},
