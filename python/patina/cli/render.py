@@ -59,6 +59,7 @@ from patina.scene.reading import (
 )
 from patina.scene.types import CacheParams, Scene
 from patina.signals import terminate_as_interrupt
+from patina.table.formats.loading import split_side
 
 IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg")  # tone-mapped 8-bit sRGB
 PREVIEW_SHAPES = ("ball", "sphere", "panel")
@@ -291,7 +292,7 @@ def cmd_preview(args: argparse.Namespace) -> int:
     with terminate_as_interrupt():
         _check_outputs(args)
         _check_cluster_options(args)
-        if not os.path.isfile(args.material):
+        if not os.path.isfile(split_side(args.material)[0]):  # FILE.xml#back names a side
             raise FormatError(args.material, "MATERIAL", "no such file")
         exposure = args.exposure or preview_exposure(args.env)
         env = args.env or studio_environment()

@@ -18,7 +18,7 @@ import numpy as np
 
 from patina.table.angles import angles_to_directions, halfdiff_to_directions
 from patina.table.brdf import Brdf
-from patina.table.spectral import to_rgb
+from patina.table.spectral import as_linear_srgb
 
 
 def _axis_measure(name: str, knots: np.ndarray) -> np.ndarray:
@@ -55,15 +55,14 @@ def _grid(brdf: Brdf, max_theta_deg: float) -> tuple[np.ndarray, np.ndarray, np.
 
 
 def table_samples(brdf: Brdf, max_theta_deg: float = 80.0) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The table's grid points as direction pairs: (wi, wo, measured RGB, cos_i cos_o weights).
+    """The table's grid points as direction pairs: (wi, wo, measured linear sRGB, cos_i cos_o weights).
 
     Measured values are the table's own (no interpolation); missing points and pairs
     beyond max_theta_deg from the normal are left out.
     """
-    if brdf.channel_kind == "spectral":
-        brdf = to_rgb(brdf)  # fits are of reflected colour: linear sRGB under D65
-    if brdf.channels != 3:
-        raise ValueError(f"fitting needs an RGB, XYZ or spectral table; this one has {brdf.channels} channel(s)")
+    # fits are of reflected colour in linear sRGB: spectral and XYZ converted (D65), and a
+    # monochrome measurement (a Zemax or goniophotometer file often is one) fitted as grey
+    brdf = as_linear_srgb(brdf)
     wi, wo, keep, _ = _grid(brdf, max_theta_deg)
     values = brdf.values.reshape(-1, 3).astype(np.float64)
     keep &= np.isfinite(values).all(axis=1)

@@ -67,6 +67,7 @@ from patina.scene.types import (
     SunLight,
     TableMaterial,
 )
+from patina.table.formats.loading import SIDES
 
 VERSION = 1
 MAX_FILE_BYTES = 16 << 20  # a scene is a few kB; anything this large is not one
@@ -256,7 +257,7 @@ def _material(o: Obj, kinds: tuple[str, ...] = MATERIAL_KINDS, outer_two_sided: 
         tint = o.read("tint", _tint, (1.0, 1.0, 1.0))
         _limited(o.ctx, o.at("scale"), tuple(scale * t for t in tint), MAX_REFLECTANCE_SCALE, "(scale x tint)")
         return cls(
-            file=o.read("file", _file, suffixes=TABLE_SUFFIXES if kind == "table" else (".json",)),
+            file=o.read("file", _table_file) if kind == "table" else o.read("file", _file, suffixes=(".json",)),
             scale=scale,
             tint=tint,
             two_sided=two_sided,
@@ -282,6 +283,18 @@ def _material(o: Obj, kinds: tuple[str, ...] = MATERIAL_KINDS, outer_two_sided: 
         ),
         two_sided=two_sided,
     )
+
+
+def _table_file(ctx: Ctx, where: str, value: Any) -> str:
+    """A table file, which may name a BSDF XML document's side as on the command line
+    (`window.xml#back`): the file is checked without the side, which stays on the path."""
+    name = _string(ctx, where, value)
+    base, mark, side = name.rpartition("#")
+    if mark and base.lower().endswith(".xml"):
+        if side not in SIDES:
+            ctx.fail(where, f"'#{side}': expected #front or #back (the side of a BSDF XML document)")
+        return f"{_file(ctx, where, base, suffixes=('.xml',))}#{side}"
+    return _file(ctx, where, name, suffixes=TABLE_SUFFIXES)
 
 
 def _conductor(o: Obj, two_sided: bool) -> ConductorMaterial:

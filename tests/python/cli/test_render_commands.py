@@ -51,6 +51,19 @@ def test_preview_renders_a_fit_json(tmp_path):
     assert main(["preview", str(fit), "--shape", "sphere", "--out", str(tmp_path / "f.exr"), *SMALL]) == 0
 
 
+def test_preview_renders_the_side_of_a_bsdf_xml_named_after_it(tmp_path, capsys):
+    shade = os.path.join(ROOT, "materials", "radiance", "klems_aniso_high.xml")
+    means = []
+    for side in ("", "#back"):
+        out = tmp_path / f"shade{side.strip('#')}.exr"
+        assert main(["preview", shade + side, "--out", str(out), "--png", "none", *SMALL]) == 0
+        means.append(read_exr_layers(str(out))[0]["beauty"].mean())
+    assert means[0] != means[1]  # the back side reached the renderer
+    assert main(["preview", shade + "#top", "--out", str(tmp_path / "t.exr"), *SMALL]) == 2
+    err = capsys.readouterr().err
+    assert "expected #front or #back" in err and len(err.strip().splitlines()) == 1
+
+
 def write_scene(tmp_path, obj) -> str:
     path = tmp_path / "scene.json"
     path.write_text(json.dumps(obj) if not isinstance(obj, str) else obj)

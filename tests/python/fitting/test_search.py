@@ -15,6 +15,7 @@ from patina.native import _core
 from patina.synthetic.analytic import isotropic_grid
 from patina.table.formats import table_from_data
 from patina.table.formats.tabledata import TableData
+from patina.table.spectral import xyz_to_linear_srgb
 
 NAMES = ["rho_r", "rho_g", "rho_b", "alpha", "f0_r", "f0_g", "f0_b"]
 
@@ -49,6 +50,26 @@ def test_samples_leave_out_grazing_and_missing_points():
     assert np.all(wi[:, 2] > np.cos(np.radians(60)) - 1e-6) and np.all(wo[:, 2] > np.cos(np.radians(60)) - 1e-6)
     np.testing.assert_allclose(weight, wi[:, 2] * wo[:, 2], rtol=1e-6)
     assert measured.shape == wi.shape
+
+
+def _with_channels(brdf: patina.Brdf, values: np.ndarray, kind: str) -> patina.Brdf:
+    data = TableData("isotropic", [THETA, THETA, PHI], values, kind)
+    return patina.Brdf(table_from_data(data), "", "test")
+
+
+def test_monochrome_tables_are_fitted_as_grey():
+    grey = [0.4, 0.4, 0.4, 0.2, 0.05, 0.05, 0.05]
+    mono = _with_channels(model_table(grey), model_table(grey).values[..., :1], "mono")
+    assert table_samples(mono)[2].shape[1] == 3
+    r = fit(mono, starts=2)
+    got = np.array([r.parameters[n] for n in NAMES])
+    np.testing.assert_allclose(got, grey, rtol=0.02, atol=1e-3)
+
+
+def test_xyz_tables_are_fitted_in_linear_srgb():
+    rgb = model_table(CASES[0])
+    xyz = _with_channels(rgb, rgb.values.astype(np.float64) @ np.linalg.inv(xyz_to_linear_srgb()).T, "xyz")
+    np.testing.assert_allclose(table_samples(xyz)[2], table_samples(rgb)[2], rtol=1e-4, atol=1e-6)
 
 
 def test_cli_writes_fit_json(tmp_path, capsys):

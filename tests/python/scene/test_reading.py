@@ -405,6 +405,23 @@ def test_not_an_object(folder):
     assert "JSON object" in error("scene", folder).problem
 
 
+def test_a_bsdf_xml_side_is_named_as_on_the_command_line(tmp_path):
+    """`window.xml#back` in a scene, as `patina info window.xml#back`: the side stays on the
+    path the renderer loads; a missing document is named without it."""
+    shutil.copy(os.path.join(ROOT, "materials", "radiance", "klems_aniso_high.xml"), tmp_path / "shade.xml")
+
+    def scene(file: str) -> dict:
+        return {"version": 1, "camera": {"position": [0, 0, 1], "look_at": [0, 0, 0]},
+                "materials": {"shade": {"type": "table", "file": file}}}  # fmt: skip
+
+    back = parse_scene(scene("shade.xml#back"), tmp_path / "s.json")
+    assert back.materials["shade"].file == f"{tmp_path / 'shade.xml'}#back"
+    for file, words in (("gone.xml#back", "no such file"), ("shade.xml#side", "expected #front or #back")):
+        with pytest.raises(FormatError, match=words) as info:
+            parse_scene(scene(file), tmp_path / "s.json")
+        assert info.value.where == "materials.shade.file"
+
+
 def test_file_errors(tmp_path):
     cases = {
         b'{"version": 1,\n  "camera": {"position": [0, 0, 1] "look_at": [0, 0]}}': ("line 2, column 36", "JSON syntax"),
