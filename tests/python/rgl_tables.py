@@ -60,6 +60,11 @@ GLOSSY = plastic(diffuse=(0.06, 0.05, 0.04), specular=0.6, roughness=0.15)
 SMALL_LAYOUT = RglLayout(theta_i=8, ndf=(12, 32), sigma=(12, 24), vndf=(24, 32), values=(24, 24))
 
 
-def write_glossy_rgl(path: str) -> str:
-    write_rgl(path, GLOSSY, layout=SMALL_LAYOUT, description="glossy test plastic")
+def write_glossy_rgl(path: str, spectral: bool = False) -> str:
+    """The glossy plastic as RGB, or (`spectral`) its green channel times SPECTRAL_SHAPE at WAVELENGTHS."""
+    if spectral:
+        reddish = lambda wi, wo: GLOSSY(wi, wo)[:, 1:2] * SPECTRAL_SHAPE[None, :]  # noqa: E731
+        write_rgl(path, reddish, wavelengths=WAVELENGTHS, layout=SMALL_LAYOUT, description="spectral test plastic")
+    else:
+        write_rgl(path, GLOSSY, layout=SMALL_LAYOUT, description="glossy test plastic")
     return path

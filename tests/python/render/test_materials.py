@@ -110,6 +110,15 @@ def test_every_integrator_renders_it(rgl_file, on_the_floor, integrator):
         assert abs(ratio - 1) < 0.02
 
 
+def test_a_spectral_file_renders_as_linear_srgb(tmp_path):
+    spectral = write_glossy_rgl(str(tmp_path / "spectral.bsdf"), spectral=True)
+    result = render(sphere_scene(rgl(spectral), str(tmp_path), spp=4))
+    image, hit = result.rgb, np.isfinite(result.depth)  # the sphere's pixels
+    assert np.all(np.isfinite(image)) and hit.any()
+    red, _, blue = image[hit].mean(axis=0)
+    assert red > 1.5 * blue  # the reflectance rises towards the long wavelengths
+
+
 def test_a_bad_file_is_one_line_naming_the_scene_and_the_material(rgl_file, tmp_path):
     broken = tmp_path / "broken.bsdf"
     broken.write_bytes(open(rgl_file, "rb").read()[:5000])
