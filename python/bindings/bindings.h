@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "brdf/rgl/rgl_view.h"
 #include "brdf/table.h"
 #include "fit/lobe_kernels.h"
 #include "render/accel/bvh.h"
@@ -55,6 +56,18 @@ struct TableHandle {
     patina::Table table;
     patina::PreparedTable prepared;
     explicit TableHandle(patina::Table t) : table(std::move(t)), prepared(patina::prepare(table)) {}
+};
+
+// patina._core.RglBsdf: an RGL material's arrays (brdf_rgl_bindings.cpp) and the view the RGL
+// kernels and the renderer's RGL material read.
+struct RglWarpArrays {
+    std::vector<float> data, marginal, conditional;
+};
+
+struct RglHandle {
+    std::vector<float> theta_i, phi_i, ndf, sigma, values;
+    RglWarpArrays vndf, luminance;
+    patina::RglView view;
 };
 
 // patina._core.Accel: a kd-tree over triangles, and the BVH over the same triangles, built

@@ -32,16 +32,6 @@ std::vector<float> take(const char* name, const FloatAny& a, std::initializer_li
     return std::vector<float>(a.data(), a.data() + a.size());
 }
 
-struct RglWarpArrays {
-    std::vector<float> data, marginal, conditional;
-};
-
-struct RglHandle {
-    std::vector<float> theta_i, phi_i, ndf, sigma, values;
-    RglWarpArrays vndf, luminance;
-    patina::RglView view;
-};
-
 RglWarpArrays take_warp(const char* name, const FloatAny& data, const FloatAny& marginal,
                         const FloatAny& conditional, long slices, patina::RglWarpView& view) {
     if (data.ndim() != 3) throw std::invalid_argument(std::string(name) + ": expected (slices, height, width)");

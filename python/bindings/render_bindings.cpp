@@ -213,6 +213,23 @@ patina::TableMaterial read_table(Fields& f, SceneHandle& h) {
     return t;
 }
 
+// An RGL material: the file's arrays (a patina._core.RglBsdf, kept alive with the scene), its
+// tint, the lobe roughness the cache decides by, and its sampling ("file" or "cosine").
+patina::RglMaterial read_rgl(Fields& f, SceneHandle& h) {
+    patina::RglMaterial r;
+    nb::object o = f.take("rgl");
+    const RglHandle* rgl = nullptr;
+    if (!nb::try_cast<const RglHandle*>(o, rgl) || rgl == nullptr) f.fail("'rgl' must be a patina._core.RglBsdf");
+    r.rgl = &rgl->view;
+    h.keep.push_back(o);
+    f.vec3("tint", r.tint);
+    r.lobe_alpha = roughness(f, "lobe_alpha");
+    const std::string sampling = f.text("sampling");
+    if (sampling != "file" && sampling != "cosine") f.fail("'sampling' must be 'file' or 'cosine'");
+    r.cosine_sampling = sampling == "cosine";
+    return r;
+}
+
 patina::Mixture read_mixture(Fields& f) {
     patina::Mixture m;
     nb::tuple mix = f.as<nb::tuple>("mixture", "a tuple (kernel name, values, per_channel)");
@@ -241,11 +258,12 @@ patina::Dielectric read_dielectric(Fields& f) {
 
 // The keys of a material, by kind, are exactly what the renderer reads for that kind (see
 // render/materials/): a Lambert's albedo, a conductor's GGX roughness, complex index and
-// tint, a table's or mixture's tint and sampling proxy; the clear coat over any of the four
+// tint, a table's or mixture's tint and sampling proxy, an RGL file's tint, lobe roughness
+// and sampling; the clear coat over any of the five
 // (its three values present exactly when "coat" is true); an emitter only the light whose
 // triangles it covers; a dielectric its roughness alpha_x and eta (eta[0] is read).
 int add_material(SceneHandle& h, const nb::dict& d) {
-    enum class Kind { Lambert, Conductor, Table, Mixture, Emitter, Dielectric };
+    enum class Kind { Lambert, Conductor, Table, Mixture, Emitter, Dielectric, Rgl };
     Kind kind;
     Fields f = kind_fields<Kind>(d, "material " + std::to_string(h.scene.materials.size()), "material",
                                  {{"lambert", Kind::Lambert},
@@ -253,7 +271,8 @@ int add_material(SceneHandle& h, const nb::dict& d) {
                                   {"table", Kind::Table},
                                   {"mixture", Kind::Mixture},
                                   {"emitter", Kind::Emitter},
-                                  {"dielectric", Kind::Dielectric}},
+                                  {"dielectric", Kind::Dielectric},
+                                  {"rgl", Kind::Rgl}},
                                  kind);
     patina::Material m;
     if (kind == Kind::Emitter) {
@@ -274,6 +293,7 @@ int add_material(SceneHandle& h, const nb::dict& d) {
         case Kind::Table: m.model = read_table(f, h); break;
         case Kind::Mixture: m.model = read_mixture(f); break;
         case Kind::Dielectric: m.model = read_dielectric(f); break;
+        case Kind::Rgl: m.model = read_rgl(f, h); break;
         case Kind::Emitter: break;
     }
     if (kind != Kind::Dielectric) {  // a dielectric refracts: it has no back face to cull, nor a coat

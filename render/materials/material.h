@@ -14,12 +14,13 @@
 #include "render/materials/emitter.h"
 #include "render/materials/lambert.h"
 #include "render/materials/mixture.h"
+#include "render/materials/rgl_material.h"
 #include "render/materials/table_material.h"
 #include "render/one_of_kinds.h"
 
 namespace patina {
 
-struct Material : OneOfKinds<Lambert, Conductor, TableMaterial, Mixture, Emitter, Dielectric> {
+struct Material : OneOfKinds<Lambert, Conductor, TableMaterial, Mixture, Emitter, Dielectric, RglMaterial> {
     float albedo[3] = {0.5f, 0.5f, 0.5f};  // what the albedo AOV shows; weighs the coat's pick
     bool two_sided = false;
     std::optional<ClearCoat> coat;
@@ -43,7 +44,7 @@ inline std::optional<float> reflection_alpha(const Material& m) {
 }
 
 // The GGX roughness of its sharpest specular lobe (clear coat, conductor, dielectric), or
-// infinity for none (Lambert; measured tables and fitted mixtures have no analytic lobe to
+// infinity for none (Lambert; measured tables, RGL files and fitted mixtures have no analytic lobe to
 // place): adaptive antialiasing looks for the highlights small lights make
 // (render/antialiasing/highlights.cpp).
 inline float highlight_alpha(const Material& m) {

@@ -1,4 +1,5 @@
-"""Small measured tables the RGL export tests share: quick to build, resampled in seconds."""
+"""Small measured tables the RGL export tests share, and a small RGL file the render tests
+render: quick to build, resampled in seconds."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import numpy as np
 from patina.synthetic.analytic import plastic, sample_isotropic
 from patina.table.angles import halfdiff_to_directions
 from patina.table.brdf import Brdf
+from patina.table.formats.rgl_writer import RglLayout, write_rgl
 from patina.table.formats.tabledata import TableData, table_from_data
 
 MODEL = plastic(diffuse=(0.5, 0.2, 0.1), specular=0.04, roughness=0.25)
@@ -50,3 +52,19 @@ def shallow_table() -> Brdf:
     t = np.radians(np.linspace(0, 60, 7))
     data = sample_isotropic(MODEL, t, np.radians(np.linspace(0, 89, 30)), np.linspace(0, math.pi, 19), "shallow")
     return Brdf(table_from_data(data), "shallow.ptab", "ptab")
+
+
+# A glossy plastic (GGX alpha 0.15 under a dark base) in a small RGL layout: what the render
+# tests write and render (its lobe is narrow enough that cosine sampling is noisy).
+GLOSSY = plastic(diffuse=(0.06, 0.05, 0.04), specular=0.6, roughness=0.15)
+SMALL_LAYOUT = RglLayout(theta_i=8, ndf=(12, 32), sigma=(12, 24), vndf=(24, 32), values=(24, 24))
+
+
+def write_glossy_rgl(path: str, spectral: bool = False) -> str:
+    """The glossy plastic as RGB, or (`spectral`) its green channel times SPECTRAL_SHAPE at WAVELENGTHS."""
+    if spectral:
+        reddish = lambda wi, wo: GLOSSY(wi, wo)[:, 1:2] * SPECTRAL_SHAPE[None, :]  # noqa: E731
+        write_rgl(path, reddish, wavelengths=WAVELENGTHS, layout=SMALL_LAYOUT, description="spectral test plastic")
+    else:
+        write_rgl(path, GLOSSY, layout=SMALL_LAYOUT, description="glossy test plastic")
+    return path

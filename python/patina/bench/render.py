@@ -158,6 +158,8 @@ def _spp_to_target(mse_at: Callable[[int], float], target_mse: float, first: int
     while measured[-1][1] > target_mse and measured[-1][0] < last:
         n = measured[-1][0] * 4
         measured.append((n, mse_at(n)))
+    if len(measured) < 2:  # at the target from the first level
+        return float(first), measured
     (n0, e0), (n1, e1) = measured[-2], measured[-1]
     slope = np.log(e1 / e0) / np.log(n1 / n0)  # d log MSE / d log spp, negative
     return (float(n0 * np.exp(np.log(target_mse / e0) / slope)) if slope < 0 else float("inf")), measured

@@ -1,7 +1,9 @@
 """The `rgl` group: the native RGL .bsdf evaluator (brdf/rgl/) at widths 4, 8 and 16 against
 width 1 on coherent and random direction pairs (`brdf.eval.rgl.coherent.wN`, `.random.wN`),
 and against the double-precision reference evaluator in Python (`brdf.eval.rgl.vs_reference`,
-value in Mevals/s), on an isotropic plastic written in the format's default layout."""
+value in Mevals/s), on an isotropic plastic written in the format's default layout; and the
+renderer's RGL material sampled by the file's own warps against the cosine
+(`render.rgl.sampling_vs_cosine`, rgl_sampling.py)."""
 
 from __future__ import annotations
 
@@ -11,6 +13,7 @@ import numpy as np
 
 from patina.bench.kernels import coherent_pairs, random_pairs
 from patina.bench.records import Record, median_times, simd_widths
+from patina.bench.rgl_sampling import sampling_vs_cosine_record
 from patina.synthetic.analytic import plastic
 from patina.table.formats.rgl_brdf import RglBrdf
 from patina.table.formats.rgl_native import native_rgl
@@ -71,4 +74,5 @@ def bench_rgl(repeat: int, quick: bool) -> list[Record]:
             "Mevals/s",
         )
     )
+    records.append(sampling_vs_cosine_record(quick))
     return records

@@ -478,8 +478,8 @@ def add_render_commands(sub: Any) -> None:
     _output_options(s, "render.exr", "exposure of the PNG/JPEG in stops, or auto (default: 0)")
     s.set_defaults(func=cmd_render)
 
-    s = sub.add_parser("preview", help="render a material (table or fit.json) on a preview object")
-    s.add_argument("material", metavar="MATERIAL", help="a BRDF table or a fit.json")
+    s = sub.add_parser("preview", help="render a material (table, RGL .bsdf or fit.json) on a preview object")
+    s.add_argument("material", metavar="MATERIAL", help="a BRDF table, an RGL .bsdf (rendered natively) or a fit.json")
     add_preview_object_options(s)
     s.add_argument("--coat", action="store_true", help="put a smooth clear coat (eta 1.5) over the material")
     _output_options(

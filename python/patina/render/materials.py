@@ -8,7 +8,8 @@ is what the renderer needs *about* them: an albedo for the albedo AOV and the co
 choice, and a sampling proxy (a Lambert lobe with probability `proxy_diffuse`, else GGX
 of roughness `proxy_alpha`) fitted to the BRDF's shape in a few hundred evaluations. The
 proxy only steers importance sampling; values always come from the table, so a poor proxy
-costs noise, never bias.
+costs noise, never bias. An RGL file samples itself by its own warps; of the proxy it keeps
+the roughness (`lobe_alpha`), by which the radiance cache decides as for a table.
 """
 
 from __future__ import annotations
@@ -30,9 +31,12 @@ from patina.scene.types import (
     FitMaterial,
     LambertMaterial,
     Material,
+    RglMaterial,
     TableMaterial,
 )
 from patina.table import angles_to_directions, load_brdf
+from patina.table.formats.rgl_brdf import read_rgl_brdf
+from patina.table.formats.rgl_native import native_rgl
 from patina.table.spectral import as_linear_srgb
 
 Eval = Callable[[np.ndarray, np.ndarray], np.ndarray]
@@ -108,7 +112,7 @@ def core_material(m: Material, tables: dict[str, Any]) -> dict[str, Any]:
             "two_sided": m.two_sided,
             "coat": False,
         }
-    if isinstance(m, TableMaterial | FitMaterial):
+    if isinstance(m, TableMaterial | RglMaterial | FitMaterial):
         return _measured(m, tables)
     if isinstance(m, CarpaintMaterial):
         base = core_material(m.base, tables)
@@ -127,30 +131,44 @@ def core_material(m: Material, tables: dict[str, Any]) -> dict[str, Any]:
     raise ValueError(f"unknown material {type(m).__name__}")
 
 
-def _measured(m: TableMaterial | FitMaterial, tables: dict[str, Any]) -> dict[str, Any]:
-    if m.file not in tables:
-        if isinstance(m, TableMaterial):
-            brdf = as_linear_srgb(load_brdf(m.file))
-            evaluate: Eval = brdf.eval
-            entry: dict[str, Any] = {"kind": "table", "table": brdf.table}
-            with np.errstate(all="ignore"):
-                peak = float(np.nanmax(np.abs(brdf.values), initial=0.0))
-        else:
-            fitted = read_fit(m.file)
-            evaluate = fitted.eval
-            entry = {
-                "kind": "mixture",
-                "mixture": (fitted.space.kernel_name, [float(v) for v in fitted.values], fitted.space.per_channel),
-            }
-            peak = 0.0
+def _read_measured(m: TableMaterial | RglMaterial | FitMaterial) -> tuple[dict[str, Any], Eval, float]:
+    """The renderer's entry for the file (its kind and the core object), its evaluation, and
+    the largest value it holds (0 where it is only known by evaluating)."""
+    if isinstance(m, TableMaterial):
+        brdf = as_linear_srgb(load_brdf(m.file))
+        with np.errstate(all="ignore"):
+            peak = float(np.nanmax(np.abs(brdf.values), initial=0.0))
+        return {"kind": "table", "table": brdf.table}, brdf.eval, peak
+    if isinstance(m, RglMaterial):
+        native = native_rgl(read_rgl_brdf(m.file))
+
+        def evaluate(wi: np.ndarray, wo: np.ndarray) -> np.ndarray:
+            return native.eval(wi, wo, width=0, threads=1)
+
+        return {"kind": "rgl", "rgl": native}, evaluate, 0.0
+    fitted = read_fit(m.file)
+    mixture = (fitted.space.kernel_name, [float(v) for v in fitted.values], fitted.space.per_channel)
+    return {"kind": "mixture", "mixture": mixture}, fitted.eval, 0.0
+
+
+def _measured(m: TableMaterial | RglMaterial | FitMaterial, tables: dict[str, Any]) -> dict[str, Any]:
+    key = f"{m.type}:{m.file}"  # a .bsdf may be both a table (resampled) and an RGL material
+    if key not in tables:
+        entry, evaluate, peak = _read_measured(m)
         with np.errstate(all="ignore"):  # a bad file is reported below, not by numpy warnings
             diffuse, alpha = sampling_proxy(evaluate)
             albedo = [float(a) for a in directional_albedo(evaluate)]
         if not all(math.isfinite(a) for a in albedo):
             raise FormatError(m.file, "values", f"its BRDF evaluates to values that are not finite: {OVERFLOWS}")
-        entry.update(albedo=albedo, proxy_diffuse=diffuse, proxy_alpha=alpha, peak=max(peak, *albedo))
-        tables[m.file] = entry
-    d = dict(tables[m.file])
+        if entry["kind"] == "rgl":  # its own warps sample it: the proxy's roughness is for the cache
+            entry.update(lobe_alpha=alpha)
+        else:
+            entry.update(proxy_diffuse=diffuse, proxy_alpha=alpha)
+        entry.update(albedo=albedo, peak=max(peak, *albedo))
+        tables[key] = entry
+    d = dict(tables[key])
+    if isinstance(m, RglMaterial):
+        d.update(sampling=m.sampling)
     tint = _scaled(m.tint, m.scale)
     # the renderer multiplies the values by tint (and by radiance) in 32-bit floats
     peak = d.pop("peak")

@@ -32,17 +32,20 @@ from patina.render.materials import core_material
 from patina.scene.reading import MAX_EMISSION, MAX_LENGTH, OVERFLOWS, similarity_scale
 from patina.scene.types import (
     BallShape,
+    CarpaintMaterial,
     ConstantEnvironment,
     DiskLight,
     Light,
     LuminaireLight,
     MapEnvironment,
+    Material,
     MeshLight,
     MeshShape,
     PanelShape,
     PlaneShape,
     PointLight,
     QuadLight,
+    RglMaterial,
     Scene,
     Shape,
     SphereLight,
@@ -442,6 +445,26 @@ def check_render_memory(scene: Scene) -> None:
         )
 
 
+def _reads_rgl(m: Material) -> bool:
+    return isinstance(m, RglMaterial) or (isinstance(m, CarpaintMaterial) and isinstance(m.base, RglMaterial))
+
+
+def _core_materials(scene: Scene) -> list[dict[str, Any]]:
+    """The scene's materials as the renderer takes them, in the order of scene.materials. An RGL
+    file the renderer cannot take is told under the scene file and the material's name: the
+    file is read here, after the scene, and the user looks for it in the scene."""
+    tables: dict[str, Any] = {}
+    out = []
+    for name, m in scene.materials.items():
+        try:
+            out.append(core_material(m, tables))
+        except ValueError as e:
+            if not _reads_rgl(m):
+                raise
+            raise FormatError(scene.path, f"materials.{name}", str(e)) from None
+    return out
+
+
 class PreparedScene:
     """A scene loaded into the renderer: tree built, tables and environment read."""
 
@@ -449,8 +472,7 @@ class PreparedScene:
         self.scene = scene
         geometry = _Geometry()
         names = list(scene.materials)
-        cache: dict[str, Any] = {}
-        core_materials = [core_material(scene.materials[name], cache) for name in names]
+        core_materials = _core_materials(scene)
         spheres = _Spheres()
         for i, shape in enumerate(scene.shapes):
             if isinstance(shape, SphereShape) and shape.analytic:

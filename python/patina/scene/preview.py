@@ -6,10 +6,28 @@ from __future__ import annotations
 import os
 from typing import Any
 
+from patina.table.formats.tensor_file import MAGIC as TENSOR_FILE_MAGIC
+
+
+def material_type(material: str) -> str:
+    """The scene material a file previews as: a fit.json a fit; an RGL .bsdf (by its tensor_file
+    magic: Zemax text shares the extension) the native RGL material, evaluated by the file's own
+    rule and sampled by its warps rather than resampled onto a table; any other file a table."""
+    if material.endswith(".json"):
+        return "fit"
+    if material.lower().endswith(".bsdf"):
+        try:
+            with open(material, "rb") as f:
+                if f.read(len(TENSOR_FILE_MAGIC)) == TENSOR_FILE_MAGIC:
+                    return "rgl"
+        except OSError:
+            pass  # the scene reader reports the file
+    return "table"
+
 
 def preview_scene_dict(material: str, env: str, shape: str, coat: bool) -> dict[str, Any]:
     """The preview layout: the object on a grey floor under an environment, framed for a 4:3 image."""
-    base: dict[str, Any] = {"type": "fit" if material.endswith(".json") else "table", "file": os.path.abspath(material)}
+    base: dict[str, Any] = {"type": material_type(material), "file": os.path.abspath(material)}
     mat = {"type": "carpaint", "base": base, "coat": {"eta": 1.5, "roughness": 0.0}} if coat else base
     if shape == "ball":
         obj: dict[str, Any] = {"type": "ball"}

@@ -59,6 +59,7 @@ from patina.scene.types import (
     PointLight,
     QuadLight,
     Render,
+    RglMaterial,
     Scene,
     Shape,
     SphereLight,
@@ -230,8 +231,9 @@ def _render(o: Obj) -> Render:
 
 # --- materials ------------------------------------------------------------------------------
 
-MATERIAL_KINDS = ("table", "fit", "lambert", "conductor", "dielectric", "carpaint")
-BASE_KINDS = ("table", "fit", "lambert")
+MATERIAL_KINDS = ("table", "rgl", "fit", "lambert", "conductor", "dielectric", "carpaint")
+BASE_KINDS = ("table", "rgl", "fit", "lambert")
+RGL_SAMPLING = ("file", "cosine")  # the file's own warps, or the cosine (to compare)
 
 
 def _material(o: Obj, kinds: tuple[str, ...] = MATERIAL_KINDS, outer_two_sided: bool | None = None) -> Material:
@@ -239,6 +241,7 @@ def _material(o: Obj, kinds: tuple[str, ...] = MATERIAL_KINDS, outer_two_sided: 
     kind = o.read("type", choice, options=kinds)
     keys = {
         "table": ("file", "scale", "tint", "two_sided"),
+        "rgl": ("file", "scale", "tint", "two_sided", "sampling"),
         "fit": ("file", "scale", "tint", "two_sided"),
         "lambert": ("albedo", "two_sided"),
         "conductor": ("roughness", "metal", "eta", "k", "tint", "two_sided"),
@@ -251,17 +254,8 @@ def _material(o: Obj, kinds: tuple[str, ...] = MATERIAL_KINDS, outer_two_sided: 
         keys = tuple(k for k in keys if k != "two_sided")
     o.allow(("type", *keys), f"a {kind} material")
     two_sided = outer_two_sided if outer_two_sided is not None else o.read("two_sided", boolean, False)
-    if kind in ("table", "fit"):
-        cls = TableMaterial if kind == "table" else FitMaterial
-        scale = o.read("scale", number, 1.0, lo=0.0)
-        tint = o.read("tint", _tint, (1.0, 1.0, 1.0))
-        _limited(o.ctx, o.at("scale"), tuple(scale * t for t in tint), MAX_REFLECTANCE_SCALE, "(scale x tint)")
-        return cls(
-            file=o.read("file", _table_file) if kind == "table" else o.read("file", _file, suffixes=(".json",)),
-            scale=scale,
-            tint=tint,
-            two_sided=two_sided,
-        )
+    if kind in ("table", "rgl", "fit"):
+        return _measured(o, kind, two_sided)
     if kind == "lambert":
         return LambertMaterial(albedo=o.read("albedo", rgb, (0.5, 0.5, 0.5), lo=0.0, hi=1.0), two_sided=two_sided)
     if kind == "conductor":
@@ -283,6 +277,22 @@ def _material(o: Obj, kinds: tuple[str, ...] = MATERIAL_KINDS, outer_two_sided: 
         ),
         two_sided=two_sided,
     )
+
+
+def _measured(o: Obj, kind: str, two_sided: bool) -> TableMaterial | RglMaterial | FitMaterial:
+    """A table, an RGL file or a fit: its file, scale and tint (an RGL file also its sampling)."""
+    scale = o.read("scale", number, 1.0, lo=0.0)
+    tint = o.read("tint", _tint, (1.0, 1.0, 1.0))
+    _limited(o.ctx, o.at("scale"), tuple(scale * t for t in tint), MAX_REFLECTANCE_SCALE, "(scale x tint)")
+    if kind == "table":
+        file = o.read("file", _table_file)
+    else:
+        file = o.read("file", _file, suffixes=(".bsdf",) if kind == "rgl" else (".json",))
+    if kind == "rgl":
+        sampling = o.read("sampling", choice, "file", options=RGL_SAMPLING)
+        return RglMaterial(file=file, scale=scale, tint=tint, two_sided=two_sided, sampling=sampling)
+    cls = TableMaterial if kind == "table" else FitMaterial
+    return cls(file=file, scale=scale, tint=tint, two_sided=two_sided)
 
 
 def _table_file(ctx: Ctx, where: str, value: Any) -> str:

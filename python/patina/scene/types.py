@@ -110,6 +110,20 @@ class TableMaterial:
 
 
 @dataclass(frozen=True)
+class RglMaterial:
+    """An RGL .bsdf file rendered natively: evaluated by the format's own rule and sampled by
+    its own warps (`sampling` "file"), or by the cosine ("cosine", to compare); times `scale`
+    and `tint`."""
+
+    file: str
+    scale: float
+    tint: RGB
+    two_sided: bool
+    sampling: str = "file"
+    type: str = field(default="rgl", init=False)
+
+
+@dataclass(frozen=True)
 class FitMaterial:
     """A fitted analytic model: a fit.json written by `patina fit`, times `scale` and `tint`."""
 
@@ -163,12 +177,12 @@ class Coat:
     thickness_tint: RGB
 
 
-BaseMaterial = TableMaterial | FitMaterial | LambertMaterial
+BaseMaterial = TableMaterial | RglMaterial | FitMaterial | LambertMaterial
 
 
 @dataclass(frozen=True)
 class CarpaintMaterial:
-    """A clear coat over a base BRDF (a table, a fit or Lambert)."""
+    """A clear coat over a base BRDF (a table, an RGL file, a fit or Lambert)."""
 
     base: BaseMaterial
     coat: Coat
@@ -176,7 +190,15 @@ class CarpaintMaterial:
     type: str = field(default="carpaint", init=False)
 
 
-Material = TableMaterial | FitMaterial | LambertMaterial | ConductorMaterial | DielectricMaterial | CarpaintMaterial
+Material = (
+    TableMaterial
+    | RglMaterial
+    | FitMaterial
+    | LambertMaterial
+    | ConductorMaterial
+    | DielectricMaterial
+    | CarpaintMaterial
+)
 
 
 # --- shapes ---------------------------------------------------------------------------------

@@ -15,6 +15,7 @@ from interrupts import start_interruptible
 from patina.cli import main
 from patina.render.images import read_exr_layers
 from repo_paths import ROOT
+from rgl_tables import write_glossy_rgl
 
 TABLE = os.path.join(ROOT, "materials", "red-plastic-iso.ptab")
 SMALL = ["--spp", "2", "--width", "32", "--height", "24", "--quiet"]
@@ -42,6 +43,16 @@ def test_preview_renders_a_table_with_and_without_a_coat(tmp_path, shape):
     assert main(["preview", TABLE, "--shape", shape, "--out", str(out), "--png", "none", *SMALL]) == 0
     assert out.exists() and not (tmp_path / "p.png").exists()
     assert main(["preview", TABLE, "--shape", shape, "--coat", "--out", str(out), "--force", *SMALL]) == 0
+
+
+def test_preview_renders_an_rgl_file_as_the_native_rgl_material(tmp_path):
+    rgl = write_glossy_rgl(str(tmp_path / "glossy.bsdf"))
+    out = tmp_path / "r.exr"
+    assert main(["preview", rgl, "--shape", "sphere", "--out", str(out), "--png", "none", *SMALL]) == 0
+    layers, meta = read_exr_layers(str(out))
+    assert np.isfinite(layers["beauty"]).all() and layers["beauty"].max() > 0
+    material = json.loads(str(meta["patina:scene"]))["materials"]["material"]
+    assert (material["type"], material["sampling"]) == ("rgl", "file")
 
 
 def test_preview_renders_a_fit_json(tmp_path):

@@ -130,6 +130,35 @@ def test_defaults_filled(folder):
     assert np.array_equal(scene.shapes[0].transform, np.eye(4))
 
 
+def test_rgl_material_defaults_sampling_and_suffix(tmp_path):
+    (tmp_path / "x.bsdf").write_bytes(b"")  # the reader only checks that it exists
+    (tmp_path / "x.ptab").write_bytes(b"")
+    obj = {"version": 1, "camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]}}
+    obj["materials"] = {
+        "r": {"type": "rgl", "file": "x.bsdf"},
+        "cosine": {"type": "rgl", "file": "x.bsdf", "sampling": "cosine", "tint": 0.5, "two_sided": True},
+        "coated": {"type": "carpaint", "base": {"type": "rgl", "file": "x.bsdf"}},
+    }
+    scene = parse(obj, str(tmp_path))
+    r, cosine = scene.materials["r"], scene.materials["cosine"]
+    assert (r.type, r.file, r.scale, r.tint, r.two_sided, r.sampling) == (
+        "rgl",
+        str(tmp_path / "x.bsdf"),
+        1.0,
+        (1, 1, 1),
+        False,
+        "file",
+    )
+    assert (cosine.sampling, cosine.tint, cosine.two_sided) == ("cosine", (0.5, 0.5, 0.5), True)
+    assert scene.materials["coated"].base.type == "rgl"
+    assert parse(scene_to_json(scene), str(tmp_path)) == scene
+    obj["materials"] = {"r": {"type": "rgl", "file": "x.ptab"}}
+    assert "not one of the file kinds read here (.bsdf)" in error(obj, str(tmp_path)).problem
+    obj["materials"] = {"r": {"type": "rgl", "file": "x.bsdf", "sampling": "uniform"}}
+    e = error(obj, str(tmp_path))
+    assert e.where == "materials.r.sampling" and "'file', 'cosine'" in e.problem
+
+
 def test_full_scene_fields(folder):
     scene = parse(FULL, folder)
     assert scene.path == os.path.join(folder, "scene.json")

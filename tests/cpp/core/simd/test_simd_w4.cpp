@@ -2,3 +2,4 @@
 #define PATINA_TEST_WIDTH 4
 #include "tests/cpp/core/simd/simd_lane_tests.h"
 #include "tests/cpp/render/samplers/sample_numbers_lane_tests.h"
+#include "tests/cpp/render/materials/rgl_material_lane_tests.h"

@@ -34,6 +34,9 @@ TEST(MaterialKinds, TheCacheIntegratesReflectionLobesOnly) {
     Mixture fit;
     fit.proxy.alpha = 0.25f;
     EXPECT_EQ(*reflection_alpha(material(fit)), 0.25f);  // measured and fitted: their proxy
+    RglMaterial rgl;
+    rgl.lobe_alpha = 0.15f;
+    EXPECT_EQ(*reflection_alpha(material(rgl)), 0.15f);  // an RGL file: the lobe fitted to its peak
     EXPECT_FALSE(reflection_alpha(material(Dielectric{})));
     EXPECT_FALSE(reflection_alpha(material(Emitter{})));
 }
@@ -45,6 +48,7 @@ TEST(MaterialKinds, TheSharpestHighlightIsTheNarrowestSpecularLobeCoatIncluded) 
     EXPECT_EQ(highlight_alpha(material(glass)), 0.05f);
     EXPECT_TRUE(std::isinf(highlight_alpha(material(Lambert{}))));
     EXPECT_TRUE(std::isinf(highlight_alpha(material(TableMaterial{}))));
+    EXPECT_TRUE(std::isinf(highlight_alpha(material(RglMaterial{}))));
     Material coated = material(conductor(0.3f, 0.3f));
     coated.coat = ClearCoat{};
     coated.coat->alpha = 0.02f;
@@ -57,6 +61,7 @@ TEST(MaterialKinds, GlassTransmitsAndSamplingPicksWhereThereIsAChoice) {
     EXPECT_TRUE(sampling_picks(material(Dielectric{})));   // reflection or transmission
     EXPECT_TRUE(sampling_picks(material(TableMaterial{})));  // the proxy's lobe
     EXPECT_FALSE(sampling_picks(material(conductor(0.2f, 0.2f))));
+    EXPECT_FALSE(sampling_picks(material(RglMaterial{})));  // its warps take (u1, u2) alone
     Material coated = material(Lambert{});
     coated.coat = ClearCoat{};
     EXPECT_TRUE(sampling_picks(coated));  // the coat or the base

@@ -1,5 +1,6 @@
 // The renderer's materials (render/materials/material_impl.h, here at width 1; the Python tests check
-// that whole renders are bit-identical at widths 4 and 8): each samples the density it
+// that whole renders are bit-identical at widths 4 and 8; the RGL kind's lanes:
+// rgl_material_lane_tests.h): each samples the density it
 // reports (chi-square, on the whole sphere for glass), keeps energy (directional albedo
 // by its own importance sampling <= 1), and a very smooth lobe's value and density agree.
 #include <gtest/gtest.h>
@@ -10,6 +11,7 @@
 
 #define PATINA_KERNEL_WIDTH 1
 #include "render/materials/material_impl.h"
+#include "tests/cpp/brdf/rgl/rgl_test_material.h"
 #include "tests/cpp/sampling_test.h"
 
 using namespace patina;
@@ -67,6 +69,13 @@ Material conductor(float ax, float ay) {
     for (int ch = 0; ch < 3; ++ch) c.eta[ch] = 1.0f, c.k[ch] = 1e4f;  // |F| = 1: a white lobe
     Material m;
     m.model = c;
+    return m;
+}
+
+template <class Kind>
+Material material_of(const Kind& kind) {
+    Material m;
+    m.model = kind;
     return m;
 }
 
@@ -169,5 +178,49 @@ TEST(RenderMaterials, TableProxySamplesItsPdf) {
         const Batch ref = sample(m, theta, 1.0f, 1, 81);
         auto pdf = [&](float x, float y, float z) { return pdf_at(m, ref, 1.0f, x, y, z); };
         EXPECT_GT(sampling_p_value(draw, pdf), 1e-3) << "theta " << theta;
+    }
+}
+
+// A random RGL file's VNDF shaped as a real file's: vanishing at the pole as the Jacobian of the
+// square-root mapping, 2 pi^2 u sin(theta), does. Unshaped, the density of m grows as
+// 1 / (u sin theta) there, too fast within a bin for the chi-square's midpoint quadrature.
+void shape_like_a_vndf(test::RglTestMaterial& file) {
+    RglWarpView& w = file.view.vndf;
+    const int slices = file.view.theta_count * file.view.phi_count, cells = w.height * w.width;
+    std::vector<double> density(size_t(slices) * cells);
+    for (size_t i = 0; i < density.size(); ++i) {
+        const double u = double(int(i % cells) % w.width) / (w.width - 1);
+        density[i] = (1e-3 + file.vndf.data[i]) * u * std::sin(u * u * kPiDouble / 2);
+    }
+    file.vndf = test::make_warp(density, slices, w.height, w.width);
+    w.data = file.vndf.data.data();
+    w.marginal = file.vndf.marginal.data();
+    w.conditional = file.vndf.conditional.data();
+}
+
+TEST(RenderMaterials, RglSamplesItsPdfAndKeepsItsValue) {
+    // a random RGL file (its warps' own density, whatever the values): the renderer's RGL kind
+    // draws by the warps, and a sample the warps drop (below the horizon) has neither density
+    // nor value
+    for (bool isotropic : {true, false}) {
+        test::RglTestMaterial file(isotropic, isotropic ? 1 : 2);
+        shape_like_a_vndf(file);
+        RglMaterial rgl;
+        rgl.rgl = &file.view;
+        const Material m = material_of(rgl);
+        for (double theta : {0.3, 1.1}) {
+            auto draw = [&](size_t n) { return sample(m, theta, 1.0f, n, 91).l; };
+            const Batch ref = sample(m, theta, 1.0f, 1, 91);
+            auto pdf = [&](float x, float y, float z) { return pdf_at(m, ref, 1.0f, x, y, z); };
+            EXPECT_GT(sampling_p_value(draw, pdf, 250000), 1e-3) << "isotropic " << isotropic << " theta " << theta;
+            const Batch b = sample(m, theta, 1.0f, 4096, 93);
+            std::vector<float> f(b.l.size());
+            material_eval(m, b.l.data(), b.v.data(), b.eta.data(), f.data(), b.pdf.size());
+            for (size_t i = 0; i < b.pdf.size(); ++i) {
+                if (b.l[3 * i + 2] <= 0.0f) {
+                    ASSERT_TRUE(b.pdf[i] == 0.0f && f[3 * i] == 0.0f) << "sample " << i;
+                }
+            }
+        }
     }
 }
