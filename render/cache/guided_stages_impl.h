@@ -36,16 +36,17 @@ inline bool cache_points_guide(const PathScratch& sc, const CacheSettings& cfg) 
 template <class W, class Tracer>
 inline void place_guide_points(const W& w, Tracer& trace) {
     if (!cache_points_guide(w.scratch, w.settings.cache)) return;
-    CacheState& st = start_cache_stage(w);
-    const size_t rays_before = st.inner.rays_traced;
-    place_cache_points(w.settings.cache, w.ray_offset, st.queries.data(), st.queries.size(), st, trace);
-    w.scratch.cache_points += st.used;
-    w.scratch.cache_queries += st.queries.size();
-    w.scratch.rays_traced += st.inner.rays_traced - rays_before;
-    if (st.pool.empty())  // no queries: the shared points alone
-        for (const CachePoint* a : w.scratch.cache_shared) st.pool.push_back(a);
-    st.guides.prepare(st.pool, w.settings.cache.resolution);
-    st.lap(Stage::CachePlace);
+    CacheState& cache = start_cache_stage(w);
+    const size_t rays_before = cache.inner.rays_traced;
+    const std::vector<Query>& queries = cache.table.queries;
+    place_cache_points(w.settings.cache, w.ray_offset, queries.data(), queries.size(), cache, trace);
+    w.scratch.cache_points += cache.build.used;
+    w.scratch.cache_queries += cache.table.queries.size();
+    w.scratch.rays_traced += cache.inner.rays_traced - rays_before;
+    if (cache.build.pool.empty())  // no queries: the shared points alone
+        for (const CachePoint* a : w.scratch.cache_shared) cache.build.pool.push_back(a);
+    cache.guides.prepare(cache.build.pool, w.settings.cache.resolution);
+    cache.lap(Stage::CachePlace);
 }
 
 // The bounces the cache points guide: the first hit's. Guiding every bounce from the same
@@ -70,30 +71,30 @@ inline bool field_guidable(const Material& m) {
 }
 
 // cache-guided, at every bounce before light sampling: each shading point's guide -- at the
-// first bounce its cache point (st.guides.of) where the cache points guide, for the
+// first bounce its cache point (cache.guides.cache_point_of) where the cache points guide, for the
 // materials whose lobes the texels resolve; else, at the first cache.train_bounces bounces,
-// its trained guide's distribution (st.guides.field_of), for the materials field_guidable
+// its trained guide's distribution (cache.guides.field_of), for the materials field_guidable
 // takes.
 template <class W>
 inline void assign_guides(const W& w, int depth) {
     PathScratch& sc = w.scratch;
-    CacheState& st = cache_state(sc);
-    GuidePool& g = st.guides;
+    CacheState& cache = cache_state(sc);
+    GuidePool& g = cache.guides;
     const int R = w.settings.cache.resolution;
     const size_t np = sc.sorted.size();
-    g.of.assign(np, -1);
+    g.cache_point_of.assign(np, -1);
     g.field_of.assign(np, -1);
     g.any = false;
     g.field = sc.guide_field;
     if (depth < kGuidedBounces && !g.points.empty() && g.resolution == R) {
-        st.dirs.prepare(R);
+        cache.texel_directions.prepare(R);
         for (size_t k = 0; k < w.scene.materials.size(); ++k) {
             if (!texel_resolvable(w.scene.materials[k], R)) continue;
             const size_t first = sc.material_start[k], last = sc.material_start[k + 1];
             for (size_t q = first; q < last; ++q) {
                 const ShadingPoint& sp = sc.sorted[q];
                 const int32_t a = g.find(sp.p, sp.n);
-                if (a >= 0 && g.guide(a, st.dirs)) g.of[q] = a, g.any = true;
+                if (a >= 0 && g.guide(a, cache.texel_directions)) g.cache_point_of[q] = a, g.any = true;
             }
         }
     }
@@ -102,7 +103,7 @@ inline void assign_guides(const W& w, int depth) {
             if (!field_guidable(w.scene.materials[k])) continue;
             const size_t first = sc.material_start[k], last = sc.material_start[k + 1];
             for (size_t q = first; q < last; ++q) {
-                if (g.of[q] >= 0) continue;
+                if (g.cache_point_of[q] >= 0) continue;
                 const ShadingPoint& sp = sc.sorted[q];
                 const float at[3] = {sp.p.x, sp.p.y, sp.p.z}, n[3] = {sp.n.x, sp.n.y, sp.n.z};
                 g.field_of[q] = g.field->distribution_at(at, n);
@@ -121,12 +122,12 @@ inline float guide_probability(const GuidePool& g, const CacheSettings& cfg) {
 inline bool guided_here(const PathScratch& sc) {
     if (!sc.cache) return false;
     const GuidePool& g = static_cast<const CacheState*>(sc.cache.get())->guides;
-    return g.any && g.of.size() == sc.sorted.size();
+    return g.any && g.cache_point_of.size() == sc.sorted.size();
 }
 
 // The guide's density at point q's local direction l (0 without a guide).
 inline float guide_density(const PathScratch& sc, const GuidePool& g, size_t q, const float* l) {
-    const int32_t a = g.of[q];
+    const int32_t a = g.cache_point_of[q];
     if (a < 0 && g.field_of[q] < 0) return 0.0f;
     const ShadingPoint& sp = sc.sorted[q];
     const Vec3f d = l[0] * sp.t + l[1] * sp.b + l[2] * sp.n;
@@ -155,18 +156,19 @@ inline void mix_light_pdfs(const PathScratch& sc, const CacheSettings& cfg, cons
 template <class W>
 inline void guided_picks(const W& w) {
     PathScratch& sc = w.scratch;
-    CacheState& st = cache_state(sc);
+    CacheState& cache = cache_state(sc);
+    GuideChoices& choices = cache.guide_choices;
     const size_t np = sc.sorted.size();
-    st.chose_guide.assign(np, 0);
-    st.guide_pick.assign(np, 0.0f);
+    choices.chose_guide.assign(np, 0);
+    choices.guide_pick.assign(np, 0.0f);
     if (!guided_here(sc)) return;
-    const float a = guide_probability(st.guides, w.settings.cache);
+    const float a = guide_probability(cache.guides, w.settings.cache);
     float* pick = sc.u_pick.data();
     for (size_t q = 0; q < np; ++q) {
-        if (!st.guides.guides(q)) continue;
+        if (!cache.guides.guides(q)) continue;
         if (pick[q] < a) {
-            st.chose_guide[q] = 1;
-            st.guide_pick[q] = std::min(pick[q] / a, 0x1.fffffep-1f);
+            choices.chose_guide[q] = 1;
+            choices.guide_pick[q] = std::min(pick[q] / a, 0x1.fffffep-1f);
         } else {
             pick[q] = std::min((pick[q] - a) / (1.0f - a), 0x1.fffffep-1f);
         }
@@ -178,9 +180,10 @@ inline void guided_picks(const W& w) {
 template <class W>
 inline void guided_directions(const W& w) {
     PathScratch& sc = w.scratch;
-    CacheState& st = cache_state(sc);
+    CacheState& cache = cache_state(sc);
     if (!guided_here(sc)) return;
-    const GuidePool& g = st.guides;
+    const GuidePool& g = cache.guides;
+    const GuideChoices& choices = cache.guide_choices;
     const int R = g.resolution;
     const size_t T = static_cast<size_t>(R) * R, np = sc.sorted.size();
     const float a = guide_probability(g, w.settings.cache);
@@ -189,12 +192,12 @@ inline void guided_directions(const W& w) {
     for (size_t q = 0; q < np; ++q) {
         if (!g.guides(q)) continue;
         any = true;
-        if (!st.chose_guide[q]) continue;
-        const int32_t p = g.of[q];
+        if (!choices.chose_guide[q]) continue;
+        const int32_t p = g.cache_point_of[q];
         Vec3f d;
         if (p >= 0)
-            d = pool_guide_sample(*g.points[p], g.cdf.data() + static_cast<size_t>(p) * T, R, st.guide_pick[q],
-                                  sc.u1[q], sc.u2[q]);
+            d = pool_guide_sample(*g.points[p], g.cdf.data() + static_cast<size_t>(p) * T, R, choices.guide_pick[q], sc.u1[q],
+                                  sc.u2[q]);
         else {
             float dir[3];
             g.field->sample(g.field_of[q], sc.u1[q], sc.u2[q], dir);
