@@ -181,16 +181,16 @@ template <class W, class Accept>
 inline size_t collect_queries(const W& w, CacheState& cache, Accept accept, bool stored) {
     QueryTable& table = cache.table;
     StoredHemispheres& hemispheres = cache.stored;
-    const PathScratch& sc = w.scratch;
-    const size_t np = sc.sorted.size();
+    const PathScratch& scratch = w.scratch;
+    const size_t np = scratch.sorted.size();
     const Camera& cam = w.scene.camera;
     const int K = w.settings.cache.block;
     hemispheres.by_block.clear();
     hemispheres.by_pixel.clear();
     hemispheres.in_use.clear();
     if (stored)
-        for (size_t i = 0; i < sc.cache_shared_hemispheres.size(); ++i) {
-            const RegionHemisphere& h = *sc.cache_shared_hemispheres[i];
+        for (size_t i = 0; i < scratch.cache_shared_hemispheres.size(); ++i) {
+            const RegionHemisphere& h = *scratch.cache_shared_hemispheres[i];
             hemispheres.by_block[h.block].push_back(static_cast<int32_t>(i));
             for (const int64_t pixel : h.pixels) hemispheres.by_pixel[pixel] = static_cast<int32_t>(i);
         }
@@ -204,27 +204,29 @@ inline size_t collect_queries(const W& w, CacheState& cache, Accept accept, bool
         if (!accept(w.scene.materials[k])) continue;
         table.pixel_member.clear();  // per material
         table.block_queries.clear();
-        const size_t first = sc.material_start[k], last = sc.material_start[k + 1];
+        const size_t first = scratch.material_start[k], last = scratch.material_start[k + 1];
         for (size_t q = first; q < last; ++q) {
-            const ShadingPoint& sp = sc.sorted[q];
+            const ShadingPoint& sp = scratch.sorted[q];
             const CameraSample& c = w.camera_samples[sp.path];
             const int64_t px = static_cast<int64_t>(std::floor(c.fx)), py = static_cast<int64_t>(std::floor(c.fy));
             const int64_t pixel = py * cam.width + px;
             const float footprint = w.results[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
             auto found = table.pixel_member.find(pixel);
-            if (found != table.pixel_member.end() && shares_with(sc.sorted[table.member_point[found->second]], sp, footprint)) {
+            if (found != table.pixel_member.end() &&
+                shares_with(scratch.sorted[table.member_point[found->second]], sp, footprint)) {
                 table.member_of_point[q] = found->second;
                 continue;
             }
             // a new member: of its region's hemisphere, of a query of its block, or of a new one
             std::vector<int32_t>& block = table.block_queries[block_of_pixel(cam, K, px, py)];
             // the sample's own key (the stream key is the pixel's, shared by its samples)
-            const uint32_t key = sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q]));
+            const uint32_t key =
+                sample_key(static_cast<uint32_t>(scratch.point_keys[q]), static_cast<uint32_t>(scratch.point_index[q]));
             const Query own{sp.p, sp.ng, sp.t, sp.b, sp.n, key, kMinReusePixels * footprint / w.settings.cache.error};
             const int32_t h = hemispheres.by_block.empty() ? -1 : stored_hemisphere(w, cache, sp, px, py, footprint, key);
             int32_t query = h >= 0 ? -1 - h : -1;
             for (size_t i = 0; i < block.size() && h < 0 && query < 0; ++i)
-                if (shares_with(sc.sorted[table.query_point[block[i]]], sp, footprint)) query = block[i];
+                if (shares_with(scratch.sorted[table.query_point[block[i]]], sp, footprint)) query = block[i];
             if (h < 0 && query < 0) {
                 query = static_cast<int32_t>(table.queries.size());
                 table.queries.push_back(own);
@@ -246,16 +248,16 @@ inline size_t collect_queries(const W& w, CacheState& cache, Accept accept, bool
 // A member's view direction in its query's frame, or its region hemisphere's (the frames of
 // the two points of a share are within acos kShareCos; a view that would fall under that
 // horizon keeps its own).
-inline void view_in_query_frame(const PathScratch& sc, const CacheState& cache, int32_t member, float* v) {
+inline void view_in_query_frame(const PathScratch& scratch, const CacheState& cache, int32_t member, float* v) {
     const QueryTable& table = cache.table;
     const int32_t q = table.member_point[member], u = table.member_query[member];
-    const float* own = sc.v_local.data() + 3 * q;
+    const float* own = scratch.v_local.data() + 3 * q;
     std::copy(own, own + 3, v);
     if (u >= 0 && q == table.query_point[u]) return;
-    const ShadingPoint& a = sc.sorted[q];
+    const ShadingPoint& a = scratch.sorted[q];
     Vec3f t, b, n;
     if (u >= 0) {
-        const ShadingPoint& r = sc.sorted[table.query_point[u]];
+        const ShadingPoint& r = scratch.sorted[table.query_point[u]];
         t = r.t, b = r.b, n = r.n;
     } else {
         const RegionHemisphere& h = *cache.stored.in_use[-1 - u];
@@ -321,8 +323,8 @@ inline CacheState& start_cache_stage(const W& w) {
 // next hit with its MIS weight). An unbiased estimate: path's with its first bounce split.
 template <class W, class Tracer>
 inline void split_narrow_lobes(const W& w, Tracer& trace) {
-    PathScratch& sc = w.scratch;
-    CacheState& cache = cache_state(sc);
+    PathScratch& scratch = w.scratch;
+    CacheState& cache = cache_state(scratch);
     HemisphereIntegration& integration = cache.integration;
     CachePointBuild& build = cache.build;
     const int R = w.settings.cache.resolution;
@@ -340,14 +342,15 @@ inline void split_narrow_lobes(const W& w, Tracer& trace) {
     for (size_t k = 0; k < w.scene.materials.size(); ++k) {
         const Material& m = w.scene.materials[k];
         if (!split_by_paths(m, R)) continue;
-        const size_t first = sc.material_start[k], last = sc.material_start[k + 1];
+        const size_t first = scratch.material_start[k], last = scratch.material_start[k + 1];
         for (size_t q = first; q < last; ++q) {
-            const ShadingPoint& sp = sc.sorted[q];
-            const uint32_t key = hash_u32(
-                sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q])) ^ 0x3c6ef372u);
+            const ShadingPoint& sp = scratch.sorted[q];
+            const uint32_t key = hash_u32(sample_key(static_cast<uint32_t>(scratch.point_keys[q]),
+                                                     static_cast<uint32_t>(scratch.point_index[q])) ^
+                                          0x3c6ef372u);
             for (size_t j = 0; j < K; ++j) {
-                std::copy(sc.v_local.data() + 3 * q, sc.v_local.data() + 3 * q + 3, vv + 3 * j);
-                ee[j] = sc.eta[q];
+                std::copy(scratch.v_local.data() + 3 * q, scratch.v_local.data() + 3 * q + 3, vv + 3 * j);
+                ee[j] = scratch.eta[q];
                 u0[j] = uniform(key, 3 * static_cast<uint32_t>(j));
                 u1[j] = uniform(key, 3 * static_cast<uint32_t>(j) + 1);
                 u2[j] = uniform(key, 3 * static_cast<uint32_t>(j) + 2);
@@ -365,14 +368,14 @@ inline void split_narrow_lobes(const W& w, Tracer& trace) {
                 for (int c = 0; c < 3; ++c) integration.split_weights.push_back(f[3 * j + c] * s);
                 build.rays.push(o, wd, key, static_cast<uint32_t>(j), static_cast<int32_t>(q));
             }
-            sc.cached[sp.path] = 1;
+            scratch.cached[sp.path] = 1;
         }
     }
     if (build.rays.size() == 0) return;
     trace_queue(cache, trace);
     for (size_t r = 0; r < build.rays.size(); ++r) {
-        const int32_t path = sc.sorted[build.rays.where[r]].path;
-        const float* Tp = sc.throughput.data() + 3 * path;
+        const int32_t path = scratch.sorted[build.rays.where[r]].path;
+        const float* Tp = scratch.throughput.data() + 3 * path;
         for (int c = 0; c < 3; ++c)
             w.results[path].rgb[c] += Tp[c] * integration.split_weights[3 * r + c] * build.results[r].rgb[c];
     }
@@ -384,7 +387,7 @@ inline void split_narrow_lobes(const W& w, Tracer& trace) {
 // (left_to_path), from the cache.
 template <class W, class Tracer>
 inline void add_cached_indirect(const W& w, Tracer& trace) {
-    PathScratch& sc = w.scratch;
+    PathScratch& scratch = w.scratch;
     CacheState& cache = start_cache_stage(w);
     HemisphereIntegration& integration = cache.integration;
     QueryTable& table = cache.table;
@@ -397,17 +400,17 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
     // them in integration.lit_directions and lit_radiance) listed once for all the query's members
     auto integrate = [&](int32_t member, const float* radiance, size_t count) {
         const size_t q = table.member_point[member];
-        const ShadingPoint& sp = sc.sorted[q];
+        const ShadingPoint& sp = scratch.sorted[q];
         const Material& m = w.scene.materials[sp.material];
         float v[3];
-        view_in_query_frame(sc, cache, member, v);
+        view_in_query_frame(scratch, cache, member, v);
         double sum[3] = {0, 0, 0};
         if (texel_resolvable(m, R)) {
             // the texels with light, N at a time through the BRDF
             const float* l = integration.lit_directions.data();
             const float* rgb = integration.lit_radiance.data();
             if (count > 0) {
-                eval_at_texels(m, v, sc.eta[q], cache, count);
+                eval_at_texels(m, v, scratch.eta[q], cache, count);
                 const float* f = integration.bsdf_values.data();  // grown by eval_at_texels
                 for (size_t k = 0; k < count; ++k)
                     for (int c = 0; c < 3; ++c)
@@ -422,11 +425,12 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
             float* u0 = grow(integration.pick_uniforms, K);
             float* u1 = grow(integration.first_uniforms, K);
             float* u2 = grow(integration.second_uniforms, K);
-            const uint32_t key = hash_u32(
-                sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q])) ^ 0x2545f491u);
+            const uint32_t key = hash_u32(sample_key(static_cast<uint32_t>(scratch.point_keys[q]),
+                                                     static_cast<uint32_t>(scratch.point_index[q])) ^
+                                          0x2545f491u);
             for (size_t k = 0; k < K; ++k) {
                 std::copy(v, v + 3, vv + 3 * k);
-                ee[k] = sc.eta[q];
+                ee[k] = scratch.eta[q];
                 u0[k] = uniform(key, 3 * static_cast<uint32_t>(k));
                 u1[k] = uniform(key, 3 * static_cast<uint32_t>(k) + 1);
                 u2[k] = uniform(key, 3 * static_cast<uint32_t>(k) + 2);
@@ -462,10 +466,10 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
         int32_t lambert = -1;  // the query's last Lambert member: its integral does not depend on the view
         for (const int32_t* i = begin; i < end; ++i) {
             const int32_t member = *i;
-            const ShadingPoint& sp = sc.sorted[table.member_point[member]];
+            const ShadingPoint& sp = scratch.sorted[table.member_point[member]];
             const Material& m = w.scene.materials[sp.material];
             const bool plain = m.is<Lambert>() && !m.coat;
-            if (plain && lambert >= 0 && sc.sorted[table.member_point[lambert]].material == sp.material) {
+            if (plain && lambert >= 0 && scratch.sorted[table.member_point[lambert]].material == sp.material) {
                 const auto from = integration.member_light.begin() + 3 * lambert;
                 std::copy(from, from + 3, integration.member_light.begin() + 3 * member);
                 continue;
@@ -490,19 +494,19 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
     cache.lap(Stage::CacheIntegrate);
     add_counts(w, c, cache, rays_before);
     // every point of a member: its indirect light
-    for (size_t q = 0; q < sc.sorted.size(); ++q) {
+    for (size_t q = 0; q < scratch.sorted.size(); ++q) {
         if (table.member_of_point[q] < 0) continue;
-        const int32_t path = sc.sorted[q].path;
-        const float* Tp = sc.throughput.data() + 3 * path;
+        const int32_t path = scratch.sorted[q].path;
+        const float* Tp = scratch.throughput.data() + 3 * path;
         const float* light = integration.member_light.data() + 3 * table.member_of_point[q];
         for (int k = 0; k < 3; ++k) w.results[path].rgb[k] += Tp[k] * light[k];
-        sc.cached[path] = 1;
+        scratch.cached[path] = 1;
     }
     split_narrow_lobes(w, trace);
 }
 
 // The cache points of an image region (render/cache/cache_regions.h) from its pre-pass's
-// first-hit points (sc.sorted: one a pixel, at its centre): the queries a work item would
+// first-hit points (scratch.sorted: one a pixel, at its centre): the queries a work item would
 // make of them (collect_queries: a block's close points of the materials the cache serves
 // share one) are placed in rounds as an item's are (with no shared points to start from),
 // built, and moved to `out` without their build-only data.
@@ -514,9 +518,9 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
 template <class W, class Tracer>
 inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoint>& out,
                                 std::vector<RegionHemisphere>& hemispheres) {
-    PathScratch& sc = w.scratch;
-    CacheState& cache = cache_state(sc);
-    cache.timer = &sc.timer;
+    PathScratch& scratch = w.scratch;
+    CacheState& cache = cache_state(scratch);
+    cache.timer = &scratch.timer;
     QueryTable& table = cache.table;
     CachePointBuild& build = cache.build;
     const CacheSettings& cfg = w.settings.cache;
@@ -530,7 +534,7 @@ inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoin
         const Camera& cam = w.scene.camera;
         const size_t T = static_cast<size_t>(cfg.resolution) * cfg.resolution;
         auto keep = [&](size_t qi, const float* radiance) {
-            const ShadingPoint& sp = sc.sorted[table.query_point[qi]];
+            const ShadingPoint& sp = scratch.sorted[table.query_point[qi]];
             const CameraSample& c = w.camera_samples[sp.path];
             const int64_t px = static_cast<int64_t>(std::floor(c.fx)), py = static_cast<int64_t>(std::floor(c.fy));
             RegionHemisphere h;
@@ -545,12 +549,12 @@ inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoin
         const CacheCounts c = reconstruct_hemispheres(cfg, w.ray_offset, true, cache, trace, keep);
         // (consumed in order: hemisphere u is query u) each pre-pass pixel's
         for (size_t m = 0; m < table.member_point.size(); ++m) {
-            const CameraSample& cm = w.camera_samples[sc.sorted[table.member_point[m]].path];
+            const CameraSample& cm = w.camera_samples[scratch.sorted[table.member_point[m]].path];
             const int64_t px = static_cast<int64_t>(std::floor(cm.fx)), py = static_cast<int64_t>(std::floor(cm.fy));
             hemispheres[table.member_query[m]].pixels.push_back(py * cam.width + px);
         }
-        sc.cache_texels_reprojected += c.reprojected + c.from_misses;
-        sc.cache_texels_traced += c.traced;
+        scratch.cache_texels_reprojected += c.reprojected + c.from_misses;
+        scratch.cache_texels_traced += c.traced;
     } else {
         place_cache_points(cfg, w.ray_offset, table.queries.data(), table.queries.size(), cache, trace);
     }
@@ -559,8 +563,8 @@ inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoin
         out.push_back(std::move(build.points[a]));
         drop_build_data(out.back());
     }
-    sc.cache_points += build.used;
-    sc.rays_traced += cache.inner.rays_traced - rays_before;
+    scratch.cache_points += build.used;
+    scratch.rays_traced += cache.inner.rays_traced - rays_before;
 }
 
 }  // namespace cache

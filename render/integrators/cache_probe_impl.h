@@ -1,5 +1,5 @@
 // The radiance cache at one point reprojected into another (integrator.h, cache_probe): what
-// docs/radiance-state.md's pictures and the reprojection tests look at.
+// docs/radiance-cache.md's pictures and the reprojection tests look at.
 #pragma once
 
 #include <algorithm>
@@ -16,22 +16,22 @@ namespace render_detail {
 using namespace kernel_width;
 
 // The radiance cache at one point reprojected into another (render/integrators/integrator.h, cache_probe).
-void cache_probe(const RenderScene& s, const IntegratorSettings& st, const float* pa, const float* na, const float* pb,
-                 const float* nb, uint32_t seed, bool unknown_masks, CacheProbe& out) {
+void cache_probe(const RenderScene& scene, const IntegratorSettings& settings, const float* pa, const float* na,
+                 const float* pb, const float* nb, uint32_t seed, bool unknown_masks, CacheProbe& out) {
     enter_kernel();
-    const CacheSettings& cfg = st.cache;
+    const CacheSettings& cfg = settings.cache;
     check_cache_settings(cfg);
     const int R = cfg.resolution;
     const size_t T = static_cast<size_t>(R) * R;
-    PathScratch sc;
-    cache::CacheState& state = cache::cache_state(sc);
-    IntegratorSettings inner = st;
+    PathScratch scratch;
+    cache::CacheState& state = cache::cache_state(scratch);
+    IntegratorSettings inner = settings;
     inner.mode = IntegratorMode::Path;
     inner.indirect_illuminance = false;
-    inner.max_depth = std::max(1, st.max_depth - 1);
-    inner.rr_depth = std::max(1, st.rr_depth - 1);
+    inner.max_depth = std::max(1, settings.max_depth - 1);
+    inner.rr_depth = std::max(1, settings.rr_depth - 1);
     auto tracer = [&](const float* o, const float* d, const uint32_t* k, const uint32_t* idx, size_t m, PathResult* r) {
-        trace_given_rays(s, inner, o, d, k, idx, m, r, state.inner, state.inner_samples);
+        trace_given_rays(scene, inner, o, d, k, idx, m, r, state.inner, state.inner_samples);
     };
     auto query = [&](const float* p, const float* n, uint32_t key) {
         cache::Query q;
@@ -43,13 +43,13 @@ void cache_probe(const RenderScene& s, const IntegratorSettings& st, const float
     };
     const cache::Query q[2] = {query(pa, na, hash_u32(seed)), query(pb, nb, hash_u32(seed + 1))};
     state.texel_directions.prepare(R);
-    IntegratorSettings as_cache = st;  // A's glossy texel hits split as `cache` splits them
+    IntegratorSettings as_cache = settings;  // A's glossy texel hits split as `cache` splits them
     as_cache.mode = IntegratorMode::Cache;
-    cache::mark_split_materials(s.materials, as_cache, state);
+    cache::mark_split_materials(scene.materials, as_cache, state);
     // A, then B's own hemisphere in full (the reference)
     state.build.used = 0;
     state.build.pending = {0, 1};
-    cache::build_cache_points(cfg, s.ray_offset, q, state, tracer);
+    cache::build_cache_points(cfg, scene.ray_offset, q, state, tracer);
     const CachePoint& a = state.build.points[0];
     out = CacheProbe{};
     out.resolution = R;
@@ -91,7 +91,7 @@ void cache_probe(const RenderScene& s, const IntegratorSettings& st, const float
         std::fill(out.b_radiance.begin() + 3 * t, out.b_radiance.begin() + 3 * t + 3, 0.0f);
         const Vec3f d = cache::jittered_direction(q[1], R, static_cast<int32_t>(t), key);
         if (dot(d, q[1].ng) > 0)
-            rays.push(q[1].p + s.ray_offset * q[1].ng, d, key, static_cast<uint32_t>(t), static_cast<int32_t>(t));
+            rays.push(q[1].p + scene.ray_offset * q[1].ng, d, key, static_cast<uint32_t>(t), static_cast<int32_t>(t));
     }
     cache::trace_queue(state, tracer);
     for (size_t r = 0; r < rays.size(); ++r)
