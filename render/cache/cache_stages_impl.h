@@ -208,7 +208,8 @@ inline size_t collect_queries(const W& w, CacheState& cache, Accept accept, bool
         for (size_t q = first; q < last; ++q) {
             const ShadingPoint& sp = scratch.sorted[q];
             const CameraSample& c = w.camera_samples[sp.path];
-            const int64_t px = static_cast<int64_t>(std::floor(c.fx)), py = static_cast<int64_t>(std::floor(c.fy));
+            const int64_t px = static_cast<int64_t>(std::floor(c.film_x)),
+                          py = static_cast<int64_t>(std::floor(c.film_y));
             const int64_t pixel = py * cam.width + px;
             const float footprint = w.results[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
             auto found = table.pixel_member.find(pixel);
@@ -333,9 +334,9 @@ inline void split_narrow_lobes(const W& w, Tracer& trace) {
     integration.split_weights.clear();
     float* vv = grow(integration.views, 3 * K);
     float* ee = grow(integration.etas, K);
-    float* u0 = grow(integration.pick_uniforms, K);
-    float* u1 = grow(integration.first_uniforms, K);
-    float* u2 = grow(integration.second_uniforms, K);
+    float* u0 = grow(integration.u_pick, K);
+    float* u1 = grow(integration.uniform_u, K);
+    float* u2 = grow(integration.uniform_v, K);
     float* l = grow(integration.lobe_directions, 3 * K);
     float* pdf = grow(integration.pdfs, K);
     const size_t rays_before = cache.inner.rays_traced;
@@ -422,9 +423,9 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
             const size_t K = kLookupSamples;
             float* vv = grow(integration.views, 3 * K);
             float* ee = grow(integration.etas, K);
-            float* u0 = grow(integration.pick_uniforms, K);
-            float* u1 = grow(integration.first_uniforms, K);
-            float* u2 = grow(integration.second_uniforms, K);
+            float* u0 = grow(integration.u_pick, K);
+            float* u1 = grow(integration.uniform_u, K);
+            float* u2 = grow(integration.uniform_v, K);
             const uint32_t key = hash_u32(sample_key(static_cast<uint32_t>(scratch.point_keys[q]),
                                                      static_cast<uint32_t>(scratch.point_index[q])) ^
                                           0x2545f491u);
@@ -536,7 +537,8 @@ inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoin
         auto keep = [&](size_t qi, const float* radiance) {
             const ShadingPoint& sp = scratch.sorted[table.query_point[qi]];
             const CameraSample& c = w.camera_samples[sp.path];
-            const int64_t px = static_cast<int64_t>(std::floor(c.fx)), py = static_cast<int64_t>(std::floor(c.fy));
+            const int64_t px = static_cast<int64_t>(std::floor(c.film_x)),
+                          py = static_cast<int64_t>(std::floor(c.film_y));
             RegionHemisphere h;
             h.block = block_of_pixel(cam, cfg.block, px, py);
             h.region = region_of_pixel(cam, px, py);
@@ -550,7 +552,8 @@ inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoin
         // (consumed in order: hemisphere u is query u) each pre-pass pixel's
         for (size_t m = 0; m < table.member_point.size(); ++m) {
             const CameraSample& cm = w.camera_samples[scratch.sorted[table.member_point[m]].path];
-            const int64_t px = static_cast<int64_t>(std::floor(cm.fx)), py = static_cast<int64_t>(std::floor(cm.fy));
+            const int64_t px = static_cast<int64_t>(std::floor(cm.film_x)),
+                          py = static_cast<int64_t>(std::floor(cm.film_y));
             hemispheres[table.member_query[m]].pixels.push_back(py * cam.width + px);
         }
         scratch.cache_texels_reprojected += c.reprojected + c.from_misses;

@@ -197,10 +197,10 @@ inline void guided_directions(const W& w) {
         Vec3f d;
         if (p >= 0)
             d = pool_guide_sample(*pool.points[p], pool.cdf.data() + static_cast<size_t>(p) * T, R,
-                                  choices.guide_pick[q], scratch.u1[q], scratch.u2[q]);
+                                  choices.guide_pick[q], scratch.uniform_u[q], scratch.uniform_v[q]);
         else {
             float dir[3];
-            pool.field->sample(pool.field_of[q], scratch.u1[q], scratch.u2[q], dir);
+            pool.field->sample(pool.field_of[q], scratch.uniform_u[q], scratch.uniform_v[q], dir);
             d = Vec3f{dir[0], dir[1], dir[2]};
         }
         const ShadingPoint& sp = scratch.sorted[q];

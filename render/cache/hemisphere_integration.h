@@ -16,7 +16,7 @@ struct HemisphereIntegration {
     std::vector<float> lit_directions, lit_radiance;
     // the material's inputs for a batch of directions: view directions (the member's, repeated),
     // relative indices, and the three uniforms of each BRDF sample (lobe pick, then the direction)
-    std::vector<float> views, etas, pick_uniforms, first_uniforms, second_uniforms;
+    std::vector<float> views, etas, u_pick, uniform_u, uniform_v;
     std::vector<float> bsdf_values, pdfs;  // the material's value (RGB) and density per direction
     std::vector<float> lobe_directions;    // a narrow lobe's sampled directions
     std::vector<float> split_weights;      // split_narrow_lobes: each ray's f cos / (pdf K), RGB

@@ -62,10 +62,12 @@ struct Reprojection {
 
 // Work arrays of one reprojection, kept from point to point.
 struct ReprojectScratch {
-    std::vector<float> px, py;          // outline points in B's texel coordinates, (point, surfel)
-    std::vector<int32_t> texels;        // candidate texels of one surfel
-    std::vector<float> cx, cy, cz, out_i, out_j, out_ok;
-    std::vector<float> sx, sy, corner;  // silhouettes' shadow corners in B's texel coordinates (project_silhouettes)
+    std::vector<float> outline_u, outline_v;  // outline points in B's texel coordinates, (point, surfel)
+    std::vector<int32_t> texels;              // candidate texels of one surfel
+    // the candidates' directions in B's frame, and what lookup_surfel finds for each in A
+    std::vector<float> texel_x, texel_y, texel_z, out_i, out_j, out_ok;
+    // silhouettes' shadow corners in B's texel coordinates (project_silhouettes)
+    std::vector<float> shadow_u, shadow_v, corner;
     BitMask128 region;                  // the texels wanted by the reprojection under way
 };
 
@@ -92,9 +94,9 @@ inline void project_direction(const Receiver& b, const Vec3f& d, float scale, fl
 // if it is one of the surfel's own (half a texel of slack for the outline's straight edges).
 inline void lookup_surfel(const CachePoint& a, const Surfel& sf, const Receiver& b, const TexelDirections& dirs,
                           ReprojectScratch& scratch, size_t count) {
-    float* cx = grow(scratch.cx, count);
-    float* cy = grow(scratch.cy, count);
-    float* cz = grow(scratch.cz, count);
+    float* cx = grow(scratch.texel_x, count);
+    float* cy = grow(scratch.texel_y, count);
+    float* cz = grow(scratch.texel_z, count);
     for (size_t k = 0; k < count; ++k) {
         const int32_t t = scratch.texels[k];
         cx[k] = dirs.x[t], cy[k] = dirs.y[t], cz[k] = dirs.z[t];
@@ -172,8 +174,8 @@ PATINA_INLINE bool touches_open(const float* qx, const float* qy, int n, int res
 inline void project_silhouettes(const CachePoint& a, const Receiver& b, float scale, ReprojectScratch& scratch) {
     const size_t ne = a.silhouettes.size();
     const size_t stride = (ne + N - 1) / N * N;
-    float* sx = grow(scratch.sx, 4 * stride);
-    float* sy = grow(scratch.sy, 4 * stride);
+    float* sx = grow(scratch.shadow_u, 4 * stride);
+    float* sy = grow(scratch.shadow_v, 4 * stride);
     float* c = grow(scratch.corner, 12 * stride);  // the corners' world points or directions, (coordinate, silhouette)
     for (size_t e = 0; e < ne; ++e) {
         const Silhouette& sil = a.silhouettes[e];
@@ -211,7 +213,7 @@ inline void add_shadows(const CachePoint& a, int32_t e0, int32_t e1, int R, cons
     const size_t stride = (a.silhouettes.size() + N - 1) / N * N;
     for (int32_t e = e0; e < e1; ++e) {
         float qx[4], qy[4];
-        for (int k = 0; k < 4; ++k) qx[k] = scratch.sx[k * stride + e], qy[k] = scratch.sy[k * stride + e];
+        for (int k = 0; k < 4; ++k) qx[k] = scratch.shadow_u[k * stride + e], qy[k] = scratch.shadow_v[k * stride + e];
         if (region != nullptr && !touches_open(qx, qy, 4, R, r.filled, *region, &r.unknown)) continue;
         raster_convex(qx, qy, 4, R, [&](int y, Row128 span) {
             shadows.rows[y] |= span;
@@ -265,8 +267,8 @@ inline void reproject(const CachePoint& a, const Receiver& b, const TexelDirecti
     const size_t ns = a.surfels.size();
     // the outline points of N surfels at a time in B's texel coordinates
     const size_t stride = (ns + N - 1) / N * N;  // whole blocks of N per outline point
-    float* px = grow(scratch.px, kOutlinePoints * stride);
-    float* py = grow(scratch.py, kOutlinePoints * stride);
+    float* px = grow(scratch.outline_u, kOutlinePoints * stride);
+    float* py = grow(scratch.outline_v, kOutlinePoints * stride);
     for (int k = 0; k < kOutlinePoints; ++k) {
         const float* ox = a.outline.data() + (3 * k + 0) * ns;
         const float* oy = a.outline.data() + (3 * k + 1) * ns;

@@ -101,8 +101,8 @@ inline void draw_bsdf_numbers(const Wavefront& w, int depth, bool all_picks) {
     PathScratch& scratch = w.scratch;
     const size_t np = scratch.sorted.size();
     float* upick = grow(scratch.u_pick, np);
-    float* u1 = grow(scratch.u1, np);
-    float* u2 = grow(scratch.u2, np);
+    float* u1 = grow(scratch.uniform_u, np);
+    float* u2 = grow(scratch.uniform_v, np);
     if (all_picks)
         fill_uniforms(scratch, np, depth, kDimBsdfPick, upick);
     else
@@ -125,8 +125,8 @@ inline void sample_materials(const Wavefront& w) {
     float* fv = grow(scratch.bsdf_rgb, 3 * np);
     float* pdf = grow(scratch.pdf, np);
     const float* upick = scratch.u_pick.data();
-    const float* u1 = scratch.u1.data();
-    const float* u2 = scratch.u2.data();
+    const float* u1 = scratch.uniform_u.data();
+    const float* u2 = scratch.uniform_v.data();
     for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
         material_sample(m, vl + 3 * a, eta + a, upick + a, u1 + a, u2 + a, ll + 3 * a, pdf + a, count);
         material_eval(m, ll + 3 * a, vl + 3 * a, eta + a, fv + 3 * a, count);

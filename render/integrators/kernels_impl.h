@@ -69,8 +69,8 @@ void jitter_pixel_positions(SamplerKind kind, CameraSample* camera_samples, size
             const CameraSample& c = camera_samples[i + k];
             key[k] = static_cast<int32_t>(c.key);
             index[k] = static_cast<int32_t>(c.index);
-            fx[k] = c.fx;
-            fy[k] = c.fy;
+            fx[k] = c.film_x;
+            fy[k] = c.film_y;
             all |= c.index;
         }
         const I keys = load_n<N>(key), indices = load_n<N>(index);
@@ -78,8 +78,8 @@ void jitter_pixel_positions(SamplerKind kind, CameraSample* camera_samples, size
         store_n<N>(fx, load_n<N>(fx) + sample_uniform_lanes(kind, keys, indices, bits, 0, kDimPixelX));
         store_n<N>(fy, load_n<N>(fy) + sample_uniform_lanes(kind, keys, indices, bits, 0, kDimPixelY));
         for (int k = 0; k < lanes; ++k) {
-            camera_samples[i + k].fx = fx[k];
-            camera_samples[i + k].fy = fy[k];
+            camera_samples[i + k].film_x = fx[k];
+            camera_samples[i + k].film_y = fy[k];
         }
     });
 }

@@ -57,7 +57,7 @@ inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
     for_blocks(np, [&](size_t q0, int lanes) {
         int ok_bits = 0, delta_bits = 0;
         for (int k = 0; k < lanes; ++k) {
-            ok_bits |= (scratch.light_samples.ok[q0 + k] ? 1 : 0) << k;
+            ok_bits |= (scratch.light_samples.usable[q0 + k] ? 1 : 0) << k;
             delta_bits |= (scratch.light_samples.delta[q0 + k] ? 1 : 0) << k;
         }
         if (ok_bits == 0) return;
@@ -127,12 +127,12 @@ inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
     for (size_t q = 0; q < np; ++q) {
         const ShadingPoint& sp = scratch.sorted[q];
         const Vec3f ldir = load_vec3(scratch.light_samples.dir.data() + 3 * q);
-        const Vec3f l = scratch.light_samples.ok[q] ? to_local(sp, ldir) : Vec3f{0, 0, 0};
+        const Vec3f l = scratch.light_samples.usable[q] ? to_local(sp, ldir) : Vec3f{0, 0, 0};
         store_vec3(l, ll + 3 * q);
         // the light must be on the side the local direction says (shading normals bend)
         const float side = dot(ldir, sp.ng);
         const bool transmissive = transmits(w.scene.materials[sp.material]);
-        scratch.light_samples.ok[q] = scratch.light_samples.ok[q] && (transmissive ? side * l.z > 0 : side > 0);
+        scratch.light_samples.usable[q] = scratch.light_samples.usable[q] && (transmissive ? side * l.z > 0 : side > 0);
     }
     scratch.timer.lap(Stage::LightToLocal);
     for_material_groups(w, [&](const Material& m, size_t a, size_t count) {

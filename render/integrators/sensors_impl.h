@@ -126,7 +126,7 @@ void sensor_illuminance(const RenderScene& scene, const float* points, const flo
         sample_lights(scene, scratch, 0, np);
         clear_shadow_rays(scratch);
         for (size_t q = 0; q < np; ++q) {
-            if (!scratch.light_samples.ok[q]) continue;
+            if (!scratch.light_samples.usable[q]) continue;
             const ShadingPoint& sp = scratch.sorted[q];
             const LightSample ls = load_light_sample(scratch, q);
             const float cos_s = dot(ls.dir, sp.n);

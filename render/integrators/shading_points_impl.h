@@ -104,8 +104,8 @@ PATINA_INLINE void store_lanes3(float (*dst)[N], const V3& a) {
 }
 
 struct PointLanes {
-    alignas(64) float p[3][N], ng[3][N], n[3][N], t[3][N], b[3][N], vl[3][N], eta[N];
-    int ok;  // bit k: lane k is a shading point
+    alignas(64) float p[3][N], ng[3][N], n[3][N], t[3][N], b[3][N], v_local[3][N], eta[N];
+    int lane_mask;  // bit k: lane k is a shading point
 };
 
 inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t h0, int lanes, PointLanes& out) {
@@ -177,9 +177,9 @@ inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t 
     store_lanes3(out.t, ft3);
     store_lanes3(out.b, fb3);
     // the view direction in the frame: to_local(sp, -dir)
-    store_lanes3(out.vl, V3{dot(wo, ft3), dot(wo, fb3), dot(wo, n)});
+    store_lanes3(out.v_local, V3{dot(wo, ft3), dot(wo, fb3), dot(wo, n)});
     store_n<N>(out.eta, eta);
-    out.ok = movemask(ok) & ((1 << lanes) - 1);
+    out.lane_mask = movemask(ok) & ((1 << lanes) - 1);
 }
 
 // Surface hits become the bounce's shading points in scratch.sorted, grouped by material (groups
@@ -208,7 +208,7 @@ inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int de
         for (int k = 0; k < lanes; ++k) {
             const int32_t j = scratch.shade_hits[h0 + k];
             const int32_t i = scratch.active[j];
-            if (!((pl.ok >> k) & 1)) {
+            if (!((pl.lane_mask >> k) & 1)) {
                 if (depth == 0) w.results[i].depth = hits.t[j];
                 continue;  // the slot is taken by the group's next point
             }
@@ -235,9 +235,9 @@ inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int de
             for (int f = 0; f < 5; ++f)
                 for (int c = 0; c < 3; ++c) rows[f][3 * q + c] = fields[f][c][k];
             point_path[q] = i;
-            vl[3 * q] = pl.vl[0][k];
-            vl[3 * q + 1] = pl.vl[1][k];
-            vl[3 * q + 2] = pl.vl[2][k];
+            vl[3 * q] = pl.v_local[0][k];
+            vl[3 * q + 1] = pl.v_local[1][k];
+            vl[3 * q + 2] = pl.v_local[2][k];
             eta[q] = pl.eta[k];
             scratch.point_keys[q] = static_cast<int32_t>(w.camera_samples[i].key);
             scratch.point_index[q] = static_cast<int32_t>(w.camera_samples[i].index);

@@ -88,8 +88,8 @@ inline void pinhole_rays(const Camera& c, const CameraSample* camera_samples, si
     for_blocks(n, [&](size_t i, int lanes) {
         alignas(64) float fx[N] = {}, fy[N] = {};
         for (int k = 0; k < lanes; ++k) {
-            fx[k] = camera_samples[i + k].fx;
-            fy[k] = camera_samples[i + k].fy;
+            fx[k] = camera_samples[i + k].film_x;
+            fy[k] = camera_samples[i + k].film_y;
         }
         const F sx = (F(2.0f) * load_n<N>(fx) / F(static_cast<float>(c.width)) - F(1.0f)) * F(c.tan_half_fov) *
                      F(aspect);
@@ -119,7 +119,7 @@ inline void start_camera_paths(const Wavefront& w, size_t n) {
         const float lu = lens ? sample_uniform(w.settings.sampler, c.key, c.index, 0, kDimLensU) : 0.0f;
         const float lv = lens ? sample_uniform(w.settings.sampler, c.key, c.index, 0, kDimLensV) : 0.0f;
         Vec3f o, d;
-        camera_ray(w.scene.camera, c.fx, c.fy, lu, lv, o, d);
+        camera_ray(w.scene.camera, c.film_x, c.film_y, lu, lv, o, d);
         start_path(w, i, o, d);
     }
 }
