@@ -150,8 +150,9 @@ struct PathScratch {
     // the radiance cache (render/cache/radiance_cache_impl.h): per path, whether its first
     // hit's indirect light came from the cache (it then only looks for emission)
     std::vector<uint8_t> cached;
-    // the cache's work memory, made by the kernels of width cache_width (no make_shared: its
-    // tag object is one the width-16 units may not define, see CMakeLists.txt)
+    // the cache's work memory (render/cache/cache_state_impl.h, CacheState), made by the kernels
+    // of width cache_width (no make_shared: its tag object is one the width-16 units may not
+    // define, see CMakeLists.txt)
     std::unique_ptr<void, void (*)(void*)> cache{nullptr, nullptr};
     int cache_width = 0;
     // the cache points the batch's cache starts from: those of the regions its tile overlaps
