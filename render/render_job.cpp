@@ -144,10 +144,10 @@ void RenderJob::worker() {
     // however the worker ends, its stage times join the job's
     struct AddStageTimes {
         RenderJob& job;
-        const PathScratch& sc;
+        const PathScratch& scratch;
         ~AddStageTimes() {
             std::lock_guard<std::mutex> lock(job.m_error_lock);
-            job.m_stage_times += sc.timer.times;
+            job.m_stage_times += scratch.timer.times;
         }
     } add_stage_times{*this, scratch};
     scratch.timer.use_cpu_time(m_settings.stage_cpu_time);
@@ -251,10 +251,10 @@ size_t RenderJob::run_item(const Item& item, PixelSampler& sampler, PathScratch&
         CacheRegions* regions;
         std::vector<int> ids;
         std::vector<std::shared_ptr<const CacheRegion>> held;
-        PathScratch& sc;
+        PathScratch& scratch;
         ~HeldRegions() {
-            sc.cache_shared.clear();
-            sc.cache_shared_hemispheres.clear();
+            scratch.cache_shared.clear();
+            scratch.cache_shared_hemispheres.clear();
             held.clear();
             for (const int r : ids) regions->release(r);
         }

@@ -24,7 +24,7 @@ template <int K>
 PATINA_INLINE Vec3<vfloat<K>> sphere_normal(const SphereSet& s, vint<K> k, const Vec3<vfloat<K>>& o,
                                             const Vec3<vfloat<K>>& d, vfloat<K> t) {
     using F = vfloat<K>;
-    const Vec3<F> c{gather(s.cx.data(), k), gather(s.cy.data(), k), gather(s.cz.data(), k)};
+    const Vec3<F> c{gather(s.centre_x.data(), k), gather(s.centre_y.data(), k), gather(s.centre_z.data(), k)};
     const Vec3<F> e = (o + t * d) - c;
     const F len = sqrt_exact(dot(e, e));
     return Vec3<F>{e.x / len, e.y / len, e.z / len};
@@ -43,7 +43,8 @@ PATINA_INLINE void sphere_points(const SphereSet& s, vbool<K> on, vint<K> prim, 
     const I k = select(on, prim - I(s.prim_base), I(0));
     const Vec3<F> m = sphere_normal<K>(s, k, o, d, t);
     const F r = gather(s.radius.data(), k);
-    const Vec3<F> on_sphere = Vec3<F>{gather(s.cx.data(), k), gather(s.cy.data(), k), gather(s.cz.data(), k)} + r * m;
+    const Vec3<F> on_sphere =
+        Vec3<F>{gather(s.centre_x.data(), k), gather(s.centre_y.data(), k), gather(s.centre_z.data(), k)} + r * m;
     const I a9 = k * I(9);
     const auto axis = [&](int i) {
         return Vec3<F>{gather(s.axes.data(), a9 + I(3 * i)), gather(s.axes.data(), a9 + I(3 * i + 1)),

@@ -44,7 +44,7 @@ PATINA_INLINE vbool<K> sphere_roots(const SphereSet& s, size_t k, const vfloat<K
                                     vfloat<K>& inner, vfloat<K>& outer, vbool<K>& inner_ok) {
     using F = vfloat<K>;
     const F r(s.radius[k]);
-    const F fx = org[0] - F(s.cx[k]), fy = org[1] - F(s.cy[k]), fz = org[2] - F(s.cz[k]);
+    const F fx = org[0] - F(s.centre_x[k]), fy = org[1] - F(s.centre_y[k]), fz = org[2] - F(s.centre_z[k]);
     const F a = dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2];
     const F b = fx * dir[0] + fy * dir[1] + fz * dir[2];
     const F along = b / a;

@@ -17,9 +17,9 @@ void SphereSet::add(const float centre[3], float r, const float frame[9]) {
         if (!(std::fabs(len2 - 1.0f) < 1e-4f))
             throw std::invalid_argument("an analytic sphere's frame must have unit axes");
     }
-    cx.push_back(centre[0]);
-    cy.push_back(centre[1]);
-    cz.push_back(centre[2]);
+    centre_x.push_back(centre[0]);
+    centre_y.push_back(centre[1]);
+    centre_z.push_back(centre[2]);
     radius.push_back(r);
     axes.insert(axes.end(), frame, frame + 9);
 }
@@ -30,7 +30,7 @@ void sphere_bounds(const SphereSet& s, float lo[3], float hi[3]) {
         hi[a] = -std::numeric_limits<float>::infinity();
     }
     for (size_t k = 0; k < s.size(); ++k) {
-        const float c[3] = {s.cx[k], s.cy[k], s.cz[k]};
+        const float c[3] = {s.centre_x[k], s.centre_y[k], s.centre_z[k]};
         for (int a = 0; a < 3; ++a) {
             lo[a] = std::min(lo[a], c[a] - s.radius[k]);
             hi[a] = std::max(hi[a], c[a] + s.radius[k]);

@@ -16,7 +16,7 @@
 namespace patina {
 
 struct SphereSet {
-    std::vector<float> cx, cy, cz, radius;  // centres and radii (world space)
+    std::vector<float> centre_x, centre_y, centre_z, radius;  // centres and radii (world space)
     // The object frame of each sphere, for its tangents (9 floats: the world directions of the
     // object's unit x, y and z axes): tangents run along its parallels about the object's y,
     // as the tessellated sphere's do (python/patina/geometry/shapes.py, sphere).

@@ -71,7 +71,7 @@ void hit_normals(const KdTree& tree, const RayBatch& rays, const float* t, const
             out[0] = out[1] = out[2] = 0.0f;
         } else if (spheres.owns(prim[i])) {
             const size_t k = static_cast<size_t>(prim[i] - spheres.prim_base);
-            const float c[3] = {spheres.cx[k], spheres.cy[k], spheres.cz[k]};
+            const float c[3] = {spheres.centre_x[k], spheres.centre_y[k], spheres.centre_z[k]};
             float len2 = 0.0f;
             for (int a = 0; a < 3; ++a) {
                 out[a] = rays.origins[3 * i + a] + t[i] * rays.directions[3 * i + a] - c[a];

@@ -94,9 +94,9 @@ void AdaptiveSampler::begin(const TileRect& tile, int pass) {
     m_pixels.clear();
     for (const int t : m_pixel_order) {
         PixelState p;
-        p.tx = t % w;
-        p.ty = t / w;
-        p.pixel = (tile.y0 + p.ty) * m_film.width() + tile.x0 + p.tx;
+        p.tile_x = t % w;
+        p.tile_y = t / w;
+        p.pixel = (tile.y0 + p.tile_y) * m_film.width() + tile.x0 + p.tile_x;
         m_pixels.push_back(p);
     }
     m_level2_pixels.clear();
@@ -124,14 +124,14 @@ inline int AdaptiveSampler::corner_of(const PixelState& p, int canonical) const 
         x = v;
         y = 1 - u;
     }
-    return (p.ty + y) * (m_tile.x1 - m_tile.x0 + 1) + p.tx + x;
+    return (p.tile_y + y) * (m_tile.x1 - m_tile.x0 + 1) + p.tile_x + x;
 }
 
 inline void AdaptiveSampler::place(const PixelState& p, int s, float& fx, float& fy) const {
     const aa::Point2 q = aa::sample_point(s);
     const double x = p.vertical ? q.v : q.u, y = p.vertical ? 1.0 - q.u : q.v;
-    fx = static_cast<float>(m_tile.x0 + p.tx + x);
-    fy = static_cast<float>(m_tile.y0 + p.ty + y);
+    fx = static_cast<float>(m_tile.x0 + p.tile_x + x);
+    fy = static_cast<float>(m_tile.y0 + p.tile_y + y);
 }
 
 bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
@@ -141,7 +141,7 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
     // so that each position's passes are one Sobol sequence
     const auto add_sample = [&](int i, int s) {
         CameraSample cs;
-        place(m_pixels[i], s, cs.fx, cs.fy);
+        place(m_pixels[i], s, cs.film_x, cs.film_y);
         cs.key = stream_key(m_seed, static_cast<uint32_t>(m_pixels[i].pixel) * aa::kMaxSamples + s);
         cs.index = pass;
         samples.push_back(cs);
@@ -161,7 +161,7 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
         for (const int i : m_spot_pixels) {
             const PixelState& p = m_pixels[i];
             const AaSpot& q = m_hints->spots[static_cast<size_t>(p.spot)];
-            const float x0 = static_cast<float>(m_tile.x0 + p.tx), y0 = static_cast<float>(m_tile.y0 + p.ty);
+            const float x0 = static_cast<float>(m_tile.x0 + p.tile_x), y0 = static_cast<float>(m_tile.y0 + p.tile_y);
             for (int k = 0; k < kSpotRays; ++k) {
                 const float gx = (static_cast<float>(k % kAaSpotGrid) + 0.5f) / kAaSpotGrid;
                 const float gy = (static_cast<float>(k / kAaSpotGrid) + 0.5f) / kAaSpotGrid;
@@ -255,11 +255,13 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
             }
         for (size_t i = 0; i < m_pixels.size(); ++i) {
             PixelState& p = m_pixels[i];
-            const int tl = p.ty * row + p.tx;
+            const int tl = p.tile_y * row + p.tile_x;
             const AaSignal *a = &m_corner_signal[tl], *b = &m_corner_signal[tl + 1], *c = &m_corner_signal[tl + row],
                            *d = &m_corner_signal[tl + row + 1];
-            const bool horizontal = m_across[p.ty * w + p.tx] || m_across[(p.ty + 1) * w + p.tx];  // A-B, C-D
-            const bool vertical = m_down[p.ty * row + p.tx] || m_down[p.ty * row + p.tx + 1];      // A-C, B-D
+            const bool horizontal =
+                m_across[p.tile_y * w + p.tile_x] || m_across[(p.tile_y + 1) * w + p.tile_x];  // A-B, C-D
+            const bool vertical =
+                m_down[p.tile_y * row + p.tile_x] || m_down[p.tile_y * row + p.tile_x + 1];  // A-C, B-D
             uint8_t hint[2] = {0, 0};
             if (m_hints != nullptr) {
                 // an edge behind what all four corners see is hidden (a surface covers the pixel)
@@ -325,8 +327,8 @@ inline bool AdaptiveSampler::in_spot(const PixelState& p, int s) const {
     const AaSpot& q = m_hints->spots[static_cast<size_t>(p.spot)];
     float fx, fy;
     place(p, s, fx, fy);
-    fx -= static_cast<float>(m_tile.x0 + p.tx);
-    fy -= static_cast<float>(m_tile.y0 + p.ty);
+    fx -= static_cast<float>(m_tile.x0 + p.tile_x);
+    fy -= static_cast<float>(m_tile.y0 + p.tile_y);
     return fx >= q.x0 && fx <= q.x1 && fy >= q.y0 && fy <= q.y1;
 }
 

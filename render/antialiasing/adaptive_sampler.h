@@ -118,7 +118,7 @@ protected:
 private:
     struct PixelState {
         int pixel;              // index in the image
-        int tx, ty;             // position in the tile
+        int tile_x, tile_y;     // position in the tile
         bool vertical = false;  // the pattern is rotated
         uint8_t zones = 0;      // level-3 zones
         uint8_t hint = 0;       // the zones a visible feature edge crosses (the geometric pre-pass)

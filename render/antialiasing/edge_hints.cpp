@@ -126,40 +126,42 @@ std::vector<EdgeUse> make_mesh_edges(const RenderScene& s) {
     int32_t nv = 0;
     for (size_t k = 0; k < 3 * nt; ++k) nv = std::max(nv, s.indices[k] + 1);
     struct Vertex {
-        uint32_t b[3];
-        int32_t v;
+        uint32_t position_bits[3];
+        int32_t index;  // -1: no triangle uses it
     };
     std::vector<Vertex> verts(static_cast<size_t>(nv), Vertex{{0, 0, 0}, -1});
     for (size_t k = 0; k < 3 * nt; ++k) {
         Vertex& x = verts[s.indices[k]];
-        if (x.v >= 0) continue;
-        x.v = s.indices[k];
+        if (x.index >= 0) continue;
+        x.index = s.indices[k];
         for (int a = 0; a < 3; ++a) {
             float f = tri[3 * k + a];
             if (f == 0) f = 0;  // -0 and +0 alike
-            std::memcpy(&x.b[a], &f, 4);
+            std::memcpy(&x.position_bits[a], &f, 4);
         }
     }
     std::sort(verts.begin(), verts.end(), [](const Vertex& x, const Vertex& y) {
-        if (x.b[0] != y.b[0]) return x.b[0] < y.b[0];
-        if (x.b[1] != y.b[1]) return x.b[1] < y.b[1];
-        if (x.b[2] != y.b[2]) return x.b[2] < y.b[2];
-        return x.v < y.v;
+        if (x.position_bits[0] != y.position_bits[0]) return x.position_bits[0] < y.position_bits[0];
+        if (x.position_bits[1] != y.position_bits[1]) return x.position_bits[1] < y.position_bits[1];
+        if (x.position_bits[2] != y.position_bits[2]) return x.position_bits[2] < y.position_bits[2];
+        return x.index < y.index;
     });
     std::vector<int32_t> place(static_cast<size_t>(nv), -1);  // vertex -> its merged place
     int32_t places = 0;
     for (size_t i = 0; i < verts.size(); ++i) {
-        if (verts[i].v < 0) continue;  // an index no triangle uses
-        const bool same = i > 0 && verts[i - 1].v >= 0 && verts[i - 1].b[0] == verts[i].b[0] &&
-                          verts[i - 1].b[1] == verts[i].b[1] && verts[i - 1].b[2] == verts[i].b[2];
+        if (verts[i].index < 0) continue;  // an index no triangle uses
+        const bool same = i > 0 && verts[i - 1].index >= 0 &&
+                          verts[i - 1].position_bits[0] == verts[i].position_bits[0] &&
+                          verts[i - 1].position_bits[1] == verts[i].position_bits[1] &&
+                          verts[i - 1].position_bits[2] == verts[i].position_bits[2];
         if (!same) ++places;
-        place[verts[i].v] = places - 1;
+        place[verts[i].index] = places - 1;
     }
     const auto merged = [&](int32_t corner) { return place[s.indices[corner]]; };
     // every triangle's edges bucketed by their lower end (counting sort), then each small
     // bucket sorted by the other end: the uses of one edge side by side
     struct EdgeRef {
-        int32_t other, t, ca, cb;
+        int32_t other, triangle, corner_a, corner_b;
     };
     std::vector<int32_t> start(static_cast<size_t>(places) + 1, 0);
     for (size_t t = 0; t < nt; ++t)
@@ -182,7 +184,7 @@ std::vector<EdgeUse> make_mesh_edges(const RenderScene& s) {
     for (int32_t p = 0; p < places; ++p) {
         const auto b0 = refs.begin() + start[p], b1 = refs.begin() + start[p + 1];
         std::sort(b0, b1, [](const EdgeRef& x, const EdgeRef& y) {
-            return x.other != y.other ? x.other < y.other : x.t < y.t;
+            return x.other != y.other ? x.other < y.other : x.triangle < y.triangle;
         });
         for (auto i = b0; i != b1;) {
             auto j = i;
@@ -191,9 +193,9 @@ std::vector<EdgeUse> make_mesh_edges(const RenderScene& s) {
             u.place[1] = i->other;
             for (; j != b1 && j->other == i->other; ++j, ++u.count)
                 if (u.count < 2) {
-                    u.tri[u.count] = j->t;
-                    u.ends[u.count][0] = j->ca;
-                    u.ends[u.count][1] = j->cb;
+                    u.tri[u.count] = j->triangle;
+                    u.ends[u.count][0] = j->corner_a;
+                    u.ends[u.count][1] = j->corner_b;
                 }
             edges.push_back(u);
             i = j;

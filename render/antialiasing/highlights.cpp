@@ -230,7 +230,7 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
                 if (mi >= s.materials.size()) continue;
                 const double alpha = double(highlight_alpha(s.materials[mi])) + sun_spread;
                 if (!(alpha < 0.5)) continue;
-                const V3 centre{balls.cx[k], balls.cy[k], balls.cz[k]};
+                const V3 centre{balls.centre_x[k], balls.centre_y[k], balls.centre_z[k]};
                 const double radius = balls.radius[k];
                 if (!(dot(eye - centre, eye - centre) > radius * radius)) continue;  // the camera inside it
                 V3 n = unit(eye - centre);

@@ -8,7 +8,7 @@ void for_each_silhouette_piece(const SphereSet& spheres, const float eye[3],
                                const std::function<void(const double* a, const double* b)>& piece) {
     constexpr double kPi = 3.14159265358979323846;
     for (size_t k = 0; k < spheres.size(); ++k) {
-        const double c[3] = {spheres.cx[k], spheres.cy[k], spheres.cz[k]}, r = spheres.radius[k];
+        const double c[3] = {spheres.centre_x[k], spheres.centre_y[k], spheres.centre_z[k]}, r = spheres.radius[k];
         const double d[3] = {c[0] - eye[0], c[1] - eye[1], c[2] - eye[2]};
         const double d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
         if (!(d2 > r * r)) continue;

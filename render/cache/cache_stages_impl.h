@@ -138,33 +138,34 @@ inline int64_t jittered_pixel(const W& w, int64_t px, int64_t py, uint32_t key) 
 }
 
 // The hemisphere a region reconstructed for point sp of pixel (px, py), as an index in
-// st.stored (added there at first use), or -1: the one the jittered pixel's pre-pass point
+// stored.in_use (added there at first use), or -1: the one the jittered pixel's pre-pass point
 // took if sp shares its surface within its reach, else the one the pixel's own pre-pass
 // point took if sp shares its surface (the sample lies within a pixel of that point), else
 // the first of its block and region sharing sp's surface with sp within its reach.
 template <class W>
-inline int32_t stored_hemisphere(const W& w, CacheState& st, const ShadingPoint& sp, int64_t px, int64_t py,
+inline int32_t stored_hemisphere(const W& w, CacheState& cache, const ShadingPoint& sp, int64_t px, int64_t py,
                                  float footprint, uint32_t key) {
+    StoredHemispheres& stored = cache.stored;
     auto take = [&](const RegionHemisphere& h) {
-        for (size_t s = 0; s < st.stored.size(); ++s)
-            if (st.stored[s] == &h) return static_cast<int32_t>(s);
-        st.stored.push_back(&h);
-        return static_cast<int32_t>(st.stored.size() - 1);
+        for (size_t s = 0; s < stored.in_use.size(); ++s)
+            if (stored.in_use[s] == &h) return static_cast<int32_t>(s);
+        stored.in_use.push_back(&h);
+        return static_cast<int32_t>(stored.in_use.size() - 1);
     };
     auto shares = [&](const RegionHemisphere& h) {
         return h.material == static_cast<int32_t>(sp.material) && shares_with(h.p, h.n, sp, footprint);
     };
     auto within_reach = [&](const RegionHemisphere& h) { return dot(sp.p - h.p, sp.p - h.p) <= h.reach * h.reach; };
-    const auto near = st.pixel_hemisphere.find(jittered_pixel(w, px, py, key));
-    if (near != st.pixel_hemisphere.end()) {
+    const auto near = stored.by_pixel.find(jittered_pixel(w, px, py, key));
+    if (near != stored.by_pixel.end()) {
         const RegionHemisphere& h = *w.scratch.cache_shared_hemispheres[near->second];
         if (shares(h) && within_reach(h)) return take(h);
     }
-    const auto own = st.pixel_hemisphere.find(py * w.scene.camera.width + px);
-    if (own != st.pixel_hemisphere.end() && shares(*w.scratch.cache_shared_hemispheres[own->second]))
+    const auto own = stored.by_pixel.find(py * w.scene.camera.width + px);
+    if (own != stored.by_pixel.end() && shares(*w.scratch.cache_shared_hemispheres[own->second]))
         return take(*w.scratch.cache_shared_hemispheres[own->second]);
-    const auto found = st.block_hemispheres.find(block_of_pixel(w.scene.camera, w.settings.cache.block, px, py));
-    if (found == st.block_hemispheres.end()) return -1;
+    const auto found = stored.by_block.find(block_of_pixel(w.scene.camera, w.settings.cache.block, px, py));
+    if (found == stored.by_block.end()) return -1;
     const int32_t region = region_of_pixel(w.scene.camera, px, py);
     for (const int32_t i : found->second) {
         const RegionHemisphere& h = *w.scratch.cache_shared_hemispheres[i];
@@ -177,84 +178,90 @@ inline int32_t stored_hemisphere(const W& w, CacheState& st, const ShadingPoint&
 // number of queries. With `stored`, a member takes the hemisphere its region reconstructed
 // where there is one (stored_hemisphere) and makes or joins a query only where there is not.
 template <class W, class Accept>
-inline size_t collect_queries(const W& w, CacheState& st, Accept accept, bool stored) {
-    const PathScratch& sc = w.scratch;
-    const size_t np = sc.sorted.size();
+inline size_t collect_queries(const W& w, CacheState& cache, Accept accept, bool stored) {
+    QueryTable& table = cache.table;
+    StoredHemispheres& hemispheres = cache.stored;
+    const PathScratch& scratch = w.scratch;
+    const size_t np = scratch.sorted.size();
     const Camera& cam = w.scene.camera;
     const int K = w.settings.cache.block;
-    st.block_hemispheres.clear();
-    st.pixel_hemisphere.clear();
-    st.stored.clear();
+    hemispheres.by_block.clear();
+    hemispheres.by_pixel.clear();
+    hemispheres.in_use.clear();
     if (stored)
-        for (size_t i = 0; i < sc.cache_shared_hemispheres.size(); ++i) {
-            const RegionHemisphere& h = *sc.cache_shared_hemispheres[i];
-            st.block_hemispheres[h.block].push_back(static_cast<int32_t>(i));
-            for (const int64_t pixel : h.pixels) st.pixel_hemisphere[pixel] = static_cast<int32_t>(i);
+        for (size_t i = 0; i < scratch.cache_shared_hemispheres.size(); ++i) {
+            const RegionHemisphere& h = *scratch.cache_shared_hemispheres[i];
+            hemispheres.by_block[h.block].push_back(static_cast<int32_t>(i));
+            for (const int64_t pixel : h.pixels) hemispheres.by_pixel[pixel] = static_cast<int32_t>(i);
         }
-    st.queries.clear();
-    st.query_point.clear();
-    st.member_point.clear();
-    st.member_query.clear();
-    st.member_own.clear();
-    st.query_of.assign(np, -1);
+    table.queries.clear();
+    table.query_point.clear();
+    table.member_point.clear();
+    table.member_query.clear();
+    table.member_own.clear();
+    table.member_of_point.assign(np, -1);
     for (size_t k = 0; k < w.scene.materials.size(); ++k) {
         if (!accept(w.scene.materials[k])) continue;
-        st.pixel_member.clear();  // per material
-        st.block_queries.clear();
-        const size_t first = sc.material_start[k], last = sc.material_start[k + 1];
+        table.pixel_member.clear();  // per material
+        table.block_queries.clear();
+        const size_t first = scratch.material_start[k], last = scratch.material_start[k + 1];
         for (size_t q = first; q < last; ++q) {
-            const ShadingPoint& sp = sc.sorted[q];
+            const ShadingPoint& sp = scratch.sorted[q];
             const CameraSample& c = w.camera_samples[sp.path];
-            const int64_t px = static_cast<int64_t>(std::floor(c.fx)), py = static_cast<int64_t>(std::floor(c.fy));
+            const int64_t px = static_cast<int64_t>(std::floor(c.film_x)),
+                          py = static_cast<int64_t>(std::floor(c.film_y));
             const int64_t pixel = py * cam.width + px;
             const float footprint = w.results[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
-            auto found = st.pixel_member.find(pixel);
-            if (found != st.pixel_member.end() && shares_with(sc.sorted[st.member_point[found->second]], sp, footprint)) {
-                st.query_of[q] = found->second;
+            auto found = table.pixel_member.find(pixel);
+            if (found != table.pixel_member.end() &&
+                shares_with(scratch.sorted[table.member_point[found->second]], sp, footprint)) {
+                table.member_of_point[q] = found->second;
                 continue;
             }
             // a new member: of its region's hemisphere, of a query of its block, or of a new one
-            std::vector<int32_t>& block = st.block_queries[block_of_pixel(cam, K, px, py)];
+            std::vector<int32_t>& block = table.block_queries[block_of_pixel(cam, K, px, py)];
             // the sample's own key (the stream key is the pixel's, shared by its samples)
-            const uint32_t key = sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q]));
+            const uint32_t key =
+                sample_key(static_cast<uint32_t>(scratch.point_keys[q]), static_cast<uint32_t>(scratch.point_index[q]));
             const Query own{sp.p, sp.ng, sp.t, sp.b, sp.n, key, kMinReusePixels * footprint / w.settings.cache.error};
-            const int32_t h = st.block_hemispheres.empty() ? -1 : stored_hemisphere(w, st, sp, px, py, footprint, key);
+            const int32_t h = hemispheres.by_block.empty() ? -1 : stored_hemisphere(w, cache, sp, px, py, footprint, key);
             int32_t query = h >= 0 ? -1 - h : -1;
             for (size_t i = 0; i < block.size() && h < 0 && query < 0; ++i)
-                if (shares_with(sc.sorted[st.query_point[block[i]]], sp, footprint)) query = block[i];
+                if (shares_with(scratch.sorted[table.query_point[block[i]]], sp, footprint)) query = block[i];
             if (h < 0 && query < 0) {
-                query = static_cast<int32_t>(st.queries.size());
-                st.queries.push_back(own);
-                st.query_point.push_back(static_cast<int32_t>(q));
+                query = static_cast<int32_t>(table.queries.size());
+                table.queries.push_back(own);
+                table.query_point.push_back(static_cast<int32_t>(q));
                 block.push_back(query);
             }
-            const int32_t member = static_cast<int32_t>(st.member_point.size());
-            st.member_own.push_back(own);
-            st.member_point.push_back(static_cast<int32_t>(q));
-            st.member_query.push_back(query);
-            st.query_of[q] = member;
-            if (found == st.pixel_member.end()) st.pixel_member.emplace(pixel, member);
+            const int32_t member = static_cast<int32_t>(table.member_point.size());
+            table.member_own.push_back(own);
+            table.member_point.push_back(static_cast<int32_t>(q));
+            table.member_query.push_back(query);
+            table.member_of_point[q] = member;
+            if (found == table.pixel_member.end()) table.pixel_member.emplace(pixel, member);
         }
     }
-    index_members(st);
-    return st.queries.size();
+    index_members(cache);
+    return table.queries.size();
 }
 
 // A member's view direction in its query's frame, or its region hemisphere's (the frames of
 // the two points of a share are within acos kShareCos; a view that would fall under that
 // horizon keeps its own).
-inline void view_in_query_frame(const PathScratch& sc, const CacheState& st, int32_t member, float* v) {
-    const int32_t q = st.member_point[member], u = st.member_query[member];
-    const float* own = sc.v_local.data() + 3 * q;
+inline void view_in_query_frame(const PathScratch& scratch, const CacheState& cache, int32_t member, float* v) {
+    const QueryTable& table = cache.table;
+    const int32_t q = table.member_point[member], u = table.member_query[member];
+    const float* own = scratch.v_local.data() + 3 * q;
     std::copy(own, own + 3, v);
-    if (u >= 0 && q == st.query_point[u]) return;
-    const ShadingPoint& a = sc.sorted[q];
+    if (u >= 0 && q == table.query_point[u]) return;
+    const ShadingPoint& a = scratch.sorted[q];
     Vec3f t, b, n;
     if (u >= 0) {
-        const ShadingPoint& r = sc.sorted[st.query_point[u]];
+        const ShadingPoint& r = scratch.sorted[table.query_point[u]];
         t = r.t, b = r.b, n = r.n;
     } else {
-        const RegionHemisphere& h = *st.stored[-1 - u];
+        const RegionHemisphere& h = *cache.stored.in_use[-1 - u];
         t = h.t, b = h.b, n = h.n;
     }
     const Vec3f world = own[0] * a.t + own[1] * a.b + own[2] * a.n;
@@ -263,33 +270,36 @@ inline void view_in_query_frame(const PathScratch& sc, const CacheState& st, int
     v[0] = dot(world, t), v[1] = dot(world, b), v[2] = z;
 }
 
-// f(l_t, v) at the texels [0, n) listed in st.l for the point's view v (st.f, RGB).
-inline void eval_at_texels(const Material& m, const float* v, float eta, CacheState& st, size_t n) {
-    float* vv = grow(st.v, 3 * n);
-    float* ee = grow(st.eta, n);
+// f(l_t, v) at the texels [0, n) listed in integration.lit_directions for the point's view v
+// (integration.bsdf_values, RGB).
+inline void eval_at_texels(const Material& m, const float* v, float eta, CacheState& cache, size_t n) {
+    HemisphereIntegration& integration = cache.integration;
+    float* vv = grow(integration.views, 3 * n);
+    float* ee = grow(integration.etas, n);
     for (size_t k = 0; k < n; ++k) std::copy(v, v + 3, vv + 3 * k), ee[k] = eta;
-    render_detail::material_eval(m, st.l.data(), vv, ee, grow(st.f, 3 * n), n);
+    render_detail::material_eval(m, integration.lit_directions.data(), vv, ee, grow(integration.bsdf_values, 3 * n), n);
 }
 
 template <class W>
-inline void add_counts(const W& w, const CacheCounts& c, const CacheState& st, size_t rays_before) {
+inline void add_counts(const W& w, const CacheCounts& c, const CacheState& cache, size_t rays_before) {
     w.scratch.cache_points += c.points;
     w.scratch.cache_queries += c.queries;
     w.scratch.cache_texels_reprojected += c.reprojected + c.from_misses;
     w.scratch.cache_texels_traced += c.traced;
-    w.scratch.rays_traced += st.inner.rays_traced - rays_before;
+    w.scratch.rays_traced += cache.inner.rays_traced - rays_before;
 }
 
 // `cache`: the materials whose texel hits take cache.hit_paths paths (split_glossy_hits): those
 // whose lobes the texels do not resolve (glass, coats, narrow lobes: what sends a cache point
 // the sun in a glossy reflection). None for cache-guided, whose guides need the light's shape.
 inline void mark_split_materials(const std::vector<Material>& materials, const IntegratorSettings& settings,
-                                 CacheState& st) {
-    st.split_material.clear();
-    st.hit_paths = settings.cache.hit_paths;
-    if (settings.mode != IntegratorMode::Cache || st.hit_paths < 2) return;
+                                 CacheState& cache) {
+    GlossyHitSplit& split = cache.glossy_split;
+    split.split_material.clear();
+    split.hit_paths = settings.cache.hit_paths;
+    if (settings.mode != IntegratorMode::Cache || split.hit_paths < 2) return;
     for (const Material& m : materials)
-        st.split_material.push_back(!m.is<Emitter>() && !texel_resolvable(m, settings.cache.resolution));
+        split.split_material.push_back(!m.is<Emitter>() && !texel_resolvable(m, settings.cache.resolution));
 }
 
 // The start of either integrator's cache stage: the worker's cache state, timed by its
@@ -297,15 +307,15 @@ inline void mark_split_materials(const std::vector<Material>& materials, const I
 // shared points of the item's regions to start from, and the texel directions.
 template <class W>
 inline CacheState& start_cache_stage(const W& w) {
-    CacheState& st = cache_state(w.scratch);
-    st.timer = &w.scratch.timer;
+    CacheState& cache = cache_state(w.scratch);
+    cache.timer = &w.scratch.timer;
     const int R = w.settings.cache.resolution;
-    collect_queries(w, st, [&](const Material& m) { return served_by_cache(w.settings.mode, m, R); },
+    collect_queries(w, cache, [&](const Material& m) { return served_by_cache(w.settings.mode, m, R); },
                     w.settings.mode == IntegratorMode::Cache);
-    st.shared = &w.scratch.cache_shared;
-    st.dirs.prepare(R);
-    mark_split_materials(w.scene.materials, w.settings, st);
-    return st;
+    cache.build.shared = &w.scratch.cache_shared;
+    cache.texel_directions.prepare(R);
+    mark_split_materials(w.scene.materials, w.settings, cache);
+    return cache;
 }
 
 // cache: the first-hit points of split_by_paths materials, each its indirect light from
@@ -314,37 +324,40 @@ inline CacheState& start_cache_stage(const W& w) {
 // next hit with its MIS weight). An unbiased estimate: path's with its first bounce split.
 template <class W, class Tracer>
 inline void split_narrow_lobes(const W& w, Tracer& trace) {
-    PathScratch& sc = w.scratch;
-    CacheState& st = cache_state(sc);
+    PathScratch& scratch = w.scratch;
+    CacheState& cache = cache_state(scratch);
+    HemisphereIntegration& integration = cache.integration;
+    CachePointBuild& build = cache.build;
     const int R = w.settings.cache.resolution;
     const size_t K = kSplitPaths;
-    st.rays.clear();
-    st.split_weight.clear();
-    float* vv = grow(st.v, 3 * K);
-    float* ee = grow(st.eta, K);
-    float* u0 = grow(st.u0, K);
-    float* u1 = grow(st.u1, K);
-    float* u2 = grow(st.u2, K);
-    float* l = grow(st.lobe_l, 3 * K);
-    float* pdf = grow(st.pdf, K);
-    const size_t rays_before = st.inner.rays_traced;
+    build.rays.clear();
+    integration.split_weights.clear();
+    float* vv = grow(integration.views, 3 * K);
+    float* ee = grow(integration.etas, K);
+    float* u0 = grow(integration.u_pick, K);
+    float* u1 = grow(integration.uniform_u, K);
+    float* u2 = grow(integration.uniform_v, K);
+    float* l = grow(integration.lobe_directions, 3 * K);
+    float* pdf = grow(integration.pdfs, K);
+    const size_t rays_before = cache.inner.rays_traced;
     for (size_t k = 0; k < w.scene.materials.size(); ++k) {
         const Material& m = w.scene.materials[k];
         if (!split_by_paths(m, R)) continue;
-        const size_t first = sc.material_start[k], last = sc.material_start[k + 1];
+        const size_t first = scratch.material_start[k], last = scratch.material_start[k + 1];
         for (size_t q = first; q < last; ++q) {
-            const ShadingPoint& sp = sc.sorted[q];
-            const uint32_t key = hash_u32(
-                sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q])) ^ 0x3c6ef372u);
+            const ShadingPoint& sp = scratch.sorted[q];
+            const uint32_t key = hash_u32(sample_key(static_cast<uint32_t>(scratch.point_keys[q]),
+                                                     static_cast<uint32_t>(scratch.point_index[q])) ^
+                                          0x3c6ef372u);
             for (size_t j = 0; j < K; ++j) {
-                std::copy(sc.v_local.data() + 3 * q, sc.v_local.data() + 3 * q + 3, vv + 3 * j);
-                ee[j] = sc.eta[q];
+                std::copy(scratch.v_local.data() + 3 * q, scratch.v_local.data() + 3 * q + 3, vv + 3 * j);
+                ee[j] = scratch.eta[q];
                 u0[j] = uniform(key, 3 * static_cast<uint32_t>(j));
                 u1[j] = uniform(key, 3 * static_cast<uint32_t>(j) + 1);
                 u2[j] = uniform(key, 3 * static_cast<uint32_t>(j) + 2);
             }
             render_detail::material_sample(m, vv, ee, u0, u1, u2, l, pdf, K);
-            float* f = grow(st.f, 3 * K);
+            float* f = grow(integration.bsdf_values, 3 * K);
             render_detail::material_eval(m, l, vv, ee, f, K);
             const Vec3f o = sp.p + w.ray_offset * sp.ng;
             for (size_t j = 0; j < K; ++j) {
@@ -353,106 +366,113 @@ inline void split_narrow_lobes(const W& w, Tracer& trace) {
                 const Vec3f wd = normalize(d[0] * sp.t + d[1] * sp.b + d[2] * sp.n);
                 if (!(dot(wd, sp.ng) > 0)) continue;
                 const float s = d[2] / (pdf[j] * static_cast<float>(K));
-                for (int c = 0; c < 3; ++c) st.split_weight.push_back(f[3 * j + c] * s);
-                st.rays.push(o, wd, key, static_cast<uint32_t>(j), static_cast<int32_t>(q));
+                for (int c = 0; c < 3; ++c) integration.split_weights.push_back(f[3 * j + c] * s);
+                build.rays.push(o, wd, key, static_cast<uint32_t>(j), static_cast<int32_t>(q));
             }
-            sc.cached[sp.path] = 1;
+            scratch.cached[sp.path] = 1;
         }
     }
-    if (st.rays.size() == 0) return;
-    trace_queue(st, trace);
-    for (size_t r = 0; r < st.rays.size(); ++r) {
-        const int32_t path = sc.sorted[st.rays.where[r]].path;
-        const float* Tp = sc.throughput.data() + 3 * path;
+    if (build.rays.size() == 0) return;
+    trace_queue(cache, trace);
+    for (size_t r = 0; r < build.rays.size(); ++r) {
+        const int32_t path = scratch.sorted[build.rays.where[r]].path;
+        const float* Tp = scratch.throughput.data() + 3 * path;
         for (int c = 0; c < 3; ++c)
-            w.results[path].rgb[c] += Tp[c] * st.split_weight[3 * r + c] * st.results[r].rgb[c];
+            w.results[path].rgb[c] += Tp[c] * integration.split_weights[3 * r + c] * build.results[r].rgb[c];
     }
-    w.scratch.rays_traced += st.inner.rays_traced - rays_before;
-    st.lap(Stage::CacheSplit);
+    w.scratch.rays_traced += cache.inner.rays_traced - rays_before;
+    cache.lap(Stage::CacheSplit);
 }
 
 // cache: the indirect light of every first-hit point but those left to the path tracer
 // (left_to_path), from the cache.
 template <class W, class Tracer>
 inline void add_cached_indirect(const W& w, Tracer& trace) {
-    PathScratch& sc = w.scratch;
-    CacheState& st = start_cache_stage(w);
+    PathScratch& scratch = w.scratch;
+    CacheState& cache = start_cache_stage(w);
+    HemisphereIntegration& integration = cache.integration;
+    QueryTable& table = cache.table;
     const CacheSettings& cfg = w.settings.cache;
     const int R = cfg.resolution;
     const size_t T = static_cast<size_t>(R) * R;
     const float texel = texel_solid_angle(R);
-    const size_t rays_before = st.inner.rays_traced;
+    const size_t rays_before = cache.inner.rays_traced;
     // one member's indirect light from its query's radiance; the texels with light (count of
-    // them in st.l, st.rgb) listed once for all the query's members
+    // them in integration.lit_directions and lit_radiance) listed once for all the query's members
     auto integrate = [&](int32_t member, const float* radiance, size_t count) {
-        const size_t q = st.member_point[member];
-        const ShadingPoint& sp = sc.sorted[q];
+        const size_t q = table.member_point[member];
+        const ShadingPoint& sp = scratch.sorted[q];
         const Material& m = w.scene.materials[sp.material];
         float v[3];
-        view_in_query_frame(sc, st, member, v);
+        view_in_query_frame(scratch, cache, member, v);
         double sum[3] = {0, 0, 0};
         if (texel_resolvable(m, R)) {
             // the texels with light, N at a time through the BRDF
-            const float* l = st.l.data();
-            const float* rgb = st.rgb.data();
+            const float* l = integration.lit_directions.data();
+            const float* rgb = integration.lit_radiance.data();
             if (count > 0) {
-                eval_at_texels(m, v, sc.eta[q], st, count);
+                eval_at_texels(m, v, scratch.eta[q], cache, count);
+                const float* f = integration.bsdf_values.data();  // grown by eval_at_texels
                 for (size_t k = 0; k < count; ++k)
                     for (int c = 0; c < 3; ++c)
-                        sum[c] += static_cast<double>(st.f[3 * k + c]) * rgb[3 * k + c] * l[3 * k + 2];
+                        sum[c] += static_cast<double>(f[3 * k + c]) * rgb[3 * k + c] * l[3 * k + 2];
             }
             for (double& s : sum) s *= texel;
         } else {
             // a narrow lobe: its own importance sampling, the radiance looked up in the texture
             const size_t K = kLookupSamples;
-            float* vv = grow(st.v, 3 * K);
-            float* ee = grow(st.eta, K);
-            float* u0 = grow(st.u0, K);
-            float* u1 = grow(st.u1, K);
-            float* u2 = grow(st.u2, K);
-            const uint32_t key = hash_u32(
-                sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q])) ^ 0x2545f491u);
+            float* vv = grow(integration.views, 3 * K);
+            float* ee = grow(integration.etas, K);
+            float* u0 = grow(integration.u_pick, K);
+            float* u1 = grow(integration.uniform_u, K);
+            float* u2 = grow(integration.uniform_v, K);
+            const uint32_t key = hash_u32(sample_key(static_cast<uint32_t>(scratch.point_keys[q]),
+                                                     static_cast<uint32_t>(scratch.point_index[q])) ^
+                                          0x2545f491u);
             for (size_t k = 0; k < K; ++k) {
                 std::copy(v, v + 3, vv + 3 * k);
-                ee[k] = sc.eta[q];
+                ee[k] = scratch.eta[q];
                 u0[k] = uniform(key, 3 * static_cast<uint32_t>(k));
                 u1[k] = uniform(key, 3 * static_cast<uint32_t>(k) + 1);
                 u2[k] = uniform(key, 3 * static_cast<uint32_t>(k) + 2);
             }
-            float* l = grow(st.lobe_l, 3 * K);
-            float* pdf = grow(st.pdf, K);
+            float* l = grow(integration.lobe_directions, 3 * K);
+            float* pdf = grow(integration.pdfs, K);
             render_detail::material_sample(m, vv, ee, u0, u1, u2, l, pdf, K);
-            render_detail::material_eval(m, l, vv, ee, grow(st.f, 3 * K), K);
+            render_detail::material_eval(m, l, vv, ee, grow(integration.bsdf_values, 3 * K), K);
             for (size_t k = 0; k < K; ++k) {
                 const float* d = l + 3 * k;
                 if (!(pdf[k] > 0) || !(d[2] > 0)) continue;
                 const float* L = radiance + 3 * texel_of(d[0], d[1], d[2], R);
-                for (int c = 0; c < 3; ++c) sum[c] += static_cast<double>(st.f[3 * k + c]) * d[2] / pdf[k] * L[c];
+                const float* f = integration.bsdf_values.data() + 3 * k;
+                for (int c = 0; c < 3; ++c) sum[c] += static_cast<double>(f[c]) * d[2] / pdf[k] * L[c];
             }
             for (double& s : sum) s /= static_cast<double>(K);
         }
-        for (int c = 0; c < 3; ++c) st.sums[3 * member + c] = static_cast<float>(sum[c]);
+        for (int c = 0; c < 3; ++c) integration.member_light[3 * member + c] = static_cast<float>(sum[c]);
     };
+    const TexelDirections& directions = cache.texel_directions;
     // the members [begin, end) of one hemisphere (a query's or a region's)
     auto consume_members = [&](const int32_t* begin, const int32_t* end, const float* radiance) {
-        float* l = grow(st.l, 3 * T);
-        float* rgb = grow(st.rgb, 3 * T);
+        float* l = grow(integration.lit_directions, 3 * T);
+        float* rgb = grow(integration.lit_radiance, 3 * T);
         size_t count = 0;
         for (size_t t = 0; t < T; ++t) {
             const float* L = radiance + 3 * t;
             if (!(L[0] > 0 || L[1] > 0 || L[2] > 0)) continue;
-            l[3 * count] = st.dirs.x[t], l[3 * count + 1] = st.dirs.y[t], l[3 * count + 2] = st.dirs.z[t];
+            l[3 * count] = directions.x[t], l[3 * count + 1] = directions.y[t], l[3 * count + 2] = directions.z[t];
             std::copy(L, L + 3, rgb + 3 * count);
             ++count;
         }
         int32_t lambert = -1;  // the query's last Lambert member: its integral does not depend on the view
         for (const int32_t* i = begin; i < end; ++i) {
             const int32_t member = *i;
-            const ShadingPoint& sp = sc.sorted[st.member_point[member]];
+            const ShadingPoint& sp = scratch.sorted[table.member_point[member]];
             const Material& m = w.scene.materials[sp.material];
             const bool plain = m.is<Lambert>() && !m.coat;
-            if (plain && lambert >= 0 && sc.sorted[st.member_point[lambert]].material == sp.material) {
-                std::copy(st.sums.begin() + 3 * lambert, st.sums.begin() + 3 * lambert + 3, st.sums.begin() + 3 * member);
+            if (plain && lambert >= 0 && scratch.sorted[table.member_point[lambert]].material == sp.material) {
+                const auto from = integration.member_light.begin() + 3 * lambert;
+                std::copy(from, from + 3, integration.member_light.begin() + 3 * member);
                 continue;
             }
             integrate(member, radiance, count);
@@ -460,32 +480,34 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
         }
     };
     auto consume = [&](size_t qi, const float* radiance) {
-        const int32_t* m = st.query_members.data();
-        consume_members(m + st.query_first[qi], m + st.query_first[qi + 1], radiance);
+        const int32_t* m = table.query_members.data();
+        consume_members(m + table.query_first[qi], m + table.query_first[qi + 1], radiance);
     };
-    st.sums.assign(3 * st.member_point.size(), 0.0f);
-    CacheCounts c = reconstruct_hemispheres(cfg, w.ray_offset, true, st, trace, consume);
+    integration.member_light.assign(3 * table.member_point.size(), 0.0f);
+    CacheCounts c = reconstruct_hemispheres(cfg, w.ray_offset, true, cache, trace, consume);
     // the members of the regions' hemispheres
-    for (size_t s = 0; s < st.stored.size(); ++s) {
-        const int32_t* m = st.stored_members.data();
-        consume_members(m + st.stored_first[s], m + st.stored_first[s + 1], st.stored[s]->radiance.data());
+    const StoredHemispheres& stored = cache.stored;
+    for (size_t s = 0; s < stored.in_use.size(); ++s) {
+        const int32_t* m = stored.members.data();
+        consume_members(m + stored.first[s], m + stored.first[s + 1], stored.in_use[s]->radiance.data());
     }
-    c.queries += st.stored.size();
-    st.lap(Stage::CacheIntegrate);
-    add_counts(w, c, st, rays_before);
+    c.queries += stored.in_use.size();
+    cache.lap(Stage::CacheIntegrate);
+    add_counts(w, c, cache, rays_before);
     // every point of a member: its indirect light
-    for (size_t q = 0; q < sc.sorted.size(); ++q) {
-        if (st.query_of[q] < 0) continue;
-        const int32_t path = sc.sorted[q].path;
-        const float* Tp = sc.throughput.data() + 3 * path;
-        for (int k = 0; k < 3; ++k) w.results[path].rgb[k] += Tp[k] * st.sums[3 * st.query_of[q] + k];
-        sc.cached[path] = 1;
+    for (size_t q = 0; q < scratch.sorted.size(); ++q) {
+        if (table.member_of_point[q] < 0) continue;
+        const int32_t path = scratch.sorted[q].path;
+        const float* Tp = scratch.throughput.data() + 3 * path;
+        const float* light = integration.member_light.data() + 3 * table.member_of_point[q];
+        for (int k = 0; k < 3; ++k) w.results[path].rgb[k] += Tp[k] * light[k];
+        scratch.cached[path] = 1;
     }
     split_narrow_lobes(w, trace);
 }
 
 // The cache points of an image region (render/cache/cache_regions.h) from its pre-pass's
-// first-hit points (sc.sorted: one a pixel, at its centre): the queries a work item would
+// first-hit points (scratch.sorted: one a pixel, at its centre): the queries a work item would
 // make of them (collect_queries: a block's close points of the materials the cache serves
 // share one) are placed in rounds as an item's are (with no shared points to start from),
 // built, and moved to `out` without their build-only data.
@@ -497,51 +519,55 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
 template <class W, class Tracer>
 inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoint>& out,
                                 std::vector<RegionHemisphere>& hemispheres) {
-    PathScratch& sc = w.scratch;
-    CacheState& st = cache_state(sc);
-    st.timer = &sc.timer;
+    PathScratch& scratch = w.scratch;
+    CacheState& cache = cache_state(scratch);
+    cache.timer = &scratch.timer;
+    QueryTable& table = cache.table;
+    CachePointBuild& build = cache.build;
     const CacheSettings& cfg = w.settings.cache;
     const auto served = [&](const Material& m) { return served_by_cache(w.settings.mode, m, cfg.resolution); };
-    collect_queries(w, st, served, false);
-    st.shared = nullptr;
-    mark_split_materials(w.scene.materials, w.settings, st);
-    const size_t rays_before = st.inner.rays_traced;
+    collect_queries(w, cache, served, false);
+    build.shared = nullptr;
+    mark_split_materials(w.scene.materials, w.settings, cache);
+    const size_t rays_before = cache.inner.rays_traced;
     hemispheres.clear();
     if (w.settings.mode == IntegratorMode::Cache) {
         const Camera& cam = w.scene.camera;
         const size_t T = static_cast<size_t>(cfg.resolution) * cfg.resolution;
         auto keep = [&](size_t qi, const float* radiance) {
-            const ShadingPoint& sp = sc.sorted[st.query_point[qi]];
+            const ShadingPoint& sp = scratch.sorted[table.query_point[qi]];
             const CameraSample& c = w.camera_samples[sp.path];
-            const int64_t px = static_cast<int64_t>(std::floor(c.fx)), py = static_cast<int64_t>(std::floor(c.fy));
+            const int64_t px = static_cast<int64_t>(std::floor(c.film_x)),
+                          py = static_cast<int64_t>(std::floor(c.film_y));
             RegionHemisphere h;
             h.block = block_of_pixel(cam, cfg.block, px, py);
             h.region = region_of_pixel(cam, px, py);
             h.material = static_cast<int32_t>(sp.material);
             h.p = sp.p, h.n = sp.n, h.t = sp.t, h.b = sp.b;
-            h.reach = kShareError * st.pool[st.assigned[qi]]->reuse_radius;
+            h.reach = kShareError * build.pool[build.assigned[qi]]->reuse_radius;
             h.radiance.assign(radiance, radiance + 3 * T);
             hemispheres.push_back(std::move(h));
         };
-        const CacheCounts c = reconstruct_hemispheres(cfg, w.ray_offset, true, st, trace, keep);
+        const CacheCounts c = reconstruct_hemispheres(cfg, w.ray_offset, true, cache, trace, keep);
         // (consumed in order: hemisphere u is query u) each pre-pass pixel's
-        for (size_t m = 0; m < st.member_point.size(); ++m) {
-            const CameraSample& cm = w.camera_samples[sc.sorted[st.member_point[m]].path];
-            const int64_t px = static_cast<int64_t>(std::floor(cm.fx)), py = static_cast<int64_t>(std::floor(cm.fy));
-            hemispheres[st.member_query[m]].pixels.push_back(py * cam.width + px);
+        for (size_t m = 0; m < table.member_point.size(); ++m) {
+            const CameraSample& cm = w.camera_samples[scratch.sorted[table.member_point[m]].path];
+            const int64_t px = static_cast<int64_t>(std::floor(cm.film_x)),
+                          py = static_cast<int64_t>(std::floor(cm.film_y));
+            hemispheres[table.member_query[m]].pixels.push_back(py * cam.width + px);
         }
-        sc.cache_texels_reprojected += c.reprojected + c.from_misses;
-        sc.cache_texels_traced += c.traced;
+        scratch.cache_texels_reprojected += c.reprojected + c.from_misses;
+        scratch.cache_texels_traced += c.traced;
     } else {
-        place_cache_points(cfg, w.ray_offset, st.queries.data(), st.queries.size(), st, trace);
+        place_cache_points(cfg, w.ray_offset, table.queries.data(), table.queries.size(), cache, trace);
     }
     out.clear();
-    for (size_t a = 0; a < st.used; ++a) {
-        out.push_back(std::move(st.points[a]));
+    for (size_t a = 0; a < build.used; ++a) {
+        out.push_back(std::move(build.points[a]));
         drop_build_data(out.back());
     }
-    sc.cache_points += st.used;
-    sc.rays_traced += st.inner.rays_traced - rays_before;
+    scratch.cache_points += build.used;
+    scratch.rays_traced += cache.inner.rays_traced - rays_before;
 }
 
 }  // namespace cache

@@ -55,23 +55,23 @@ struct GuidePool {
     std::vector<float> cdf;       // per point R^2 cumulative probabilities (when ready)
     std::vector<uint8_t> ready;   // 0: not built yet, 1: built, 2: no light (no guide)
     std::vector<float> cell;      // scratch of guide_cdf
-    // the uniform grid: cell (i, j, k) of side h holds the points whose reach meets it
-    float h = 0;
+    // the uniform grid: cell (i, j, k) of side cell_side holds the points whose reach meets it
+    float cell_side = 0;
     std::unordered_map<int64_t, std::vector<int32_t>> grid;
     std::vector<int32_t> everywhere;  // points of unbounded reach (no hits: infinite radius)
-    std::vector<int32_t> of;          // per shading point of the bounce: its guide point, or -1
+    std::vector<int32_t> cache_point_of;  // per shading point of the bounce: its guide point, or -1
     // the trained guide (render/guiding/guide_field.h), where there is one: per shading point
     // of the bounce that no cache point guides, its field distribution, or -1
     const guiding::GuideField* field = nullptr;
     std::vector<int32_t> field_of;
     bool any = false;  // some point of the bounce is guided
-    void clear() { points.clear(), of.clear(), field_of.clear(), any = false; }
-    bool guides(size_t q) const { return of[q] >= 0 || field_of[q] >= 0; }
+    void clear() { points.clear(), cache_point_of.clear(), field_of.clear(), any = false; }
+    bool guides(size_t q) const { return cache_point_of[q] >= 0 || field_of[q] >= 0; }
 
     static int64_t key(int64_t i, int64_t j, int64_t k) {
         return ((i & 0x1fffff) << 42) | ((j & 0x1fffff) << 21) | (k & 0x1fffff);
     }
-    int64_t cell_of(float x) const { return static_cast<int64_t>(std::floor(x / h)); }
+    int64_t cell_of(float x) const { return static_cast<int64_t>(std::floor(x / cell_side)); }
 
     // Made for each batch (a batch's own cache points reuse the memory of the last one's).
     void prepare(const std::vector<const CachePoint*>& pool, int R) {
@@ -90,12 +90,12 @@ struct GuidePool {
             return;
         }
         std::nth_element(reach.begin(), reach.begin() + reach.size() / 2, reach.end());
-        h = std::max(reach[reach.size() / 2], 1e-6f);
+        cell_side = std::max(reach[reach.size() / 2], 1e-6f);
         for (size_t a = 0; a < points.size(); ++a) {
             const CachePoint& p = *points[a];
             const float r = kGuideBound * p.reuse_radius;
             // a reach of more than 8 cells a side is tested everywhere (few such points)
-            if (!std::isfinite(r) || r > 8 * h) {
+            if (!std::isfinite(r) || r > 8 * cell_side) {
                 everywhere.push_back(static_cast<int32_t>(a));
                 continue;
             }
@@ -119,7 +119,7 @@ struct GuidePool {
             if (e <= best_error && (best < 0 || e < best_error || a < best)) best = a, best_error = e;
         };
         for (const int32_t a : everywhere) test(a);
-        if (h > 0) {
+        if (cell_side > 0) {
             const auto found = grid.find(key(cell_of(p.x), cell_of(p.y), cell_of(p.z)));
             if (found != grid.end())
                 for (const int32_t a : found->second) test(a);
@@ -138,6 +138,14 @@ struct GuidePool {
         }
         return ready[a] == 1 ? c : nullptr;
     }
+};
+
+// cache-guided, per shading point of the bounce before BRDF sampling (guided_picks,
+// guided_stages_impl.h): whether it draws its direction from its guide, and the uniform that
+// then picks the guide's texel (read by guided_directions).
+struct GuideChoices {
+    std::vector<uint8_t> chose_guide;
+    std::vector<float> guide_pick;
 };
 
 // The density (solid angle) of cache point a's guide `cdf` at world direction d (unit).

@@ -26,8 +26,8 @@ namespace cache {
 // (cache.train_passes 0), whose full incident radiance guides the first bounce better than
 // the cache points' direct light at their hits (docs/radiance-cache.md, "The trained
 // guide"); never in a training pass, whose vertices are recorded for the guide alone.
-inline bool cache_points_guide(const PathScratch& sc, const CacheSettings& cfg) {
-    return sc.guide_sink == nullptr && cfg.train_passes == 0;
+inline bool cache_points_guide(const PathScratch& scratch, const CacheSettings& cfg) {
+    return scratch.guide_sink == nullptr && cfg.train_passes == 0;
 }
 
 // cache-guided, at the first hit: the cache points this batch's guides come from -- the
@@ -36,16 +36,17 @@ inline bool cache_points_guide(const PathScratch& sc, const CacheSettings& cfg) 
 template <class W, class Tracer>
 inline void place_guide_points(const W& w, Tracer& trace) {
     if (!cache_points_guide(w.scratch, w.settings.cache)) return;
-    CacheState& st = start_cache_stage(w);
-    const size_t rays_before = st.inner.rays_traced;
-    place_cache_points(w.settings.cache, w.ray_offset, st.queries.data(), st.queries.size(), st, trace);
-    w.scratch.cache_points += st.used;
-    w.scratch.cache_queries += st.queries.size();
-    w.scratch.rays_traced += st.inner.rays_traced - rays_before;
-    if (st.pool.empty())  // no queries: the shared points alone
-        for (const CachePoint* a : w.scratch.cache_shared) st.pool.push_back(a);
-    st.guides.prepare(st.pool, w.settings.cache.resolution);
-    st.lap(Stage::CachePlace);
+    CacheState& cache = start_cache_stage(w);
+    const size_t rays_before = cache.inner.rays_traced;
+    const std::vector<Query>& queries = cache.table.queries;
+    place_cache_points(w.settings.cache, w.ray_offset, queries.data(), queries.size(), cache, trace);
+    w.scratch.cache_points += cache.build.used;
+    w.scratch.cache_queries += cache.table.queries.size();
+    w.scratch.rays_traced += cache.inner.rays_traced - rays_before;
+    if (cache.build.pool.empty())  // no queries: the shared points alone
+        for (const CachePoint* a : w.scratch.cache_shared) cache.build.pool.push_back(a);
+    cache.guides.prepare(cache.build.pool, w.settings.cache.resolution);
+    cache.lap(Stage::CachePlace);
 }
 
 // The bounces the cache points guide: the first hit's. Guiding every bounce from the same
@@ -70,83 +71,83 @@ inline bool field_guidable(const Material& m) {
 }
 
 // cache-guided, at every bounce before light sampling: each shading point's guide -- at the
-// first bounce its cache point (st.guides.of) where the cache points guide, for the
+// first bounce its cache point (cache.guides.cache_point_of) where the cache points guide, for the
 // materials whose lobes the texels resolve; else, at the first cache.train_bounces bounces,
-// its trained guide's distribution (st.guides.field_of), for the materials field_guidable
+// its trained guide's distribution (cache.guides.field_of), for the materials field_guidable
 // takes.
 template <class W>
 inline void assign_guides(const W& w, int depth) {
-    PathScratch& sc = w.scratch;
-    CacheState& st = cache_state(sc);
-    GuidePool& g = st.guides;
+    PathScratch& scratch = w.scratch;
+    CacheState& cache = cache_state(scratch);
+    GuidePool& pool = cache.guides;
     const int R = w.settings.cache.resolution;
-    const size_t np = sc.sorted.size();
-    g.of.assign(np, -1);
-    g.field_of.assign(np, -1);
-    g.any = false;
-    g.field = sc.guide_field;
-    if (depth < kGuidedBounces && !g.points.empty() && g.resolution == R) {
-        st.dirs.prepare(R);
+    const size_t np = scratch.sorted.size();
+    pool.cache_point_of.assign(np, -1);
+    pool.field_of.assign(np, -1);
+    pool.any = false;
+    pool.field = scratch.guide_field;
+    if (depth < kGuidedBounces && !pool.points.empty() && pool.resolution == R) {
+        cache.texel_directions.prepare(R);
         for (size_t k = 0; k < w.scene.materials.size(); ++k) {
             if (!texel_resolvable(w.scene.materials[k], R)) continue;
-            const size_t first = sc.material_start[k], last = sc.material_start[k + 1];
+            const size_t first = scratch.material_start[k], last = scratch.material_start[k + 1];
             for (size_t q = first; q < last; ++q) {
-                const ShadingPoint& sp = sc.sorted[q];
-                const int32_t a = g.find(sp.p, sp.n);
-                if (a >= 0 && g.guide(a, st.dirs)) g.of[q] = a, g.any = true;
+                const ShadingPoint& sp = scratch.sorted[q];
+                const int32_t a = pool.find(sp.p, sp.n);
+                if (a >= 0 && pool.guide(a, cache.texel_directions)) pool.cache_point_of[q] = a, pool.any = true;
             }
         }
     }
-    if (g.field != nullptr && !g.field->empty() && depth < w.settings.cache.train_bounces)
+    if (pool.field != nullptr && !pool.field->empty() && depth < w.settings.cache.train_bounces)
         for (size_t k = 0; k < w.scene.materials.size(); ++k) {
             if (!field_guidable(w.scene.materials[k])) continue;
-            const size_t first = sc.material_start[k], last = sc.material_start[k + 1];
+            const size_t first = scratch.material_start[k], last = scratch.material_start[k + 1];
             for (size_t q = first; q < last; ++q) {
-                if (g.of[q] >= 0) continue;
-                const ShadingPoint& sp = sc.sorted[q];
+                if (pool.cache_point_of[q] >= 0) continue;
+                const ShadingPoint& sp = scratch.sorted[q];
                 const float at[3] = {sp.p.x, sp.p.y, sp.p.z}, n[3] = {sp.n.x, sp.n.y, sp.n.z};
-                g.field_of[q] = g.field->distribution_at(at, n);
-                g.any = g.any || g.field_of[q] >= 0;
+                pool.field_of[q] = pool.field->distribution_at(at, n);
+                pool.any = pool.any || pool.field_of[q] >= 0;
             }
         }
-    sc.timer.lap(Stage::CacheIntegrate);
+    scratch.timer.lap(Stage::CacheIntegrate);
 }
 
 // The probability of the guide's strategy in the mixture: cache.guide for the cache points',
 // cache.train_guide for the trained guide's (one a bounce: the two never guide one bounce).
-inline float guide_probability(const GuidePool& g, const CacheSettings& cfg) {
-    return g.field != nullptr ? cfg.train_guide : cfg.guide;
+inline float guide_probability(const GuidePool& pool, const CacheSettings& cfg) {
+    return pool.field != nullptr ? cfg.train_guide : cfg.guide;
 }
 
-inline bool guided_here(const PathScratch& sc) {
-    if (!sc.cache) return false;
-    const GuidePool& g = static_cast<const CacheState*>(sc.cache.get())->guides;
-    return g.any && g.of.size() == sc.sorted.size();
+inline bool guided_here(const PathScratch& scratch) {
+    if (!scratch.cache) return false;
+    const GuidePool& pool = static_cast<const CacheState*>(scratch.cache.get())->guides;
+    return pool.any && pool.cache_point_of.size() == scratch.sorted.size();
 }
 
 // The guide's density at point q's local direction l (0 without a guide).
-inline float guide_density(const PathScratch& sc, const GuidePool& g, size_t q, const float* l) {
-    const int32_t a = g.of[q];
-    if (a < 0 && g.field_of[q] < 0) return 0.0f;
-    const ShadingPoint& sp = sc.sorted[q];
+inline float guide_density(const PathScratch& scratch, const GuidePool& pool, size_t q, const float* l) {
+    const int32_t a = pool.cache_point_of[q];
+    if (a < 0 && pool.field_of[q] < 0) return 0.0f;
+    const ShadingPoint& sp = scratch.sorted[q];
     const Vec3f d = l[0] * sp.t + l[1] * sp.b + l[2] * sp.n;
     if (a < 0) {
         const Vec3f u = normalize(d);
         const float dir[3] = {u.x, u.y, u.z};
-        return g.field->pdf(g.field_of[q], dir);
+        return pool.field->pdf(pool.field_of[q], dir);
     }
-    const size_t T = static_cast<size_t>(g.resolution) * g.resolution;
-    return pool_guide_pdf(*g.points[a], g.cdf.data() + static_cast<size_t>(a) * T, g.resolution, d);
+    const size_t T = static_cast<size_t>(pool.resolution) * pool.resolution;
+    return pool_guide_pdf(*pool.points[a], pool.cdf.data() + static_cast<size_t>(a) * T, pool.resolution, d);
 }
 
 // cache-guided, light sampling: the BRDF-sampling density each light sample's MIS weight
 // compares with is the mixture's at the guided points.
-inline void mix_light_pdfs(const PathScratch& sc, const CacheSettings& cfg, const float* l, float* pdf, size_t n) {
-    if (!guided_here(sc)) return;
-    const GuidePool& g = static_cast<const CacheState*>(sc.cache.get())->guides;
-    const float a = guide_probability(g, cfg);
+inline void mix_light_pdfs(const PathScratch& scratch, const CacheSettings& cfg, const float* l, float* pdf, size_t n) {
+    if (!guided_here(scratch)) return;
+    const GuidePool& pool = static_cast<const CacheState*>(scratch.cache.get())->guides;
+    const float a = guide_probability(pool, cfg);
     for (size_t q = 0; q < n; ++q)
-        if (g.guides(q)) pdf[q] = a * guide_density(sc, g, q, l + 3 * q) + (1.0f - a) * pdf[q];
+        if (pool.guides(q)) pdf[q] = a * guide_density(scratch, pool, q, l + 3 * q) + (1.0f - a) * pdf[q];
 }
 
 // cache-guided, before BRDF sampling: each guided point's strategy from its pick uniform
@@ -154,19 +155,20 @@ inline void mix_light_pdfs(const PathScratch& sc, const CacheSettings& cfg, cons
 // (the guide's texel, or the BRDF's own lobe).
 template <class W>
 inline void guided_picks(const W& w) {
-    PathScratch& sc = w.scratch;
-    CacheState& st = cache_state(sc);
-    const size_t np = sc.sorted.size();
-    st.chose_guide.assign(np, 0);
-    st.guide_pick.assign(np, 0.0f);
-    if (!guided_here(sc)) return;
-    const float a = guide_probability(st.guides, w.settings.cache);
-    float* pick = sc.u_pick.data();
+    PathScratch& scratch = w.scratch;
+    CacheState& cache = cache_state(scratch);
+    GuideChoices& choices = cache.guide_choices;
+    const size_t np = scratch.sorted.size();
+    choices.chose_guide.assign(np, 0);
+    choices.guide_pick.assign(np, 0.0f);
+    if (!guided_here(scratch)) return;
+    const float a = guide_probability(cache.guides, w.settings.cache);
+    float* pick = scratch.u_pick.data();
     for (size_t q = 0; q < np; ++q) {
-        if (!st.guides.guides(q)) continue;
+        if (!cache.guides.guides(q)) continue;
         if (pick[q] < a) {
-            st.chose_guide[q] = 1;
-            st.guide_pick[q] = std::min(pick[q] / a, 0x1.fffffep-1f);
+            choices.chose_guide[q] = 1;
+            choices.guide_pick[q] = std::min(pick[q] / a, 0x1.fffffep-1f);
         } else {
             pick[q] = std::min((pick[q] - a) / (1.0f - a), 0x1.fffffep-1f);
         }
@@ -177,48 +179,49 @@ inline void guided_picks(const W& w) {
 // then for every guided point the BRDF value and the mixture's density.
 template <class W>
 inline void guided_directions(const W& w) {
-    PathScratch& sc = w.scratch;
-    CacheState& st = cache_state(sc);
-    if (!guided_here(sc)) return;
-    const GuidePool& g = st.guides;
-    const int R = g.resolution;
-    const size_t T = static_cast<size_t>(R) * R, np = sc.sorted.size();
-    const float a = guide_probability(g, w.settings.cache);
-    float* ll = sc.l_local.data();
+    PathScratch& scratch = w.scratch;
+    CacheState& cache = cache_state(scratch);
+    if (!guided_here(scratch)) return;
+    const GuidePool& pool = cache.guides;
+    const GuideChoices& choices = cache.guide_choices;
+    const int R = pool.resolution;
+    const size_t T = static_cast<size_t>(R) * R, np = scratch.sorted.size();
+    const float a = guide_probability(pool, w.settings.cache);
+    float* ll = scratch.l_local.data();
     bool any = false;
     for (size_t q = 0; q < np; ++q) {
-        if (!g.guides(q)) continue;
+        if (!pool.guides(q)) continue;
         any = true;
-        if (!st.chose_guide[q]) continue;
-        const int32_t p = g.of[q];
+        if (!choices.chose_guide[q]) continue;
+        const int32_t p = pool.cache_point_of[q];
         Vec3f d;
         if (p >= 0)
-            d = pool_guide_sample(*g.points[p], g.cdf.data() + static_cast<size_t>(p) * T, R, st.guide_pick[q],
-                                  sc.u1[q], sc.u2[q]);
+            d = pool_guide_sample(*pool.points[p], pool.cdf.data() + static_cast<size_t>(p) * T, R,
+                                  choices.guide_pick[q], scratch.uniform_u[q], scratch.uniform_v[q]);
         else {
             float dir[3];
-            g.field->sample(g.field_of[q], sc.u1[q], sc.u2[q], dir);
+            pool.field->sample(pool.field_of[q], scratch.uniform_u[q], scratch.uniform_v[q], dir);
             d = Vec3f{dir[0], dir[1], dir[2]};
         }
-        const ShadingPoint& sp = sc.sorted[q];
+        const ShadingPoint& sp = scratch.sorted[q];
         ll[3 * q] = dot(d, sp.t), ll[3 * q + 1] = dot(d, sp.b), ll[3 * q + 2] = dot(d, sp.n);
     }
     if (!any) return;
-    const float* vl = sc.v_local.data();
-    const float* eta = sc.eta.data();
-    float* fv = sc.bsdf_rgb.data();
-    float* pdf = sc.pdf.data();
+    const float* vl = scratch.v_local.data();
+    const float* eta = scratch.eta.data();
+    float* fv = scratch.bsdf_rgb.data();
+    float* pdf = scratch.pdf.data();
     for (size_t k = 0; k < w.scene.materials.size(); ++k) {
-        const size_t b = sc.material_start[k], count = sc.material_start[k + 1] - b;
+        const size_t b = scratch.material_start[k], count = scratch.material_start[k + 1] - b;
         bool guided = false;
-        for (size_t q = b; q < b + count && !guided; ++q) guided = g.guides(q);
+        for (size_t q = b; q < b + count && !guided; ++q) guided = pool.guides(q);
         if (!guided) continue;
         const Material& m = w.scene.materials[k];
         render_detail::material_eval(m, ll + 3 * b, vl + 3 * b, eta + b, fv + 3 * b, count);
         render_detail::material_pdf(m, ll + 3 * b, vl + 3 * b, eta + b, pdf + b, count);
     }
     for (size_t q = 0; q < np; ++q)
-        if (g.guides(q)) pdf[q] = a * guide_density(sc, g, q, ll + 3 * q) + (1.0f - a) * pdf[q];
+        if (pool.guides(q)) pdf[q] = a * guide_density(scratch, pool, q, ll + 3 * q) + (1.0f - a) * pdf[q];
 }
 
 }  // namespace cache

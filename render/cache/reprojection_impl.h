@@ -62,10 +62,12 @@ struct Reprojection {
 
 // Work arrays of one reprojection, kept from point to point.
 struct ReprojectScratch {
-    std::vector<float> px, py;          // outline points in B's texel coordinates, (point, surfel)
-    std::vector<int32_t> texels;        // candidate texels of one surfel
-    std::vector<float> cx, cy, cz, out_i, out_j, out_ok;
-    std::vector<float> sx, sy, corner;  // silhouettes' shadow corners in B's texel coordinates (project_silhouettes)
+    std::vector<float> outline_u, outline_v;  // outline points in B's texel coordinates, (point, surfel)
+    std::vector<int32_t> texels;              // candidate texels of one surfel
+    // the candidates' directions in B's frame, and what lookup_surfel finds for each in A
+    std::vector<float> texel_x, texel_y, texel_z, out_i, out_j, out_ok;
+    // silhouettes' shadow corners in B's texel coordinates (project_silhouettes)
+    std::vector<float> shadow_u, shadow_v, corner;
     BitMask128 region;                  // the texels wanted by the reprojection under way
 };
 
@@ -91,19 +93,19 @@ inline void project_direction(const Receiver& b, const Vec3f& d, float scale, fl
 // B's ray through the texel centre cut by the surfel's plane, that point's texel in A, kept
 // if it is one of the surfel's own (half a texel of slack for the outline's straight edges).
 inline void lookup_surfel(const CachePoint& a, const Surfel& sf, const Receiver& b, const TexelDirections& dirs,
-                          ReprojectScratch& rs, size_t count) {
-    float* cx = grow(rs.cx, count);
-    float* cy = grow(rs.cy, count);
-    float* cz = grow(rs.cz, count);
+                          ReprojectScratch& scratch, size_t count) {
+    float* cx = grow(scratch.texel_x, count);
+    float* cy = grow(scratch.texel_y, count);
+    float* cz = grow(scratch.texel_z, count);
     for (size_t k = 0; k < count; ++k) {
-        const int32_t t = rs.texels[k];
+        const int32_t t = scratch.texels[k];
         cx[k] = dirs.x[t], cy[k] = dirs.y[t], cz[k] = dirs.z[t];
     }
     // results in whole blocks of N (the arrays padded), stored without a partial last block
     const size_t padded = (count + N - 1) / N * N;
-    float* oi = grow(rs.out_i, padded);
-    float* oj = grow(rs.out_j, padded);
-    float* ok = grow(rs.out_ok, padded);
+    float* oi = grow(scratch.out_i, padded);
+    float* oj = grow(scratch.out_j, padded);
+    float* ok = grow(scratch.out_ok, padded);
     const float scale = static_cast<float>(a.resolution);
     for_blocks(count, [&](size_t k, int lanes) {
         const F lx = load_lanes(cx, k, lanes), ly = load_lanes(cy, k, lanes), lz = load_lanes(cz, k, lanes);
@@ -169,12 +171,12 @@ PATINA_INLINE bool touches_open(const float* qx, const float* qy, int n, int res
 // time (the same bits as one at a time: the map's polynomials are the same at every width):
 // corner k of silhouette e at (sx, sy)[k * stride + e], k = 0, 1 its edge's end points, 2, 3
 // the directions from A past its end points 1, 0 (the shadow's far side, at infinity).
-inline void project_silhouettes(const CachePoint& a, const Receiver& b, float scale, ReprojectScratch& rs) {
+inline void project_silhouettes(const CachePoint& a, const Receiver& b, float scale, ReprojectScratch& scratch) {
     const size_t ne = a.silhouettes.size();
     const size_t stride = (ne + N - 1) / N * N;
-    float* sx = grow(rs.sx, 4 * stride);
-    float* sy = grow(rs.sy, 4 * stride);
-    float* c = grow(rs.corner, 12 * stride);  // the corners' world points or directions, (coordinate, silhouette)
+    float* sx = grow(scratch.shadow_u, 4 * stride);
+    float* sy = grow(scratch.shadow_v, 4 * stride);
+    float* c = grow(scratch.corner, 12 * stride);  // the corners' world points or directions, (coordinate, silhouette)
     for (size_t e = 0; e < ne; ++e) {
         const Silhouette& sil = a.silhouettes[e];
         const Vec3f v[4] = {sil.e0 - b.p, sil.e1 - b.p, sil.d1, sil.d0};
@@ -206,12 +208,12 @@ inline void project_silhouettes(const CachePoint& a, const Receiver& b, float sc
 // [ylo, yhi) touched. With a region (the second cache point's), a shadow over no wanted
 // texel that is neither filled nor unknown yet is left out: it could forbid nothing, so
 // only the unknown mask's bits differ, on texels already decided or not wanted.
-inline void add_shadows(const CachePoint& a, int32_t e0, int32_t e1, int R, const ReprojectScratch& rs,
+inline void add_shadows(const CachePoint& a, int32_t e0, int32_t e1, int R, const ReprojectScratch& scratch,
                         const Reprojection& r, const BitMask128* region, BitMask128& shadows, int& ylo, int& yhi) {
     const size_t stride = (a.silhouettes.size() + N - 1) / N * N;
     for (int32_t e = e0; e < e1; ++e) {
         float qx[4], qy[4];
-        for (int k = 0; k < 4; ++k) qx[k] = rs.sx[k * stride + e], qy[k] = rs.sy[k * stride + e];
+        for (int k = 0; k < 4; ++k) qx[k] = scratch.shadow_u[k * stride + e], qy[k] = scratch.shadow_v[k * stride + e];
         if (region != nullptr && !touches_open(qx, qy, 4, R, r.filled, *region, &r.unknown)) continue;
         raster_convex(qx, qy, 4, R, [&](int y, Row128 span) {
             shadows.rows[y] |= span;
@@ -254,7 +256,7 @@ inline void fill_misses(const CachePoint& a, const Receiver& b, const TexelDirec
 // when it holds each wanted texel's four neighbours too (a crack's test reads them): the
 // second cache point, wanted only in the first one's holes (fill_holes), costs their share.
 inline void reproject(const CachePoint& a, const Receiver& b, const TexelDirections& dirs, float* radiance,
-                      Reprojection& r, ReprojectScratch& rs, bool unknown_masks = true,
+                      Reprojection& r, ReprojectScratch& scratch, bool unknown_masks = true,
                       const BitMask128* region = nullptr) {
     const int R = a.resolution;
     const float scale = static_cast<float>(R);
@@ -265,8 +267,8 @@ inline void reproject(const CachePoint& a, const Receiver& b, const TexelDirecti
     const size_t ns = a.surfels.size();
     // the outline points of N surfels at a time in B's texel coordinates
     const size_t stride = (ns + N - 1) / N * N;  // whole blocks of N per outline point
-    float* px = grow(rs.px, kOutlinePoints * stride);
-    float* py = grow(rs.py, kOutlinePoints * stride);
+    float* px = grow(scratch.outline_u, kOutlinePoints * stride);
+    float* py = grow(scratch.outline_v, kOutlinePoints * stride);
     for (int k = 0; k < kOutlinePoints; ++k) {
         const float* ox = a.outline.data() + (3 * k + 0) * ns;
         const float* oy = a.outline.data() + (3 * k + 1) * ns;
@@ -279,8 +281,8 @@ inline void reproject(const CachePoint& a, const Receiver& b, const TexelDirecti
             store_n<N>(py + k * stride + s, v);
         });
     }
-    if (unknown_masks) project_silhouettes(a, b, scale, rs);
-    BitMask128& wanted = rs.region;
+    if (unknown_masks) project_silhouettes(a, b, scale, scratch);
+    BitMask128& wanted = scratch.region;
     if (region != nullptr) {
         wanted = *region;
     } else {
@@ -295,7 +297,7 @@ inline void reproject(const CachePoint& a, const Receiver& b, const TexelDirecti
             for (int k = 0; k < kOutlinePoints; ++k) qx[k] = px[k * stride + s], qy[k] = py[k * stride + s];
             if (!touches_open(qx, qy, kOutlinePoints, R, r.filled, wanted, &r.unknown)) continue;
             const bool front = dot(sf.normal, b.p - sf.point) > 0;
-            rs.texels.clear();
+            scratch.texels.clear();
             raster_convex(qx, qy, kOutlinePoints, R, [&](int y, Row128 span) {
                 const Row128 avail = span & wanted.rows[y] & ~r.filled.rows[y] & ~r.unknown.rows[y];
                 if (row_empty(avail)) return;
@@ -304,15 +306,15 @@ inline void reproject(const CachePoint& a, const Receiver& b, const TexelDirecti
                     r.to_trace.rows[y] |= avail;
                     return;
                 }
-                for_each_bit(avail, [&](int x) { rs.texels.push_back(y * R + x); });
+                for_each_bit(avail, [&](int x) { scratch.texels.push_back(y * R + x); });
             });
-            if (rs.texels.empty()) continue;
-            const size_t count = rs.texels.size();
-            lookup_surfel(a, sf, b, dirs, rs, count);
+            if (scratch.texels.empty()) continue;
+            const size_t count = scratch.texels.size();
+            lookup_surfel(a, sf, b, dirs, scratch, count);
             for (size_t k = 0; k < count; ++k) {
-                if (rs.out_ok[k] == 0.0f) continue;
-                const int32_t t = rs.texels[k];
-                const size_t src = static_cast<size_t>(rs.out_j[k]) * R + static_cast<size_t>(rs.out_i[k]);
+                if (scratch.out_ok[k] == 0.0f) continue;
+                const int32_t t = scratch.texels[k];
+                const size_t src = static_cast<size_t>(scratch.out_j[k]) * R + static_cast<size_t>(scratch.out_i[k]);
                 std::copy(a.radiance.data() + 3 * src, a.radiance.data() + 3 * src + 3, radiance + 3 * t);
                 r.filled.set(t % R, t / R);
                 ++r.reprojected;
@@ -322,7 +324,7 @@ inline void reproject(const CachePoint& a, const Receiver& b, const TexelDirecti
         const int32_t e0 = a.silhouette_start[layer], e1 = a.silhouette_start[layer + 1];
         if (e0 == e1 || !unknown_masks) continue;
         int ylo = R, yhi = 0;
-        add_shadows(a, e0, e1, R, rs, r, region, layer_unknown, ylo, yhi);
+        add_shadows(a, e0, e1, R, scratch, r, region, layer_unknown, ylo, yhi);
         for (int y = ylo; y < yhi; ++y) {
             r.unknown.rows[y] |= layer_unknown.rows[y];
             layer_unknown.rows[y] = Row128{0, 0};
@@ -332,7 +334,7 @@ inline void reproject(const CachePoint& a, const Receiver& b, const TexelDirecti
     fill_misses(a, b, dirs, radiance, r, wanted, R);
     // cracks: a hole between surfels (not unknown) whose four neighbours all took radiance
     // takes their mean instead of a ray (the neighbours as they were before any crack)
-    rs.texels.clear();
+    scratch.texels.clear();
     for (int y = 1; y + 1 < R; ++y) {
         const Row128 known_above = r.filled.rows[y + 1] & ~r.to_trace.rows[y + 1];
         const Row128 known_below = r.filled.rows[y - 1] & ~r.to_trace.rows[y - 1];
@@ -341,9 +343,9 @@ inline void reproject(const CachePoint& a, const Receiver& b, const TexelDirecti
         const Row128 left = {known[0] << 1, (known[1] << 1) | (known[0] >> 63)};
         const Row128 right = {(known[0] >> 1) | (known[1] << 63), known[1] >> 1};
         const Row128 crack = wanted.rows[y] & ~r.filled.rows[y] & ~r.unknown.rows[y] & known_above & known_below & left & right;
-        for_each_bit(crack, [&](int x) { rs.texels.push_back(y * R + x); });
+        for_each_bit(crack, [&](int x) { scratch.texels.push_back(y * R + x); });
     }
-    for (const int32_t t : rs.texels) {
+    for (const int32_t t : scratch.texels) {
         const int32_t nb[4] = {t - 1, t + 1, t - R, t + R};
         for (int k = 0; k < 3; ++k)
             radiance[3 * t + k] = 0.25f * (radiance[3 * nb[0] + k] + radiance[3 * nb[1] + k] +

@@ -27,12 +27,12 @@ using patina::guiding::GuideRecord;
 using patina::guiding::GuideRecordSink;
 using patina::guiding::PendingVertex;
 
-inline bool recording(const PathScratch& sc) { return sc.guide_sink != nullptr; }
+inline bool recording(const PathScratch& scratch) { return scratch.guide_sink != nullptr; }
 
 // A batch starts: no vertex pending.
-inline void start_records(PathScratch& sc) {
-    sc.guide_sink->pending.clear();
-    sc.guide_sink->waiting.clear();
+inline void start_records(PathScratch& scratch) {
+    scratch.guide_sink->pending.clear();
+    scratch.guide_sink->waiting.clear();
 }
 
 // After the bounce's emission and environment were added: the vertices that sent the
@@ -51,20 +51,21 @@ inline void note_arrivals(const W& w) {
 // shading point, with the direction, density and throughput update_paths gave it.
 template <class W>
 inline void note_vertices(const W& w) {
-    PathScratch& sc = w.scratch;
-    GuideRecordSink& sink = *sc.guide_sink;
-    const size_t np = sc.sorted.size();
-    if (sink.point_of_path.size() < sc.throughput.size() / 3) sink.point_of_path.resize(sc.throughput.size() / 3);
-    for (size_t q = 0; q < np; ++q) sink.point_of_path[sc.point_lanes.path[q]] = static_cast<int32_t>(q);
-    for (const int32_t i : sc.next_active) {
+    PathScratch& scratch = w.scratch;
+    GuideRecordSink& sink = *scratch.guide_sink;
+    const size_t np = scratch.sorted.size();
+    if (sink.point_of_path.size() < scratch.throughput.size() / 3)
+        sink.point_of_path.resize(scratch.throughput.size() / 3);
+    for (size_t q = 0; q < np; ++q) sink.point_of_path[scratch.point_lanes.path[q]] = static_cast<int32_t>(q);
+    for (const int32_t i : scratch.next_active) {
         const size_t q = static_cast<size_t>(sink.point_of_path[i]);
         PendingVertex pv;
         pv.path = i;
-        std::copy(sc.point_lanes.position.data() + 3 * q, sc.point_lanes.position.data() + 3 * q + 3, pv.p);
-        std::copy(sc.point_lanes.normal.data() + 3 * q, sc.point_lanes.normal.data() + 3 * q + 3, pv.n);
-        std::copy(sc.dir.data() + 3 * i, sc.dir.data() + 3 * i + 3, pv.d);
-        pv.pdf = sc.prev_pdf[i];
-        std::copy(sc.throughput.data() + 3 * i, sc.throughput.data() + 3 * i + 3, pv.thr);
+        std::copy(scratch.point_lanes.position.data() + 3 * q, scratch.point_lanes.position.data() + 3 * q + 3, pv.p);
+        std::copy(scratch.point_lanes.normal.data() + 3 * q, scratch.point_lanes.normal.data() + 3 * q + 3, pv.n);
+        std::copy(scratch.dir.data() + 3 * i, scratch.dir.data() + 3 * i + 3, pv.d);
+        pv.pdf = scratch.prev_pdf[i];
+        std::copy(scratch.throughput.data() + 3 * i, scratch.throughput.data() + 3 * i + 3, pv.thr);
         std::fill(pv.arrived, pv.arrived + 3, 0.0f);
         sink.waiting.push_back(static_cast<int32_t>(sink.pending.size()));
         sink.pending.push_back(pv);

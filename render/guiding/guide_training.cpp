@@ -36,23 +36,23 @@ void GuideTraining::train_tile(int pass, int tile, PathScratch& scratch) {
     const int spp = m_settings.cache.train_spp;
     const uint32_t seed = hash_u32(m_seed ^ kTrainingSalt ^ hash_u32(static_cast<uint32_t>(pass)));
     GuideRecordSink sink;
-    std::vector<CameraSample> cs;
+    std::vector<CameraSample> camera_samples;
     std::vector<PathResult> out;
     scratch.guide_sink = &sink;
     scratch.guide_field = pass > 0 ? &m_field : nullptr;
     auto flush = [&] {
-        if (cs.empty()) return;
-        m_kernels.jitter_pixel_positions(m_settings.sampler, cs.data(), cs.size());
-        out.resize(cs.size());
-        m_kernels.trace_paths(m_scene, m_settings, cs.data(), cs.size(), out.data(), scratch);
-        cs.clear();
+        if (camera_samples.empty()) return;
+        m_kernels.jitter_pixel_positions(m_settings.sampler, camera_samples.data(), camera_samples.size());
+        out.resize(camera_samples.size());
+        m_kernels.trace_paths(m_scene, m_settings, camera_samples.data(), camera_samples.size(), out.data(), scratch);
+        camera_samples.clear();
     };
     for (int y = r.y0; y < r.y1; ++y)
         for (int x = r.x0; x < r.x1; ++x) {
             const uint32_t key = stream_key(seed, static_cast<uint32_t>(y) * static_cast<uint32_t>(m_width) + x);
             for (int s = 0; s < spp; ++s)
-                cs.push_back({static_cast<float>(x), static_cast<float>(y), key, static_cast<uint32_t>(s)});
-            if (cs.size() + spp > kMaxBatch) flush();
+                camera_samples.push_back({static_cast<float>(x), static_cast<float>(y), key, static_cast<uint32_t>(s)});
+            if (camera_samples.size() + spp > kMaxBatch) flush();
         }
     flush();
     m_tile_records[tile] = std::move(sink.records);

@@ -20,24 +20,24 @@ using namespace kernel_width;
 // The paths after their BRDF samples, N points at a time, each lane with the one-point
 // operations: the direction into the world (on the side the local direction says), the
 // throughput times BRDF x cosine / pdf, Russian roulette, and the next ray of the paths that
-// go on, appended to sc.next_active in point order.
+// go on, appended to scratch.next_active in point order.
 inline void update_paths(const Wavefront& w, int depth, size_t np) {
-    PathScratch& sc = w.scratch;
-    const float* ll = sc.l_local.data();
-    const float* fv = sc.bsdf_rgb.data();
-    const float* pdf = sc.pdf.data();
+    PathScratch& scratch = w.scratch;
+    const float* ll = scratch.l_local.data();
+    const float* fv = scratch.bsdf_rgb.data();
+    const float* pdf = scratch.pdf.data();
     const bool roulette = depth + 1 >= w.settings.rr_depth;
-    sc.next_active.resize(np);
-    float* next_org = grow(sc.next_ray_org, 3 * np);
-    float* next_dir = grow(sc.next_ray_dir, 3 * np);
+    scratch.next_active.resize(np);
+    float* next_org = grow(scratch.next_ray_org, 3 * np);
+    float* next_dir = grow(scratch.next_ray_dir, 3 * np);
     size_t m = 0;
     for_blocks(np, [&](size_t q0, int lanes) {
-        const I path = load_path_lanes(sc.point_lanes.path.data(), q0, lanes), path3 = path * I(3);
+        const I path = load_path_lanes(scratch.point_lanes.path.data(), q0, lanes), path3 = path * I(3);
         alignas(64) int32_t key[N] = {}, index[N] = {};
         uint32_t all = 0;
         if (roulette)
             for (int k = 0; k < lanes; ++k) {
-                const CameraSample& c = w.camera_samples[sc.point_lanes.path[q0 + k]];
+                const CameraSample& c = w.camera_samples[scratch.point_lanes.path[q0 + k]];
                 key[k] = static_cast<int32_t>(c.key);
                 index[k] = static_cast<int32_t>(c.index);
                 all |= c.index;
@@ -46,13 +46,13 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
         const F P = load_lanes(pdf, q0, lanes);
         B go = (P > F(0.0f)) & (L.z != F(0.0f));
         // to_world(sp, l), normalised
-        const V3 wl = normalize_lanes(L.x * load_rows(sc.point_lanes.tangent.data(), q0, lanes) +
-                                      L.y * load_rows(sc.point_lanes.bitangent.data(), q0, lanes) +
-                                      L.z * load_rows(sc.point_lanes.normal.data(), q0, lanes));
-        const V3 NG = load_rows(sc.point_lanes.geometric_normal.data(), q0, lanes);
+        const V3 wl = normalize_lanes(L.x * load_rows(scratch.point_lanes.tangent.data(), q0, lanes) +
+                                      L.y * load_rows(scratch.point_lanes.bitangent.data(), q0, lanes) +
+                                      L.z * load_rows(scratch.point_lanes.normal.data(), q0, lanes));
+        const V3 NG = load_rows(scratch.point_lanes.geometric_normal.data(), q0, lanes);
         const V3 FV = load_rows(fv, q0, lanes);
         go = go & (dot(wl, NG) * L.z > F(0.0f));  // the side the local direction says
-        const float* thr = sc.throughput.data();
+        const float* thr = scratch.throughput.data();
         F T[3] = {gather(thr, path3) * (FV.x * abs(L.z) / P), gather(thr, path3 + I(1)) * (FV.y * abs(L.z) / P),
                   gather(thr, path3 + I(2)) * (FV.z * abs(L.z) / P)};
         // the throughput as the path left it (a path that ends below keeps the product)
@@ -67,7 +67,7 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
             go = lives;
         }
         const F side = select(L.z > F(0.0f), F(w.ray_offset), F(-w.ray_offset));
-        const V3 Pp = load_rows(sc.point_lanes.position.data(), q0, lanes);
+        const V3 Pp = load_rows(scratch.point_lanes.position.data(), q0, lanes);
         const V3 o = Pp + side * NG;
         alignas(64) float tt[3][N], oo[3][N], dd[3][N], pp[3][N];
         for (int c = 0; c < 3; ++c) store_n<N>(tt[c], T[c]);
@@ -76,55 +76,57 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
         store_lanes3(dd, wl);
         for (int bits = updated; bits; bits &= bits - 1) {
             const int k = __builtin_ctz(static_cast<unsigned>(bits));
-            float* Tk = sc.throughput.data() + 3 * sc.point_lanes.path[q0 + k];
+            float* Tk = scratch.throughput.data() + 3 * scratch.point_lanes.path[q0 + k];
             for (int c = 0; c < 3; ++c) Tk[c] = tt[c][k];
         }
         for (int bits = movemask(go) & ((1 << lanes) - 1); bits; bits &= bits - 1) {
             const int k = __builtin_ctz(static_cast<unsigned>(bits));
             const size_t q = q0 + k;
-            const int32_t i = sc.point_lanes.path[q];
+            const int32_t i = scratch.point_lanes.path[q];
             for (int c = 0; c < 3; ++c) {
-                sc.org[3 * i + c] = next_org[3 * m + c] = oo[c][k];
-                sc.dir[3 * i + c] = next_dir[3 * m + c] = dd[c][k];
-                sc.prev_pos[3 * i + c] = pp[c][k];
+                scratch.org[3 * i + c] = next_org[3 * m + c] = oo[c][k];
+                scratch.dir[3 * i + c] = next_dir[3 * m + c] = dd[c][k];
+                scratch.prev_pos[3 * i + c] = pp[c][k];
             }
-            sc.prev_pdf[i] = pdf[q];
-            sc.next_active[m++] = i;
+            scratch.prev_pdf[i] = pdf[q];
+            scratch.next_active[m++] = i;
         }
     });
-    sc.next_active.resize(m);
+    scratch.next_active.resize(m);
 }
 
 // The numbers BSDF sampling draws at each point: two uniforms, and the lobe pick for the
 // groups whose sampling reads it (every point's with all_picks: a guide picks too).
 inline void draw_bsdf_numbers(const Wavefront& w, int depth, bool all_picks) {
-    PathScratch& sc = w.scratch;
-    const size_t np = sc.sorted.size();
-    float* upick = grow(sc.u_pick, np);
-    float* u1 = grow(sc.u1, np);
-    float* u2 = grow(sc.u2, np);
-    if (all_picks) fill_uniforms(sc, np, depth, kDimBsdfPick, upick);
-    else for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
-        if (sampling_picks(m)) fill_uniforms(sc, a, count, depth, kDimBsdfPick, upick);
-    });
-    fill_uniforms(sc, np, depth, kDimBsdfU, u1);
-    fill_uniforms(sc, np, depth, kDimBsdfV, u2);
-    sc.timer.lap(Stage::BsdfUniforms);
+    PathScratch& scratch = w.scratch;
+    const size_t np = scratch.sorted.size();
+    float* upick = grow(scratch.u_pick, np);
+    float* u1 = grow(scratch.uniform_u, np);
+    float* u2 = grow(scratch.uniform_v, np);
+    if (all_picks)
+        fill_uniforms(scratch, np, depth, kDimBsdfPick, upick);
+    else
+        for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
+            if (sampling_picks(m)) fill_uniforms(scratch, a, count, depth, kDimBsdfPick, upick);
+        });
+    fill_uniforms(scratch, np, depth, kDimBsdfU, u1);
+    fill_uniforms(scratch, np, depth, kDimBsdfV, u2);
+    scratch.timer.lap(Stage::BsdfUniforms);
 }
 
 // Each point's next direction drawn by its material (N points of a material at a time), with
 // its density and the BSDF's value there.
 inline void sample_materials(const Wavefront& w) {
-    PathScratch& sc = w.scratch;
-    const size_t np = sc.sorted.size();
-    const float* vl = sc.v_local.data();
-    const float* eta = sc.eta.data();
-    float* ll = grow(sc.l_local, 3 * np);
-    float* fv = grow(sc.bsdf_rgb, 3 * np);
-    float* pdf = grow(sc.pdf, np);
-    const float* upick = sc.u_pick.data();
-    const float* u1 = sc.u1.data();
-    const float* u2 = sc.u2.data();
+    PathScratch& scratch = w.scratch;
+    const size_t np = scratch.sorted.size();
+    const float* vl = scratch.v_local.data();
+    const float* eta = scratch.eta.data();
+    float* ll = grow(scratch.l_local, 3 * np);
+    float* fv = grow(scratch.bsdf_rgb, 3 * np);
+    float* pdf = grow(scratch.pdf, np);
+    const float* upick = scratch.u_pick.data();
+    const float* u1 = scratch.uniform_u.data();
+    const float* u2 = scratch.uniform_v.data();
     for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
         material_sample(m, vl + 3 * a, eta + a, upick + a, u1 + a, u2 + a, ll + 3 * a, pdf + a, count);
         material_eval(m, ll + 3 * a, vl + 3 * a, eta + a, fv + 3 * a, count);
@@ -132,13 +134,13 @@ inline void sample_materials(const Wavefront& w) {
 }
 
 // The paths after their BSDF samples: throughput, Russian roulette, and the next bounce's ray
-// for the survivors (sc.next_active), while the path may still bounce.
+// for the survivors (scratch.next_active), while the path may still bounce.
 inline void continue_paths(const Wavefront& w, int depth) {
-    PathScratch& sc = w.scratch;
-    sc.timer.lap(Stage::ShadeSample);
-    sc.next_active.clear();
-    if (depth + 1 <= w.settings.max_depth) update_paths(w, depth, sc.sorted.size());
-    sc.timer.lap(Stage::PathUpdate);
+    PathScratch& scratch = w.scratch;
+    scratch.timer.lap(Stage::ShadeSample);
+    scratch.next_active.clear();
+    if (depth + 1 <= w.settings.max_depth) update_paths(w, depth, scratch.sorted.size());
+    scratch.timer.lap(Stage::PathUpdate);
 }
 
 // BSDF sampling: each point's next direction from its material, and the paths that go on.

@@ -24,8 +24,8 @@ using namespace kernel_width;
 // direction has under the guide mixed into its BSDF density before the weights.
 inline void queue_guided_light_samples(const Wavefront& w, int depth) {
     if (!sample_and_evaluate_lights(w, depth)) return;
-    PathScratch& sc = w.scratch;
-    cache::mix_light_pdfs(sc, w.settings.cache, sc.l_local.data(), sc.pdf.data(), sc.sorted.size());
+    PathScratch& scratch = w.scratch;
+    cache::mix_light_pdfs(scratch, w.settings.cache, scratch.l_local.data(), scratch.pdf.data(), scratch.sorted.size());
     queue_light_shadow_rays(w, depth);
 }
 
@@ -42,10 +42,10 @@ inline void sample_guided_bsdf(const Wavefront& w, int depth) {
 
 // The bounces of `cache-guided`'s camera paths.
 inline void cache_guided_bounces(const Wavefront& w) {
-    PathScratch& sc = w.scratch;
-    sc.sampler = w.settings.sampler;  // what fill_uniforms draws the points' numbers from
-    const bool recording = guide_recording::recording(sc);  // a training pass of the guide
-    for (int depth = 0; !sc.active.empty(); ++depth) {
+    PathScratch& scratch = w.scratch;
+    scratch.sampler = w.settings.sampler;                        // what fill_uniforms draws the points' numbers from
+    const bool recording = guide_recording::recording(scratch);  // a training pass of the guide
+    for (int depth = 0; !scratch.active.empty(); ++depth) {
         const HitBatch hits = trace_bounce(w, depth);
         add_emission_and_environment(w, hits, depth);
         if (recording) guide_recording::note_arrivals(w);

@@ -25,24 +25,24 @@ namespace render_detail {
 using namespace kernel_width;
 
 // The radiance cache's rays (origins, directions, stream keys and indices; n of them)
-// traced by the path tracer with `st` (mode path), leaving out the emission they see
+// traced by the path tracer with `settings` (mode path), leaving out the emission they see
 // directly: out[i].rgb is the indirect radiance arriving along ray i, depth and normal
 // what it hit first (kernels_impl.h).
-void trace_given_rays(const RenderScene& s, const IntegratorSettings& st, const float* org, const float* dir,
-                      const uint32_t* keys, const uint32_t* indices, size_t n, PathResult* out, PathScratch& sc,
+void trace_given_rays(const RenderScene& scene, const IntegratorSettings& settings, const float* org, const float* dir,
+                      const uint32_t* keys, const uint32_t* indices, size_t n, PathResult* out, PathScratch& scratch,
                       std::vector<CameraSample>& samples);
 
 // The settings of the cache's own rays, which start at the first hit: one bounce fewer,
 // roulette one sooner.
-inline IntegratorSettings cache_ray_settings(const IntegratorSettings& st) {
-    IntegratorSettings inner = st;
+inline IntegratorSettings cache_ray_settings(const IntegratorSettings& settings) {
+    IntegratorSettings inner = settings;
     inner.mode = IntegratorMode::Path;
     inner.indirect_illuminance = false;
-    inner.max_depth = st.max_depth - 1;
-    inner.rr_depth = std::max(1, st.rr_depth - 1);
+    inner.max_depth = settings.max_depth - 1;
+    inner.rr_depth = std::max(1, settings.rr_depth - 1);
     // a guide needs the shape of the indirect light, not its value: the direct light at the
     // hits (one bounce) is that shape at a fraction of the full paths' cost
-    if (st.mode == IntegratorMode::CacheGuided) inner.max_depth = 1;
+    if (settings.mode == IntegratorMode::CacheGuided) inner.max_depth = 1;
     return inner;
 }
 
@@ -52,8 +52,8 @@ struct CacheRayTracer {
     const RenderScene& scene;
     const IntegratorSettings inner;
     cache::CacheState& state;
-    CacheRayTracer(const RenderScene& s, const IntegratorSettings& st, PathScratch& sc)
-        : scene(s), inner(cache_ray_settings(st)), state(cache::cache_state(sc)) {}
+    CacheRayTracer(const RenderScene& scene, const IntegratorSettings& settings, PathScratch& scratch)
+        : scene(scene), inner(cache_ray_settings(settings)), state(cache::cache_state(scratch)) {}
     void operator()(const float* o, const float* d, const uint32_t* k, const uint32_t* idx, size_t m,
                     PathResult* r) const {
         trace_given_rays(scene, inner, o, d, k, idx, m, r, state.inner, state.inner_samples);
@@ -64,7 +64,7 @@ struct CacheRayTracer {
 inline bool cache_serves(const Wavefront& w) { return w.settings.max_depth > 1; }
 
 // The bounces of `cache`'s camera paths: path_bounces' stages, and at the first hit the
-// cache's indirect light (the served paths marked in sc.cached: may_shade ends them there).
+// cache's indirect light (the served paths marked in w.scratch.cached: may_shade ends them there).
 inline void cache_bounces(const Wavefront& w) {
     w.scratch.sampler = w.settings.sampler;  // what fill_uniforms draws the points' numbers from
     for (int depth = 0; !w.scratch.active.empty(); ++depth) {
@@ -92,22 +92,24 @@ inline void trace_cache(const Wavefront& w, size_t n) {
 
 // An image region's cache points (integrator.h, build_cache_region): the camera rays' first
 // hits, then the cache's placement and building there (render/cache/cache_stages_impl.h).
-void build_cache_region(const RenderScene& s, const IntegratorSettings& st, const CameraSample* cs, size_t n,
-                        std::vector<CachePoint>& points, std::vector<RegionHemisphere>& hemispheres, PathScratch& sc) {
+void build_cache_region(const RenderScene& scene, const IntegratorSettings& settings,
+                        const CameraSample* camera_samples, size_t n, std::vector<CachePoint>& points,
+                        std::vector<RegionHemisphere>& hemispheres, PathScratch& scratch) {
     enter_kernel();
     std::vector<PathResult> out(n);
-    const Wavefront w{s, st, cs, out.data(), sc, lights_emit(s), scene_has_sun(s), s.ray_offset};
-    sc.sensors.clear();
-    sc.timer.start();
+    const Wavefront w{scene,   settings,           camera_samples,       out.data(),
+                      scratch, lights_emit(scene), scene_has_sun(scene), scene.ray_offset};
+    scratch.sensors.clear();
+    scratch.timer.start();
     start_camera_paths(w, n);
-    if (st.mode == IntegratorMode::Cache) sc.cached.assign(n, 0);
-    sc.timer.lap(Stage::CameraRays);
+    if (settings.mode == IntegratorMode::Cache) scratch.cached.assign(n, 0);
+    scratch.timer.lap(Stage::CameraRays);
     const HitBatch hits = trace_bounce(w, 0);
     make_shading_points(w, hits, 0);
-    sc.sensors.clear();
-    CacheRayTracer tracer(s, st, sc);
+    scratch.sensors.clear();
+    CacheRayTracer tracer(scene, settings, scratch);
     cache::build_region_points(w, tracer, points, hemispheres);
-    sc.active.clear();
+    scratch.active.clear();
 }
 
 }  // namespace render_detail

@@ -16,22 +16,22 @@ namespace render_detail {
 using namespace kernel_width;
 
 // The radiance cache at one point reprojected into another (render/integrators/integrator.h, cache_probe).
-void cache_probe(const RenderScene& s, const IntegratorSettings& st, const float* pa, const float* na, const float* pb,
-                 const float* nb, uint32_t seed, bool unknown_masks, CacheProbe& out) {
+void cache_probe(const RenderScene& scene, const IntegratorSettings& settings, const float* pa, const float* na,
+                 const float* pb, const float* nb, uint32_t seed, bool unknown_masks, CacheProbe& out) {
     enter_kernel();
-    const CacheSettings& cfg = st.cache;
+    const CacheSettings& cfg = settings.cache;
     check_cache_settings(cfg);
     const int R = cfg.resolution;
     const size_t T = static_cast<size_t>(R) * R;
-    PathScratch sc;
-    cache::CacheState& cs = cache::cache_state(sc);
-    IntegratorSettings inner = st;
+    PathScratch scratch;
+    cache::CacheState& state = cache::cache_state(scratch);
+    IntegratorSettings inner = settings;
     inner.mode = IntegratorMode::Path;
     inner.indirect_illuminance = false;
-    inner.max_depth = std::max(1, st.max_depth - 1);
-    inner.rr_depth = std::max(1, st.rr_depth - 1);
+    inner.max_depth = std::max(1, settings.max_depth - 1);
+    inner.rr_depth = std::max(1, settings.rr_depth - 1);
     auto tracer = [&](const float* o, const float* d, const uint32_t* k, const uint32_t* idx, size_t m, PathResult* r) {
-        trace_given_rays(s, inner, o, d, k, idx, m, r, cs.inner, cs.inner_samples);
+        trace_given_rays(scene, inner, o, d, k, idx, m, r, state.inner, state.inner_samples);
     };
     auto query = [&](const float* p, const float* n, uint32_t key) {
         cache::Query q;
@@ -42,15 +42,15 @@ void cache_probe(const RenderScene& s, const IntegratorSettings& st, const float
         return q;
     };
     const cache::Query q[2] = {query(pa, na, hash_u32(seed)), query(pb, nb, hash_u32(seed + 1))};
-    cs.dirs.prepare(R);
-    IntegratorSettings as_cache = st;  // A's glossy texel hits split as `cache` splits them
+    state.texel_directions.prepare(R);
+    IntegratorSettings as_cache = settings;  // A's glossy texel hits split as `cache` splits them
     as_cache.mode = IntegratorMode::Cache;
-    cache::mark_split_materials(s.materials, as_cache, cs);
+    cache::mark_split_materials(scene.materials, as_cache, state);
     // A, then B's own hemisphere in full (the reference)
-    cs.used = 0;
-    cs.pending = {0, 1};
-    cache::build_cache_points(cfg, s.ray_offset, q, cs, tracer);
-    const CachePoint& a = cs.points[0];
+    state.build.used = 0;
+    state.build.pending = {0, 1};
+    cache::build_cache_points(cfg, scene.ray_offset, q, state, tracer);
+    const CachePoint& a = state.build.points[0];
     out = CacheProbe{};
     out.resolution = R;
     out.a_radiance = a.radiance;
@@ -68,32 +68,34 @@ void cache_probe(const RenderScene& s, const IntegratorSettings& st, const float
     }
     out.surfels = a.surfels.size();
     out.silhouettes = a.silhouettes.size();
-    out.b_reference = cs.points[1].radiance;
+    out.b_reference = state.build.points[1].radiance;
     // B by reprojection, its holes traced
     out.b_reprojected.assign(3 * T, -1.0f);
-    cache::reproject(a, cache::Receiver{q[1].p, q[1].t, q[1].b, q[1].n}, cs.dirs, out.b_reprojected.data(), cs.rep,
-                     cs.rs, unknown_masks);
+    cache::Reprojection& reprojected = state.reprojection.from_assigned;
+    cache::reproject(a, cache::Receiver{q[1].p, q[1].t, q[1].b, q[1].n}, state.texel_directions,
+                     out.b_reprojected.data(), reprojected, state.reprojection.scratch, unknown_masks);
     out.filled.assign(T, 0);
     out.unknown.assign(T, 0);
     out.to_trace.assign(T, 0);
     out.b_radiance = out.b_reprojected;
-    cs.rays.clear();
+    cache::RayQueue& rays = state.build.rays;
+    rays.clear();
     const uint32_t key = cache::hole_key(q[1].key);
     for (size_t t = 0; t < T; ++t) {
         const int x = static_cast<int>(t % R), y = static_cast<int>(t / R);
-        out.filled[t] = cs.rep.filled.test(x, y);
-        out.unknown[t] = cs.rep.unknown.test(x, y);
-        out.to_trace[t] = cs.rep.to_trace.test(x, y);
+        out.filled[t] = reprojected.filled.test(x, y);
+        out.unknown[t] = reprojected.unknown.test(x, y);
+        out.to_trace[t] = reprojected.to_trace.test(x, y);
         if (!out.to_trace[t]) continue;
         std::fill(out.b_reprojected.begin() + 3 * t, out.b_reprojected.begin() + 3 * t + 3, -1.0f);
         std::fill(out.b_radiance.begin() + 3 * t, out.b_radiance.begin() + 3 * t + 3, 0.0f);
         const Vec3f d = cache::jittered_direction(q[1], R, static_cast<int32_t>(t), key);
         if (dot(d, q[1].ng) > 0)
-            cs.rays.push(q[1].p + s.ray_offset * q[1].ng, d, key, static_cast<uint32_t>(t), static_cast<int32_t>(t));
+            rays.push(q[1].p + scene.ray_offset * q[1].ng, d, key, static_cast<uint32_t>(t), static_cast<int32_t>(t));
     }
-    cache::trace_queue(cs, tracer);
-    for (size_t r = 0; r < cs.rays.size(); ++r)
-        std::copy(cs.results[r].rgb, cs.results[r].rgb + 3, out.b_radiance.data() + 3 * cs.rays.where[r]);
+    cache::trace_queue(state, tracer);
+    for (size_t r = 0; r < rays.size(); ++r)
+        std::copy(state.build.results[r].rgb, state.build.results[r].rgb + 3, out.b_radiance.data() + 3 * rays.where[r]);
 }
 
 }  // namespace render_detail

@@ -34,7 +34,7 @@ struct GuideRecordSink;
 enum class SamplerKind : uint8_t { Sobol, Independent };
 
 struct CameraSample {
-    float fx, fy;    // film position in pixels (x right, y down)
+    float film_x, film_y;  // film position in pixels (x right, y down)
     uint32_t key;    // the key of the path's stream, a pixel's sequence (render/samplers/rng.h stream_key)
     uint32_t index;  // the path's sample in that stream
 };
@@ -99,7 +99,7 @@ struct ShadingPointLanes {
 // light is a delta light (no MIS), and whether the sample is usable (pdf > 0 and finite).
 struct LightSampleQueue {
     std::vector<float> dir, rgb, dist, pdf;
-    std::vector<uint8_t> delta, ok;
+    std::vector<uint8_t> delta, usable;
 };
 
 // The bounce's shadow rays (render/integrators/shadow_rays_impl.h): origin, unit direction
@@ -126,7 +126,9 @@ struct PathScratch {
     std::vector<int32_t> shade_hits;  // the bounce's hits that may become shading points, in hit order
     ShadingPointLanes point_lanes;
     std::vector<float> material_eta, material_transmissive, material_two_sided;  // per material, for gathers
-    std::vector<float> v_local, l_local, bsdf_rgb, pdf, eta, u_pick, u1, u2;
+    // per point: view and next direction (local), BSDF value and density, eta; the uniforms a light or
+    // BSDF sample draws (the light or lobe pick, then the direction's u and v)
+    std::vector<float> v_local, l_local, bsdf_rgb, pdf, eta, u_pick, uniform_u, uniform_v;
     std::vector<int32_t> point_keys, point_index;  // the paths' stream keys and sample indices (uint32 bits)
     SamplerKind sampler = SamplerKind::Sobol;      // what the point_keys and point_index draw from
     // misses (the environment seen), and the points that sample the environment
@@ -148,8 +150,9 @@ struct PathScratch {
     // the radiance cache (render/cache/radiance_cache_impl.h): per path, whether its first
     // hit's indirect light came from the cache (it then only looks for emission)
     std::vector<uint8_t> cached;
-    // the cache's work memory, made by the kernels of width cache_width (no make_shared: its
-    // tag object is one the width-16 units may not define, see CMakeLists.txt)
+    // the cache's work memory (render/cache/cache_state_impl.h, CacheState), made by the kernels
+    // of width cache_width (no make_shared: its tag object is one the width-16 units may not
+    // define, see CMakeLists.txt)
     std::unique_ptr<void, void (*)(void*)> cache{nullptr, nullptr};
     int cache_width = 0;
     // the cache points the batch's cache starts from: those of the regions its tile overlaps

@@ -30,26 +30,28 @@ namespace render_detail {
 using namespace kernel_width;
 
 // Radiance and first-hit AOVs for a batch of camera samples, by the settings' integrator.
-void trace_paths(const RenderScene& s, const IntegratorSettings& st, const CameraSample* cs, size_t n,
-                 PathResult* out, PathScratch& sc) {
+void trace_paths(const RenderScene& scene, const IntegratorSettings& settings, const CameraSample* camera_samples,
+                 size_t n, PathResult* out, PathScratch& scratch) {
     enter_kernel();
-    const Wavefront w{s, st, cs, out, sc, lights_emit(s), scene_has_sun(s), s.ray_offset};
-    sc.sensors.clear();
-    sc.timer.start();
-    switch (st.mode) {
+    const Wavefront w{scene,   settings,           camera_samples,       out,
+                      scratch, lights_emit(scene), scene_has_sun(scene), scene.ray_offset};
+    scratch.sensors.clear();
+    scratch.timer.start();
+    switch (settings.mode) {
         case IntegratorMode::Path: trace_path(w, n); break;
         case IntegratorMode::Cache: trace_cache(w, n); break;
         case IntegratorMode::CacheGuided: trace_cache_guided(w, n); break;
     }
-    add_indirect_illuminance(s, st, cs, out, sc);
+    add_indirect_illuminance(scene, settings, camera_samples, out, scratch);
 }
 
-void trace_given_rays(const RenderScene& s, const IntegratorSettings& st, const float* org, const float* dir,
-                      const uint32_t* keys, const uint32_t* indices, size_t n, PathResult* out, PathScratch& sc,
+void trace_given_rays(const RenderScene& scene, const IntegratorSettings& settings, const float* org, const float* dir,
+                      const uint32_t* keys, const uint32_t* indices, size_t n, PathResult* out, PathScratch& scratch,
                       std::vector<CameraSample>& samples) {
     samples.resize(n);
     for (size_t i = 0; i < n; ++i) samples[i] = CameraSample{0.0f, 0.0f, keys[i], indices[i]};
-    Wavefront w{s, st, samples.data(), out, sc, lights_emit(s), scene_has_sun(s), s.ray_offset};
+    Wavefront w{scene,   settings,           samples.data(),       out,
+                scratch, lights_emit(scene), scene_has_sun(scene), scene.ray_offset};
     w.first_emission = false;
     start_given_paths(w, org, dir, n);
     path_bounces(w);
@@ -57,18 +59,18 @@ void trace_given_rays(const RenderScene& s, const IntegratorSettings& st, const 
 
 // The uniform sampler's jitter (render/integrators/integrator.h, jitter_pixel_positions): pixel-x and pixel-y
 // numbers of N samples at a time, each lane the bits sample_uniform gives it.
-void jitter_pixel_positions(SamplerKind kind, CameraSample* cs, size_t n) {
+void jitter_pixel_positions(SamplerKind kind, CameraSample* camera_samples, size_t n) {
     enter_kernel();
     for_blocks(n, [&](size_t i, int lanes) {
         alignas(64) int32_t key[N] = {}, index[N] = {};
         alignas(64) float fx[N] = {}, fy[N] = {};
         uint32_t all = 0;
         for (int k = 0; k < lanes; ++k) {
-            const CameraSample& c = cs[i + k];
+            const CameraSample& c = camera_samples[i + k];
             key[k] = static_cast<int32_t>(c.key);
             index[k] = static_cast<int32_t>(c.index);
-            fx[k] = c.fx;
-            fy[k] = c.fy;
+            fx[k] = c.film_x;
+            fy[k] = c.film_y;
             all |= c.index;
         }
         const I keys = load_n<N>(key), indices = load_n<N>(index);
@@ -76,8 +78,8 @@ void jitter_pixel_positions(SamplerKind kind, CameraSample* cs, size_t n) {
         store_n<N>(fx, load_n<N>(fx) + sample_uniform_lanes(kind, keys, indices, bits, 0, kDimPixelX));
         store_n<N>(fy, load_n<N>(fy) + sample_uniform_lanes(kind, keys, indices, bits, 0, kDimPixelY));
         for (int k = 0; k < lanes; ++k) {
-            cs[i + k].fx = fx[k];
-            cs[i + k].fy = fy[k];
+            camera_samples[i + k].film_x = fx[k];
+            camera_samples[i + k].film_y = fy[k];
         }
     });
 }

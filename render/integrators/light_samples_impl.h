@@ -48,23 +48,24 @@ PATINA_INLINE I load_path_lanes(const int32_t* p, size_t i, int lanes) {
 // BRDF x cosine x radiance x MIS weight / pdf), lux and ray with queue_shadow_ray's operations,
 // and the lanes that carry light written to the queue in point order (a compress-store).
 inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
-    PathScratch& sc = w.scratch;
-    const float* ll = sc.l_local.data();
-    const float* fv = sc.bsdf_rgb.data();
-    const float* pdf = sc.pdf.data();
-    resize_shadow_rays(sc, np);
+    PathScratch& scratch = w.scratch;
+    const float* ll = scratch.l_local.data();
+    const float* fv = scratch.bsdf_rgb.data();
+    const float* pdf = scratch.pdf.data();
+    resize_shadow_rays(scratch, np);
     size_t m = 0;
     for_blocks(np, [&](size_t q0, int lanes) {
         int ok_bits = 0, delta_bits = 0;
         for (int k = 0; k < lanes; ++k) {
-            ok_bits |= (sc.light_samples.ok[q0 + k] ? 1 : 0) << k;
-            delta_bits |= (sc.light_samples.delta[q0 + k] ? 1 : 0) << k;
+            ok_bits |= (scratch.light_samples.usable[q0 + k] ? 1 : 0) << k;
+            delta_bits |= (scratch.light_samples.delta[q0 + k] ? 1 : 0) << k;
         }
         if (ok_bits == 0) return;
-        const V3 L = load_rows(ll, q0, lanes), FV = load_rows(fv, q0, lanes), RGB = load_rows(sc.light_samples.rgb.data(), q0, lanes);
-        const F z = L.z, lp = load_lanes(sc.light_samples.pdf.data(), q0, lanes), cos_l = abs(z);
-        const I path3 = load_path_lanes(sc.point_lanes.path.data(), q0, lanes) * I(3);
-        const float* thr = sc.throughput.data();
+        const V3 L = load_rows(ll, q0, lanes), FV = load_rows(fv, q0, lanes),
+                 RGB = load_rows(scratch.light_samples.rgb.data(), q0, lanes);
+        const F z = L.z, lp = load_lanes(scratch.light_samples.pdf.data(), q0, lanes), cos_l = abs(z);
+        const I path3 = load_path_lanes(scratch.point_lanes.path.data(), q0, lanes) * I(3);
+        const float* thr = scratch.throughput.data();
         const F wt = select(mask_of_bits(delta_bits), F(1.0f), power_heuristic_lanes(lp, load_lanes(pdf, q0, lanes)));
         const F c[3] = {gather(thr, path3) * FV.x * cos_l * RGB.x * wt / lp,
                         gather(thr, path3 + I(1)) * FV.y * cos_l * RGB.y * wt / lp,
@@ -76,9 +77,10 @@ inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
         const B none_carried = (c[0] <= F(0.0f)) & (c[1] <= F(0.0f)) & (c[2] <= F(0.0f)) & (lux <= F(0.0f));
         const B queued = (cos_l > F(0.0f)) & !none_carried;
         // queue_shadow_ray: from the lifted origin, aimed at the light's point unless at infinity
-        const V3 P = load_rows(sc.point_lanes.position.data(), q0, lanes), D = load_rows(sc.light_samples.dir.data(), q0, lanes);
-        const F ds = load_lanes(sc.light_samples.dist.data(), q0, lanes);
-        const V3 o = P + side * load_rows(sc.point_lanes.geometric_normal.data(), q0, lanes);
+        const V3 P = load_rows(scratch.point_lanes.position.data(), q0, lanes),
+                 D = load_rows(scratch.light_samples.dir.data(), q0, lanes);
+        const F ds = load_lanes(scratch.light_samples.dist.data(), q0, lanes);
+        const V3 o = P + side * load_rows(scratch.point_lanes.geometric_normal.data(), q0, lanes);
         const V3 to = P + ds * D - o;
         const F len = sqrt_exact(dot(to, to));
         const B finite = !(abs(ds) == F(kInfinity));
@@ -94,45 +96,45 @@ inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
         store_n<N>(lx, lux);
         for (int bits = movemask(queued) & ok_bits; bits; bits &= bits - 1) {
             const int k = __builtin_ctz(static_cast<unsigned>(bits));
-            sc.shadow_rays.path[m] = sc.point_lanes.path[q0 + k];
+            scratch.shadow_rays.path[m] = scratch.point_lanes.path[q0 + k];
             for (int a = 0; a < 3; ++a) {
-                sc.shadow_rays.org[3 * m + a] = oo[a][k];
-                sc.shadow_rays.dir[3 * m + a] = dd[a][k];
-                sc.shadow_rays.rgb[3 * m + a] = cc[a][k];
+                scratch.shadow_rays.org[3 * m + a] = oo[a][k];
+                scratch.shadow_rays.dir[3 * m + a] = dd[a][k];
+                scratch.shadow_rays.rgb[3 * m + a] = cc[a][k];
             }
-            sc.shadow_rays.tmax[m] = tt[k];
-            sc.shadow_rays.lux[m] = lx[k];
+            scratch.shadow_rays.tmax[m] = tt[k];
+            scratch.shadow_rays.lux[m] = lx[k];
             ++m;
         }
     });
-    resize_shadow_rays(sc, m);
+    resize_shadow_rays(scratch, m);
 }
 
 // Light sampling: one light sample per shading point, in the point's frame; the BSDF
 // evaluated for it and its density under BSDF sampling (for the MIS weight), N points of a
 // material at a time. False when no light can light anything (then no shadow ray is queued).
 inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
-    PathScratch& sc = w.scratch;
-    clear_shadow_rays(sc);
+    PathScratch& scratch = w.scratch;
+    clear_shadow_rays(scratch);
     if (!w.can_sample_lights) return false;
-    const size_t np = sc.sorted.size();
-    const float* vl = sc.v_local.data();
-    const float* eta = sc.eta.data();
-    float* ll = grow(sc.l_local, 3 * np);
-    float* fv = grow(sc.bsdf_rgb, 3 * np);
-    float* pdf = grow(sc.pdf, np);
-    sample_lights(w.scene, sc, depth, np);
+    const size_t np = scratch.sorted.size();
+    const float* vl = scratch.v_local.data();
+    const float* eta = scratch.eta.data();
+    float* ll = grow(scratch.l_local, 3 * np);
+    float* fv = grow(scratch.bsdf_rgb, 3 * np);
+    float* pdf = grow(scratch.pdf, np);
+    sample_lights(w.scene, scratch, depth, np);
     for (size_t q = 0; q < np; ++q) {
-        const ShadingPoint& sp = sc.sorted[q];
-        const Vec3f ldir = load_vec3(sc.light_samples.dir.data() + 3 * q);
-        const Vec3f l = sc.light_samples.ok[q] ? to_local(sp, ldir) : Vec3f{0, 0, 0};
+        const ShadingPoint& sp = scratch.sorted[q];
+        const Vec3f ldir = load_vec3(scratch.light_samples.dir.data() + 3 * q);
+        const Vec3f l = scratch.light_samples.usable[q] ? to_local(sp, ldir) : Vec3f{0, 0, 0};
         store_vec3(l, ll + 3 * q);
         // the light must be on the side the local direction says (shading normals bend)
         const float side = dot(ldir, sp.ng);
         const bool transmissive = transmits(w.scene.materials[sp.material]);
-        sc.light_samples.ok[q] = sc.light_samples.ok[q] && (transmissive ? side * l.z > 0 : side > 0);
+        scratch.light_samples.usable[q] = scratch.light_samples.usable[q] && (transmissive ? side * l.z > 0 : side > 0);
     }
-    sc.timer.lap(Stage::LightToLocal);
+    scratch.timer.lap(Stage::LightToLocal);
     for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
         material_eval(m, ll + 3 * a, vl + 3 * a, eta + a, fv + 3 * a, count);
         material_pdf(m, ll + 3 * a, vl + 3 * a, eta + a, pdf + a, count);
@@ -143,10 +145,10 @@ inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
 // The light samples' shadow rays queued, each with what it adds if unblocked: throughput x
 // BSDF x cosine x radiance x MIS weight / pdf (and, at the first hit, the illuminance AOV).
 inline void queue_light_shadow_rays(const Wavefront& w, int depth) {
-    PathScratch& sc = w.scratch;
-    sc.timer.lap(Stage::ShadeLight);
-    queue_shadow_lanes(w, depth, sc.sorted.size());
-    sc.timer.lap(Stage::ShadowQueue);
+    PathScratch& scratch = w.scratch;
+    scratch.timer.lap(Stage::ShadeLight);
+    queue_shadow_lanes(w, depth, scratch.sorted.size());
+    scratch.timer.lap(Stage::ShadowQueue);
 }
 
 // Light sampling with MIS, its shadow rays queued (resolved by resolve_shadow_rays).
@@ -156,17 +158,17 @@ inline void queue_light_samples(const Wavefront& w, int depth) {
 
 // The queued shadow rays, N per packet; the unblocked ones add their light.
 inline void resolve_shadow_rays(const Wavefront& w) {
-    PathScratch& sc = w.scratch;
-    const uint8_t* blocked = trace_shadow_rays(w.scene, sc);
-    sc.timer.times.shadow_rays += sc.shadow_rays.path.size();
-    sc.timer.lap(Stage::TraceShadow);
-    for (size_t q = 0; q < sc.shadow_rays.path.size(); ++q) {
+    PathScratch& scratch = w.scratch;
+    const uint8_t* blocked = trace_shadow_rays(w.scene, scratch);
+    scratch.timer.times.shadow_rays += scratch.shadow_rays.path.size();
+    scratch.timer.lap(Stage::TraceShadow);
+    for (size_t q = 0; q < scratch.shadow_rays.path.size(); ++q) {
         if (blocked[q]) continue;
-        PathResult& r = w.results[sc.shadow_rays.path[q]];
-        for (int k = 0; k < 3; ++k) r.rgb[k] += sc.shadow_rays.rgb[3 * q + k];
-        r.illuminance += sc.shadow_rays.lux[q];
+        PathResult& r = w.results[scratch.shadow_rays.path[q]];
+        for (int k = 0; k < 3; ++k) r.rgb[k] += scratch.shadow_rays.rgb[3 * q + k];
+        r.illuminance += scratch.shadow_rays.lux[q];
     }
-    sc.timer.lap(Stage::ShadowResolve);
+    scratch.timer.lap(Stage::ShadowResolve);
 }
 
 }  // namespace render_detail

@@ -20,7 +20,7 @@ PATINA_BEGIN_TARGET
 namespace render_detail {
 using namespace kernel_width;
 
-// Sensor paths: path i starts at sensor sc.sensors[i] (its point, geometric normal and
+// Sensor paths: path i starts at sensor scratch.sensors[i] (its point, geometric normal and
 // frame) along a cosine-weighted direction about its normal, drawn from the lens dimensions
 // of w.camera_samples[i].key (a sensor has no lens). A direction below the geometric surface (a bent
 // shading normal) starts no path: it adds nothing, as the estimator of a sensor on that
@@ -43,18 +43,24 @@ inline void start_sensor_paths(const Wavefront& w, size_t n) {
 // The lux a sensor path's radiance stands for: pi x 683 lm/W x its luminance.
 inline float sensor_path_lux(const PathResult& r) { return kPi * kLumensPerWatt * luminance(r.rgb); }
 
-// Traces sc.sensor_samples.size() sensor paths from sc.sensors (start_sensor_paths) with at
-// most st.max_depth vertices each, into sc.sensor_results.
-inline void trace_sensor_paths(const RenderScene& s, const IntegratorSettings& st, PathScratch& sc) {
-    const size_t n = sc.sensor_samples.size();
-    sc.sensor_results.resize(n);
-    IntegratorSettings inner = st;
+// Traces scratch.sensor_samples.size() sensor paths from scratch.sensors (start_sensor_paths) with at
+// most settings.max_depth vertices each, into scratch.sensor_results.
+inline void trace_sensor_paths(const RenderScene& scene, const IntegratorSettings& settings, PathScratch& scratch) {
+    const size_t n = scratch.sensor_samples.size();
+    scratch.sensor_results.resize(n);
+    IntegratorSettings inner = settings;
     inner.indirect_illuminance = false;  // the sensors are not sensors again
-    Wavefront w{s, inner, sc.sensor_samples.data(), sc.sensor_results.data(), sc, lights_emit(s), scene_has_sun(s),
-                s.ray_offset};
+    Wavefront w{scene,
+                inner,
+                scratch.sensor_samples.data(),
+                scratch.sensor_results.data(),
+                scratch,
+                lights_emit(scene),
+                scene_has_sun(scene),
+                scene.ray_offset};
     w.first_emission = false;
     start_sensor_paths(w, n);
-    sc.timer.lap(Stage::CameraRays);  // a path's start counts as camera rays, a sensor's too
+    scratch.timer.lap(Stage::CameraRays);  // a path's start counts as camera rays, a sensor's too
     path_bounces(w);
 }
 
@@ -64,22 +70,22 @@ inline void trace_sensor_paths(const RenderScene& s, const IntegratorSettings& s
 inline uint32_t sensor_path_key(uint32_t key) { return hash_u32(key ^ 0x5f3759dfu); }
 
 // The illuminance AOV's indirect part (IntegratorSettings::indirect_illuminance): each first
-// hit of the batch's camera paths a sensor (sc.sensors, kept by fill_shading_points), its
+// hit of the batch's camera paths a sensor (scratch.sensors, kept by fill_shading_points), its
 // sensor path one vertex shorter than the camera path, its lux added to the path's result.
-inline void add_indirect_illuminance(const RenderScene& s, const IntegratorSettings& st, const CameraSample* cs,
-                                     PathResult* out, PathScratch& sc) {
-    if (!st.indirect_illuminance || st.max_depth < 2 || sc.sensors.empty()) return;
-    sc.sensor_samples.resize(sc.sensors.size());
-    for (size_t q = 0; q < sc.sensors.size(); ++q) {
-        const CameraSample& c = cs[sc.sensors[q].path];
-        sc.sensor_samples[q] = CameraSample{0, 0, sensor_path_key(c.key), c.index};
+inline void add_indirect_illuminance(const RenderScene& scene, const IntegratorSettings& settings,
+                                     const CameraSample* camera_samples, PathResult* out, PathScratch& scratch) {
+    if (!settings.indirect_illuminance || settings.max_depth < 2 || scratch.sensors.empty()) return;
+    scratch.sensor_samples.resize(scratch.sensors.size());
+    for (size_t q = 0; q < scratch.sensors.size(); ++q) {
+        const CameraSample& c = camera_samples[scratch.sensors[q].path];
+        scratch.sensor_samples[q] = CameraSample{0, 0, sensor_path_key(c.key), c.index};
     }
-    IntegratorSettings inner = st;
-    inner.max_depth = st.max_depth - 1;
+    IntegratorSettings inner = settings;
+    inner.max_depth = settings.max_depth - 1;
     inner.mode = IntegratorMode::Path;  // the sensors' paths are plain paths
-    trace_sensor_paths(s, inner, sc);
-    for (size_t q = 0; q < sc.sensors.size(); ++q)
-        out[sc.sensors[q].path].illuminance += sensor_path_lux(sc.sensor_results[q]);
+    trace_sensor_paths(scene, inner, scratch);
+    for (size_t q = 0; q < scratch.sensors.size(); ++q)
+        out[scratch.sensors[q].path].illuminance += sensor_path_lux(scratch.sensor_results[q]);
 }
 
 // Sensor i (point and normal from the arrays) as shading point q: its frame about the normal.
@@ -97,68 +103,67 @@ inline ShadingPoint sensor_point(const float* points, const float* normals, size
 
 // Direct illuminance on sensors (patina illuminance): the same light sampling and shadow
 // packets as the renderer's, with the sensor's cosine instead of a BRDF.
-void sensor_illuminance(const RenderScene& s, const float* points, const float* normals, size_t begin, size_t end,
-                        int samples, uint32_t seed, float* lux, PathScratch& sc) {
+void sensor_illuminance(const RenderScene& scene, const float* points, const float* normals, size_t begin, size_t end,
+                        int samples, uint32_t seed, float* lux, PathScratch& scratch) {
     enter_kernel();
-    sc.timer.start();  // its laps (in sample_lights) count as light sampling
+    scratch.timer.start();  // its laps (in sample_lights) count as light sampling
     const size_t np = end - begin;
     std::fill(lux + begin, lux + end, 0.0f);
-    if (np == 0 || !lights_emit(s)) return;
-    sc.sorted.resize(np);
-    for (size_t q = 0; q < np; ++q) sc.sorted[q] = sensor_point(points, normals, begin + q, q);
-    const float eps = s.ray_offset;
+    if (np == 0 || !lights_emit(scene)) return;
+    scratch.sorted.resize(np);
+    for (size_t q = 0; q < np; ++q) scratch.sorted[q] = sensor_point(points, normals, begin + q, q);
+    const float eps = scene.ray_offset;
     std::vector<double> sum(np, 0.0);
-    sc.point_keys.resize(np);
-    sc.point_index.resize(np);
-    sc.sampler = SamplerKind::Independent;
+    scratch.point_keys.resize(np);
+    scratch.point_index.resize(np);
+    scratch.sampler = SamplerKind::Independent;
     for (int k = 0; k < samples; ++k) {
         for (size_t q = 0; q < np; ++q) {
             const uint32_t key = stream_key(seed, static_cast<uint32_t>(begin + q));
-            sc.point_keys[q] = static_cast<int32_t>(key);
-            sc.point_index[q] = k;
+            scratch.point_keys[q] = static_cast<int32_t>(key);
+            scratch.point_index[q] = k;
         }
-        sample_lights(s, sc, 0, np);
-        clear_shadow_rays(sc);
+        sample_lights(scene, scratch, 0, np);
+        clear_shadow_rays(scratch);
         for (size_t q = 0; q < np; ++q) {
-            if (!sc.light_samples.ok[q]) continue;
-            const ShadingPoint& sp = sc.sorted[q];
-            const LightSample ls = load_light_sample(sc, q);
+            if (!scratch.light_samples.usable[q]) continue;
+            const ShadingPoint& sp = scratch.sorted[q];
+            const LightSample ls = load_light_sample(scratch, q);
             const float cos_s = dot(ls.dir, sp.n);
             if (!(cos_s > 0)) continue;
             const float none[3] = {0, 0, 0};
-            queue_shadow_ray(sc, static_cast<int32_t>(q), sp.p, sp.n, eps, ls, none,
+            queue_shadow_ray(scratch, static_cast<int32_t>(q), sp.p, sp.n, eps, ls, none,
                              kLumensPerWatt * luminance(ls.rgb) * cos_s / ls.pdf);
         }
-        const uint8_t* blocked = trace_shadow_rays(s, sc);
-        for (size_t j = 0; j < sc.shadow_rays.path.size(); ++j)
-            if (!blocked[j]) sum[sc.shadow_rays.path[j]] += sc.shadow_rays.lux[j];
+        const uint8_t* blocked = trace_shadow_rays(scene, scratch);
+        for (size_t j = 0; j < scratch.shadow_rays.path.size(); ++j)
+            if (!blocked[j]) sum[scratch.shadow_rays.path[j]] += scratch.shadow_rays.lux[j];
     }
     for (size_t q = 0; q < np; ++q) lux[begin + q] = static_cast<float>(sum[q] / samples);
 }
 
 // Indirect illuminance on sensors (patina illuminance --indirect): per sample, every sensor's
 // path traced as one wavefront (trace_sensor_paths), its lux added to the sensor's sum.
-void sensor_illuminance_indirect(const RenderScene& s, const IntegratorSettings& st, const float* points,
-                                 const float* normals, size_t begin, size_t end, int samples, uint32_t seed,
-                                 float* lux, PathScratch& sc) {
+void sensor_illuminance_indirect(const RenderScene& scene, const IntegratorSettings& settings, const float* points,
+                                 const float* normals, size_t begin, size_t end, int samples, uint32_t seed, float* lux,
+                                 PathScratch& scratch) {
     enter_kernel();
     const size_t np = end - begin;
-    if (np == 0 || !lights_emit(s) || st.max_depth < 1) return;
+    if (np == 0 || !lights_emit(scene) || settings.max_depth < 1) return;
     std::vector<double> sum(np, 0.0);
-    sc.sensors.resize(np);  // the sensor paths leave them as they are (no sensors of their own)
-    for (size_t q = 0; q < np; ++q) sc.sensors[q] = sensor_point(points, normals, begin + q, q);
-    sc.sensor_samples.resize(np);
+    scratch.sensors.resize(np);  // the sensor paths leave them as they are (no sensors of their own)
+    for (size_t q = 0; q < np; ++q) scratch.sensors[q] = sensor_point(points, normals, begin + q, q);
+    scratch.sensor_samples.resize(np);
     for (int k = 0; k < samples; ++k) {
         for (size_t q = 0; q < np; ++q) {
             const uint32_t key = stream_key(seed, static_cast<uint32_t>(begin + q));
-            sc.sensor_samples[q] = CameraSample{0, 0, sensor_path_key(key), static_cast<uint32_t>(k)};
+            scratch.sensor_samples[q] = CameraSample{0, 0, sensor_path_key(key), static_cast<uint32_t>(k)};
         }
-        trace_sensor_paths(s, st, sc);
-        for (size_t q = 0; q < np; ++q) sum[q] += sensor_path_lux(sc.sensor_results[q]);
+        trace_sensor_paths(scene, settings, scratch);
+        for (size_t q = 0; q < np; ++q) sum[q] += sensor_path_lux(scratch.sensor_results[q]);
     }
     for (size_t q = 0; q < np; ++q) lux[begin + q] += static_cast<float>(sum[q] / samples);
 }
-
 
 }  // namespace render_detail
 PATINA_END_TARGET

@@ -37,42 +37,42 @@ inline Vec3f hit_normal(const Wavefront& w, const HitBatch& hits, size_t j, cons
 }
 
 // Grouping by material before the points exist: the hits that become shading points
-//    (not the back of a one-sided surface, where the path ends) in sc.shade_hits, counted
-//    per material (sc.material_start: each group's first slot in sc.sorted), so
+//    (not the back of a one-sided surface, where the path ends) in scratch.shade_hits, counted
+//    per material (scratch.material_start: each group's first slot in scratch.sorted), so
 //    make_shading_points writes each point straight into its group, in hit order (what a
 //    stable counting sort of the points would give, without building and copying them twice).
 inline void group_by_material(const Wavefront& w, const HitBatch& hits, int depth) {
-    PathScratch& sc = w.scratch;
+    PathScratch& scratch = w.scratch;
     const size_t nm = w.scene.materials.size();
-    sc.material_start.assign(nm + 1, 0);
-    sc.material_eta.resize(nm);
-    sc.material_transmissive.resize(nm);
-    sc.material_two_sided.resize(nm);
+    scratch.material_start.assign(nm + 1, 0);
+    scratch.material_eta.resize(nm);
+    scratch.material_transmissive.resize(nm);
+    scratch.material_two_sided.resize(nm);
     for (size_t k = 0; k < nm; ++k) {
         const Material& m = w.scene.materials[k];
         const bool transmissive = transmits(m);
-        sc.material_eta[k] = transmissive ? m.as<Dielectric>().eta : 1.0f;
-        sc.material_transmissive[k] = transmissive ? 1.0f : 0.0f;
-        sc.material_two_sided[k] = m.two_sided || transmissive ? 1.0f : 0.0f;
+        scratch.material_eta[k] = transmissive ? m.as<Dielectric>().eta : 1.0f;
+        scratch.material_transmissive[k] = transmissive ? 1.0f : 0.0f;
+        scratch.material_two_sided[k] = m.two_sided || transmissive ? 1.0f : 0.0f;
     }
-    sc.shade_hits.clear();
+    scratch.shade_hits.clear();
     const float* tn = w.scene.tree->normals.data();
-    for (size_t j = 0; j < sc.active.size(); ++j) {
+    for (size_t j = 0; j < scratch.active.size(); ++j) {
         if (!may_shade(w, hits, j, depth)) continue;
         const int32_t prim = hits.prim[j], material = w.scene.tri_material[prim];
         // the back of a one-sided surface ends the path (make_shading_lanes' test, so its
         // groups have no gaps)
-        if (!(sc.material_two_sided[material] > 0.0f)) {
-            const Vec3f wo = -load_vec3(sc.dir.data() + 3 * sc.active[j]);
+        if (!(scratch.material_two_sided[material] > 0.0f)) {
+            const Vec3f wo = -load_vec3(scratch.dir.data() + 3 * scratch.active[j]);
             if (dot(hit_normal(w, hits, j, tn), wo) < 0.0f) {
-                if (depth == 0) w.results[sc.active[j]].depth = hits.t[j];
+                if (depth == 0) w.results[scratch.active[j]].depth = hits.t[j];
                 continue;
             }
         }
-        ++sc.material_start[material + 1];
-        sc.shade_hits.push_back(static_cast<int32_t>(j));
+        ++scratch.material_start[material + 1];
+        scratch.shade_hits.push_back(static_cast<int32_t>(j));
     }
-    for (size_t k = 0; k < nm; ++k) sc.material_start[k + 1] += sc.material_start[k];
+    for (size_t k = 0; k < nm; ++k) scratch.material_start[k + 1] += scratch.material_start[k];
 }
 
 // a / |a| (a zero vector stays zero), N at a time: normalize's operations lane by lane.
@@ -93,7 +93,7 @@ PATINA_INLINE void orthonormal_frame_lanes(const V3& n, V3& t, V3& b) {
     b = V3{c, sign + n.y * n.y * a, -n.y};
 }
 
-// The shading points of N hits (sc.shade_hits[h0, h0 + lanes)) at once: make_shading_point's
+// The shading points of N hits (scratch.shade_hits[h0, h0 + lanes)) at once: make_shading_point's
 // operations lane by lane (interpolated normal and tangent, facing, frame), so every lane
 // has the bits the one-hit version gives. Results in lane arrays; ok: false where the path
 // ends at the hit (the back of a one-sided surface).
@@ -104,32 +104,32 @@ PATINA_INLINE void store_lanes3(float (*dst)[N], const V3& a) {
 }
 
 struct PointLanes {
-    alignas(64) float p[3][N], ng[3][N], n[3][N], t[3][N], b[3][N], vl[3][N], eta[N];
-    int ok;  // bit k: lane k is a shading point
+    alignas(64) float p[3][N], ng[3][N], n[3][N], t[3][N], b[3][N], v_local[3][N], eta[N];
+    int lane_mask;  // bit k: lane k is a shading point
 };
 
 inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t h0, int lanes, PointLanes& out) {
-    const RenderScene& s = w.scene;
-    const PathScratch& sc = w.scratch;
+    const RenderScene& scene = w.scene;
+    const PathScratch& scratch = w.scratch;
     // the hits' fields gathered by hit number (the last block's padding repeats its first hit)
     alignas(64) int32_t hit[N];
     if (lanes < N)
-        for (int k = 0; k < N; ++k) hit[k] = sc.shade_hits[h0 + (k < lanes ? k : 0)];
-    const I J = load_n<N>(lanes < N ? hit : sc.shade_hits.data() + h0);
-    const I pr = gather(hits.prim, J), material = gather(s.tri_material, pr);
+        for (int k = 0; k < N; ++k) hit[k] = scratch.shade_hits[h0 + (k < lanes ? k : 0)];
+    const I J = load_n<N>(lanes < N ? hit : scratch.shade_hits.data() + h0);
+    const I pr = gather(hits.prim, J), material = gather(scene.tri_material, pr);
     // analytic-sphere hits get their geometry from sphere_points; the triangles' gathers read triangle 0 there
-    const SphereSet& spheres = s.tree->spheres;
+    const SphereSet& spheres = scene.tree->spheres;
     const B on_sphere = sphere_lanes<N>(spheres, pr);
     const bool triangles = !all(on_sphere);
-    const I pa3 = gather(sc.active.data(), J) * I(3), pr3 = select(on_sphere, I(0), pr) * I(3);
+    const I pa3 = gather(scratch.active.data(), J) * I(3), pr3 = select(on_sphere, I(0), pr) * I(3);
     const F fu = gather(hits.u, J), fv = gather(hits.v, J), ft = gather(hits.t, J);
     // per material (group_by_material's tables): eta, 1 if dielectric, 1 if either side shades
-    const F ein = gather(sc.material_eta.data(), material);
-    const B transmissive = gather(sc.material_transmissive.data(), material) > F(0.0f);
-    const B two_sided = gather(sc.material_two_sided.data(), material) > F(0.0f);
+    const F ein = gather(scratch.material_eta.data(), material);
+    const B transmissive = gather(scratch.material_transmissive.data(), material) > F(0.0f);
+    const B two_sided = gather(scratch.material_two_sided.data(), material) > F(0.0f);
     const F w0 = F(1.0f) - fu - fv;
     I vert[3];
-    for (int c = 0; c < 3; ++c) vert[c] = triangles ? gather(s.indices, pr3 + I(c)) * I(3) : I(0);
+    for (int c = 0; c < 3; ++c) vert[c] = triangles ? gather(scene.indices, pr3 + I(c)) * I(3) : I(0);
     // a per-vertex attribute interpolated at the hits
     auto interpolate = [&](const float* a) {
         V3 x[3];
@@ -137,16 +137,16 @@ inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t 
             x[c] = V3{gather(a, vert[c]), gather(a, vert[c] + I(1)), gather(a, vert[c] + I(2))};
         return w0 * x[0] + fu * x[1] + fv * x[2];
     };
-    const float* org = sc.org.data();
-    const float* dirs = sc.dir.data();
+    const float* org = scratch.org.data();
+    const float* dirs = scratch.dir.data();
     const V3 o{gather(org, pa3), gather(org, pa3 + I(1)), gather(org, pa3 + I(2))};
     const V3 dir{gather(dirs, pa3), gather(dirs, pa3 + I(1)), gather(dirs, pa3 + I(2))};
-    const float* tn = s.tree->normals.data();
+    const float* tn = scene.tree->normals.data();
     const V3 zero{F(0.0f), F(0.0f), F(0.0f)};
     V3 ng = zero, n = zero, sphere_tangent = zero;
     if (triangles) {
         ng = V3{gather(tn, pr3), gather(tn, pr3 + I(1)), gather(tn, pr3 + I(2))};
-        n = normalize_lanes(interpolate(s.normals));
+        n = normalize_lanes(interpolate(scene.normals));
     }
     V3 p = o + ft * dir;
     if (any(on_sphere)) sphere_points<N>(spheres, on_sphere, pr, o, dir, ft, p, ng, n, sphere_tangent);
@@ -162,8 +162,9 @@ inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t 
     n = select3(!(dot(n, wo) > F(0.0f)), ng, n);
     V3 ft3, fb3;
     orthonormal_frame_lanes(n, ft3, fb3);
-    if (s.tangents != nullptr || any(on_sphere)) {
-        V3 tangent = select3(on_sphere, sphere_tangent, triangles && s.tangents ? interpolate(s.tangents) : zero);
+    if (scene.tangents != nullptr || any(on_sphere)) {
+        V3 tangent =
+            select3(on_sphere, sphere_tangent, triangles && scene.tangents ? interpolate(scene.tangents) : zero);
         tangent = tangent - dot(tangent, n) * n;
         const B has = dot(tangent, tangent) > F(1e-12f);
         const V3 tu = normalize_lanes(tangent);
@@ -176,43 +177,44 @@ inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t 
     store_lanes3(out.t, ft3);
     store_lanes3(out.b, fb3);
     // the view direction in the frame: to_local(sp, -dir)
-    store_lanes3(out.vl, V3{dot(wo, ft3), dot(wo, fb3), dot(wo, n)});
+    store_lanes3(out.v_local, V3{dot(wo, ft3), dot(wo, fb3), dot(wo, n)});
     store_n<N>(out.eta, eta);
-    out.ok = movemask(ok) & ((1 << lanes) - 1);
+    out.lane_mask = movemask(ok) & ((1 << lanes) - 1);
 }
 
-// Surface hits become the bounce's shading points in sc.sorted, grouped by material (groups
-// at sc.material_start), each with its view direction in its frame, its relative index and
+// Surface hits become the bounce's shading points in scratch.sorted, grouped by material (groups
+// at scratch.material_start), each with its view direction in its frame, its relative index and
 // its path's random-number key and sample index; the first hit also fills the AOVs (and, for
-// the indirect illuminance, is kept as a sensor: sc.sensors).
+// the indirect illuminance, is kept as a sensor: scratch.sensors).
 inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int depth) {
-    const RenderScene& s = w.scene;
-    PathScratch& sc = w.scratch;
-    const size_t nm = s.materials.size();
-    const size_t most = sc.material_start[nm];
-    sc.sorted.resize(most);
-    float* vl = grow(sc.v_local, 3 * most);
-    float* eta = grow(sc.eta, most);
-    sc.point_keys.resize(most);
-    sc.point_index.resize(most);
-    float* rows[5] = {grow(sc.point_lanes.position, 3 * most), grow(sc.point_lanes.geometric_normal, 3 * most), grow(sc.point_lanes.tangent, 3 * most),
-                      grow(sc.point_lanes.bitangent, 3 * most), grow(sc.point_lanes.normal, 3 * most)};
-    int32_t* point_path = grow(sc.point_lanes.path, most);
-    std::vector<int32_t>& fill = sc.next_active;  // reused as the write cursors
-    fill.assign(sc.material_start.begin(), sc.material_start.end() - 1);
+    const RenderScene& scene = w.scene;
+    PathScratch& scratch = w.scratch;
+    const size_t nm = scene.materials.size();
+    const size_t most = scratch.material_start[nm];
+    scratch.sorted.resize(most);
+    float* vl = grow(scratch.v_local, 3 * most);
+    float* eta = grow(scratch.eta, most);
+    scratch.point_keys.resize(most);
+    scratch.point_index.resize(most);
+    float* rows[5] = {grow(scratch.point_lanes.position, 3 * most),
+                      grow(scratch.point_lanes.geometric_normal, 3 * most), grow(scratch.point_lanes.tangent, 3 * most),
+                      grow(scratch.point_lanes.bitangent, 3 * most), grow(scratch.point_lanes.normal, 3 * most)};
+    int32_t* point_path = grow(scratch.point_lanes.path, most);
+    std::vector<int32_t>& fill = scratch.next_active;  // reused as the write cursors
+    fill.assign(scratch.material_start.begin(), scratch.material_start.end() - 1);
     PointLanes pl;
-    for_blocks(sc.shade_hits.size(), [&](size_t h0, int lanes) {
+    for_blocks(scratch.shade_hits.size(), [&](size_t h0, int lanes) {
         make_shading_lanes(w, hits, h0, lanes, pl);
         for (int k = 0; k < lanes; ++k) {
-            const int32_t j = sc.shade_hits[h0 + k];
-            const int32_t i = sc.active[j];
-            if (!((pl.ok >> k) & 1)) {
+            const int32_t j = scratch.shade_hits[h0 + k];
+            const int32_t i = scratch.active[j];
+            if (!((pl.lane_mask >> k) & 1)) {
                 if (depth == 0) w.results[i].depth = hits.t[j];
                 continue;  // the slot is taken by the group's next point
             }
-            const int32_t material = s.tri_material[hits.prim[j]];
+            const int32_t material = scene.tri_material[hits.prim[j]];
             const size_t q = fill[material]++;
-            ShadingPoint& sp = sc.sorted[q];
+            ShadingPoint& sp = scratch.sorted[q];
             sp.path = i;
             sp.material = material;
             sp.p = Vec3f{pl.p[0][k], pl.p[1][k], pl.p[2][k]};
@@ -222,46 +224,48 @@ inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int de
             sp.b = Vec3f{pl.b[0][k], pl.b[1][k], pl.b[2][k]};
             sp.eta = pl.eta[k];
             if (depth == 0) {
-                const Material& mat = s.materials[material];
+                const Material& mat = scene.materials[material];
                 std::copy(mat.albedo, mat.albedo + 3, w.results[i].albedo);
                 w.results[i].material = material;
                 store_vec3(sp.n, w.results[i].normal);
                 w.results[i].depth = hits.t[j];
-                if (w.settings.indirect_illuminance) sc.sensors.push_back(sp);
+                if (w.settings.indirect_illuminance) scratch.sensors.push_back(sp);
             }
             const float(*fields[5])[N] = {pl.p, pl.ng, pl.t, pl.b, pl.n};
             for (int f = 0; f < 5; ++f)
                 for (int c = 0; c < 3; ++c) rows[f][3 * q + c] = fields[f][c][k];
             point_path[q] = i;
-            vl[3 * q] = pl.vl[0][k];
-            vl[3 * q + 1] = pl.vl[1][k];
-            vl[3 * q + 2] = pl.vl[2][k];
+            vl[3 * q] = pl.v_local[0][k];
+            vl[3 * q + 1] = pl.v_local[1][k];
+            vl[3 * q + 2] = pl.v_local[2][k];
             eta[q] = pl.eta[k];
-            sc.point_keys[q] = static_cast<int32_t>(w.camera_samples[i].key);
-            sc.point_index[q] = static_cast<int32_t>(w.camera_samples[i].index);
+            scratch.point_keys[q] = static_cast<int32_t>(w.camera_samples[i].key);
+            scratch.point_index[q] = static_cast<int32_t>(w.camera_samples[i].index);
         }
     });
     // paths that ended at a hit (the back of a one-sided surface) left their group short:
     // close the gaps, groups in order
     size_t np = 0;
     for (size_t k = 0; k < nm; ++k) {
-        const size_t a = sc.material_start[k], count = fill[k] - a;
-        sc.material_start[k] = np;
+        const size_t a = scratch.material_start[k], count = fill[k] - a;
+        scratch.material_start[k] = np;
         if (a != np) {
-            std::copy(sc.sorted.begin() + a, sc.sorted.begin() + a + count, sc.sorted.begin() + np);
+            std::copy(scratch.sorted.begin() + a, scratch.sorted.begin() + a + count, scratch.sorted.begin() + np);
             std::copy(vl + 3 * a, vl + 3 * (a + count), vl + 3 * np);
             for (float* r : rows) std::copy(r + 3 * a, r + 3 * (a + count), r + 3 * np);
             std::copy(point_path + a, point_path + a + count, point_path + np);
             std::copy(eta + a, eta + a + count, eta + np);
-            std::copy(sc.point_keys.begin() + a, sc.point_keys.begin() + a + count, sc.point_keys.begin() + np);
-            std::copy(sc.point_index.begin() + a, sc.point_index.begin() + a + count, sc.point_index.begin() + np);
+            std::copy(scratch.point_keys.begin() + a, scratch.point_keys.begin() + a + count,
+                      scratch.point_keys.begin() + np);
+            std::copy(scratch.point_index.begin() + a, scratch.point_index.begin() + a + count,
+                      scratch.point_index.begin() + np);
         }
         np += count;
     }
-    sc.material_start[nm] = np;
-    sc.sorted.resize(np);
-    sc.point_keys.resize(np);
-    sc.point_index.resize(np);
+    scratch.material_start[nm] = np;
+    scratch.sorted.resize(np);
+    scratch.point_keys.resize(np);
+    scratch.point_index.resize(np);
 }
 
 // Runs kernel(material, first point, count) for each material's group of sorted points.
@@ -276,12 +280,12 @@ inline void for_material_groups(const Wavefront& w, Kernel kernel) {
 // The bounce's surface hits made shading points, grouped by material (group_by_material,
 // then fill_shading_points).
 inline void make_shading_points(const Wavefront& w, const HitBatch& hits, int depth) {
-    PathScratch& sc = w.scratch;
+    PathScratch& scratch = w.scratch;
     group_by_material(w, hits, depth);
-    sc.timer.lap(Stage::GroupMaterial);
+    scratch.timer.lap(Stage::GroupMaterial);
     fill_shading_points(w, hits, depth);
-    sc.timer.times.shading_points += sc.sorted.size();
-    sc.timer.lap(Stage::ShadingPoints);
+    scratch.timer.times.shading_points += scratch.sorted.size();
+    scratch.timer.lap(Stage::ShadingPoints);
 }
 
 }  // namespace render_detail

@@ -27,7 +27,7 @@ inline const TraceKernels& trace_kernels() {
 // Queues the shadow ray of a light sample taken at p: from p lifted by `offset` along n to
 // the light's point (or to infinity), carrying the radiance `rgb` and illuminance `lux` it
 // adds to path `owner` if nothing is in the way.
-inline void queue_shadow_ray(PathScratch& sc, int32_t owner, const Vec3f& p, const Vec3f& n, float offset,
+inline void queue_shadow_ray(PathScratch& scratch, int32_t owner, const Vec3f& p, const Vec3f& n, float offset,
                              const LightSample& ls, const float* rgb, float lux) {
     const Vec3f o = p + offset * n;
     Vec3f d = ls.dir;
@@ -40,7 +40,7 @@ inline void queue_shadow_ray(PathScratch& sc, int32_t owner, const Vec3f& p, con
         d = Vec3f{to.x / len, to.y / len, to.z / len};
         tmax = len * (1.0f - 1e-4f);
     }
-    ShadowRayQueue& queue = sc.shadow_rays;
+    ShadowRayQueue& queue = scratch.shadow_rays;
     queue.path.push_back(owner);
     queue.org.insert(queue.org.end(), {o.x, o.y, o.z});
     queue.dir.insert(queue.dir.end(), {d.x, d.y, d.z});
@@ -50,8 +50,8 @@ inline void queue_shadow_ray(PathScratch& sc, int32_t owner, const Vec3f& p, con
 }
 
 // The queue n rays long (a stage that writes them in place, then cuts it to the rays it wrote).
-inline void resize_shadow_rays(PathScratch& sc, size_t n) {
-    ShadowRayQueue& queue = sc.shadow_rays;
+inline void resize_shadow_rays(PathScratch& scratch, size_t n) {
+    ShadowRayQueue& queue = scratch.shadow_rays;
     queue.path.resize(n);
     queue.org.resize(3 * n);
     queue.dir.resize(3 * n);
@@ -60,8 +60,8 @@ inline void resize_shadow_rays(PathScratch& sc, size_t n) {
     queue.lux.resize(n);
 }
 
-inline void clear_shadow_rays(PathScratch& sc) {
-    ShadowRayQueue& queue = sc.shadow_rays;
+inline void clear_shadow_rays(PathScratch& scratch) {
+    ShadowRayQueue& queue = scratch.shadow_rays;
     queue.path.clear();
     queue.org.clear();
     queue.dir.clear();
@@ -71,16 +71,18 @@ inline void clear_shadow_rays(PathScratch& sc) {
 }
 
 // Traces the queued shadow rays (through the BVH if the scene has one, else N per kd-tree
-// packet); returns sc.shadow_rays.blocked (one byte per ray).
-inline const uint8_t* trace_shadow_rays(const RenderScene& s, PathScratch& sc) {
-    ShadowRayQueue& queue = sc.shadow_rays;
+// packet); returns scratch.shadow_rays.blocked (one byte per ray).
+inline const uint8_t* trace_shadow_rays(const RenderScene& scene, PathScratch& scratch) {
+    ShadowRayQueue& queue = scratch.shadow_rays;
     const size_t ns = queue.path.size();
     uint8_t* blocked = grow(queue.blocked, ns);
     if (ns > 0) {
         const RayBatch rays{queue.org.data(), queue.dir.data(), 0.0f, queue.tmax.data(), kInfinity};
-        if (s.bvh) trace_kernels().occluded_bvh(*s.bvh, rays, blocked, 0, ns);
-        else trace_kernels().occluded(*s.tree, rays, blocked, 0, ns);
-        sc.rays_traced += ns;
+        if (scene.bvh)
+            trace_kernels().occluded_bvh(*scene.bvh, rays, blocked, 0, ns);
+        else
+            trace_kernels().occluded(*scene.tree, rays, blocked, 0, ns);
+        scratch.rays_traced += ns;
     }
     return blocked;
 }

@@ -47,26 +47,26 @@ struct Wavefront {
 
 // Path i starts along (o, d) with throughput 1 (its result emptied first by start_paths).
 inline void start_path(const Wavefront& w, size_t i, const Vec3f& o, const Vec3f& d) {
-    PathScratch& sc = w.scratch;
-    store_vec3(o, sc.org.data() + 3 * i);
-    store_vec3(d, sc.dir.data() + 3 * i);
-    std::fill(sc.throughput.data() + 3 * i, sc.throughput.data() + 3 * i + 3, 1.0f);
-    sc.prev_pdf[i] = 0;  // a first segment: whatever it sees counts in full
-    sc.active.push_back(static_cast<int32_t>(i));
+    PathScratch& scratch = w.scratch;
+    store_vec3(o, scratch.org.data() + 3 * i);
+    store_vec3(d, scratch.dir.data() + 3 * i);
+    std::fill(scratch.throughput.data() + 3 * i, scratch.throughput.data() + 3 * i + 3, 1.0f);
+    scratch.prev_pdf[i] = 0;  // a first segment: whatever it sees counts in full
+    scratch.active.push_back(static_cast<int32_t>(i));
 }
 
 // The path arrays sized for n paths, none active yet, the n results empty.
 inline void start_paths(const Wavefront& w, size_t n) {
-    PathScratch& sc = w.scratch;
-    grow(sc.org, 3 * n);
-    grow(sc.dir, 3 * n);
-    grow(sc.throughput, 3 * n);
-    grow(sc.prev_pdf, n);
-    grow(sc.prev_pos, 3 * n);
-    sc.active.clear();
-    sc.rays_gathered = false;
-    sc.cached.clear();  // none served by the radiance cache (start_camera_paths says otherwise)
-    if (sc.cache) cache::cache_state(sc).guides.clear();  // no guides until place_guide_points
+    PathScratch& scratch = w.scratch;
+    grow(scratch.org, 3 * n);
+    grow(scratch.dir, 3 * n);
+    grow(scratch.throughput, 3 * n);
+    grow(scratch.prev_pdf, n);
+    grow(scratch.prev_pos, 3 * n);
+    scratch.active.clear();
+    scratch.rays_gathered = false;
+    scratch.cached.clear();  // none served by the radiance cache (start_camera_paths says otherwise)
+    if (scratch.cache) cache::cache_state(scratch).guides.clear();  // no guides until place_guide_points
     for (size_t i = 0; i < n; ++i) {
         PathResult& r = w.results[i];
         std::fill(r.rgb, r.rgb + 3, 0.0f);
@@ -80,7 +80,7 @@ inline void start_paths(const Wavefront& w, size_t n) {
 
 // A pinhole camera's rays through the film positions of samples [0, n), N at a time:
 // camera_ray's operations lane by lane (the same bits), from the camera's position.
-inline void pinhole_rays(const Camera& c, const CameraSample* cs, size_t n, float* org, float* dir) {
+inline void pinhole_rays(const Camera& c, const CameraSample* camera_samples, size_t n, float* org, float* dir) {
     const float aspect = static_cast<float>(c.width) / static_cast<float>(c.height);
     const V3 right{F(c.right[0]), F(c.right[1]), F(c.right[2])}, up{F(c.up[0]), F(c.up[1]), F(c.up[2])};
     const V3 forward{F(c.forward[0]), F(c.forward[1]), F(c.forward[2])};
@@ -88,8 +88,8 @@ inline void pinhole_rays(const Camera& c, const CameraSample* cs, size_t n, floa
     for_blocks(n, [&](size_t i, int lanes) {
         alignas(64) float fx[N] = {}, fy[N] = {};
         for (int k = 0; k < lanes; ++k) {
-            fx[k] = cs[i + k].fx;
-            fy[k] = cs[i + k].fy;
+            fx[k] = camera_samples[i + k].film_x;
+            fy[k] = camera_samples[i + k].film_y;
         }
         const F sx = (F(2.0f) * load_n<N>(fx) / F(static_cast<float>(c.width)) - F(1.0f)) * F(c.tan_half_fov) *
                      F(aspect);
@@ -106,12 +106,12 @@ inline void start_camera_paths(const Wavefront& w, size_t n) {
     start_paths(w, n);
     const bool lens = w.scene.camera.aperture_radius > 0;  // a pinhole draws no lens numbers
     if (!lens) {  // start_path for every path, the rays N at a time
-        PathScratch& sc = w.scratch;
-        pinhole_rays(w.scene.camera, w.camera_samples, n, sc.org.data(), sc.dir.data());
-        std::fill(sc.throughput.data(), sc.throughput.data() + 3 * n, 1.0f);
-        std::fill(sc.prev_pdf.data(), sc.prev_pdf.data() + n, 0.0f);
-        sc.active.resize(n);
-        for (size_t i = 0; i < n; ++i) sc.active[i] = static_cast<int32_t>(i);
+        PathScratch& scratch = w.scratch;
+        pinhole_rays(w.scene.camera, w.camera_samples, n, scratch.org.data(), scratch.dir.data());
+        std::fill(scratch.throughput.data(), scratch.throughput.data() + 3 * n, 1.0f);
+        std::fill(scratch.prev_pdf.data(), scratch.prev_pdf.data() + n, 0.0f);
+        scratch.active.resize(n);
+        for (size_t i = 0; i < n; ++i) scratch.active[i] = static_cast<int32_t>(i);
         return;
     }
     for (size_t i = 0; i < n; ++i) {
@@ -119,7 +119,7 @@ inline void start_camera_paths(const Wavefront& w, size_t n) {
         const float lu = lens ? sample_uniform(w.settings.sampler, c.key, c.index, 0, kDimLensU) : 0.0f;
         const float lv = lens ? sample_uniform(w.settings.sampler, c.key, c.index, 0, kDimLensV) : 0.0f;
         Vec3f o, d;
-        camera_ray(w.scene.camera, c.fx, c.fy, lu, lv, o, d);
+        camera_ray(w.scene.camera, c.film_x, c.film_y, lu, lv, o, d);
         start_path(w, i, o, d);
     }
 }
@@ -130,45 +130,44 @@ inline void start_given_paths(const Wavefront& w, const float* org, const float*
     for (size_t i = 0; i < n; ++i) start_path(w, i, load_vec3(org + 3 * i), load_vec3(dir + 3 * i));
 }
 
-
-inline bool scene_has_sun(const RenderScene& s) {
-    for (const Light& l : s.lights)
+inline bool scene_has_sun(const RenderScene& scene) {
+    for (const Light& l : scene.lights)
         if (l.is<SunLight>()) return true;
     return false;
 }
 
-// The active paths' rays, N per packet; hit j belongs to path sc.active[j].
+// The active paths' rays, N per packet; hit j belongs to path scratch.active[j].
 inline HitBatch trace_bounce(const Wavefront& w, int depth) {
-    PathScratch& sc = w.scratch;
-    const size_t m = sc.active.size();
-    float* ro = grow(sc.ray_org, 3 * m);
-    float* rd = grow(sc.ray_dir, 3 * m);
-    if (!sc.rays_gathered)  // (update_paths wrote the next bounce's rays in order already)
+    PathScratch& scratch = w.scratch;
+    const size_t m = scratch.active.size();
+    float* ro = grow(scratch.ray_org, 3 * m);
+    float* rd = grow(scratch.ray_dir, 3 * m);
+    if (!scratch.rays_gathered)  // (update_paths wrote the next bounce's rays in order already)
         for (size_t j = 0; j < m; ++j) {
-            const int32_t i = sc.active[j];
-            std::copy(sc.org.data() + 3 * i, sc.org.data() + 3 * i + 3, ro + 3 * j);
-            std::copy(sc.dir.data() + 3 * i, sc.dir.data() + 3 * i + 3, rd + 3 * j);
+            const int32_t i = scratch.active[j];
+            std::copy(scratch.org.data() + 3 * i, scratch.org.data() + 3 * i + 3, ro + 3 * j);
+            std::copy(scratch.dir.data() + 3 * i, scratch.dir.data() + 3 * i + 3, rd + 3 * j);
         }
-    HitBatch hits{grow(sc.hit_t, m), grow(sc.hit_prim, m), grow(sc.hit_u, m), grow(sc.hit_v, m)};
-    sc.timer.lap(Stage::RayGather);
+    HitBatch hits{grow(scratch.hit_t, m), grow(scratch.hit_prim, m), grow(scratch.hit_u, m), grow(scratch.hit_v, m)};
+    scratch.timer.lap(Stage::RayGather);
     const RayBatch rays{ro, rd, 0.0f, nullptr, kInfinity};
     // camera rays are coherent: kd-tree packets; the rest one at a time through the BVH
     if (depth > 0 && w.scene.bvh) trace_kernels().intersect_bvh(*w.scene.bvh, rays, hits, 0, m);
     else trace_kernels().intersect(*w.scene.tree, rays, hits, 0, m);
-    sc.rays_traced += m;
-    (depth == 0 ? sc.timer.times.camera_rays : sc.timer.times.secondary_rays) += m;
-    sc.timer.lap(depth == 0 ? Stage::TraceCamera : Stage::TraceSecondary);
+    scratch.rays_traced += m;
+    (depth == 0 ? scratch.timer.times.camera_rays : scratch.timer.times.secondary_rays) += m;
+    scratch.timer.lap(depth == 0 ? Stage::TraceCamera : Stage::TraceSecondary);
     return hits;
 }
 
 // The paths that go on become the next bounce's active paths, with their rays in that order
 // (update_paths wrote them; none if no path goes on).
 inline void next_bounce(const Wavefront& w) {
-    PathScratch& sc = w.scratch;
-    std::swap(sc.active, sc.next_active);
-    std::swap(sc.ray_org, sc.next_ray_org);
-    std::swap(sc.ray_dir, sc.next_ray_dir);
-    sc.rays_gathered = true;
+    PathScratch& scratch = w.scratch;
+    std::swap(scratch.active, scratch.next_active);
+    std::swap(scratch.ray_org, scratch.next_ray_org);
+    std::swap(scratch.ray_dir, scratch.next_ray_dir);
+    scratch.rays_gathered = true;
 }
 
 }  // namespace render_detail

@@ -37,18 +37,18 @@ inline SensorLanes load_sensors(const IlluminanceSensors& sensors, size_t i, int
 }
 
 // The way from N sensors to a luminaire: unit directions and squared distances. A sensor at
-// the luminaire itself gets d2 = 0 and a harmless direction (it receives nothing).
+// the luminaire itself gets dist_squared = 0 and a harmless direction (it receives nothing).
 struct WayToSource {
     V3 towards;
-    F d2, dist;
+    F dist_squared, dist;
 };
 
 PATINA_INLINE WayToSource way_to(const DirectSource& s, const V3& from) {
     const V3 to{F(s.position[0]) - from.x, F(s.position[1]) - from.y, F(s.position[2]) - from.z};
     WayToSource w;
-    w.d2 = dot(to, to);
-    w.dist = sqrt_exact(w.d2);
-    const B apart = w.d2 > F(0.0f);
+    w.dist_squared = dot(to, to);
+    w.dist = sqrt_exact(w.dist_squared);
+    const B apart = w.dist_squared > F(0.0f);
     const F inverse = F(1.0f) / select(apart, w.dist, F(1.0f));
     w.towards = V3{select(apart, to.x * inverse, F(0.0f)), select(apart, to.y * inverse, F(0.0f)),
                    select(apart, to.z * inverse, F(1.0f))};
@@ -77,9 +77,9 @@ PATINA_INLINE F source_lux(const DirectSource& s, SensorKind kind, const SensorL
                            float ray_offset) {
     const WayToSource w = way_to(s, at.point);
     const F response = sensor_response(kind, w.towards, at.normal);
-    const B faced = at.real & (w.d2 > F(0.0f)) & (response > F(0.0f));
+    const B faced = at.real & (w.dist_squared > F(0.0f)) & (response > F(0.0f));
     if (none(faced)) return F(0.0f);
-    const F lux = source_candela(s, -w.towards) * response / select(faced, w.d2, F(1.0f));
+    const F lux = source_candela(s, -w.towards) * response / select(faced, w.dist_squared, F(1.0f));
     B lit = faced & (lux > F(0.0f));
     if (tree && any(lit)) lit = andnot(shadowed(*tree, ray_offset, at.point, w, lit), lit);
     return select(lit, lux, F(0.0f));

@@ -255,7 +255,7 @@ inline void sample_light_group(const RenderScene& s, PathScratch& sc, int li, co
         sc.light_samples.dist[q] = dist[j];
         sc.light_samples.pdf[q] = pdf[j];
         sc.light_samples.delta[q] = delta;
-        sc.light_samples.ok[q] = pdf[j] > 0 && std::isfinite(pdf[j]);
+        sc.light_samples.usable[q] = pdf[j] > 0 && std::isfinite(pdf[j]);
     }
 }
 
@@ -268,10 +268,10 @@ inline void sample_lights(const RenderScene& s, PathScratch& sc, int depth, size
     sc.light_samples.dist.resize(np);
     sc.light_samples.pdf.resize(np);
     sc.light_samples.delta.resize(np);
-    sc.light_samples.ok.resize(np);
+    sc.light_samples.usable.resize(np);
     float* pick = grow(sc.u_pick, np);
-    float* u1 = grow(sc.u1, np);
-    float* u2 = grow(sc.u2, np);
+    float* u1 = grow(sc.uniform_u, np);
+    float* u2 = grow(sc.uniform_v, np);
     const int count = light_count(s);
     // one light (an environment alone, say) is picked whatever the number: none drawn
     if (count > 1) fill_uniforms(sc, np, depth, kDimLightPick, pick);

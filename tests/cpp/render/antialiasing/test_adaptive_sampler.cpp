@@ -203,8 +203,8 @@ using RgbFn = std::function<float(float, float)>;
 void fill(const patina::CameraSample* cs, size_t n, patina::PathResult* out, const HitFn& hit, const RgbFn& rgb) {
     for (size_t i = 0; i < n; ++i) {
         patina::PathResult& p = out[i];
-        const bool h = hit(cs[i].fx, cs[i].fy);
-        const float v = rgb(cs[i].fx, cs[i].fy);
+        const bool h = hit(cs[i].film_x, cs[i].film_y);
+        const float v = rgb(cs[i].film_x, cs[i].film_y);
         for (int k = 0; k < 3; ++k) {
             p.rgb[k] = v;
             p.albedo[k] = h ? 0.5f : 0.0f;
@@ -283,7 +283,7 @@ TEST(AdaptiveSampler, AFlatNoisyRegionStaysAtLevelOneAndIsTheMeanOfItsCorners) {
     EXPECT_EQ(r.traced.size(), 7u * 6u);  // the (w + 1) x (h + 1) corners, none twice
     for (size_t i = 0; i < r.traced.size(); ++i)
         for (size_t j = 0; j < i; ++j)
-            EXPECT_FALSE(r.traced[i].fx == r.traced[j].fx && r.traced[i].fy == r.traced[j].fy);
+            EXPECT_FALSE(r.traced[i].film_x == r.traced[j].film_x && r.traced[i].film_y == r.traced[j].film_y);
 }
 
 TEST(AdaptiveSampler, AVerticalEdgeIsFoundInItsColumnAndItsCoverageEstimated) {
@@ -317,10 +317,10 @@ TEST(AdaptiveSampler, AHorizontalEdgeIsFoundInItsRowThroughTheRotatedPattern) {
             }
         }
     for (const auto& c : r.traced) {  // every sample inside the tile
-        EXPECT_GE(c.fx, 1.0f);
-        EXPECT_LE(c.fx, 7.0f);
-        EXPECT_GE(c.fy, 1.0f);
-        EXPECT_LE(c.fy, 6.0f);
+        EXPECT_GE(c.film_x, 1.0f);
+        EXPECT_LE(c.film_x, 7.0f);
+        EXPECT_GE(c.film_y, 1.0f);
+        EXPECT_LE(c.film_y, 6.0f);
     }
 }
 
@@ -385,7 +385,7 @@ TEST(AdaptiveSampler, ASubPixelHighlightIsIntegratedByItsPiecesGrid) {
     EXPECT_EQ(seen.stats.level[i], 1);  // the pattern is what it was
     EXPECT_EQ(seen.stats.rays[i], 1 + patina::kAaSpotGrid * patina::kAaSpotGrid);
     int grid = 0;  // the grid's rays inside the piece, traced with the corners
-    for (const auto& c : seen.traced) grid += std::fabs(c.fx - cx) < half && std::fabs(c.fy - cy) < half;
+    for (const auto& c : seen.traced) grid += std::fabs(c.film_x - cx) < half && std::fabs(c.film_y - cy) < half;
     EXPECT_EQ(grid, patina::kAaSpotGrid * patina::kAaSpotGrid);
     EXPECT_EQ(seen.traced.size(), blind.traced.size() + grid);
     const std::vector<float> without = image(blind);

@@ -33,7 +33,7 @@ TEST(AaSphereSilhouettes, CornersGrazeTheSphereAndThePolygonCloses) {
     const double slack = 1 / std::cos(3.14159265358979 / kSilhouettePieces);
     for (const auto& p : corners) {
         const int k = static_cast<int>(p[3]);
-        const double c[3] = {s.cx[k], s.cy[k], s.cz[k]}, r = s.radius[k];
+        const double c[3] = {s.centre_x[k], s.centre_y[k], s.centre_z[k]}, r = s.radius[k];
         double d[3], w[3], dd = 0, along = 0, w2 = 0;
         for (int e = 0; e < 3; ++e) {
             d[e] = p[e] - eye[e];
