@@ -89,7 +89,7 @@ inline int32_t texel_of(float x, float y, float z, int R) {
 // surface behind does not):
 //  - the samples of one pixel share a member: one integration of the reconstructed
 //    radiance against the BRDF, for the view of the first (their direct light is sampled at
-//    every one);
+//    every one) -- one a region hemisphere its samples draw (stored_hemisphere);
 //  - the pixels of a block of cache.block x cache.block share a query: one reconstructed
 //    hemisphere (reprojection and holes), in the frame of its first point; each pixel
 //    integrates it against its own BRDF and view (turned into that frame).
@@ -124,9 +124,10 @@ inline int64_t block_of_pixel(const Camera& cam, int K, int64_t px, int64_t py) 
 // of the blocks' reconstructions: their noise, shared by a block, no longer steps at the
 // block grid's lines (docs/radiance-cache.md, "The mosaic"), and progressive passes average
 // the blend out. Two blocks wide rather than one: the studio's and the IES interior's
-// mosaic measures (k = 16) went 1.28 -> 1.24 and 1.17 -> 1.10.
+// mosaic measures (k = 16) went 1.28 -> 1.24 and 1.17 -> 1.10. Each attempt (below) draws
+// numbers of its own.
 template <class W>
-inline int64_t jittered_pixel(const W& w, int64_t px, int64_t py, uint32_t key) {
+inline int64_t jittered_pixel(const W& w, int64_t px, int64_t py, uint32_t key, uint32_t attempt) {
     const Camera& cam = w.scene.camera;
     const int K = 2 * w.settings.cache.block;
     key = hash_u32(key ^ 0x5be0cd19u);  // not the numbers the sample's own rays draw
@@ -134,44 +135,55 @@ inline int64_t jittered_pixel(const W& w, int64_t px, int64_t py, uint32_t key) 
         const int64_t q = p + static_cast<int64_t>(std::floor((uniform(key, dim) - 0.5f) * static_cast<float>(K) + 0.5f));
         return std::clamp<int64_t>(q, lo, hi - 1);
     };
-    return draw(py, 1, 0, cam.height) * cam.width + draw(px, 0, 0, cam.width);
+    return draw(py, 2 * attempt + 1, 0, cam.height) * cam.width + draw(px, 2 * attempt, 0, cam.width);
 }
 
+// Jittered pixels a sample draws until one's hemisphere shares its surface within its reach.
+// One draw fell back to the pixel's own hemisphere wherever the window reached past a reach
+// (corners, the IES interior's small reaches), which put the block grid back into the
+// image: with 4, its mosaic measure (16 spp, k = 4 / 8 / 16) went 1.07 / 1.16 / 1.11 -> 1.00 /
+// 1.02 / 0.97 and its error RMSE fell 4 % (docs/radiance-cache.md, "The mosaic").
+constexpr uint32_t kJitterAttempts = 4;
+
 // The hemisphere a region reconstructed for point sp of pixel (px, py), as an index in
-// st.stored (added there at first use), or -1: the one the jittered pixel's pre-pass point
-// took if sp shares its surface within its reach, else the one the pixel's own pre-pass
-// point took if sp shares its surface (the sample lies within a pixel of that point), else
-// the first of its block and region sharing sp's surface with sp within its reach.
+// st.stored (added there at first use), or -1: the one the first of kJitterAttempts jittered
+// pixels' pre-pass points took whose surface sp shares within its reach, else the one the
+// pixel's own pre-pass point took if sp shares its surface (the sample lies within a pixel
+// of that point), else the first of its block and region sharing sp's surface with sp
+// within its reach.
 template <class W>
 inline int32_t stored_hemisphere(const W& w, CacheState& st, const ShadingPoint& sp, int64_t px, int64_t py,
                                  float footprint, uint32_t key) {
-    auto take = [&](const RegionHemisphere& h) {
-        for (size_t s = 0; s < st.stored.size(); ++s)
-            if (st.stored[s] == &h) return static_cast<int32_t>(s);
-        st.stored.push_back(&h);
-        return static_cast<int32_t>(st.stored.size() - 1);
+    const std::vector<const RegionHemisphere*>& kept = w.scratch.cache_shared_hemispheres;
+    auto take = [&](int32_t i) {
+        if (st.stored_slot[i] < 0) {
+            st.stored_slot[i] = static_cast<int32_t>(st.stored.size());
+            st.stored.push_back(kept[i]);
+        }
+        return st.stored_slot[i];
     };
     auto shares = [&](const RegionHemisphere& h) {
         return h.material == static_cast<int32_t>(sp.material) && shares_with(h.p, h.n, sp, footprint);
     };
     auto within_reach = [&](const RegionHemisphere& h) { return dot(sp.p - h.p, sp.p - h.p) <= h.reach * h.reach; };
-    const auto near = st.pixel_hemisphere.find(jittered_pixel(w, px, py, key));
-    if (near != st.pixel_hemisphere.end()) {
-        const RegionHemisphere& h = *w.scratch.cache_shared_hemispheres[near->second];
-        if (shares(h) && within_reach(h)) return take(h);
+    for (uint32_t attempt = 0; attempt < kJitterAttempts; ++attempt) {
+        const auto near = st.pixel_hemisphere.find(jittered_pixel(w, px, py, key, attempt));
+        if (near != st.pixel_hemisphere.end() && shares(*kept[near->second]) && within_reach(*kept[near->second]))
+            return take(near->second);
     }
     const auto own = st.pixel_hemisphere.find(py * w.scene.camera.width + px);
-    if (own != st.pixel_hemisphere.end() && shares(*w.scratch.cache_shared_hemispheres[own->second]))
-        return take(*w.scratch.cache_shared_hemispheres[own->second]);
+    if (own != st.pixel_hemisphere.end() && shares(*kept[own->second])) return take(own->second);
     const auto found = st.block_hemispheres.find(block_of_pixel(w.scene.camera, w.settings.cache.block, px, py));
     if (found == st.block_hemispheres.end()) return -1;
     const int32_t region = region_of_pixel(w.scene.camera, px, py);
-    for (const int32_t i : found->second) {
-        const RegionHemisphere& h = *w.scratch.cache_shared_hemispheres[i];
-        if (h.region == region && shares(h) && within_reach(h)) return take(h);
-    }
+    for (const int32_t i : found->second)
+        if (kept[i]->region == region && shares(*kept[i]) && within_reach(*kept[i])) return take(i);
     return -1;
 }
+
+// The key of the member that a sample of `pixel` taking the region's hemisphere h (st.stored,
+// -1: none) joins: a pixel's samples share a member per hemisphere they draw.
+inline int64_t pixel_member_key(int64_t pixel, int32_t h) { return pixel * (int64_t{1} << 24) + (h + 1); }
 
 // The first-hit points the cache serves, as queries and members (CacheState); returns the
 // number of queries. With `stored`, a member takes the hemisphere its region reconstructed
@@ -185,6 +197,7 @@ inline size_t collect_queries(const W& w, CacheState& st, Accept accept, bool st
     st.block_hemispheres.clear();
     st.pixel_hemisphere.clear();
     st.stored.clear();
+    st.stored_slot.assign(stored ? sc.cache_shared_hemispheres.size() : 0, -1);
     if (stored)
         for (size_t i = 0; i < sc.cache_shared_hemispheres.size(); ++i) {
             const RegionHemisphere& h = *sc.cache_shared_hemispheres[i];
@@ -208,17 +221,20 @@ inline size_t collect_queries(const W& w, CacheState& st, Accept accept, bool st
             const int64_t px = static_cast<int64_t>(std::floor(c.fx)), py = static_cast<int64_t>(std::floor(c.fy));
             const int64_t pixel = py * cam.width + px;
             const float footprint = w.results[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
-            auto found = st.pixel_member.find(pixel);
+            // the sample's own key (the stream key is the pixel's, shared by its samples)
+            const uint32_t key = sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q]));
+            // the region's hemisphere this sample draws (each sample its own: a pixel's samples
+            // average the window's blend instead of taking one draw of it)
+            const int32_t h = st.block_hemispheres.empty() ? -1 : stored_hemisphere(w, st, sp, px, py, footprint, key);
+            const int64_t member_key = pixel_member_key(pixel, h);
+            auto found = st.pixel_member.find(member_key);
             if (found != st.pixel_member.end() && shares_with(sc.sorted[st.member_point[found->second]], sp, footprint)) {
                 st.query_of[q] = found->second;
                 continue;
             }
-            // a new member: of its region's hemisphere, of a query of its block, or of a new one
+            // a new member: of a region's hemisphere, of a query of its block, or of a new one
             std::vector<int32_t>& block = st.block_queries[block_of_pixel(cam, K, px, py)];
-            // the sample's own key (the stream key is the pixel's, shared by its samples)
-            const uint32_t key = sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q]));
             const Query own{sp.p, sp.ng, sp.t, sp.b, sp.n, key, kMinReusePixels * footprint / w.settings.cache.error};
-            const int32_t h = st.block_hemispheres.empty() ? -1 : stored_hemisphere(w, st, sp, px, py, footprint, key);
             int32_t query = h >= 0 ? -1 - h : -1;
             for (size_t i = 0; i < block.size() && h < 0 && query < 0; ++i)
                 if (shares_with(sc.sorted[st.query_point[block[i]]], sp, footprint)) query = block[i];
@@ -233,7 +249,7 @@ inline size_t collect_queries(const W& w, CacheState& st, Accept accept, bool st
             st.member_point.push_back(static_cast<int32_t>(q));
             st.member_query.push_back(query);
             st.query_of[q] = member;
-            if (found == st.pixel_member.end()) st.pixel_member.emplace(pixel, member);
+            if (found == st.pixel_member.end()) st.pixel_member.emplace(member_key, member);
         }
     }
     index_members(st);

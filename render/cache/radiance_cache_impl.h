@@ -90,7 +90,7 @@ struct CacheState {
     std::vector<Query> member_own;          // each member's own point, were it a query
     std::vector<int32_t> query_first, query_members;  // query u's members: [first[u], first[u + 1])
     std::vector<int32_t> query_of;          // each shading point's member (-1: none)
-    std::unordered_map<int64_t, int32_t> pixel_member;  // a pixel's first member (of one material)
+    std::unordered_map<int64_t, int32_t> pixel_member;  // by pixel_member_key: (pixel, hemisphere drawn)
     std::unordered_map<int64_t, std::vector<int32_t>> block_queries;  // a block's queries (of one material)
     // the hemispheres the item's regions reconstructed (region_hemisphere.h): by block, the
     // indices in PathScratch::cache_shared_hemispheres, and by pixel; those the batch uses, and
@@ -98,6 +98,7 @@ struct CacheState {
     std::unordered_map<int64_t, std::vector<int32_t>> block_hemispheres;
     std::unordered_map<int64_t, int32_t> pixel_hemisphere;  // a pixel's (RegionHemisphere::pixels)
     std::vector<const RegionHemisphere*> stored;
+    std::vector<int32_t> stored_slot;  // per PathScratch::cache_shared_hemispheres: its index in stored, or -1
     std::vector<int32_t> stored_first, stored_members;  // stored[s]'s members: [first[s], first[s + 1])
     std::vector<float> sums;                // cache: each member's indirect light (RGB)
     std::vector<float> l, v, eta, f, pdf, u0, u1, u2, rgb;  // integrating one hemisphere
