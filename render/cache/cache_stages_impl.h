@@ -89,7 +89,7 @@ inline int32_t texel_of(float x, float y, float z, int R) {
 // surface behind does not):
 //  - the samples of one pixel share a member: one integration of the reconstructed
 //    radiance against the BRDF, for the view of the first (their direct light is sampled at
-//    every one) -- one a region hemisphere its samples draw (stored_hemisphere);
+//    every one) -- on a Lambert surface, one per region hemisphere its samples draw;
 //  - the pixels of a block of cache.block x cache.block share a query: one reconstructed
 //    hemisphere (reprojection and holes), in the frame of its first point; each pixel
 //    integrates it against its own BRDF and view (turned into that frame).
@@ -181,6 +181,10 @@ inline int32_t stored_hemisphere(const W& w, CacheState& st, const ShadingPoint&
     return -1;
 }
 
+// Whether a reconstructed hemisphere's integral against the material is the same for every
+// view: its members (add_cached_indirect) share one integration.
+inline bool integral_ignores_view(const Material& m) { return m.is<Lambert>() && !m.coat; }
+
 // The key of the member that a sample of `pixel` taking the region's hemisphere h (st.stored,
 // -1: none) joins: a pixel's samples share a member per hemisphere they draw.
 inline int64_t pixel_member_key(int64_t pixel, int32_t h) { return pixel * (int64_t{1} << 24) + (h + 1); }
@@ -214,6 +218,11 @@ inline size_t collect_queries(const W& w, CacheState& st, Accept accept, bool st
         if (!accept(w.scene.materials[k])) continue;
         st.pixel_member.clear();  // per material
         st.block_queries.clear();
+        // each sample its own draw where a hemisphere's integral serves all its members (a
+        // pixel's samples then average the window's blend instead of taking one draw of it),
+        // one a pixel where each member integrates (a draw a sample cost the IES interior's
+        // table floor 40 % more time)
+        const bool draw_each = !st.block_hemispheres.empty() && integral_ignores_view(w.scene.materials[k]);
         const size_t first = sc.material_start[k], last = sc.material_start[k + 1];
         for (size_t q = first; q < last; ++q) {
             const ShadingPoint& sp = sc.sorted[q];
@@ -223,15 +232,16 @@ inline size_t collect_queries(const W& w, CacheState& st, Accept accept, bool st
             const float footprint = w.results[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
             // the sample's own key (the stream key is the pixel's, shared by its samples)
             const uint32_t key = sample_key(static_cast<uint32_t>(sc.point_keys[q]), static_cast<uint32_t>(sc.point_index[q]));
-            // the region's hemisphere this sample draws (each sample its own: a pixel's samples
-            // average the window's blend instead of taking one draw of it)
-            const int32_t h = st.block_hemispheres.empty() ? -1 : stored_hemisphere(w, st, sp, px, py, footprint, key);
+            // the region's hemisphere this sample draws where each sample draws its own
+            // (draw_each), else the one the pixel's first member drew (below)
+            int32_t h = draw_each ? stored_hemisphere(w, st, sp, px, py, footprint, key) : -1;
             const int64_t member_key = pixel_member_key(pixel, h);
             auto found = st.pixel_member.find(member_key);
             if (found != st.pixel_member.end() && shares_with(sc.sorted[st.member_point[found->second]], sp, footprint)) {
                 st.query_of[q] = found->second;
                 continue;
             }
+            if (!draw_each && !st.block_hemispheres.empty()) h = stored_hemisphere(w, st, sp, px, py, footprint, key);
             // a new member: of a region's hemisphere, of a query of its block, or of a new one
             std::vector<int32_t>& block = st.block_queries[block_of_pixel(cam, K, px, py)];
             const Query own{sp.p, sp.ng, sp.t, sp.b, sp.n, key, kMinReusePixels * footprint / w.settings.cache.error};
@@ -466,7 +476,7 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
             const int32_t member = *i;
             const ShadingPoint& sp = sc.sorted[st.member_point[member]];
             const Material& m = w.scene.materials[sp.material];
-            const bool plain = m.is<Lambert>() && !m.coat;
+            const bool plain = integral_ignores_view(m);
             if (plain && lambert >= 0 && sc.sorted[st.member_point[lambert]].material == sp.material) {
                 std::copy(st.sums.begin() + 3 * lambert, st.sums.begin() + 3 * lambert + 3, st.sums.begin() + 3 * member);
                 continue;
