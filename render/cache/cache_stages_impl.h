@@ -140,9 +140,10 @@ inline int64_t jittered_pixel(const W& w, int64_t px, int64_t py, uint32_t key, 
 
 // Jittered pixels a sample draws until one's hemisphere shares its surface within its reach.
 // One draw fell back to the pixel's own hemisphere wherever the window reached past a reach
-// (corners, the IES interior's small reaches), which put the block grid back into the
-// image: with 4, its mosaic measure (16 spp, k = 4 / 8 / 16) went 1.07 / 1.16 / 1.11 -> 1.00 /
-// 1.02 / 0.97 and its error RMSE fell 4 % (docs/radiance-cache.md, "The mosaic").
+// (corners, the IES interior's short reaches), which put the block grid back into the image:
+// with a draw a sample on every surface the IES interior's mosaic measure (16 spp, k = 4 / 8
+// / 16) was 1.07 / 1.16 / 1.11 with one draw, 1.00 / 1.02 / 0.97 with four
+// (docs/radiance-cache.md, "The mosaic").
 constexpr uint32_t kJitterAttempts = 4;
 
 // The hemisphere a region reconstructed for point sp of pixel (px, py), as an index in
@@ -186,8 +187,11 @@ inline int32_t stored_hemisphere(const W& w, CacheState& st, const ShadingPoint&
 inline bool integral_ignores_view(const Material& m) { return m.is<Lambert>() && !m.coat; }
 
 // The key of the member that a sample of `pixel` taking the region's hemisphere h (st.stored,
-// -1: none) joins: a pixel's samples share a member per hemisphere they draw.
-inline int64_t pixel_member_key(int64_t pixel, int32_t h) { return pixel * (int64_t{1} << 24) + (h + 1); }
+// -1: none; fewer than `hemispheres`) joins: a pixel's samples share a member per hemisphere
+// they draw.
+inline int64_t pixel_member_key(int64_t pixel, int32_t h, size_t hemispheres) {
+    return pixel * (static_cast<int64_t>(hemispheres) + 1) + (h + 1);
+}
 
 // The first-hit points the cache serves, as queries and members (CacheState); returns the
 // number of queries. With `stored`, a member takes the hemisphere its region reconstructed
@@ -235,7 +239,7 @@ inline size_t collect_queries(const W& w, CacheState& st, Accept accept, bool st
             // the region's hemisphere this sample draws where each sample draws its own
             // (draw_each), else the one the pixel's first member drew (below)
             int32_t h = draw_each ? stored_hemisphere(w, st, sp, px, py, footprint, key) : -1;
-            const int64_t member_key = pixel_member_key(pixel, h);
+            const int64_t member_key = pixel_member_key(pixel, h, sc.cache_shared_hemispheres.size());
             auto found = st.pixel_member.find(member_key);
             if (found != st.pixel_member.end() && shares_with(sc.sorted[st.member_point[found->second]], sp, footprint)) {
                 st.query_of[q] = found->second;
