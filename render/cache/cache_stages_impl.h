@@ -89,7 +89,7 @@ inline int32_t texel_of(float x, float y, float z, int R) {
 // surface behind does not):
 //  - the samples of one pixel share a member: one integration of the reconstructed
 //    radiance against the BRDF, for the view of the first (their direct light is sampled at
-//    every one);
+//    every one) -- on a Lambert surface, one per region hemisphere its samples draw;
 //  - the pixels of a block of cache.block x cache.block share a query: one reconstructed
 //    hemisphere (reprojection and holes), in the frame of its first point; each pixel
 //    integrates it against its own BRDF and view (turned into that frame).
@@ -124,9 +124,10 @@ inline int64_t block_of_pixel(const Camera& cam, int K, int64_t px, int64_t py) 
 // of the blocks' reconstructions: their noise, shared by a block, no longer steps at the
 // block grid's lines (docs/radiance-cache.md, "The mosaic"), and progressive passes average
 // the blend out. Two blocks wide rather than one: the studio's and the IES interior's
-// mosaic measures (k = 16) went 1.28 -> 1.24 and 1.17 -> 1.10.
+// mosaic measures (k = 16) went 1.28 -> 1.24 and 1.17 -> 1.10. Each attempt (below) draws
+// numbers of its own.
 template <class W>
-inline int64_t jittered_pixel(const W& w, int64_t px, int64_t py, uint32_t key) {
+inline int64_t jittered_pixel(const W& w, int64_t px, int64_t py, uint32_t key, uint32_t attempt) {
     const Camera& cam = w.scene.camera;
     const int K = 2 * w.settings.cache.block;
     key = hash_u32(key ^ 0x5be0cd19u);  // not the numbers the sample's own rays draw
@@ -134,44 +135,63 @@ inline int64_t jittered_pixel(const W& w, int64_t px, int64_t py, uint32_t key) 
         const int64_t q = p + static_cast<int64_t>(std::floor((uniform(key, dim) - 0.5f) * static_cast<float>(K) + 0.5f));
         return std::clamp<int64_t>(q, lo, hi - 1);
     };
-    return draw(py, 1, 0, cam.height) * cam.width + draw(px, 0, 0, cam.width);
+    return draw(py, 2 * attempt + 1, 0, cam.height) * cam.width + draw(px, 2 * attempt, 0, cam.width);
 }
 
+// Jittered pixels a sample draws until one's hemisphere shares its surface within its reach.
+// One draw fell back to the pixel's own hemisphere wherever the window reached past a reach
+// (corners, the IES interior's short reaches), which put the block grid back into the image:
+// with a draw a sample on every surface the IES interior's mosaic measure (16 spp, k = 4 / 8
+// / 16) was 1.07 / 1.16 / 1.11 with one draw, 1.00 / 1.02 / 0.97 with four
+// (docs/radiance-cache.md, "The mosaic").
+constexpr uint32_t kJitterAttempts = 4;
+
 // The hemisphere a region reconstructed for point sp of pixel (px, py), as an index in
-// stored.in_use (added there at first use), or -1: the one the jittered pixel's pre-pass point
-// took if sp shares its surface within its reach, else the one the pixel's own pre-pass
-// point took if sp shares its surface (the sample lies within a pixel of that point), else
-// the first of its block and region sharing sp's surface with sp within its reach.
+// stored.in_use (added there at first use), or -1: the one the first of kJitterAttempts
+// jittered pixels' pre-pass points took whose surface sp shares within its reach, else the
+// one the pixel's own pre-pass point took if sp shares its surface (the sample lies within a
+// pixel of that point), else the first of its block and region sharing sp's surface with sp
+// within its reach.
 template <class W>
 inline int32_t stored_hemisphere(const W& w, CacheState& cache, const ShadingPoint& sp, int64_t px, int64_t py,
                                  float footprint, uint32_t key) {
     StoredHemispheres& stored = cache.stored;
-    auto take = [&](const RegionHemisphere& h) {
-        for (size_t s = 0; s < stored.in_use.size(); ++s)
-            if (stored.in_use[s] == &h) return static_cast<int32_t>(s);
-        stored.in_use.push_back(&h);
-        return static_cast<int32_t>(stored.in_use.size() - 1);
+    const std::vector<const RegionHemisphere*>& kept = w.scratch.cache_shared_hemispheres;
+    auto take = [&](int32_t i) {
+        if (stored.slot[i] < 0) {
+            stored.slot[i] = static_cast<int32_t>(stored.in_use.size());
+            stored.in_use.push_back(kept[i]);
+        }
+        return stored.slot[i];
     };
     auto shares = [&](const RegionHemisphere& h) {
         return h.material == static_cast<int32_t>(sp.material) && shares_with(h.p, h.n, sp, footprint);
     };
     auto within_reach = [&](const RegionHemisphere& h) { return dot(sp.p - h.p, sp.p - h.p) <= h.reach * h.reach; };
-    const auto near = stored.by_pixel.find(jittered_pixel(w, px, py, key));
-    if (near != stored.by_pixel.end()) {
-        const RegionHemisphere& h = *w.scratch.cache_shared_hemispheres[near->second];
-        if (shares(h) && within_reach(h)) return take(h);
+    for (uint32_t attempt = 0; attempt < kJitterAttempts; ++attempt) {
+        const auto near = stored.by_pixel.find(jittered_pixel(w, px, py, key, attempt));
+        if (near != stored.by_pixel.end() && shares(*kept[near->second]) && within_reach(*kept[near->second]))
+            return take(near->second);
     }
     const auto own = stored.by_pixel.find(py * w.scene.camera.width + px);
-    if (own != stored.by_pixel.end() && shares(*w.scratch.cache_shared_hemispheres[own->second]))
-        return take(*w.scratch.cache_shared_hemispheres[own->second]);
+    if (own != stored.by_pixel.end() && shares(*kept[own->second])) return take(own->second);
     const auto found = stored.by_block.find(block_of_pixel(w.scene.camera, w.settings.cache.block, px, py));
     if (found == stored.by_block.end()) return -1;
     const int32_t region = region_of_pixel(w.scene.camera, px, py);
-    for (const int32_t i : found->second) {
-        const RegionHemisphere& h = *w.scratch.cache_shared_hemispheres[i];
-        if (h.region == region && shares(h) && within_reach(h)) return take(h);
-    }
+    for (const int32_t i : found->second)
+        if (kept[i]->region == region && shares(*kept[i]) && within_reach(*kept[i])) return take(i);
     return -1;
+}
+
+// Whether a reconstructed hemisphere's integral against the material is the same for every
+// view: its members (add_cached_indirect) share one integration.
+inline bool integral_ignores_view(const Material& m) { return m.is<Lambert>() && !m.coat; }
+
+// The key of the member that a sample of `pixel` taking the region's hemisphere h
+// (stored.in_use, -1: none; fewer than `hemispheres`) joins: a pixel's samples share a member
+// per hemisphere they draw.
+inline int64_t pixel_member_key(int64_t pixel, int32_t h, size_t hemispheres) {
+    return pixel * (static_cast<int64_t>(hemispheres) + 1) + (h + 1);
 }
 
 // The first-hit points the cache serves, as queries and members (CacheState); returns the
@@ -188,6 +208,7 @@ inline size_t collect_queries(const W& w, CacheState& cache, Accept accept, bool
     hemispheres.by_block.clear();
     hemispheres.by_pixel.clear();
     hemispheres.in_use.clear();
+    hemispheres.slot.assign(stored ? scratch.cache_shared_hemispheres.size() : 0, -1);
     if (stored)
         for (size_t i = 0; i < scratch.cache_shared_hemispheres.size(); ++i) {
             const RegionHemisphere& h = *scratch.cache_shared_hemispheres[i];
@@ -204,6 +225,11 @@ inline size_t collect_queries(const W& w, CacheState& cache, Accept accept, bool
         if (!accept(w.scene.materials[k])) continue;
         table.pixel_member.clear();  // per material
         table.block_queries.clear();
+        // each sample its own draw where a hemisphere's integral serves all its members (a
+        // pixel's samples then average the window's blend instead of taking one draw of it),
+        // one a pixel where each member integrates (a draw a sample cost the IES interior's
+        // table floor 40 % more time)
+        const bool draw_each = !hemispheres.by_block.empty() && integral_ignores_view(w.scene.materials[k]);
         const size_t first = scratch.material_start[k], last = scratch.material_start[k + 1];
         for (size_t q = first; q < last; ++q) {
             const ShadingPoint& sp = scratch.sorted[q];
@@ -212,19 +238,23 @@ inline size_t collect_queries(const W& w, CacheState& cache, Accept accept, bool
                           py = static_cast<int64_t>(std::floor(c.film_y));
             const int64_t pixel = py * cam.width + px;
             const float footprint = w.results[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
-            auto found = table.pixel_member.find(pixel);
+            // the sample's own key (the stream key is the pixel's, shared by its samples)
+            const uint32_t key =
+                sample_key(static_cast<uint32_t>(scratch.point_keys[q]), static_cast<uint32_t>(scratch.point_index[q]));
+            // the region's hemisphere this sample draws where each sample draws its own
+            // (draw_each), else the one the pixel's first member drew (below)
+            int32_t h = draw_each ? stored_hemisphere(w, cache, sp, px, py, footprint, key) : -1;
+            const int64_t member_key = pixel_member_key(pixel, h, scratch.cache_shared_hemispheres.size());
+            auto found = table.pixel_member.find(member_key);
             if (found != table.pixel_member.end() &&
                 shares_with(scratch.sorted[table.member_point[found->second]], sp, footprint)) {
                 table.member_of_point[q] = found->second;
                 continue;
             }
-            // a new member: of its region's hemisphere, of a query of its block, or of a new one
+            if (!draw_each && !hemispheres.by_block.empty()) h = stored_hemisphere(w, cache, sp, px, py, footprint, key);
+            // a new member: of a region's hemisphere, of a query of its block, or of a new one
             std::vector<int32_t>& block = table.block_queries[block_of_pixel(cam, K, px, py)];
-            // the sample's own key (the stream key is the pixel's, shared by its samples)
-            const uint32_t key =
-                sample_key(static_cast<uint32_t>(scratch.point_keys[q]), static_cast<uint32_t>(scratch.point_index[q]));
             const Query own{sp.p, sp.ng, sp.t, sp.b, sp.n, key, kMinReusePixels * footprint / w.settings.cache.error};
-            const int32_t h = hemispheres.by_block.empty() ? -1 : stored_hemisphere(w, cache, sp, px, py, footprint, key);
             int32_t query = h >= 0 ? -1 - h : -1;
             for (size_t i = 0; i < block.size() && h < 0 && query < 0; ++i)
                 if (shares_with(scratch.sorted[table.query_point[block[i]]], sp, footprint)) query = block[i];
@@ -239,7 +269,7 @@ inline size_t collect_queries(const W& w, CacheState& cache, Accept accept, bool
             table.member_point.push_back(static_cast<int32_t>(q));
             table.member_query.push_back(query);
             table.member_of_point[q] = member;
-            if (found == table.pixel_member.end()) table.pixel_member.emplace(pixel, member);
+            if (found == table.pixel_member.end()) table.pixel_member.emplace(member_key, member);
         }
     }
     index_members(cache);
@@ -469,7 +499,7 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
             const int32_t member = *i;
             const ShadingPoint& sp = scratch.sorted[table.member_point[member]];
             const Material& m = w.scene.materials[sp.material];
-            const bool plain = m.is<Lambert>() && !m.coat;
+            const bool plain = integral_ignores_view(m);
             if (plain && lambert >= 0 && scratch.sorted[table.member_point[lambert]].material == sp.material) {
                 const auto from = integration.member_light.begin() + 3 * lambert;
                 std::copy(from, from + 3, integration.member_light.begin() + 3 * member);

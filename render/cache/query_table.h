@@ -32,7 +32,7 @@ struct QueryTable {
     std::vector<Query> member_own;          // each member's own point, were it a query
     std::vector<int32_t> query_first, query_members;  // query u's members: [first[u], first[u + 1])
     std::vector<int32_t> member_of_point;   // each shading point's member (-1: none)
-    std::unordered_map<int64_t, int32_t> pixel_member;  // a pixel's first member (of one material)
+    std::unordered_map<int64_t, int32_t> pixel_member;  // by pixel_member_key: (pixel, hemisphere drawn)
     std::unordered_map<int64_t, std::vector<int32_t>> block_queries;  // a block's queries (of one material)
 };
 

@@ -21,6 +21,7 @@ struct StoredHemispheres {
     std::unordered_map<int64_t, std::vector<int32_t>> by_block;
     std::unordered_map<int64_t, int32_t> by_pixel;
     std::vector<const RegionHemisphere*> in_use;  // those the batch's members take
+    std::vector<int32_t> slot;  // per PathScratch::cache_shared_hemispheres: its index in in_use, or -1
     std::vector<int32_t> first, members;          // in_use[s]'s members: [first[s], first[s + 1])
 };
 
