@@ -312,3 +312,12 @@ def test_tile_sizes_give_the_same_image(size):
     for im in images[1:]:
         assert np.array_equal(im.rgb, images[0].rgb)
     assert np.allclose(images[0].samples, 2.0, atol=1e-4)
+
+
+def test_the_progress_says_when_the_pre_pass_runs():
+    prepared = PreparedScene(scene_of(disc_scene((0, 0, -1))))
+    job = _core.RenderJob(prepared.core, _core.RenderOptions(spp=1, max_depth=2, seed=0, threads=1, aa="adaptive"))
+    assert not job.progress().preparing
+    job.start()  # returns while the pre-pass runs on a thread of its own
+    job.wait()
+    assert not job.progress().preparing and job.progress().finished
