@@ -16,8 +16,8 @@ from patina.bundled import materials_path
 from patina.render.run import PreparedScene
 from patina.scene.reading import load_scene, with_overrides
 
-UNIFORM_LADDER = (2, 8, 32)  # the uniform sampler's spp
-ADAPTIVE_PATTERNS = 4  # the adaptive sampler's patterns a pixel: about 10 rays a pixel on the room
+UNIFORM_LADDER = (1, 4, 16)  # the uniform sampler's spp
+ADAPTIVE_PATTERNS = 2  # the adaptive sampler's patterns a pixel: within the ladder's rays on the room
 QUICK_LADDER, QUICK_PATTERNS = (1, 4), 1
 REFERENCE_SPP, QUICK_REFERENCE_SPP = 2048, 64  # the cache group's (bench/cache.py FULL, QUICK)
 QUICK_WIDTH = 16
