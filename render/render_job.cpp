@@ -99,7 +99,7 @@ void RenderJob::start() {
     }
     // the adaptive sampler's geometric pre-pass (part of the render's time) on a thread of its
     // own, the workers after it: start() returns at once and progress() says the pre-pass
-    // runs (the preview ball's takes 15-18 ms of CPU, a large mesh's seconds)
+    // runs (the preview ball's takes 15-18 ms of CPU; it grows with the mesh's edges)
     m_preparing.store(true);
     m_threads.emplace_back([this, threads] {
         try {
