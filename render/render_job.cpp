@@ -89,14 +89,31 @@ void RenderJob::start() {
     if (m_started) throw std::logic_error("a render job starts once");
     m_started = true;
     m_start = std::chrono::steady_clock::now();
-    // the adaptive sampler's geometric pre-pass: part of the render's time
     const int threads = m_settings.threads > 0 ? m_settings.threads : default_thread_count();
-    if (m_settings.aa == RenderOptions::Aa::Adaptive)
-        m_aa_hints = project_feature_edges(m_scene, m_settings.aa_threshold, threads);
     std::vector<int> all(m_tile_passes.size());
     for (size_t t = 0; t < all.size(); ++t) all[t] = static_cast<int>(t);
     expect_cache_regions(all, pass_count());
-    for (int i = 0; i < threads; ++i) m_threads.emplace_back([this] { worker(); });
+    if (m_settings.aa != RenderOptions::Aa::Adaptive) {
+        for (int i = 0; i < threads; ++i) m_threads.emplace_back([this] { worker(); });
+        return;
+    }
+    // the adaptive sampler's geometric pre-pass (part of the render's time) on a thread of its
+    // own, the workers after it: start() returns at once and progress() says the pre-pass
+    // runs (the preview ball's takes 15-18 ms of CPU; it grows with the mesh's edges)
+    m_preparing.store(true);
+    m_threads.emplace_back([this, threads] {
+        try {
+            m_aa_hints = project_feature_edges(m_scene, m_settings.aa_threshold, threads);
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(m_error_lock);
+            if (!m_error) m_error = std::current_exception();
+            m_cancels.store(2);
+        }
+        m_preparing.store(false);
+        std::vector<std::thread> workers;
+        for (int i = 0; i < threads; ++i) workers.emplace_back([this] { worker(); });
+        for (auto& t : workers) t.join();
+    });
 }
 
 void RenderJob::cancel() { m_cancels.fetch_add(1); }
@@ -119,6 +136,7 @@ RenderProgress RenderJob::progress() const {
     p.cache_texels_reprojected = m_cache_reprojected.load();
     p.cache_texels_traced = m_cache_traced.load();
     p.cancelled = m_cancels.load() > 0;
+    p.preparing = m_preparing.load();
     p.finished = p.items_done == p.items_total;
     // a finished job's time is when its last item finished, not when someone asked
     const double now = m_started ? std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count() : 0;

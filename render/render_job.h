@@ -35,6 +35,7 @@ struct RenderProgress {
     size_t cache_points = 0, cache_queries = 0, cache_texels_reprojected = 0, cache_texels_traced = 0;
     double seconds = 0;
     bool finished = false, cancelled = false;
+    bool preparing = false;  // the adaptive sampler's geometric pre-pass runs (no work item has begun)
 };
 
 class RenderJob {
@@ -119,6 +120,7 @@ private:
     std::once_flag m_aa_hints_once;  // render_tiles: computed by the first call, whichever thread
     std::atomic<size_t> m_next{0}, m_done{0}, m_rays{0}, m_samples_done{0};
     std::atomic<size_t> m_cache_points{0}, m_cache_queries{0}, m_cache_reprojected{0}, m_cache_traced{0};
+    std::atomic<bool> m_preparing{false};  // start()'s adaptive pre-pass has not finished
     std::atomic<int> m_cancels{0};  // cancel() calls: 1 = after the first pass, 2 = now
     std::vector<std::thread> m_threads;
     mutable std::mutex m_error_lock;

@@ -256,7 +256,9 @@ void bind_results(nb::module_& m) {
         .def_ro("samples_done", &patina::RenderProgress::samples_done, "camera samples finished")
         .def_ro("seconds", &patina::RenderProgress::seconds, "seconds since start() (at the last item: the render's time)")
         .def_ro("finished", &patina::RenderProgress::finished, "every work item done")
-        .def_ro("cancelled", &patina::RenderProgress::cancelled, "cancel() was called");
+        .def_ro("cancelled", &patina::RenderProgress::cancelled, "cancel() was called")
+        .def_ro("preparing", &patina::RenderProgress::preparing,
+                "the adaptive sampler's geometric pre-pass runs (before the first work item)");
     cache_counts(progress);
     using Work = patina::RenderJob::TileWork;
     auto work = nb::class_<Work>(m, "TileWork", "What RenderJob.render_tiles() did.")

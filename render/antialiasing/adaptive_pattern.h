@@ -51,6 +51,22 @@ constexpr Point2 sample_point(int s) {
     return zigzag_point(z, i);
 }
 
+// Every sample's place in the pixel for each orientation, [vertical][s]: (x, y) on screen,
+// the canonical (u, v) as it is (0) or turned 90 degrees counter-clockwise, (v, 1 - u) (1).
+// A table, not sample_point's divisions at each of a round's rays.
+struct PixelOffset {
+    double x, y;
+};
+inline constexpr std::array<std::array<PixelOffset, kMaxSamples>, 2> kPixelOffsets = [] {
+    std::array<std::array<PixelOffset, kMaxSamples>, 2> table{};
+    for (int s = 0; s < kMaxSamples; ++s) {
+        const Point2 q = sample_point(s);
+        table[0][s] = {q.u, q.v};
+        table[1][s] = {q.v, 1.0 - q.u};
+    }
+    return table;
+}();
+
 // The three fours of comparisons, lanes 0-3 each (one 4-wide compare each):
 //   b:  E-F, F-G, G-H along the middle row, and E-H (a ramp too gentle for any one link)
 //   c0: A-E, A-F, B-G, B-H: the top corners against the middle row, each from its own side

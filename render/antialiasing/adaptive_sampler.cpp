@@ -28,6 +28,13 @@ float relative(float a, float b) {
     return s > 0 ? std::fabs(a - b) / s : 0.0f;
 }
 
+// what decides refinement at a position, from its signal trace (or its own sample)
+AaSignal aa_signal(const PathResult& r) {
+    // element by element: std::copy of three floats was a call of memmove a position (about
+    // 5 % of the sampler's instructions on the converging lines)
+    return AaSignal{{r.rgb[0], r.rgb[1], r.rgb[2]}, {r.normal[0], r.normal[1], r.normal[2]}, r.depth};
+}
+
 int zone_count(uint8_t zones) {
     int n = 0;
     for (; zones != 0; zones &= zones - 1) ++n;
@@ -128,10 +135,9 @@ inline int AdaptiveSampler::corner_of(const PixelState& p, int canonical) const 
 }
 
 inline void AdaptiveSampler::place(const PixelState& p, int s, float& fx, float& fy) const {
-    const aa::Point2 q = aa::sample_point(s);
-    const double x = p.vertical ? q.v : q.u, y = p.vertical ? 1.0 - q.u : q.v;
-    fx = static_cast<float>(m_tile.x0 + p.tile_x + x);
-    fy = static_cast<float>(m_tile.y0 + p.tile_y + y);
+    const aa::PixelOffset& o = aa::kPixelOffsets[p.vertical ? 1 : 0][s];
+    fx = static_cast<float>(m_tile.x0 + p.tile_x + o.x);
+    fy = static_cast<float>(m_tile.y0 + p.tile_y + o.y);
 }
 
 bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
@@ -193,32 +199,21 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
     return false;
 }
 
-void AdaptiveSampler::signals(const CameraSample* samples, const PathResult* results, size_t n,
-                              std::vector<AaSignal>& out) {
-    const PathResult* sig = results;
-    if (!m_sample_is_signal) {
-        // the round's positions traced again by the direct-light integrator with one key
-        // shared by every position of the image: the same light sample and BRDF sample
-        // everywhere, so the radiance (highlights included) is a function of the position
-        // only (the integrator's own results are noisy: the decisions never look at them)
-        m_signal_cs.assign(samples, samples + n);
-        const uint32_t key = path_key(m_seed ^ kSignalSalt, 0, 0);
-        for (auto& c : m_signal_cs) {
-            c.key = key;
-            c.index = 0;
-        }
-        m_signal_out.resize(n);
-        trace_signal(m_signal_cs.data(), n, m_signal_out.data());
-        sig = m_signal_out.data();
+const PathResult* AdaptiveSampler::signal_results(const CameraSample* samples, const PathResult* results, size_t n) {
+    if (m_sample_is_signal) return results;
+    // the round's positions traced again by the direct-light integrator with one key
+    // shared by every position of the image: the same light sample and BRDF sample
+    // everywhere, so the radiance (highlights included) is a function of the position
+    // only (the integrator's own results are noisy: the decisions never look at them)
+    m_signal_cs.assign(samples, samples + n);
+    const uint32_t key = path_key(m_seed ^ kSignalSalt, 0, 0);
+    for (auto& c : m_signal_cs) {
+        c.key = key;
+        c.index = 0;
     }
-    out.resize(n);
-    for (size_t q = 0; q < n; ++q) {
-        const PathResult& r = sig[q];
-        AaSignal& g = out[q];
-        g.depth = r.depth;
-        std::copy(r.normal, r.normal + 3, g.normal);
-        std::copy(r.rgb, r.rgb + 3, g.colour);
-    }
+    m_signal_out.resize(n);
+    trace_signal(m_signal_cs.data(), n, m_signal_out.data());
+    return m_signal_out.data();
 }
 
 void AdaptiveSampler::trace_signal(const CameraSample* samples, size_t n, PathResult* out) {
@@ -231,12 +226,12 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
     if (m_round == 1) {
         const size_t nc = m_corner_count;  // then the highlights' grids, which decide nothing
         m_corners.resize(nc);
-        signals(samples, results, nc, m_round_signal);
+        const PathResult* signal = signal_results(samples, results, nc);
         m_corner_signal.resize(nc);
         m_spot.assign(results + nc, results + n);
         for (size_t q = 0; q < nc; ++q) {
             m_corners[m_corner_order[q]] = results[q];
-            m_corner_signal[m_corner_order[q]] = m_round_signal[q];
+            m_corner_signal[m_corner_order[q]] = aa_signal(signal[q]);
         }
         const int w = m_tile.x1 - m_tile.x0, h = m_tile.y1 - m_tile.y0, row = w + 1;
         // each pair of neighbouring corners compared once, for both pixels that share it:
@@ -286,7 +281,9 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
     }
     if (m_round == 2) {
         m_level2.assign(results, results + n);
-        signals(samples, results, n, m_level2_signal);
+        const PathResult* signal = signal_results(samples, results, n);
+        m_level2_signal.resize(n);
+        for (size_t q = 0; q < n; ++q) m_level2_signal[q] = aa_signal(signal[q]);
         for (size_t j = 0; j < m_level2_pixels.size(); ++j) {
             PixelState& p = m_pixels[m_level2_pixels[j]];
             p.first = static_cast<int>(aa::kLevel2 * j);

@@ -66,23 +66,22 @@ struct AaSignal {
 // and 1 where one ray hits and the other does not. Refine where it exceeds the threshold.
 float aa_contrast(const AaSignal& a, const AaSignal& b);
 // aa_contrast(a, b) > threshold with its divisions multiplied out: the sampler's comparisons
-// (inline: two to fourteen a pixel).
+// (inline: two to fourteen a pixel). Every test is evaluated and the outcomes combined
+// without branches: which of them decides is data (an edge or not), and its mispredicted
+// branches cost more than the few tests skipped.
 inline bool aa_differs(const AaSignal& a, const AaSignal& b, float threshold) {
     const bool ha = std::isfinite(a.depth), hb = std::isfinite(b.depth);
     const bool broken = 1.0f > threshold;  // what a contrast of 1 decides
-    if (ha != hb) return broken;
     // |x - y| / (|x| + |y|) > threshold, multiplied out
     const auto step = [&](float x, float y) {
-        if (!std::isfinite(x) || !std::isfinite(y)) return broken;
-        return std::fabs(x - y) > threshold * (std::fabs(x) + std::fabs(y));
+        const bool finite = std::isfinite(x) & std::isfinite(y);
+        return finite ? std::fabs(x - y) > threshold * (std::fabs(x) + std::fabs(y)) : broken;
     };
-    for (int k = 0; k < 3; ++k)
-        if (step(a.colour[k], b.colour[k])) return true;
-    if (!ha) return false;
-    if (step(a.depth, b.depth)) return true;
+    const bool colour = step(a.colour[0], b.colour[0]) | step(a.colour[1], b.colour[1]) | step(a.colour[2], b.colour[2]);
     const float d = a.normal[0] * b.normal[0] + a.normal[1] * b.normal[1] + a.normal[2] * b.normal[2];
-    if (!std::isfinite(d)) return broken;
-    return 0.5f * (1.0f - std::clamp(d, -1.0f, 1.0f)) > threshold;
+    const bool normal = std::isfinite(d) ? 0.5f * (1.0f - std::clamp(d, -1.0f, 1.0f)) > threshold : broken;
+    const bool surface = step(a.depth, b.depth) | normal;  // both hit (a miss's depth is inf)
+    return ha != hb ? broken : colour | (ha & surface);
 }
 
 // Whether the integrator's sample at a position is the same for every random-number key,
@@ -127,8 +126,9 @@ private:
         int spot = -1;          // its highlight piece in m_hints->spots (render/antialiasing/highlights.h), -1 none
         int spot_first = -1;    // index of its spot grid's results in m_spot
     };
-    // the signals of a round's positions: its own results where they are the signal, else traced
-    void signals(const CameraSample* samples, const PathResult* results, size_t n, std::vector<AaSignal>& out);
+    // the traces whose results are a round's signals: its own results where they are the
+    // signal, else the positions traced again with the shared key
+    const PathResult* signal_results(const CameraSample* samples, const PathResult* results, size_t n);
     void place(const PixelState& p, int s, float& fx, float& fy) const;
     int corner_of(const PixelState& p, int canonical) const;  // index into m_corners
     void finish();
@@ -150,7 +150,6 @@ private:
     int m_order_w = -1, m_order_h = -1;  // the tile size the orders below are for
     std::vector<int> m_pixel_order;    // the tile's pixels (ty * w + tx) in Morton order
     std::vector<int> m_corner_order;   // corner indices (cy * (w + 1) + cx) in Morton order
-    std::vector<AaSignal> m_round_signal;
     std::vector<uint8_t> m_across, m_down;  // round 1: neighbouring corners that differ
     std::vector<PathResult> m_corners;
     size_t m_corner_count = 0;          // round 1: the corners, then the highlights' grids

@@ -9,33 +9,6 @@ namespace patina {
 Film::Film(int width, int height)
     : m_width(width), m_height(height), m_sums(kChannels * static_cast<size_t>(width) * height, 0.0) {}
 
-void FilmSum::add(const PathResult& r, float w) {
-    for (int k = 0; k < 3; ++k) {
-        rgb[k] += w * r.rgb[k];
-        albedo[k] += w * r.albedo[k];
-        normal[k] += w * r.normal[k];
-    }
-    lux += w * r.illuminance;
-    if (std::isfinite(r.depth)) {
-        depth += w * r.depth;
-        depth_weight += w;
-    }
-    weight += w;
-}
-
-void Film::add(int pixel, const FilmSum& s) {
-    double* p = &m_sums[kChannels * static_cast<size_t>(pixel)];
-    for (int k = 0; k < 3; ++k) {
-        p[kRgb + k] += s.rgb[k];
-        p[kAlbedo + k] += s.albedo[k];
-        p[kNormal + k] += s.normal[k];
-    }
-    p[kLux] += s.lux;
-    p[kDepth] += s.depth;
-    p[kDepthWeight] += s.depth_weight;
-    p[kWeight] += s.weight;
-}
-
 void Film::resolve(float* rgb, float* albedo, float* normal, float* depth, float* lux, float* samples) const {
     const size_t pixels = static_cast<size_t>(m_width) * m_height;
     for (size_t i = 0; i < pixels; ++i) {

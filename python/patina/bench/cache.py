@@ -25,7 +25,9 @@ room's pixels, not 2 as at 64; `--quick` 16), all renders on every core:
    (`cache` on every core against one thread),
    `cache.<scene>.block_steps` (the mosaic in `cache`'s error: bench/block_steps.py),
    `cache.<scene>.vs_mitsuba_llvm` (bench/cache_mitsuba.py: Patina's fastest integrator
-   against Mitsuba 3's llvm_ad_rgb path tracer on the scene's analytic counterpart).
+   against Mitsuba 3's llvm_ad_rgb path tracer on the scene's analytic counterpart),
+   `cache.<scene>.aa_adaptive_vs_uniform` (bench/cache_aa.py: `cache` with the adaptive
+   antialiasing against the uniform sampler, at the scene's own size).
 
 A record whose integrator this build does not have is skipped with the reason on stderr;
 `run_cache_bench(..., integrators=...)` runs the same measurements with other integrators
@@ -42,6 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from patina.bench.block_steps import block_step_ratios
+from patina.bench.cache_aa import aa_adaptive_record
 from patina.bench.cache_mitsuba import vs_mitsuba_record
 from patina.bench.convergence import (
     ErrorCurve,
@@ -254,7 +257,10 @@ def mitsuba_missing() -> str | None:
 def bench_cache(repeat: int, quick: bool) -> list[Record]:
     """The `cache` group (GROUPS in bench/run.py), at most MAX_REPEAT repeats: the records, each
     skipped one named on stderr."""
-    result = run_cache_bench(min(repeat, MAX_REPEAT), quick)
+    repeat = min(repeat, MAX_REPEAT)
+    result = run_cache_bench(repeat, quick)
+    threads = os.cpu_count() or 1
+    result.records += [aa_adaptive_record(name, repeat, threads, quick) for name in SCENES]
     for name, why in result.skipped:
         print(f"patina bench: {name} skipped: {why}", file=sys.stderr)
     return result.records

@@ -103,6 +103,9 @@ def _run_job(job: _core.RenderJob, pixels: int, spp: int, progress: bool, by_ite
 
         def show() -> None:
             p = job.progress()
+            if p.preparing:  # the adaptive sampler's geometric pre-pass, before any pass
+                bar.update(0, postfix=f"geometric pre-pass, {p.seconds:.1f} s")
+                return
             rate = p.rays / max(p.seconds, 1e-9) / 1e6
             done = spp * p.items_done / max(p.items_total, 1) if by_items else p.samples_done / pixels
             bar.update(round(done, 1), postfix=f"{rate:.2f} Mrays/s")

@@ -19,7 +19,7 @@ from patina.scene.reading import load_scene, with_overrides
 
 def test_quick_group_records(tmp_path, monkeypatch):
     monkeypatch.setenv("PATINA_BENCH_CACHE", str(tmp_path))
-    monkeypatch.setattr(aa, "QUICK_DIVISOR", 4)
+    monkeypatch.setattr(aa, "QUICK_FACTOR", 0.25)
     records = bench_aa(1, quick=True)
     scenes = [os.path.basename(p)[3:-5] for p in glob.glob(os.path.join(materials_path("scenes"), "aa-*.json"))]
     assert scenes

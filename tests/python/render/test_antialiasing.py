@@ -12,12 +12,13 @@ import os
 import numpy as np
 import pytest
 
+from patina.bundled import materials_path
 from patina.cli import main
 from patina.native import _core
 from patina.render.images import read_exr_layers
 from patina.render.prepare import PreparedScene
 from patina.render.run import render
-from patina.scene.reading import parse_scene
+from patina.scene.reading import load_scene, parse_scene, with_overrides
 from repo_paths import ROOT
 
 SIZE = 32
@@ -312,3 +313,32 @@ def test_tile_sizes_give_the_same_image(size):
     for im in images[1:]:
         assert np.array_equal(im.rgb, images[0].rgb)
     assert np.allclose(images[0].samples, 2.0, atol=1e-4)
+
+
+@pytest.mark.parametrize("integrator", ["cache", "path"])
+def test_with_the_cache_and_the_path_tracer_any_width_and_thread_count_give_the_same_image(integrator):
+    # the refinement signal is the shared-key direct-light trace (deterministic), and the
+    # cache's regions are built from their own pre-pass, once each, whichever thread asks
+    scene = with_overrides(
+        load_scene(materials_path("scenes", "cache-room.json")), spp=2, width=48, height=32, integrator=integrator
+    )
+    prepared = PreparedScene(scene)
+    base = render(scene, aa="adaptive", simd=1, threads=1, prepared=prepared)
+    assert (base.aa_level > 1).mean() > 0.05  # the room's edges are refined
+    for simd, threads in ((4, 3), (8, 2), (16, 1)):
+        if not _core.width_supported(simd):
+            continue
+        r = render(scene, aa="adaptive", simd=simd, threads=threads, prepared=prepared)
+        assert np.array_equal(r.rgb, base.rgb), (simd, threads)
+        assert np.array_equal(r.aa_level, base.aa_level)
+        assert r.cache_points == base.cache_points  # the same regions, each built once
+    assert np.isfinite(base.rgb).all()
+
+
+def test_the_progress_says_when_the_pre_pass_runs():
+    prepared = PreparedScene(scene_of(disc_scene((0, 0, -1))))
+    job = _core.RenderJob(prepared.core, _core.RenderOptions(spp=1, max_depth=2, seed=0, threads=1, aa="adaptive"))
+    assert not job.progress().preparing
+    job.start()  # returns while the pre-pass runs on a thread of its own
+    job.wait()
+    assert not job.progress().preparing and job.progress().finished
