@@ -201,7 +201,7 @@ struct RenderKernels {
     void (*build_cache_region)(const RenderScene& scene, const IntegratorSettings& settings,
                                const CameraSample* samples, size_t n, std::vector<CachePoint>& points,
                                std::vector<RegionHemisphere>& hemispheres, PathScratch& scratch);
-    // samples[q].fx and .fy (the pixel's corner) plus the sample's pixel-x and pixel-y numbers
+    // samples[q].film_x and .film_y (the pixel's corner) plus the sample's pixel-x and pixel-y numbers
     // (render/samplers/sample_numbers.h, from its key and index), q < n: the uniform sampler's jittered
     // positions, N samples at a time (a Sobol number is 13 hashes: too dear one at a time)
     void (*jitter_pixel_positions)(SamplerKind kind, CameraSample* samples, size_t n);

@@ -41,6 +41,7 @@ from patina.fitting.verdict import Thresholds, checks, failed, symmetry_problem
 from patina.native import _core
 from patina.progress import Progress
 from patina.table.brdf import Brdf
+from patina.table.isotropy import is_anisotropic
 
 # compare: a fit whose mean CIEDE2000 exceeds the best fit's by both of these is unusable
 DE_FAR_RATIO = 2.0
@@ -252,7 +253,7 @@ def fit(
     full_white = [n for n, v, hi in zip(space.free_names, best_x, upper) if n.startswith("rho_") and v >= hi - 1e-6]
     if full_white:
         problems.append(f"diffuse albedo at its upper bound ({', '.join(full_white)} = 1)")
-    if mismatch := symmetry_problem(lobe, brdf.parametrization):
+    if mismatch := symmetry_problem(lobe, is_anisotropic(brdf)):
         problems.append(mismatch)
     problems += failed(verdict)
     return FitResult(

@@ -83,14 +83,16 @@ def checks(metrics: dict[str, float], thresholds: Thresholds) -> list[Check]:
     return [Check(k, float(metrics[k]), getattr(thresholds, k)) for k in KEYS]
 
 
-def symmetry_problem(lobe: str, parametrization: str) -> str:
-    """Why the lobe (a LOBES key) does not suit a table of this parametrization, or ""."""
+def symmetry_problem(lobe: str, anisotropic_table: bool) -> str:
+    """Why the lobe (a LOBES key) does not suit the table, or "": by whether the table's values
+    depend on the azimuth (table/isotropy.py), not by its grid -- an isotropic material
+    measured on a four-dimensional grid suits an isotropic lobe."""
     anisotropic_model = lobe in ANISOTROPIC_LOBES
-    if parametrization == "anisotropic" and not anisotropic_model:
+    if anisotropic_table and not anisotropic_model:
         return "an isotropic model on an anisotropic table (it cannot follow the table's azimuth dependence)"
-    if parametrization != "anisotropic" and anisotropic_model:
+    if not anisotropic_table and anisotropic_model:
         return (
-            f"an anisotropic model on an {parametrization} table (the table cannot tell the tangent: "
+            "an anisotropic model on an isotropic table (the table cannot tell the tangent: "
             "the fitted anisotropy is not measured)"
         )
     return ""

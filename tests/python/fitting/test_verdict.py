@@ -14,16 +14,18 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import patina
+from format_writers import utia_values
 from patina.cli import main
 from patina.cli.fit import _print_ranking
 from patina.fitting import MODELS, FitResult, Thresholds, fit, parse_accept, recommended
 from patina.fitting.search import rank
 from patina.fitting.verdict import KEYS, checks, failed, symmetry_problem
-from patina.synthetic.analytic import anisotropic_table, ward_anisotropic
+from patina.synthetic.analytic import anisotropic_table, plastic, ward_anisotropic
 from patina.table.formats import table_from_data
 from repo_paths import ROOT
 
 BRUSHED = os.path.join(ROOT, "materials", "samples", "brushed-metal.astm")
+PLASTIC = plastic(diffuse=(0.5, 0.3, 0.1), specular=0.04, roughness=0.3)
 GOOD = {"relative_error_median": 0.01, "ciede2000_mean": 0.5, "ciede2000_p95": 1.0, "cosine_relative_rmse": 0.02}
 
 
@@ -81,10 +83,21 @@ def test_an_isotropic_model_on_an_anisotropic_table_is_flagged(capsys):
 
 
 def test_symmetry_of_model_and_table():
-    assert "isotropic model" in symmetry_problem("ward", "anisotropic")
-    assert "anisotropic model" in symmetry_problem("ashikhmin-aniso", "halfdiff")
-    assert symmetry_problem("ward-aniso", "anisotropic") == symmetry_problem("ggx", "isotropic") == ""
-    assert symmetry_problem("lafortune-aniso", "anisotropic") == ""
+    assert "isotropic model" in symmetry_problem("ward", True)
+    assert "anisotropic model" in symmetry_problem("ashikhmin-aniso", False)
+    assert symmetry_problem("ward-aniso", True) == symmetry_problem("ggx", False) == ""
+    assert symmetry_problem("lafortune-aniso", True) == ""
+
+
+def test_an_isotropic_material_on_a_four_dimensional_grid_suits_an_isotropic_model(tmp_path):
+    """A UTIA file is four-dimensional whatever it measured: the verdict judges the values."""
+    plastic_file = tmp_path / "m001_plastic.bin"
+    plastic_file.write_bytes(utia_values(PLASTIC).astype("<f8").tobytes())
+    table = patina.load_brdf(str(plastic_file))
+    assert table.parametrization == "anisotropic"
+    result = fit(table, model="ggx+lambert", starts=1)
+    assert result.usable, result.problems
+    assert "isotropic table" in " ".join(fit(table, model="ward-aniso+lambert", starts=1).problems)
 
 
 def test_accept_overrides_a_threshold_and_the_verdict_follows():

@@ -53,13 +53,26 @@ class ResampleError:
         )
 
 
+# Angles closer than this are one knot: a Zemax file's scatter directions turned into
+# (theta_i, theta_o, phi_d) give 20 deg and 20 deg + 1e-14 as two values, which float32 (the
+# table's) cannot tell apart -- the table then refused its own axis as not increasing.
+KNOT_TOLERANCE = 1e-6  # radians, far below any goniometer's resolution
+
+
+def _distinct(x: np.ndarray) -> np.ndarray:
+    """x's values sorted, each within KNOT_TOLERANCE of the one before dropped."""
+    values = np.unique(x)
+    keep = np.concatenate([[True], np.diff(values) > KNOT_TOLERANCE]) if values.size else values.astype(bool)
+    return values[keep]
+
+
 def choose_knots(x: np.ndarray, max_knots: int) -> np.ndarray:
     """Strictly increasing knots spanning x: its distinct values, or its quantiles if too many."""
-    distinct = np.unique(x)
+    distinct = _distinct(x)
     if distinct.size <= max_knots:
         knots = distinct
     else:
-        knots = np.unique(np.quantile(x, np.linspace(0.0, 1.0, max_knots)))
+        knots = _distinct(np.quantile(x, np.linspace(0.0, 1.0, max_knots)))
     if knots.size < 2:
         knots = np.array([knots[0], knots[0] + 1e-3])
     return knots

@@ -12,29 +12,13 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import patina
+from format_writers import mbsdf_bytes
 from patina.errors import FormatError
 from patina.synthetic.analytic import isotropic_grid, plastic
 from patina.table.formats.mdl import MAGIC, mdl_axes
 from reader_fuzz import load_damaged
 
 MODEL = plastic(diffuse=(0.5, 0.3, 0.1), specular=0.04, roughness=0.3)
-
-
-def mbsdf_bytes(
-    res_theta: int = 9, res_phi: int = 12, rgb: bool = True, parts=("REFLECTION",), metadata: str = 'author="tests"'
-) -> bytes:
-    """An .mbsdf of MODEL: metadata, then one block per part (the transmission block holds 0.1)."""
-    out = MAGIC + metadata.encode() + b"\n"
-    th, to, pd = mdl_axes(res_theta, res_phi)
-    wi, wo = isotropic_grid(th, to, pd)
-    values = MODEL(wi, wo)
-    if not rgb:
-        values = values[:, 1:2]
-    for part in parts:
-        block = values if part != "TRANSMISSION" else np.full_like(values, 0.1)
-        out += f"MBSDF_DATA_{part}=\n".encode() + struct.pack("<III", 1 if rgb else 0, res_theta, res_phi)
-        out += block.astype("<f4").tobytes()
-    return out
 
 
 def _write(tmp_path, raw: bytes, name: str = "m.mbsdf") -> str:
@@ -45,7 +29,7 @@ def _write(tmp_path, raw: bytes, name: str = "m.mbsdf") -> str:
 
 @pytest.mark.parametrize("rgb", [True, False])
 def test_values_read_back_at_the_cell_centres(tmp_path, rgb):
-    brdf = patina.load_brdf(_write(tmp_path, mbsdf_bytes(rgb=rgb)))
+    brdf = patina.load_brdf(_write(tmp_path, mbsdf_bytes(MODEL, rgb=rgb)))
     assert brdf.parametrization == "isotropic" and brdf.channel_kind == ("rgb" if rgb else "mono")
     th, to, pd = mdl_axes(9, 12)
     wi, wo = isotropic_grid(th, to, pd)
@@ -55,10 +39,10 @@ def test_values_read_back_at_the_cell_centres(tmp_path, rgb):
 
 
 def test_transmission_skipped_or_refused(tmp_path):
-    both = patina.load_brdf(_write(tmp_path, mbsdf_bytes(parts=("REFLECTION", "TRANSMISSION"))))
+    both = patina.load_brdf(_write(tmp_path, mbsdf_bytes(MODEL, parts=("REFLECTION", "TRANSMISSION"))))
     assert "transmission block skipped" in both.info()["provenance"]
     with pytest.raises(FormatError) as e:
-        patina.load_brdf(_write(tmp_path, mbsdf_bytes(parts=("TRANSMISSION",)), "t.mbsdf"))
+        patina.load_brdf(_write(tmp_path, mbsdf_bytes(MODEL, parts=("TRANSMISSION",)), "t.mbsdf"))
     assert "only transmission data" in e.value.problem and e.value.where.startswith("byte ")
 
 
@@ -79,13 +63,13 @@ def test_bad_files_name_the_byte(tmp_path, raw, where, problem):
 
 
 def test_negative_value_named(tmp_path):
-    raw = bytearray(mbsdf_bytes(rgb=False))
+    raw = bytearray(mbsdf_bytes(MODEL, rgb=False))
     raw[-4:] = struct.pack("<f", -1.0)
     with pytest.raises(FormatError, match="negative"):
         patina.load_brdf(_write(tmp_path, bytes(raw)))
 
 
-SMALL = mbsdf_bytes(res_theta=3, res_phi=4)
+SMALL = mbsdf_bytes(MODEL, res_theta=3, res_phi=4)
 FUZZ = settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 
 

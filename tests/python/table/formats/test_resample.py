@@ -54,6 +54,16 @@ def test_knots_follow_the_data_density():
     assert np.array_equal(choose_knots(np.array([0.0, 0.5, 0.5, 1.0]), 20), [0.0, 0.5, 1.0])
 
 
+def test_angles_a_rounding_error_apart_are_one_knot():
+    """20 deg and 20 deg + 1e-14 (a Zemax file's directions turned into angles) are one knot:
+    as two, float32 tables saw them equal and refused the axis."""
+    from patina.table.formats.resample import choose_knots
+
+    x = np.radians([0.0, 20.0, 40.0])
+    knots = choose_knots(np.concatenate([x, x + 1e-14, [x[1] + 1e-9]]), 20)
+    assert np.array_equal(knots, x) and np.all(np.diff(knots.astype(np.float32)) > 0)
+
+
 def test_csv_grid_and_scattered_and_bad(tmp_path):
     rng = np.random.default_rng(3)
     grid = tmp_path / "grid.csv"

@@ -12,33 +12,26 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import patina
+from format_writers import utia_values
 from patina.errors import FormatError
-from patina.synthetic.analytic import anisotropic_grid, plastic
+from patina.synthetic.analytic import plastic
 from patina.table.formats.utia import FILE_BYTES, PHIS, THETAS
 from reader_fuzz import load_damaged
 
 MODEL = plastic(diffuse=(0.5, 0.3, 0.1), specular=0.04, roughness=0.3)
 
 
-def utia_values() -> np.ndarray:
-    """(3, 6, 48, 6, 48) float64: MODEL at the database's directions, R, G, B planes."""
-    theta = np.radians(np.arange(THETAS) * 15.0)
-    phi = np.radians(np.arange(PHIS) * 7.5)
-    wi, wo = anisotropic_grid(theta, phi, theta, phi)
-    return np.moveaxis(MODEL(wi, wo).reshape(THETAS, PHIS, THETAS, PHIS, 3), -1, 0)
-
-
 @pytest.fixture(scope="module")
 def utia_file(tmp_path_factory) -> str:
     path = tmp_path_factory.mktemp("utia") / "m001_test.bin"
-    path.write_bytes(utia_values().astype("<f8").tobytes())
+    path.write_bytes(utia_values(MODEL).astype("<f8").tobytes())
     return str(path)
 
 
 def test_read_back_at_the_measured_directions_and_wrapping(utia_file):
     brdf = patina.load_brdf(utia_file)
     assert brdf.parametrization == "anisotropic" and brdf.source_format == "utia"
-    values = utia_values()
+    values = utia_values(MODEL)
     rng = np.random.default_rng(3)
     for _ in range(20):
         ti, pi, to, po = rng.integers(0, THETAS), rng.integers(0, PHIS), rng.integers(0, THETAS), rng.integers(0, PHIS)
@@ -55,7 +48,7 @@ def test_wrong_size_and_bad_values(tmp_path):
     short.write_bytes(b"\0" * 100)
     with pytest.raises(FormatError, match=f"100 bytes: a UTIA .bin BRDF .* has exactly {FILE_BYTES}"):
         patina.load_brdf(short)
-    raw = bytearray(utia_values().astype("<f8").tobytes())
+    raw = bytearray(utia_values(MODEL).astype("<f8").tobytes())
     raw[8 * 1000 : 8 * 1001] = np.array([np.nan]).tobytes()
     bad = tmp_path / "n.bin"
     bad.write_bytes(bytes(raw))
@@ -65,7 +58,7 @@ def test_wrong_size_and_bad_values(tmp_path):
 
 
 FUZZ = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
-CLEAN = utia_values().astype("<f8").tobytes()
+CLEAN = utia_values(MODEL).astype("<f8").tobytes()
 
 
 @FUZZ

@@ -12,6 +12,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import patina
+from format_writers import zemax_text
 from patina.errors import FormatError
 from patina.synthetic.analytic import plastic
 from patina.table.angles import angles_to_directions
@@ -20,34 +21,6 @@ from patina.table.formats.zemax import scatter_directions
 from reader_fuzz import load_damaged
 
 MODEL = plastic(diffuse=(0.5, 0.3, 0.1), specular=0.04, roughness=0.4)
-AOI = [0, 15, 30, 45, 60, 75]
-AZIMUTH = list(range(0, 181, 15))
-RADIAL = list(range(0, 91, 5))
-
-
-def zemax_text(
-    channels=("Monochrome",), scatter_type="BRDF", data=True, aoi=AOI, azimuth=AZIMUTH, radial=RADIAL
-) -> str:
-    lines = ["# written by Patina's tests", "Source  Measured", "Symmetry  PlaneSymmetrical"]
-    lines += [f"SpectralContent  {'XYZ' if len(channels) == 3 else 'Monochrome'}", f"ScatterType  {scatter_type}"]
-    lists = {"SampleRotation": [0], "AngleOfIncidence": aoi, "ScatterAzimuth": azimuth, "ScatterRadial": radial}
-    for key, values in lists.items():
-        lines += [f"{key}  {len(values)}", "  ".join(str(v) for v in values)]
-    lines.append("")
-    for c, label in enumerate(channels):
-        if not data:
-            break
-        lines += [label, "DataBegin"]
-        for theta in aoi:
-            ti = np.radians(theta)
-            a, d = np.meshgrid(np.radians(azimuth), np.radians(radial), indexing="ij")
-            wo = scatter_directions(np.full(a.shape, ti), np.zeros(a.shape), a, d).reshape(-1, 3)
-            wi = np.repeat(angles_to_directions(ti, 0.0)[None], len(wo), axis=0)
-            f = np.where(wo[:, 2] > 0, MODEL(wi, wo)[:, c % 3], 0.0).reshape(a.shape)
-            lines.append("TIS 0.5")
-            lines += ["  ".join(f"{v:.6e}" for v in row) for row in f]
-        lines.append("DataEnd")
-    return "\n".join(lines) + "\n"
 
 
 def _write(tmp_path, text: str, name: str = "vinyl.bsdf") -> str:
@@ -66,7 +39,7 @@ def test_scatter_directions_follow_the_specular_convention():
 
 @pytest.mark.parametrize("channels", [("Monochrome",), ("TristimulusX", "TristimulusY", "TristimulusZ")])
 def test_read_back_within_the_resampling_error(tmp_path, channels):
-    path = _write(tmp_path, zemax_text(channels))
+    path = _write(tmp_path, zemax_text(MODEL, channels))
     assert detect_format(path) == "zemax"
     brdf = patina.load_brdf(path)
     assert brdf.parametrization == "isotropic" and brdf.channel_kind == ("mono" if len(channels) == 1 else "xyz")
@@ -82,17 +55,17 @@ def test_read_back_within_the_resampling_error(tmp_path, channels):
 
 def test_btdf_and_missing_data_refused(tmp_path):
     with pytest.raises(FormatError) as e:
-        patina.load_brdf(_write(tmp_path, zemax_text(scatter_type="BTDF")))
+        patina.load_brdf(_write(tmp_path, zemax_text(MODEL, scatter_type="BTDF")))
     assert e.value.where == "ScatterType" and "Patina tables are reflection" in e.value.problem
     with pytest.raises(FormatError, match="no data block"):
-        patina.load_brdf(_write(tmp_path, zemax_text(data=False)))
-    broken = zemax_text().replace("DataBegin", "Data Begin")
+        patina.load_brdf(_write(tmp_path, zemax_text(MODEL, data=False)))
+    broken = zemax_text(MODEL).replace("DataBegin", "Data Begin")
     with pytest.raises(FormatError) as e:
         patina.load_brdf(_write(tmp_path, broken))
     assert e.value.where.startswith("line ") and "expected DataBegin" in e.value.problem
 
 
-SMALL = zemax_text(aoi=[0, 40], azimuth=[0, 90, 180], radial=[0, 30, 60]).encode()
+SMALL = zemax_text(MODEL, aoi=[0, 40], azimuth=[0, 90, 180], radial=[0, 30, 60]).encode()
 FUZZ = settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 
 
