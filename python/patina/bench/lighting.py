@@ -4,8 +4,9 @@
 native kernel of render/lighting/direct_illuminance.h) of 10^5 horizontal sensors (`--quick`:
 4096) under 20 luminaires (the bundled downlight IES and street-light EULUMDAT files alternating
 on a 5 x 4 grid, 3.5 to 5 m up) over a 40 x 30 m floor with spheres and balls casting shadows:
-one candela lookup and one shadow ray per luminaire per sensor, one thread, at width N against
-width 1; value the sensors per second at width N.
+one candela lookup and one shadow ray per luminaire per sensor (packets through the scene's
+BVH, built on the warm-up run), one thread, at width N against width 1; value the sensors per
+second at width N.
 
 `lighting.indirect.vs_path_equal_error`: the sensor kernel (`_core.sensor_illuminance`) has no
 radiance-cache path (its interreflections are path-traced sensor paths only), so the record
