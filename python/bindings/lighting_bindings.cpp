@@ -116,7 +116,7 @@ nb::object direct_illuminance(const SourcesHandle& h, Rows3 points, nb::object n
     if (!(ray_offset >= 0.0f) || !std::isfinite(ray_offset))
         throw std::invalid_argument("ray_offset must be finite and >= 0");
     patina::DirectLighting lighting{h.sources.data(), h.sources.size(), nullptr, ray_offset};
-    if (!accel.is_none()) lighting.occluders = &nb::cast<const Accel&>(accel).tree;
+    if (!accel.is_none()) lighting.occluders = &bvh_of(nb::cast<Accel&>(accel));  // built once, on first use
     float *lux, *terms = nullptr;
     auto sums = new_array<float, 1>({sensors.count}, &lux);
     nb::object result = nb::cast(sums);

@@ -610,6 +610,33 @@ nb::object sensor_illuminance(nb::object scene_obj, Rows3 points, Rows3 normals,
     return nb::cast(result);
 }
 
+// Radiance-cache points at sensors (render/cache/sensor_cache_points_impl.h): (lux, harmonic
+// mean hit distance) of an R x R hemisphere at each point, paths of the scene file's max_depth.
+nb::object sensor_cache_points(nb::object scene_obj, Rows3 points, Rows3 normals, int resolution, uint64_t seed,
+                               int width, int threads, int max_depth) {
+    SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
+    const size_t n = points.shape(0);
+    if (normals.shape(0) != n) throw std::invalid_argument("points and normals have different lengths");
+    if (resolution < 1 || resolution > 64) throw std::invalid_argument("resolution must lie in [1, 64]");
+    if (max_depth < 1) throw std::invalid_argument("max_depth must be at least 1");
+    prepare_for_render(h);
+    float *lux, *distance;
+    auto lux_array = new_array<float, 1>({n}, &lux);
+    auto distance_array = new_array<float, 1>({n}, &distance);
+    const patina::RenderKernels& k = patina::render_kernels_for(width);
+    patina::IntegratorSettings settings;
+    settings.max_depth = patina::path_vertices(max_depth);
+    {
+        nb::gil_scoped_release release;
+        patina::parallel_for(n, 16, threads, [&](size_t b, size_t e) {
+            patina::PathScratch scratch;
+            k.sensor_cache_points(h.scene, settings, points.data(), normals.data(), b, e, resolution,
+                                  patina::stream_seed(seed), lux, distance, scratch);
+        });
+    }
+    return nb::make_tuple(lux_array, distance_array);
+}
+
 }  // namespace
 
 void prepare_for_render(SceneHandle& h) {
@@ -652,6 +679,12 @@ void bind_render(nb::module_& m) {
           "Illuminance in lux on sensors at points facing normals: direct by shadowed light sampling, and with "
           "max_depth > 0 the light the scene reflects, by cosine-weighted sensor paths as long as a camera path of "
           "that max_depth (the scene file's render.max_depth).");
+    m.def("sensor_cache_points", &sensor_cache_points, nb::arg("scene"), nb::arg("points"), nb::arg("normals"),
+          nb::arg("resolution") = 16, nb::arg("seed") = 0, nb::arg("width") = 0, nb::arg("threads") = 0,
+          nb::arg("max_depth") = 5,
+          "Radiance-cache points at sensors: (lux, harmonic mean hit distance), the indirect illuminance of a "
+          "resolution x resolution hemisphere of jittered texel rays at each point (paths as sensor_illuminance's "
+          "with that max_depth) and its texels' harmonic mean first-hit distance (inf when none hit).");
 }
 
 }  // namespace patina_py

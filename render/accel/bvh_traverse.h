@@ -138,6 +138,9 @@ PATINA_INLINE vbool<T> block_lanes(const RayPacket<1>& r, const BvhBlock& blk, i
 struct RootHits {
     int mask;
     const float* near;  // kBvhWidth entry distances (read where mask has a bit)
+    // the node whose children these are: the root (node 0), or where a packet traversal
+    // (bvh_packet_occlusion.h) hands a ray over to continue alone
+    uint32_t node = 0;
 };
 
 struct StackEntry {
@@ -216,8 +219,9 @@ PATINA_INLINE uint32_t push_children(const Bvh& bvh, const BvhNode& node, int ma
 // The traversal both queries share: nodes with L lanes over their children, nearest child first
 // (kNearestFirst; else in slot order), the others on the stack; nearest first, a popped child is
 // skipped once it lies beyond `tfar` (the closest hit so far, which the leaf visitor may lower).
-// `leaf(first_block, block_count)` returns true to stop. With a `root` given, the root node's
-// children were tested already (RootHits: for N rays at once, trace_kernels_bvh_rays.h).
+// `leaf(first_block, block_count)` returns true to stop. With a `root` given, the children of
+// its node were tested already (RootHits: for N rays at once, trace_kernels_bvh_rays.h), and
+// the traversal goes on from there.
 template <int L, bool kNearestFirst, typename Leaf>
 inline void traverse(const Bvh& bvh, const RayPacket<1>& r, const BoxRay& b, const float& tfar, Leaf&& leaf,
                      const RootHits* root = nullptr) {
@@ -227,7 +231,7 @@ inline void traverse(const Bvh& bvh, const RayPacket<1>& r, const BoxRay& b, con
     alignas(32) float near[kBvhWidth];
     if (root != nullptr) {
         if (root->mask == 0) return;
-        const BvhNode& node = bvh.nodes[cur];
+        const BvhNode& node = bvh.nodes[root->node];
         cur = kNearestFirst ? order_children(bvh, node, root->mask, root->near, stack, top)
                             : push_children(bvh, node, root->mask, stack, top);
     }

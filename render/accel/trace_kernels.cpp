@@ -62,6 +62,10 @@ void trace_occluded(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked, size
     run_kernel(&TraceKernels::occluded_bvh, bvh, rays, blocked, n, width, threads);
 }
 
+void trace_occluded_packets(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked, size_t n, int width, int threads) {
+    run_kernel(&TraceKernels::occluded_bvh_packets, bvh, rays, blocked, n, width, threads);
+}
+
 void hit_normals(const KdTree& tree, const RayBatch& rays, const float* t, const int32_t* prim, float* normals,
                  size_t n) {
     const SphereSet& spheres = tree.spheres;

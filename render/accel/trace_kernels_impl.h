@@ -5,6 +5,7 @@
 
 #include "core/constants.h"
 #include "core/simd/kernel_width.h"
+#include "render/accel/bvh_packet_occlusion.h"
 #include "render/accel/bvh_traverse.h"
 #include "render/accel/ray_recorder.h"
 #include "render/accel/trace_kernels.h"
@@ -66,16 +67,27 @@ void intersect_kernel(const KdTree& tree, const RayBatch& rays, const HitBatch& 
     }
 }
 
-void occluded_kernel(const KdTree& tree, const RayBatch& rays, uint8_t* blocked, size_t begin, size_t end) {
+// Rays [begin, end) N at a time as packets, blocked[i] from occluded(packet)'s lanes.
+template <class Occluded>
+PATINA_INLINE void occluded_packets(const RayBatch& rays, uint8_t* blocked, size_t begin, size_t end,
+                                    Occluded&& occluded) {
     enter_kernel();
     if (ray_recording_on()) record_rays(rays, begin, end, true);
-    const TreeView view = tree_view(tree);
     for (size_t i = begin; i < end; i += N) {
         const int lanes = static_cast<int>(std::min<size_t>(N, end - i));
         const RayPacket<N> r = load_packet(rays, i, lanes);
-        const int mask = movemask(occluded_packet<N>(view, r));
+        const int mask = movemask(occluded(r));
         for (int j = 0; j < lanes; ++j) blocked[i + j] = static_cast<uint8_t>((mask >> j) & 1);
     }
+}
+
+void occluded_kernel(const KdTree& tree, const RayBatch& rays, uint8_t* blocked, size_t begin, size_t end) {
+    const TreeView view = tree_view(tree);
+    occluded_packets(rays, blocked, begin, end, [&](const RayPacket<N>& r) { return occluded_packet<N>(view, r); });
+}
+
+void occluded_bvh_packet_kernel(const Bvh& bvh, const RayBatch& rays, uint8_t* blocked, size_t begin, size_t end) {
+    occluded_packets(rays, blocked, begin, end, [&](const RayPacket<N>& r) { return bvh_occluded_packet<N>(bvh, r); });
 }
 
 // The BVH's lanes: its nodes' eight children, a block's eight triangles, at most N at a time.

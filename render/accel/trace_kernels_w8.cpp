@@ -5,7 +5,8 @@
 namespace patina {
 
 const TraceKernels& trace_kernels_w8() {
-    static const TraceKernels k{8, &intersect_kernel, &occluded_kernel, &intersect_bvh_kernel, &occluded_bvh_kernel};
+    static const TraceKernels k{8, &intersect_kernel, &occluded_kernel, &intersect_bvh_kernel, &occluded_bvh_kernel,
+                                  &occluded_bvh_packet_kernel};
     return k;
 }
 

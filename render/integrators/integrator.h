@@ -205,6 +205,13 @@ struct RenderKernels {
     // (render/samplers/sample_numbers.h, from its key and index), q < n: the uniform sampler's jittered
     // positions, N samples at a time (a Sobol number is 13 hashes: too dear one at a time)
     void (*jitter_pixel_positions)(SamplerKind kind, CameraSample* samples, size_t n);
+    // Radiance-cache points at sensors [begin, end) (render/cache/sensor_cache_points_impl.h):
+    // lux[i] the indirect illuminance of an R x R hemisphere (R = resolution) of jittered texel
+    // rays from points[i] about normals[i], traced as sensor_illuminance_indirect's paths, and
+    // harmonic_distance[i] the texels' harmonic mean hit distance (inf: none hit)
+    void (*sensor_cache_points)(const RenderScene& scene, const IntegratorSettings& settings, const float* points,
+                                const float* normals, size_t begin, size_t end, int resolution, uint32_t seed,
+                                float* lux, float* harmonic_distance, PathScratch& scratch);
 };
 
 const RenderKernels& render_kernels_w1();

@@ -11,7 +11,8 @@ const RenderKernels& render_kernels_w8() {
                                  &render_detail::grid2_w::eval_array, &render_detail::light_selection,
                                  &render_detail::cache_probe,
                                  &render_detail::build_cache_region,
-                                 &render_detail::jitter_pixel_positions};
+                                 &render_detail::jitter_pixel_positions,
+                                 &render_detail::sensor_cache_points};
     return k;
 }
 

@@ -4,6 +4,7 @@
 //   cache_impl.h         cache: the path tracer with the first hit's indirect light from the radiance cache
 //   cache_guided_impl.h  cache-guided: the path tracer with the first bounces guided by the cache
 //   sensors_impl.h       illuminance sensors: direct by light sampling, indirect by sensor paths
+//   (render/cache/sensor_cache_points_impl.h: radiance-cache points at sensors, for their indirect light)
 // over the shared stages (wavefront_impl.h, emission_impl.h, shading_points_impl.h,
 // light_samples_impl.h, bsdf_samples_impl.h). Everything random comes from
 // render/samplers/sample_numbers.h (Sobol or rng.h's counter-based hash, both integer functions
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "core/simd/kernel_width.h"
+#include "render/cache/sensor_cache_points_impl.h"
 #include "render/integrators/cache_guided_impl.h"
 #include "render/integrators/cache_impl.h"
 #include "render/integrators/cache_probe_impl.h"

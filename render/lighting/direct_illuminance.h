@@ -5,13 +5,14 @@
 //
 // Sensors go N at a time (direct_illuminance_impl.h, compiled per width by
 // direct_illuminance_w{1,4,8,16}.cpp): per luminaire the N directions, candela, responses and
-// one packet of N shadow rays through the kd-tree. Neighbouring sensors of a grid see a
-// luminaire along nearly the same direction, so their shadow rays form coherent packets.
+// one packet of N shadow rays through the BVH (bvh_packet_occlusion.h). Neighbouring sensors
+// of a grid see a luminaire along nearly the same direction, so their shadow rays form
+// coherent packets.
 #pragma once
 
 #include <cstddef>
 
-#include "render/accel/kdtree.h"
+#include "render/accel/bvh.h"
 #include "render/lighting/direct_source.h"
 #include "render/lighting/illuminance_sensors.h"
 
@@ -21,7 +22,7 @@ namespace patina {
 struct DirectLighting {
     const DirectSource* sources = nullptr;
     size_t count = 0;
-    const KdTree* occluders = nullptr;  // null: nothing casts a shadow
+    const Bvh* occluders = nullptr;  // null: nothing casts a shadow
     // shadow rays start this far from the sensor (the renderer's ray offset) and stop
     // kShadowShorten of the distance short of the luminaire
     float ray_offset = 1e-4f;

@@ -1,7 +1,7 @@
 // The body of direct_illuminance_w{1,4,8,16}.cpp: the exact direct sum (direct_illuminance.h),
 // N neighbouring sensors at a time. For each luminaire in turn: the N directions and squared
 // distances, the sensors' responses, the luminaire's candela towards them, and one packet of N
-// shadow rays (the renderer's kd-tree packet query, occluded_packet) for the lanes it lights.
+// shadow rays through the renderer's BVH together (bvh_occluded_packet) for the lanes it lights.
 // Every lane's arithmetic is the same at every width (exact division and square root, the
 // fast inverse trigonometry's one polynomial, the terms added in the luminaires' order), so
 // the wide paths give the scalar path's bits.
@@ -10,8 +10,8 @@
 #include <cstdint>
 
 #include "core/simd/kernel_width.h"
+#include "render/accel/bvh_packet_occlusion.h"
 #include "render/accel/ray_packet.h"
-#include "render/accel/traverse.h"
 #include "render/lighting/direct_illuminance.h"
 #include "render/lighting/sensor_response_impl.h"
 #include "render/lighting/source_intensity_impl.h"
@@ -58,7 +58,7 @@ PATINA_INLINE WayToSource way_to(const DirectSource& s, const V3& from) {
 // Lanes of `lit` whose ray from the sensor to the luminaire hits something: from the
 // renderer's ray offset to kShadowShorten of the way short of the luminaire (the other lanes
 // get an empty interval, which the traversal skips).
-PATINA_INLINE B shadowed(const TreeView& tree, float ray_offset, const V3& from, const WayToSource& w, B lit) {
+PATINA_INLINE B shadowed(const Bvh& occluders, float ray_offset, const V3& from, const WayToSource& w, B lit) {
     RayPacket<N> r;
     r.org[0] = from.x;
     r.org[1] = from.y;
@@ -69,11 +69,11 @@ PATINA_INLINE B shadowed(const TreeView& tree, float ray_offset, const V3& from,
     r.tmin = F(ray_offset);
     r.tmax = select(lit, w.dist * F(1.0f - kShadowShorten), F(-1.0f));
     prepare_packet<N>(r);
-    return lit & occluded_packet<N>(tree, r);
+    return lit & bvh_occluded_packet<N>(occluders, r);
 }
 
 // One luminaire's lux at N sensors: candela x response / d^2, 0 where it is hidden.
-PATINA_INLINE F source_lux(const DirectSource& s, SensorKind kind, const SensorLanes& at, const TreeView* tree,
+PATINA_INLINE F source_lux(const DirectSource& s, SensorKind kind, const SensorLanes& at, const Bvh* occluders,
                            float ray_offset) {
     const WayToSource w = way_to(s, at.point);
     const F response = sensor_response(kind, w.towards, at.normal);
@@ -81,7 +81,7 @@ PATINA_INLINE F source_lux(const DirectSource& s, SensorKind kind, const SensorL
     if (none(faced)) return F(0.0f);
     const F lux = source_candela(s, -w.towards) * response / select(faced, w.dist_squared, F(1.0f));
     B lit = faced & (lux > F(0.0f));
-    if (tree && any(lit)) lit = andnot(shadowed(*tree, ray_offset, at.point, w, lit), lit);
+    if (occluders && any(lit)) lit = andnot(shadowed(*occluders, ray_offset, at.point, w, lit), lit);
     return select(lit, lux, F(0.0f));
 }
 
@@ -93,8 +93,6 @@ constexpr size_t kRunPackets = 32;
 inline void direct_sum(const DirectLighting& lighting, const IlluminanceSensors& sensors, float* lux,
                        float* per_source, size_t begin, size_t end) {
     enter_kernel();
-    const TreeView tree = lighting.occluders ? tree_view(*lighting.occluders) : TreeView{};
-    const TreeView* occluders = lighting.occluders ? &tree : nullptr;
     F total[kRunPackets];
     for (size_t run = begin; run < end; run += kRunPackets * N) {
         const size_t run_end = std::min(end, run + kRunPackets * N);
@@ -103,7 +101,7 @@ inline void direct_sum(const DirectLighting& lighting, const IlluminanceSensors&
             for (size_t i = run, p = 0; i < run_end; i += N, ++p) {
                 const int lanes = static_cast<int>(std::min<size_t>(N, run_end - i));
                 const SensorLanes at = load_sensors(sensors, i, lanes);
-                const F e = source_lux(lighting.sources[k], sensors.kind, at, occluders, lighting.ray_offset);
+                const F e = source_lux(lighting.sources[k], sensors.kind, at, lighting.occluders, lighting.ray_offset);
                 total[p] += e;  // the luminaires' terms in their order, whatever the width
                 if (per_source) store_lanes(per_source + k * sensors.count, i, lanes, e);
             }

@@ -339,6 +339,7 @@ def cmd_illuminance(args: argparse.Namespace) -> int:
             progress=True,
             indirect=args.indirect,
             sensor=args.sensor,
+            indirect_cache=args.indirect_cache,
         )
         if args.json:
             json.dump(report.as_json(), sys.stdout)
@@ -519,6 +520,12 @@ def add_render_commands(sub: Any) -> None:
         action="store_true",
         help="also count light reflected by the scene (interreflections): as many sensor paths per sensor, "
         "at most the scene's render.max_depth segments each (its path setting, whatever render.integrator says)",
+    )
+    s.add_argument(
+        "--indirect-cache",
+        action="store_true",
+        help="with --indirect: the interreflections from the radiance cache (cache points at some sensors, "
+        "16 x 16 paths each, the others gathering from them; biased: docs/lighting.md) instead of sensor paths",
     )
     s.add_argument("--threads", type=integer(0, MAX_THREADS), default=0, help="worker threads (0: all cores)")
     add_simd_option(s)

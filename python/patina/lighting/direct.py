@@ -8,8 +8,8 @@ render/lighting/direct_illuminance.h): sensors in SIMD packets, per luminaire th
 the candela by the renderer's arithmetic (the spot's smoothstep cone of
 render/lights/delta_intensity_impl.h, the candela table through the same bilinear grid and
 fast inverse trigonometry), the sensor's response and a packet of shadow rays through the
-scene's kd-tree, from tmin = the renderer's ray offset to just short of the light. The same
-bits at every SIMD width and thread count.
+scene's BVH (built on the first call), from tmin = the renderer's ray offset to just short of
+the light. The same bits at every SIMD width and thread count.
 
 `arrivals` is the same sum's parts in double precision with numpy (directions, distances,
 candela by `Luminaire.intensity_at`, shadow rays through `_core.Accel.occluded`), for what needs

@@ -26,6 +26,7 @@ import numpy as np
 from patina.atomic import write_text
 from patina.errors import FormatError
 from patina.lighting.direct import PlacedSource, direct_illuminance, is_delta
+from patina.lighting.indirect_cache import CacheSettings, cached_indirect
 from patina.lighting.plan import write_plan
 from patina.lighting.scene_luminaires import plan_luminaires
 from patina.lighting.sensors import make_sensors, parse_sensor
@@ -132,6 +133,7 @@ def compute(
     progress: bool = False,
     indirect: bool = False,
     sensor: str | None = None,
+    indirect_cache: bool = False,
 ) -> IlluminanceReport:
     """The grid's illuminance. Point, spot and goniometric lights: exact, the finite sum of
     patina.lighting.direct with a shadow ray each (no sampling; deterministic). The other
@@ -140,7 +142,9 @@ def compute(
     the vertices of a camera path of render.max_depth; both through `_core.sensor_illuminance`, CHUNK_SENSORS
     sensors per call (progress shown with `progress`, Ctrl-C stops between chunks). Each
     chunk's sensors are numbered from 0 in its random streams, so the result depends on the
-    seed and the chunk size only (not on threads or width)."""
+    seed and the chunk size only (not on threads or width). With `indirect_cache` the
+    interreflections come from the radiance cache instead (patina.lighting.indirect_cache,
+    every sensor at once)."""
     _, _, pts = grid.points()
     kind = parse_sensor(sensor) if sensor else ("up" if grid.facing_up else "down", None)
     sensors = make_sensors(pts, *kind)
@@ -160,11 +164,14 @@ def compute(
             f"{kind[0]} sensors sum point, spot and goniometric luminaires only; this scene has "
             + ("--indirect" if indirect else "area lights, the sun or an environment"),
         )
+    if indirect_cache and not indirect:
+        raise FormatError("command line", "--indirect-cache", "needs --indirect (it computes the interreflections)")
     normals = np.ascontiguousarray(sensors.normals, np.float32)
     simd, seed = core_width(width), scene.render.seed
     depth = sensor_depth(scene) if indirect else 0
+    paths = indirect and not indirect_cache
     # a chunk of sensor paths costs about a camera path per sample: show progress sooner
-    chunk = CHUNK_SENSORS // 16 if indirect else CHUNK_SENSORS
+    chunk = CHUNK_SENSORS // 16 if paths else CHUNK_SENSORS
     chunks = range(0, len(pts), chunk)
     with Progress(len(pts), "illuminance", unit="sensor", enabled=progress and len(chunks) > 1) as bar:
         for begin in chunks:
@@ -175,13 +182,16 @@ def compute(
             part = pts[begin:end], normals[begin:end], samples, seed, simd, threads
             if rest is not None:
                 lux[begin:end] += _core.sensor_illuminance(rest.core, *part, 0)
-            if indirect:
+            if paths:
                 # the interreflections alone: the kernel adds them to its direct estimate, whose
                 # random streams are the same with or without them (render/integrators/sensors_impl.h), so the
                 # difference is the indirect part of every light, the delta lights' included
                 total = np.asarray(_core.sensor_illuminance(prepared.core, *part, depth), np.float64)
                 lux[begin:end] += total - _core.sensor_illuminance(prepared.core, *part, 0)
             bar.update(end)
+    if indirect_cache:
+        settings = CacheSettings(depth, seed, width=simd, threads=threads)
+        lux += cached_indirect(prepared.core, np.asarray(pts), normals, settings).lux
     name = kind[0] + (f":{kind[1]:g}" if kind[1] is not None else "")
     return IlluminanceReport(grid, lux.reshape(grid.nz, grid.nx), samples, indirect, len(exact), name)
 

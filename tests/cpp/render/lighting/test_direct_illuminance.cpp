@@ -14,6 +14,7 @@
 
 #include "core/constants.h"
 #include "core/cpu.h"
+#include "render/accel/bvh.h"
 #include "render/accel/kdtree.h"
 #include "render/lighting/direct_illuminance.h"
 
@@ -82,8 +83,8 @@ struct Row {
 const float kUp[3] = {0, 1, 0};
 
 std::vector<float> lux_of(const std::vector<DirectSource>& sources, const IlluminanceSensors& sensors,
-                          const KdTree* tree, int width, std::vector<float>* per_source = nullptr) {
-    const DirectLighting lighting{sources.data(), sources.size(), tree, 1e-4f};
+                          const Bvh* occluders, int width, std::vector<float>* per_source = nullptr) {
+    const DirectLighting lighting{sources.data(), sources.size(), occluders, 1e-4f};
     std::vector<float> lux(sensors.count);
     if (per_source) per_source->assign(sources.size() * sensors.count, -1.0f);
     direct_illuminance(lighting, sensors, lux.data(), per_source ? per_source->data() : nullptr, width, 1);
@@ -101,15 +102,16 @@ struct Seen {
 };
 
 // A panel of two triangles at height y over [x0, x1] x [-1, 1], and two spheres.
-KdTree occluders(float y, float x0, float x1) {
+Bvh occluders(float y, float x0, float x1) {
     const std::vector<float> v{x0, y, -1, x1, y, -1, x1, y, 1, x0, y, 1};
     const std::vector<int32_t> f{0, 1, 2, 0, 2, 3};
-    KdTree tree = build_kdtree(v.data(), 4, f.data(), 2, KdBuildOptions{});
+    const KdTree tree = build_kdtree(v.data(), 4, f.data(), 2, KdBuildOptions{});
+    Bvh bvh = build_bvh(tree.triangles.data(), tree.triangle_count());
     const float identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     const float c1[3] = {-2.5f, 1.0f, 0.3f}, c2[3] = {3.0f, 0.8f, 0.0f};
-    tree.spheres.add(c1, 0.4f, identity);
-    tree.spheres.add(c2, 0.3f, identity);
-    return tree;
+    bvh.spheres.add(c1, 0.4f, identity);
+    bvh.spheres.add(c2, 0.3f, identity);
+    return bvh;
 }
 
 std::vector<int> widths() {
@@ -151,9 +153,9 @@ TEST(DirectIlluminance, CylindersTakeSinEpsOverPiAndHalfCylindersTheirFacingHalf
 
 TEST(DirectIlluminance, APanelBetweenLightAndSensorsCastsASharpShadow) {
     const Row row(81, -2, 2, kUp);
-    const KdTree tree = occluders(1.5f, -0.5f, 0.5f);
+    const Bvh occluding = occluders(1.5f, -0.5f, 0.5f);
     const std::vector<DirectSource> sources{point_source(0.0f, 3.0f, 0.25f, 1000.0f)};
-    const std::vector<float> lux = lux_of(sources, row.sensors(), &tree, 1);
+    const std::vector<float> lux = lux_of(sources, row.sensors(), &occluding, 1);
     for (size_t i = 0; i < lux.size(); ++i) {
         const float x = row.points[3 * i];
         if (std::fabs(x) < 0.95f) {
@@ -191,7 +193,7 @@ TEST(DirectIlluminance, EveryWidthGivesTheScalarPathsBitsLaneByLane) {
     DirectSource tilted = downlight(table, -2.0f, 2.2f, 1.0f);
     tilted.goniometric.type_b = true;  // the same table read as type B, aimed along its frame's +z (up)
     sources.push_back(tilted);
-    const KdTree tree = occluders(1.2f, -1.0f, 0.2f);
+    const Bvh occluding = occluders(1.2f, -1.0f, 0.2f);
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> along(-5.0f, 5.0f), unit(-1.0f, 1.0f);
     std::vector<float> points, normals;
@@ -203,13 +205,13 @@ TEST(DirectIlluminance, EveryWidthGivesTheScalarPathsBitsLaneByLane) {
     for (SensorKind kind : {SensorKind::Planar, SensorKind::Cylindrical, SensorKind::SemiCylindrical}) {
         const IlluminanceSensors sensors{kind, points.data(), normals.data(), points.size() / 3};
         std::vector<float> scalar_terms, open_terms, terms;
-        const std::vector<float> scalar = lux_of(sources, sensors, &tree, 1, &scalar_terms);
+        const std::vector<float> scalar = lux_of(sources, sensors, &occluding, 1, &scalar_terms);
         lux_of(sources, sensors, nullptr, 1, &open_terms);
         size_t shadowed = 0;
         for (size_t j = 0; j < scalar_terms.size(); ++j) shadowed += open_terms[j] > 0 && scalar_terms[j] == 0;
         EXPECT_GT(shadowed, 0u);  // the occluders hide some luminaire from some sensor
         for (int w : widths()) {
-            const std::vector<float> wide = lux_of(sources, sensors, &tree, w, &terms);
+            const std::vector<float> wide = lux_of(sources, sensors, &occluding, w, &terms);
             for (size_t i = 0; i < scalar.size(); ++i)
                 ASSERT_EQ(std::memcmp(&wide[i], &scalar[i], sizeof(float)), 0)
                     << "width " << w << " sensor " << i << ": " << wide[i] << " vs " << scalar[i];
@@ -220,7 +222,7 @@ TEST(DirectIlluminance, EveryWidthGivesTheScalarPathsBitsLaneByLane) {
 }
 
 TEST(DirectIlluminance, TheSensorsOrderChangesNothingButTheOrder) {
-    const KdTree tree = occluders(1.2f, -1.0f, 0.2f);
+    const Bvh occluding = occluders(1.2f, -1.0f, 0.2f);
     const std::vector<DirectSource> sources{point_source(-1.0f, 2.5f, 0.5f, 700.0f), spot(1.5f, 3.0f, -0.5f, 900.0f)};
     const Row row(203, -5, 5, kUp);
     std::vector<size_t> shuffled(row.points.size() / 3);
@@ -231,9 +233,9 @@ TEST(DirectIlluminance, TheSensorsOrderChangesNothingButTheOrder) {
         points.insert(points.end(), &row.points[3 * i], &row.points[3 * i] + 3);
         normals.insert(normals.end(), &row.normals[3 * i], &row.normals[3 * i] + 3);
     }
-    const std::vector<float> lux = lux_of(sources, row.sensors(), &tree, 0);
+    const std::vector<float> lux = lux_of(sources, row.sensors(), &occluding, 0);
     const IlluminanceSensors reordered{SensorKind::Planar, points.data(), normals.data(), shuffled.size()};
-    const std::vector<float> lux_shuffled = lux_of(sources, reordered, &tree, 0);
+    const std::vector<float> lux_shuffled = lux_of(sources, reordered, &occluding, 0);
     for (size_t j = 0; j < shuffled.size(); ++j)
         ASSERT_EQ(std::memcmp(&lux_shuffled[j], &lux[shuffled[j]], sizeof(float)), 0) << j;
 }
