@@ -32,7 +32,7 @@ EXCLUDED = {
     "make test": "make test runs this test",
     **{
         f"patina bench --only {group}": "a full benchmark group takes minutes; `patina bench --quick` runs it"
-        for group in ("brdf --json bench.json", "trace", "fit", "render", "lights", "cache")
+        for group in ("brdf --json bench.json", "trace", "fit", "render", "lights", "cache", "cache --large")
     },
 }
 

@@ -1,5 +1,5 @@
 """`cache-guided` variants against path's ladder (8, 32, 128 spp) in the same process, as the
-bench's `cache.<scene>.guided_vs_path` measures them (bench/cache.py: 96 pixels wide, 16 spp,
+bench's `cache.<scene>.guided_vs_path` measures them (bench/cache.py FULL: 192 pixels wide, 16 spp,
 2 threads, the converged reference kept by the bench, errors the median over the seeds
 0 .. REPEAT): per variant its median time, its relMSE and the ratio (docs/radiance-cache.md,
 "The trained guide").

@@ -1,7 +1,7 @@
 """`cache` with several values of cache.hit_paths against path's ladder in the same process,
-at the bench's size (96 pixels wide, 16 spp, 2 threads; the errors the median over 4 seeds as the
+at the bench's size (FULL: 192 pixels wide, 16 spp, 2 threads; the errors the median over 4 seeds as the
 bench's), the bias as the bench's record measures it (bench/cache.py, bias_over_seeds: 16 seeds,
-32 pixels wide) and the same at the bench's 96 pixels (docs/radiance-cache.md, "Bias").
+32 pixels wide) and the same at 96 pixels, the bench's size until issue 31 (docs/radiance-cache.md, "Bias").
 Run from the checkout: python tools/cache_measure/hit_paths.py LABEL K,K,... [scene,...]"""
 
 import sys

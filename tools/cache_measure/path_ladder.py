@@ -1,5 +1,5 @@
 """The bench's setting for one bundled cache scene, shared by the studies in this folder: the
-scene at the bench's size (bench/cache.py FULL: 96 pixels wide), its converged reference (kept
+scene at the bench's size (bench/cache.py FULL: 192 pixels wide), its converged reference (kept
 by the bench) and path's ladder of renders (8, 32, 128 spp, 2 threads), whose error curve a
 candidate's time to its error is read against. The ladder is returned untimed so that a study
 can time it interleaved with its candidates (timed_renders alternates them)."""

@@ -1,5 +1,5 @@
 """`cache`'s CPU time per stage (`RenderJob.stage_times()`, the thread's CPU clock) on the
-bundled cache scenes at the bench's size (bench/cache.py FULL: 96 pixels wide, 16 spp), one
+bundled cache scenes at the bench's size (bench/cache.py FULL: 192 pixels wide, 16 spp), one
 thread, the median of REPEAT renders per width (docs/radiance-cache.md, "Figures against the
 issue's targets"). Run from the checkout: python tools/cache_measure/stage_times.py [16,8]
 (SCENES=cache-room,... and REPEAT=3)."""

@@ -38,9 +38,9 @@ import sys
 
 import numpy as np
 
+from patina.bench.flip import mean_flip
 from patina.bench.records import Record
 from patina.bundled import materials_path
-from patina.render.images import tonemap
 from patina.render.outputs import auto_exposure
 from patina.render.prepare import PreparedScene
 from patina.render.run import render
@@ -118,15 +118,6 @@ def _rmse(a: np.ndarray, ref: np.ndarray) -> float:
     return float(np.sqrt(np.mean((np.asarray(a, np.float64) - ref) ** 2)))
 
 
-def _flip(a: np.ndarray, ref: np.ndarray, stops: float) -> float | None:
-    try:
-        import flip_evaluator
-    except ImportError:
-        return None
-    ldr = [tonemap(x, stops, "filmic").astype(np.float32) / 255.0 for x in (ref, a)]
-    return float(flip_evaluator.evaluate(ldr[0], ldr[1], "LDR", applyMagma=False)[1])
-
-
 def bench_aa(repeat: int, quick: bool) -> list[Record]:
     """Every figure but the time ratio is an error of one render (the scenes render the
     same image every time); the time ratio is the median of `repeat` runs of each."""
@@ -187,7 +178,7 @@ def bench_aa(repeat: int, quick: bool) -> list[Record]:
             Record(f"{base}.time_vs_random25", "adaptive", "random 25", t_random25 / t_adaptive, t_adaptive, "s"),
         ]
         stops = auto_exposure(ref)
-        flip, flip_random25 = _flip(adaptive.rgb, ref, stops), _flip(random25.rgb, ref, stops)
+        flip, flip_random25 = mean_flip(adaptive.rgb, ref, stops), mean_flip(random25.rgb, ref, stops)
         if flip is None or flip_random25 is None:
             if not warned:
                 print("patina bench: flip-evaluator is not installed: no aa.*.flip_vs_random25", file=sys.stderr)

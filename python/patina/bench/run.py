@@ -20,7 +20,7 @@ from dataclasses import asdict
 from patina.atomic import check_writable, write_text
 from patina.bench.aa import bench_aa
 from patina.bench.batch import bench_batch
-from patina.bench.cache import bench_cache
+from patina.bench.cache import bench_cache, bench_cache_large
 from patina.bench.fit import bench_fit
 from patina.bench.kernels import bench_brdf, bench_math
 from patina.bench.lighting import bench_lighting
@@ -49,6 +49,8 @@ GROUPS: dict[str, Callable[[int, bool], list[Record]]] = {
     "batch": bench_batch,
     "lighting": bench_lighting,
 }
+# `--large`: the groups with a larger size (their records named apart) in place of GROUPS'
+LARGE_GROUPS: dict[str, Callable[[int, bool], list[Record]]] = {"cache": bench_cache_large}
 
 
 def print_table(records: list[Record]) -> None:
@@ -72,16 +74,21 @@ def run_bench(
     quick: bool = False,
     progress: bool = True,
     verbose: bool = False,
+    large: bool = False,
 ) -> int:
     """Runs the groups (all, or `only`), prints the table, writes `json_path`. progress: a bar on
     stderr (a line every few seconds when it is not a terminal) and a line per finished group,
     since the whole run takes minutes. Mitsuba's warnings: one line at the end, or each once
-    with `verbose` (bench/mitsuba_log.py)."""
+    with `verbose` (bench/mitsuba_log.py). `large`: LARGE_GROUPS' larger sizes."""
     if only is not None and only not in GROUPS:
         print(f"patina bench: unknown group '{only}' (known: {', '.join(GROUPS)})", file=sys.stderr)
         return 2
     if repeat < 1:
         print("patina bench: --repeat must be at least 1", file=sys.stderr)
+        return 2
+    if large and (quick or (only is not None and only not in LARGE_GROUPS)):
+        why = "--quick" if quick else f"group '{only}'"
+        print(f"patina bench: --large does not apply to {why} (it sizes: {', '.join(LARGE_GROUPS)})", file=sys.stderr)
         return 2
     if json_path:
         check_writable(json_path)  # an OSError naming it now (exit 2), not after minutes of timing
@@ -89,7 +96,8 @@ def run_bench(
     if {"render", "profile", "lights", "aa", "cache", "batch", "lighting"} & set(groups):
         materials_path("scenes")  # their scenes are the checkout's: FileNotFoundError now, not minutes in
     # brdf includes the math kernels it relies on, as the issue's record list asks
-    steps = [("math", bench_math), ("brdf", bench_brdf)] if only == "brdf" else [(g, GROUPS[g]) for g in groups]
+    chosen = {**GROUPS, **LARGE_GROUPS} if large else GROUPS
+    steps = [("math", bench_math), ("brdf", bench_brdf)] if only == "brdf" else [(g, chosen[g]) for g in groups]
     records: list[Record] = []
     start = time.perf_counter()
     with gathered_mitsuba_warnings(verbose), Progress(len(steps), "bench", unit="group", enabled=progress) as bar:
@@ -113,6 +121,7 @@ def run_bench(
             },
             "repeat": repeat,
             "quick": quick,
+            "large": large,
             "records": [asdict(r) for r in records],
         }
         os.makedirs(os.path.dirname(os.path.abspath(json_path)), exist_ok=True)  # check_writable allowed it

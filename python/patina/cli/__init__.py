@@ -9,7 +9,7 @@
     patina fit FILE --compare ggx+lambert beckmann+lambert lafortune+lambert:2 ward-aniso+lambert
     patina plot FILE [--fit fit.json] --out DIR [--no-3d] [--3d-log] [--3d-no-cos]
     patina slices FILE --out PNG
-    patina bench [--only GROUP] [--json FILE] [--quick] [--quiet]
+    patina bench [--only GROUP] [--json FILE] [--quick | --large] [--quiet]
     patina render SCENE.json [--out out.exr] [--spp N] [--integrator direct|path] [--threads T] [--seed S]
     patina luminaire info FILE [--json] | patina luminaire plot FILE --out PNG
     patina luminaire ugr FILE [--spacing S] [--json]

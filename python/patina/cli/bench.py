@@ -19,6 +19,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
         quick=args.quick,
         progress=not args.quiet,
         verbose=args.verbose,
+        large=args.large,
     )
 
 
@@ -28,6 +29,9 @@ def add_bench_command(sub: Any) -> None:
     add_output(s, "--json", default=None, metavar="FILE", extensions=(".json",), help="also write the records as JSON")
     s.add_argument("--repeat", type=integer(1, 1000), default=7, help="repetitions; medians are reported")
     s.add_argument("--quick", action="store_true", help="small inputs, for a smoke test")
+    s.add_argument(
+        "--large", action="store_true", help="the cache group at 384 pixels wide (records named *.large), not 192"
+    )
     s.add_argument("--quiet", action="store_true", help="no progress and no table: errors only (use with --json)")
     s.add_argument("--verbose", action="store_true", help="list each of Mitsuba's warnings (else one line sums them)")
     s.set_defaults(func=cmd_bench)

@@ -7,12 +7,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from patina.bench.cache_mitsuba import analytic_counterpart, lambert_fit
+from patina.bench.cache import SCENES
+from patina.bench.cache_mitsuba import analytic_counterpart, lambert_fit, mitsuba_dict
 from patina.bundled import materials_path
-from patina.render.prepare import shape_mesh
-from patina.scene.mitsuba import to_mitsuba
 from patina.scene.reading import load_scene
-from patina.scene.types import BallShape, CarpaintMaterial, LambertMaterial, PanelShape, TableMaterial
+from patina.scene.types import CarpaintMaterial, LambertMaterial, TableMaterial
 
 
 def test_tables_become_their_lambert_fits_and_the_car_paint_keeps_its_coat():
@@ -37,10 +36,9 @@ def test_tables_become_their_lambert_fits_and_the_car_paint_keeps_its_coat():
 
 def test_the_counterparts_convert_to_mitsuba():
     pytest.importorskip("mitsuba")
-    for name in ("cache-room", "cache-studio", "cache-ies-interior"):
+    for name in SCENES:
         scene = analytic_counterpart(load_scene(materials_path("scenes", f"{name}.json")))
-        meshes = {i: shape_mesh(s) for i, s in enumerate(scene.shapes) if isinstance(s, BallShape | PanelShape)}
-        converted = to_mitsuba(scene, meshes, variant="scalar_rgb")
+        converted = mitsuba_dict(scene, variant="scalar_rgb")
         assert converted["type"] == "scene"
         # the interior's four downlights are Mitsuba spots projecting their tables
         assert sum(v.get("type") == "spot" for v in converted.values() if isinstance(v, dict)) == (

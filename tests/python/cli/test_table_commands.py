@@ -164,6 +164,10 @@ def test_bad_options(bundled_ptab, capsys):
     assert ".ptab" in capsys.readouterr().err
     assert main(["eval", bundled_ptab, "--wi", "30", "--wo", "30", "0"]) == 2  # a missing angle
     assert main(["bench", "--only", "nothing"]) == 2
+    assert main(["bench", "--only", "math", "--large"]) == 2  # --large sizes the cache group only
+    assert "does not apply to group 'math'" in capsys.readouterr().err
+    assert main(["bench", "--only", "cache", "--large", "--quick"]) == 2
+    assert "does not apply to --quick" in capsys.readouterr().err
 
 
 def test_bench_quick_writes_records(tmp_path, capsys):

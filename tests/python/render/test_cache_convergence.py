@@ -20,7 +20,7 @@ from patina.render.run import render
 from patina.scene.reading import load_scene, parse_scene, with_overrides
 from repo_paths import ROOT
 
-SCENES = ("cache-room", "cache-studio", "cache-ies-interior")
+SCENES = ("cache-room", "cache-studio", "cache-ies-interior", "cache-car")
 CACHE_BIAS = 0.05  # the bias docs/radiance-cache.md states for `cache` (a lit box's mean radiance)
 
 
