@@ -385,7 +385,12 @@ inline CacheCounts reconstruct_hemispheres(const CacheSettings& cfg, float eps, 
     const TexelDirections& directions = cache.texel_directions;
     const QueryTable& table = cache.table;  // split_far_members adds queries
     CacheCounts counts;
-    if (table.queries.empty()) return counts;
+    if (table.queries.empty()) {
+        // nothing built: the last call's points (moved out by build_region_points) are not this call's
+        build.used = 0;
+        build.pool.clear();
+        return counts;
+    }
     const int R = cfg.resolution;
     const size_t T = static_cast<size_t>(R) * R;
     cache.texel_directions.prepare(R);

@@ -171,6 +171,32 @@ TEST(CacheIntegrators, RadianceIsFiniteAndCachePointsAreReused) {
     }
 }
 
+// A worker builds region after region on one scratch: a region whose pixels make no query
+// (here none at all; in a render, pixels that see only the sky or a light) has no cache
+// points, not the last region's points left in the scratch after they were moved out (a
+// tile reusing such an emptied point read its missing layers: a crash).
+TEST(CacheIntegrators, ARegionWithoutQueriesHasNoCachePointsWhateverItsWorkerBuiltBefore) {
+    const BoxScene b(16, 16);
+    const std::vector<CameraSample> cs = pixel_samples(16, 16, 1, 4);
+    for (IntegratorMode mode : {IntegratorMode::Cache, IntegratorMode::CacheGuided}) {
+        IntegratorSettings st;
+        st.max_depth = 4;
+        st.mode = mode;
+        st.cache.resolution = 16;
+        st.cache.block = 4;
+        PathScratch sc;
+        std::vector<CachePoint> points;
+        std::vector<RegionHemisphere> hemispheres;
+        const RenderKernels& kernels = render_kernels_for(0);
+        kernels.build_cache_region(b.scene, st, cs.data(), cs.size(), points, hemispheres, sc);
+        ASSERT_FALSE(points.empty());
+        for (const CachePoint& a : points) EXPECT_EQ(a.radiance.size(), 3u * 16 * 16);
+        kernels.build_cache_region(b.scene, st, cs.data(), 0, points, hemispheres, sc);
+        EXPECT_TRUE(points.empty());
+        EXPECT_TRUE(hemispheres.empty());
+    }
+}
+
 // Blocks of pixels share reconstructions: far fewer than one a pixel (in this small box the
 // 0.3 R_A reach splits many of the 4 x 4 blocks, about 0.5 m across, once more), but never
 // one across the box's walls, and an image whose mean is the per-pixel reconstruction's.
