@@ -1,11 +1,13 @@
 """Every imported format through the table commands a user starts with (issue 29's "done
 when"): `info`, `validate`, `fit`, `preview` and `convert` each take a file of each format,
-written here by the formats' test writers (or bundled, for BSDF XML) so no test downloads."""
+and `batch` a library holding one of each, written here by the formats' test writers (or
+bundled, for BSDF XML) so no test downloads."""
 
 from __future__ import annotations
 
 import json
 import os
+import shutil
 
 import pytest
 
@@ -67,3 +69,26 @@ def test_info_validate_fit_preview_and_convert_take_the_file(kind, tmp_path, cap
     assert main(["preview", path, "--out", str(tmp_path / "p.exr"), "--png", "none", *SMALL]) == 0
     assert main(["convert", path, str(tmp_path / "t.ptab")]) == 0
     assert "wrote" in capsys.readouterr().out
+
+
+def test_batch_processes_a_library_holding_every_format(tmp_path, capsys):
+    library = tmp_path / "library"
+    library.mkdir()
+    names = []
+    for kind in KINDS:
+        path = _write(library, kind)
+        if os.path.dirname(path) != str(library):  # a bundled file: copied in
+            shutil.copy(path, library)
+        names.append(os.path.basename(path))
+    (library / "README.md").write_text("notes beside the tables")
+    out = tmp_path / "out"
+    quick = ["--models", "ggx+lambert", "--starts", "1", "--width", "24", "--height", "18", "--spp", "1"]
+    assert main(["batch", str(library), "--out", str(out), "--steps", "validate,fit,preview", *quick, "--quiet"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    rows = {m["name"]: m for m in summary["materials"]}
+    # the two .bsdf files (an RGL tensor file and a Zemax text) told apart by their content
+    assert sorted(rows) == sorted(names)
+    for name, row in rows.items():
+        assert row["status"] == "ok", (name, row["error"])
+        assert row["best_model"] == "ggx+lambert" and os.path.isfile(out / row["preview"]), name
+    assert summary["skipped_files"] == [{"file": "README.md", "reason": "not a table (a .md file)"}]
