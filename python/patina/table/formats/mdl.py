@@ -18,10 +18,12 @@ reflection block becomes an isotropic table; a file with only transmission is re
 from __future__ import annotations
 
 import struct
+from typing import NoReturn
 
 import numpy as np
 
 from patina.errors import FormatError
+from patina.table.formats.measurement_noise import checked_measurement
 from patina.table.formats.tabledata import TableData
 from patina.table.formats.whole_file import read_whole_file
 
@@ -101,15 +103,14 @@ def read_mdl(path: str) -> TableData:
     channel_kind, channels = TYPES[kind]
     count = res_theta * res_theta * res_phi * channels
     values = np.frombuffer(raw, dtype="<f4", count=count, offset=offset)
-    bad = ~np.isfinite(values) | (values < 0)
-    if bad.any():
-        first = int(np.argmax(bad))
-        raise FormatError(
-            path,
-            f"byte {offset + 4 * first}",
-            f"reflection value {values[first]:g}: " + ("negative" if np.isfinite(values[first]) else "not finite"),
-        )
+
+    def refuse(first: int, problem: str) -> NoReturn:
+        raise FormatError(path, f"byte {offset + 4 * first}", f"reflection value {values[first]:g}: {problem}")
+
+    values, noise = checked_measurement(values, refuse)
     notes = [f"MDL .mbsdf reflection block ({res_theta} x {res_theta} x {res_phi}, {channel_kind})"]
+    if noise:
+        notes.append(noise)
     if "transmission" in blocks:
         notes.append("transmission block skipped (Patina tables are reflection)")
     if metadata:

@@ -12,10 +12,12 @@ database's relative units; djb's reader rescales them).
 from __future__ import annotations
 
 import math
+from typing import NoReturn
 
 import numpy as np
 
 from patina.errors import FormatError
+from patina.table.formats.measurement_noise import checked_measurement
 from patina.table.formats.tabledata import TableData
 from patina.table.formats.whole_file import read_whole_file
 
@@ -36,18 +38,17 @@ def utia_axes() -> list[np.ndarray]:
 def read_utia(path: str) -> TableData:
     raw = read_whole_file(path, FILE_BYTES, exact=FILE_BYTES, what="a UTIA .bin BRDF (3 x 288 x 288 float64)")
     values = np.frombuffer(raw, dtype="<f8").reshape(SHAPE)
-    bad = ~np.isfinite(values) | (values < 0)
-    if bad.any():
-        flat = int(np.argmax(bad.ravel()))
-        value = values.ravel()[flat]
+
+    def refuse(flat: int, problem: str) -> NoReturn:
         channel, ti, pi, to, po = np.unravel_index(flat, SHAPE)
         raise FormatError(
             path,
             f"byte {flat * 8}",
-            f"value {value:g} ({'RGB'[channel]}, theta_i {ti * THETA_STEP_DEG:g}, phi_i {pi * PHI_STEP_DEG:g}, "
-            f"theta_o {to * THETA_STEP_DEG:g}, phi_o {po * PHI_STEP_DEG:g} deg): "
-            + ("negative" if np.isfinite(value) else "not finite"),
+            f"value {values.ravel()[flat]:g} ({'RGB'[channel]}, theta_i {ti * THETA_STEP_DEG:g}, "
+            f"phi_i {pi * PHI_STEP_DEG:g}, theta_o {to * THETA_STEP_DEG:g}, phi_o {po * PHI_STEP_DEG:g} deg): {problem}",
         )
+
+    values, noise = checked_measurement(values, refuse)
     if values.max() > np.finfo(np.float32).max:
         raise FormatError(path, "file", "values beyond float32")
     grid = np.moveaxis(values, 0, -1)  # (ti, pi, to, po, 3)
@@ -61,6 +62,6 @@ def read_utia(path: str) -> TableData:
         units="1/sr",
         provenance=(
             "UTIA BRDF database binary (6 theta x 48 phi per direction, theta 0-75 deg, RGB float64; "
-            "values as stored, the database's relative units)"
+            "values as stored, the database's relative units)" + (f"; {noise}" if noise else "")
         ),
     )

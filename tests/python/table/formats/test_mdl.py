@@ -62,11 +62,21 @@ def test_bad_files_name_the_byte(tmp_path, raw, where, problem):
     assert e.value.where == where and problem in e.value.problem
 
 
-def test_negative_value_named(tmp_path):
+def test_negative_value_beyond_the_noise_named(tmp_path):
     raw = bytearray(mbsdf_bytes(MODEL, rgb=False))
     raw[-4:] = struct.pack("<f", -1.0)
-    with pytest.raises(FormatError, match="negative"):
+    with pytest.raises(FormatError) as e:
         patina.load_brdf(_write(tmp_path, bytes(raw)))
+    assert e.value.where == f"byte {len(raw) - 4}" and "negative beyond measurement noise" in e.value.problem
+
+
+def test_noise_just_below_zero_is_set_to_zero_and_noted(tmp_path):
+    # as in NVIDIA's measured car paints: values a little below zero where the signal is near it
+    raw = bytearray(mbsdf_bytes(MODEL, rgb=False))
+    raw[-8:] = struct.pack("<ff", -1e-4, -2e-4)
+    brdf = patina.load_brdf(_write(tmp_path, bytes(raw)))
+    assert brdf.values.min() == 0.0 and brdf.values.reshape(-1)[-1] == 0.0
+    assert "2 values slightly below 0 set to 0 (measurement noise: down to -0.0002" in brdf.info()["provenance"]
 
 
 SMALL = mbsdf_bytes(MODEL, res_theta=3, res_phi=4)
