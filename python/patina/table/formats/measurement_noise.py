@@ -12,7 +12,8 @@ zero is no noise and the file is refused, naming where it is.
 
 from __future__ import annotations
 
-from typing import Callable, NoReturn
+from collections.abc import Callable
+from typing import NoReturn
 
 import numpy as np
 

@@ -45,7 +45,8 @@ def read_utia(path: str) -> TableData:
             path,
             f"byte {flat * 8}",
             f"value {values.ravel()[flat]:g} ({'RGB'[channel]}, theta_i {ti * THETA_STEP_DEG:g}, "
-            f"phi_i {pi * PHI_STEP_DEG:g}, theta_o {to * THETA_STEP_DEG:g}, phi_o {po * PHI_STEP_DEG:g} deg): {problem}",
+            f"phi_i {pi * PHI_STEP_DEG:g}, theta_o {to * THETA_STEP_DEG:g}, phi_o {po * PHI_STEP_DEG:g} deg): "
+            + problem,
         )
 
     values, noise = checked_measurement(values, refuse)
