@@ -23,6 +23,7 @@ from patina.atomic import write_text
 from patina.export.rgb_upsampling import upsample
 from patina.export.rgl import RglSource, check_pairs, table_source, write_rgl_file
 from patina.export.source import Source
+from patina.fitting.metrics import relative_errors
 
 MEASURED_TARGETS = ("mitsuba", "pbrt")  # the targets holding a table as `measured`
 MITSUBA_WAVELENGTHS = np.array([450.0, 520.0, 600.0, 680.0])  # nm: scalar_spectral's four at a time
@@ -93,8 +94,7 @@ def in_mitsuba(path: str, source: RglSource, spectral: bool) -> dict[str, Any] |
         if source.spectral is not None:  # the table's own spectra, interpolated in wavelength
             values = source.spectral(wi, wo)
             want = np.stack([np.interp(MITSUBA_WAVELENGTHS, source.wavelengths, v) for v in values])
-    rel = np.abs(got - want) / np.maximum(np.abs(want), 1e-3 * float(np.median(np.abs(want))) + 1e-12)
-    rel = rel.max(axis=1)
+    rel = relative_errors(want, got).max(axis=1)
     return {
         "evaluator": f"mitsuba {'scalar_spectral' if spectral else 'scalar_rgb'} measured",
         "relative_error_median": float(np.median(rel)),

@@ -22,7 +22,7 @@ import numpy as np
 
 from patina.export.material import AnalyticMaterial, Coat, Lobe
 from patina.export.source import Source, sample_pairs
-from patina.fitting.metrics import colour_differences
+from patina.fitting.metrics import colour_differences, relative_errors
 from patina.fitting.samples import sample_measure, subset, table_samples
 from patina.native import _core
 from patina.progress import Progress
@@ -58,8 +58,7 @@ def dense_pairs(count: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
 def error_metrics(reference: np.ndarray, exported: np.ndarray, cos_i: np.ndarray) -> dict[str, float]:
     """Relative error and CIEDE2000 of `exported` against `reference` ((n, 3) BRDF values)."""
     diff = exported - reference
-    floor = 1e-3 * float(np.median(np.abs(reference))) + 1e-12
-    rel = np.abs(diff) / np.maximum(np.abs(reference), floor)
+    rel = relative_errors(reference, exported)
     delta_e = colour_differences(reference, exported, cos_i)
     return {
         "rmse": float(np.sqrt(np.mean(diff**2))),

@@ -1,4 +1,5 @@
-"""How close a fit is: colour differences (CIEDE2000) between measured and fitted reflected colours."""
+"""How close a fit is: relative errors, and colour differences (CIEDE2000) between measured and
+fitted reflected colours."""
 
 from __future__ import annotations
 
@@ -24,3 +25,11 @@ def colour_differences(measured: np.ndarray, fitted: np.ndarray, cos_i: np.ndarr
         for rgb in (measured, fitted)
     ]
     return np.asarray(colour.delta_E(lab[0], lab[1], method="CIE 2000"))
+
+
+def relative_errors(reference: np.ndarray, other: np.ndarray) -> np.ndarray:
+    """|other - reference| / |reference|, elementwise, with |reference| floored at a thousandth of
+    its median: where a measurement is near zero (grazing angles, far from a lobe) a tiny
+    absolute miss would otherwise read as a huge relative one."""
+    floor = 1e-3 * float(np.median(np.abs(reference))) + 1e-12
+    return np.abs(other - reference) / np.maximum(np.abs(reference), floor)

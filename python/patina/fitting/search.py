@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from patina.fitting.metrics import colour_differences
+from patina.fitting.metrics import colour_differences, relative_errors
 from patina.fitting.models import ALIASES, COAT_ETA, LOSSES, MODELS, ParameterSpace
 from patina.fitting.samples import sample_measure, subset, table_samples
 from patina.fitting.verdict import Thresholds, checks, failed, symmetry_problem
@@ -232,7 +232,7 @@ def fit(
     best = space.params(best_x)
     predicted = _core.mixture_eval(space.kernel_name, best, wi, wo, 0, space.per_channel).astype(np.float64)
     diff = predicted - measured
-    rel = np.abs(diff) / np.maximum(np.abs(measured), 1e-3 * float(np.median(np.abs(measured))) + 1e-12)
+    rel = relative_errors(measured, predicted)
     full = _core.FitSamples(*every)
     cosine = (measure * every[3].astype(np.float64) ** 2)[:, None]  # measure x (cos_i cos_o)^2
     cosine_relative_rmse = math.sqrt(float(np.sum(cosine * diff**2)) / max(float(np.sum(cosine * measured**2)), 1e-300))
