@@ -10,7 +10,8 @@ namespace patina {
 struct CacheSettings {
     int resolution = 24;  // texels per side of a hemisphere (R x R texels, equal solid angle each)
     float error = 0.5f;   // the reuse criterion's bound: B uses A when |B - A| / R_A + sqrt(1 - nA.nB) <= error
-    float guide = 0.5f;   // cache-guided: the probability of drawing the first bounce from the cache
+    float guide = 0.5f;   // cache-guided: the probability of drawing a bounce from the cache points...
+    int guide_bounces = 1;  // ...at the first this many bounces of a path (1: the first hit's)
     int block = 8;        // pixels per side of the blocks whose close points share one reconstruction
     int hit_paths = 4;    // cache: paths from a cache point's texel hit on a glossy surface (its light split)
     // cache-guided's trained guide (render/guiding/guide_training.h): its training passes
@@ -27,7 +28,7 @@ struct CacheSettings {
 
 // Each scene-file setting's allowed range (render.cache.<key> in a scene file, --cache-<key>
 // on the command line), declared here once (render/setting_range.h).
-extern const SettingRange<CacheSettings> kCacheSettingRanges[9];
+extern const SettingRange<CacheSettings> kCacheSettingRanges[10];
 
 // train_max_depth, a knob of the low-level binding only (no scene key): its range
 constexpr int kCacheTrainMaxDepthMin = 0, kCacheTrainMaxDepthMax = 1024;

@@ -12,7 +12,7 @@
 // the BRDF's share covers every direction the guide gives no probability (under the cache
 // point's horizon, a black texel).
 //
-// Which bounces are guided: kGuidedBounces (guided_stages_impl.h). A cache point's guide
+// Which bounces are guided: cache.guide_bounces (guided_stages_impl.h). A cache point's guide
 // is built once per batch, at its first use: a cdf over its texels (guided_distribution.h:
 // the radiance averaged over cells, a floor under every texel). The points are found
 // through a uniform grid of their reach (kGuideBound x reuse radius), so a lookup tests the

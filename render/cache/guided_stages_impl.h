@@ -49,15 +49,6 @@ inline void place_guide_points(const W& w, Tracer& trace) {
     cache.lap(Stage::CachePlace);
 }
 
-// The bounces the cache points guide: the first hit's. Guiding every bounce from the same
-// points (the later vertices' nearest cache point, the tile's regions and their
-// neighbours') was measured on the bundled scenes at 64 pixels wide, 16 spp: the room's
-// variance fell 23 %, the studio's and the IES interior's rose 39 and 51 %, as the later
-// vertices' light is less like any cache point's; the first hit alone: -17 %, +15 %, +17 %
-// at less cost. With a trained guide (render/guiding/guide_field.h) the first
-// cache.train_bounces bounces draw from it instead.
-constexpr int kGuidedBounces = 1;
-
 // The materials the trained guide draws for: lobes broad enough for its cells (a narrow lobe
 // is its BRDF's to sample; the mixture would only halve its samples), no clear coat (a
 // near-mirror over the base) and no glass. Measured (docs/radiance-cache.md): guiding the
@@ -71,10 +62,15 @@ inline bool field_guidable(const Material& m) {
 }
 
 // cache-guided, at every bounce before light sampling: each shading point's guide -- at the
-// first bounce its cache point (cache.guides.cache_point_of) where the cache points guide, for the
-// materials whose lobes the texels resolve; else, at the first cache.train_bounces bounces,
-// its trained guide's distribution (cache.guides.field_of), for the materials field_guidable
-// takes.
+// first cache.guide_bounces bounces (default 1, the first hit's) its cache point
+// (cache.guides.cache_point_of) where the cache points guide, for the materials whose lobes
+// the texels resolve; else, at the first cache.train_bounces bounces, its trained guide's
+// distribution (cache.guides.field_of), for the materials field_guidable takes. A later
+// vertex takes the batch's cache point of least error as a first hit does: the points near
+// the tile's first hits, so a vertex far from all of them is its BRDF's alone. Guiding the
+// later bounces did not pay on the bundled scenes (docs/radiance-cache.md, "Guiding every
+// bounce": a later vertex's light is less like any cache point's, whose texels hold the
+// direct light at their hits), hence the default.
 template <class W>
 inline void assign_guides(const W& w, int depth) {
     PathScratch& scratch = w.scratch;
@@ -86,7 +82,7 @@ inline void assign_guides(const W& w, int depth) {
     pool.field_of.assign(np, -1);
     pool.any = false;
     pool.field = scratch.guide_field;
-    if (depth < kGuidedBounces && !pool.points.empty() && pool.resolution == R) {
+    if (depth < w.settings.cache.guide_bounces && !pool.points.empty() && pool.resolution == R) {
         cache.texel_directions.prepare(R);
         for (size_t k = 0; k < w.scene.materials.size(); ++k) {
             if (!texel_resolvable(w.scene.materials[k], R)) continue;

@@ -1,8 +1,9 @@
 """`cache-guided` variants against path's ladder (8, 32, 128 spp) in the same process, as the
 bench's `cache.<scene>.guided_vs_path` measures them (bench/cache.py FULL: 192 pixels wide, 16 spp,
 2 threads, the converged reference kept by the bench, errors the median over the seeds
-0 .. REPEAT): per variant its median time, its relMSE and the ratio (docs/radiance-cache.md,
-"The trained guide").
+0 .. REPEAT): per variant its median time, its relMSE, the ratio (docs/radiance-cache.md,
+"The trained guide"), its image mean over the reference's (the mean over the seeds: unbiased
+estimators give 1 within the seeds' scatter) and its time a sample a pixel.
 Run from the checkout: python tools/cache_measure/guided_variants.py '[{"cache_train_passes": 0}, {}]'
 (each variant: keyword arguments of with_overrides, `spp` among them to replace the bench's 16;
 SCENES=cache-room,... and REPEAT=3; INTEGRATOR=cache for `cache`'s variants, its ratio the
@@ -35,5 +36,12 @@ for name in scenes:
     n = len(FULL.ladder)
     curve = ErrorCurve(times[:n], errors[:n])
     print(name, "path", " ".join(f"{s} spp {t:.3f} s {e:.4g}" for s, t, e in zip(FULL.ladder, times, errors)))
-    for v, t, e in zip(variants, times[n:], errors[n:]):
-        print(f"  {v}: {t:.3f} s, relMSE {e:.4g}, {key} {curve.seconds_for(e) / t:.2f}", flush=True)
+    path_per_spp = times[n - 1] / FULL.ladder[-1]
+    for v, c, t, e, i in zip(variants, candidates, times[n:], errors[n:], images[n:]):
+        mean = sum(float(x.mean()) for x in i) / len(i) / float(ref.image.mean())
+        per_spp = t / c.scene.render.spp
+        print(
+            f"  {v}: {t:.3f} s, relMSE {e:.4g}, {key} {curve.seconds_for(e) / t:.2f}, mean / reference {mean:.4f},"
+            f" {1000 * per_spp:.2f} ms a spp ({per_spp / path_per_spp:.2f} x path's)",
+            flush=True,
+        )

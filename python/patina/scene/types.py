@@ -71,7 +71,8 @@ class CacheParams:
 
     resolution: int = 24  # texels per side of a hemisphere, 8 to 128
     error: float = 0.5  # the reuse criterion's bound, 0.01 to 4
-    guide: float = 0.5  # cache-guided: probability of drawing the first bounce from the cache points, 0.05 to 0.95
+    guide: float = 0.5  # cache-guided: probability of drawing a bounce from the cache points, 0.05 to 0.95
+    guide_bounces: int = 1  # cache-guided: the bounces the cache points draw (1: the first hit's), 1 to 16
     block: int = 8  # pixels per side of the blocks whose close points share one reconstruction, 1 to 16
     hit_paths: int = 4  # cache: paths from a cache point's texel hit on a glossy surface, 1 to 16
     train_passes: int = 1  # cache-guided: training passes of the trained guide, 0 (none) to 8

@@ -96,6 +96,19 @@ def test_cache_guided_converges_to_path_where_the_light_comes_from_later_bounces
     assert z < 4.0, z
 
 
+def test_cache_points_guiding_every_bounce_converge_to_path_where_the_light_comes_from_later_bounces():
+    # the cache points draw at every bounce (cache.guide_bounces, docs/radiance-cache.md
+    # "Guiding every bounce"): the same z-test, at the guide's probability 0.9 too, where a
+    # mixture density that left the guide out would weigh the guide's draws most
+    needs("cache-guided")
+    path = image(spot_room(), "path", 16, 21)
+    for guide in (0.5, 0.9):
+        s = with_overrides(spot_room(), cache_train_passes=0, cache_guide_bounces=16, cache_guide=guide)
+        d = (image(s, "cache-guided", 16, 11) - path).mean(axis=-1).ravel()
+        z = abs(d.mean()) / (d.std(ddof=1) / math.sqrt(d.size))
+        assert z < 4.0, (guide, z)
+
+
 @pytest.mark.parametrize("name", SCENES)
 def test_cache_is_within_its_stated_bias_of_a_converged_reference(name):
     needs("cache")

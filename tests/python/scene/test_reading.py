@@ -282,6 +282,7 @@ def test_cache_settings_defaults_and_overrides(folder):
     assert scene.render.cache.hit_paths == 4 and with_overrides(scene, cache_hit_paths=2).render.cache.hit_paths == 2
     for kwargs, where in [({"cache_resolution": 200}, "--cache-resolution"), ({"cache_error": 5.0}, "--cache-error"),
                           ({"cache_guide": 0.0}, "--cache-guide"), ({"cache_block": 17}, "--cache-block"),
+                          ({"cache_guide_bounces": 0}, "--cache-guide-bounces"),
                           ({"cache_block": 2.5}, "--cache-block"), ({"cache_hit_paths": 0}, "--cache-hit-paths"),
                           ({"cache_train_passes": 9}, "--cache-train-passes"),
                           ({"cache_train_spp": 0}, "--cache-train-spp"),
@@ -349,6 +350,7 @@ ERRORS = [
     (("render", "cache"), {"resolution": 16.5}, "render.cache.resolution", "integer"),
     (("render", "cache"), {"error": 0}, "render.cache.error", "[0.01, 4]"),
     (("render", "cache"), {"guide": 1}, "render.cache.guide", "[0.05, 0.95]"),
+    (("render", "cache"), {"guide_bounces": 17}, "render.cache.guide_bounces", "[1, 16]"),
     (("render", "cache"), {"block": 0}, "render.cache.block", "[1, 16]"),
     (("render", "cache"), {"hit_paths": 17}, "render.cache.hit_paths", "[1, 16]"),
     (("render", "cache"), {"train_passes": 9}, "render.cache.train_passes", "[0, 8]"),
