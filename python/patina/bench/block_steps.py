@@ -17,7 +17,7 @@ Two things the measure does not count as structure (docs/radiance-cache.md, "The
   `cache` 1.24 on the studio at 16 spp against `path`'s 1.07, the same noise weighing more
   beside the cache's lower error.
 A mosaic steps on the line and not beside it, so it still counts in full: the cache with its
-blocks' hemispheres on the block grid measures 1.25 to 1.93 at 16 spp, now 0.99 to 1.09."""
+blocks' hemispheres on the block grid measures 1.25 to 1.93 at 16 spp, now 1.00 to 1.09."""
 
 from __future__ import annotations
 
