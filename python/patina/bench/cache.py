@@ -183,12 +183,12 @@ def flip_vs_path_record(
 
 def block_steps_record(name: str, what: str, image: np.ndarray, ref: Reference) -> Record:
     """`cache.<name>.block_steps`: the largest, over k in BLOCK_SIZES, of the mean step of the
-    image's error across a k x k grid over its mean step elsewhere (bench/block_steps.py; 1:
-    no mosaic; issue 31's bound 1.2)."""
+    image's error across a k x k grid over its mean step beside the grid's lines
+    (bench/block_steps.py; 1: no mosaic; issue 31's bound 1.2)."""
     ratios = block_step_ratios(image, ref.image)
     steps = ", ".join(f"k = {k}: {r:.3f}" for k, r in ratios.items())
     worst = max(ratios.values())
-    base = "the error's mean step off the k x k grid lines (reference: the path tracer's)"
+    base = "the error's mean step beside the k x k grid lines (reference: the path tracer's)"
     return Record(f"cache.{name}.block_steps", f"{what}; {steps}", base, worst, worst, "ratio")
 
 

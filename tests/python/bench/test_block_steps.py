@@ -52,3 +52,21 @@ def test_a_grid_with_no_line_inside_the_image_is_left_out():
     assert set(block_step_ratios(small, small * 0.9)) == {4, 8}
     with pytest.raises(ValueError, match="no line of a 16-pixel grid"):
         block_step_ratio(small[..., 0], 16)
+
+
+def test_a_few_outlying_pixels_on_a_line_do_not_make_a_mosaic():
+    rng = np.random.default_rng(6)
+    error = rng.normal(size=(128, 192))
+    error[40:43, 95] = 500.0  # a sampled highlight beside the line x = 96: three pixels of 24576
+    for k in BLOCK_SIZES:
+        assert block_step_ratio(error, k) == pytest.approx(1.0, abs=0.05)
+
+
+def test_stronger_noise_straddling_a_line_is_not_a_step():
+    rng = np.random.default_rng(7)
+    error = rng.normal(size=(128, 192))
+    # a path-traced highlight whose noise is 40 times the rest's (the studio's car paint: 20 times
+    # the cache's error elsewhere), across x = 96 and y = 32: 1.11 at k = 16 against the image's mean step
+    error[26:38, 92:100] *= 40.0
+    for k in BLOCK_SIZES:
+        assert block_step_ratio(error, k) == pytest.approx(1.0, abs=0.05)
