@@ -7,16 +7,15 @@
 //
 // At a node, each of the eight child boxes is tested against the K rays with hit_children's
 // arithmetic per ray lane (test_root_children's form, trace_kernels_bvh_rays.h); the children
-// some lane enters go on a stack with those lanes, nearest first by the entry distance of the
-// first lane entering each (a blocked packet ends at the occluder nearest its origins). At a
-// leaf, each triangle is tested against the lanes still open by the kd-tree's packet test
-// (intersect_triangle); a lane leaves the packet as soon as it is blocked, and the packet ends
-// when every lane is blocked or the stack is empty.
+// some lane enters go on a stack with those lanes, in slot order (an unblocked ray visits every
+// child it enters whatever the order). At a leaf, each triangle is tested against the lanes
+// still open by the kd-tree's packet test (intersect_triangle); a lane leaves the packet as soon
+// as it is blocked, and the packet ends when every lane is blocked or the stack is empty.
 //
 // The answer per lane is whether some triangle (or analytic sphere) passes the watertight test
 // in (tmin, tmax): the box test is conservative and the triangle test is the kd-tree's, lane by
 // lane the same operations, so the result is the kd-tree's and the single-ray BVH's, whatever K
-// and whichever lanes share a packet (the visiting order changes no any-hit answer).
+// and whichever lanes share a packet.
 #pragma once
 
 #include <limits>
@@ -74,7 +73,7 @@ PATINA_INLINE BoxLanes<K> box_lanes(const Bvh& bvh, const RayPacket<K>& r) {
 // planes picked by its sign, or by the packet's (kUniform: the same planes, so the same bits).
 template <int K, bool kUniform>
 PATINA_INLINE vbool<K> enters_child(const BvhNode& node, int c, const BoxLanes<K>& b, const RayPacket<K>& r,
-                                    vbool<K> open, vfloat<K>& entry) {
+                                    vbool<K> open) {
     using F = vfloat<K>;
     F t0 = r.tmin, t1 = r.tmax;
     for (int a = 0; a < 3; ++a) {
@@ -90,7 +89,6 @@ PATINA_INLINE vbool<K> enters_child(const BvhNode& node, int c, const BoxLanes<K
         t0 = max(fmadd(near_plane, b.inv[a], b.minus_near_offset[a]), t0);
         t1 = min(fmadd(far_plane, b.inv[a], b.minus_far_offset[a]), t1);
     }
-    entry = t0;
     return open & (t0 <= t1);
 }
 
@@ -154,55 +152,11 @@ PATINA_INLINE vbool<K> single_rays(const Bvh& bvh, const RayPacket<K>& r, const 
     return blocked;
 }
 
-// The lanes of `open` entering each child of the node (enter[c]) and their entry distances;
-// returns the node's child count.
-template <int K>
-PATINA_INLINE int test_children(const BvhNode& node, const BoxLanes<K>& box, const RayPacket<K>& r, vbool<K> open,
-                                vbool<K>* enter, vfloat<K>* entry) {
-    int children = 0;
-    for (; children < kBvhWidth && node.child[children] != kBvhEmpty; ++children) {
-        enter[children] = box.uniform ? enters_child<K, true>(node, children, box, r, open, entry[children])
-                                      : enters_child<K, false>(node, children, box, r, open, entry[children]);
-    }
-    return children;
-}
-
 template <int K>
 struct StackEntry {
     uint32_t child;
     vbool<K> lanes;  // the lanes that entered its box
 };
-
-// The children some lane enters onto the stack, farthest first, by the entry distance of the
-// first lane entering each (the packet's rays run side by side, so one lane's order is the
-// packet's); returns the nearest (-1: none entered). A blocked lane leaves the packet, and the
-// packet ends when all are blocked: the occluder nearest the sensors is met first (sensors
-// behind one of the lighting bench's balls: the ball's near side, not whichever leaf the slot
-// order reaches first).
-template <int K>
-PATINA_INLINE int push_nearest_last(const Bvh& bvh, const BvhNode& node, int children, const vbool<K>* enter,
-                                    const vfloat<K>* entry, StackEntry<K>* stack, int& top) {
-    int order[kBvhWidth];
-    float key[kBvhWidth];
-    int n = 0;
-    for (int c = 0; c < children; ++c) {
-        const int lanes = movemask(enter[c]);
-        if (lanes == 0) continue;
-        const float t = lane(entry[c], __builtin_ctz(static_cast<unsigned>(lanes)));
-        int j = n++;
-        for (; j > 0 && key[j - 1] < t; --j) {  // farthest first
-            order[j] = order[j - 1];
-            key[j] = key[j - 1];
-        }
-        order[j] = c;
-        key[j] = t;
-    }
-    for (int j = 0; j < n - 1; ++j) {
-        stack[top++] = StackEntry<K>{node.child[order[j]], enter[order[j]]};
-        bvh_detail::prefetch_child(bvh, node.child[order[j]]);
-    }
-    return n > 0 ? order[n - 1] : -1;
-}
 
 }  // namespace bvh_packet_detail
 
@@ -212,7 +166,6 @@ template <int K>
 inline vbool<K> bvh_occluded_triangles_packet(const Bvh& bvh, const RayPacket<K>& r, vbool<K> done) {
     using namespace bvh_packet_detail;
     using B = vbool<K>;
-    using F = vfloat<K>;
     B blocked(false);
     if (bvh.root == kBvhEmpty) return blocked;
     const BoxLanes<K> box = box_lanes<K>(bvh, r);
@@ -224,8 +177,11 @@ inline vbool<K> bvh_occluded_triangles_packet(const Bvh& bvh, const RayPacket<K>
         while (!bvh_is_leaf(cur)) {
             const BvhNode& node = bvh.nodes[cur];
             alignas(64) B enter[kBvhWidth];
-            alignas(64) F entry[kBvhWidth];
-            const int children = test_children<K>(node, box, r, open, enter, entry);
+            int children = 0;
+            for (; children < kBvhWidth && node.child[children] != kBvhEmpty; ++children) {
+                enter[children] = box.uniform ? enters_child<K, true>(node, children, box, r, open)
+                                              : enters_child<K, false>(node, children, box, r, open);
+            }
             if constexpr (K > 1) {
                 if (traverse_detail::active_count<K>(open) <= kSingleRayLanes<K>) {
                     int entered[kBvhWidth] = {};
@@ -234,7 +190,16 @@ inline vbool<K> bvh_occluded_triangles_packet(const Bvh& bvh, const RayPacket<K>
                     break;
                 }
             }
-            const int first = push_nearest_last<K>(bvh, node, children, enter, entry, stack, top);
+            int first = -1;
+            for (int c = 0; c < children; ++c) {
+                if (none(enter[c])) continue;
+                if (first < 0) {
+                    first = c;
+                } else {
+                    stack[top++] = StackEntry<K>{node.child[c], enter[c]};
+                    bvh_detail::prefetch_child(bvh, node.child[c]);
+                }
+            }
             if (first < 0) break;
             cur = node.child[first];
             open = enter[first];

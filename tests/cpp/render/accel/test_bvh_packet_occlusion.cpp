@@ -3,8 +3,7 @@
 // query, for coherent shadow rays (a grid of points towards a light, packets that thin out as
 // lanes are blocked and go on as single rays), incoherent ones, rays through a closed mesh's
 // vertices and edges (the watertight test's ties), analytic spheres in the way, lanes with
-// an empty interval, and packets blocked in every lane inside nested shells (the children
-// visited nearest first: the packet ends at the innermost shell).
+// an empty interval, and packets blocked in every lane inside nested shells.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -112,9 +111,9 @@ TEST(BvhPacketOcclusion, RaysThroughAClosedMeshsVerticesAndEdges) {
 }
 
 // Three nested closed icospheres (radii 1, 1.5, 2.5) around the rays' origins: every ray with
-// an interval is blocked, by the innermost shell when visited nearest first; every third ray
-// has an empty interval (an unlit sensor's lane) and stays clear, so some packets are fully
-// blocked and the others blocked in every active lane.
+// an interval is blocked (the packet ends when its last lane is); every third ray has an empty
+// interval (an unlit sensor's lane) and stays clear, so some packets are fully blocked and the
+// others blocked in every active lane.
 TEST(BvhPacketOcclusion, PacketsBlockedInEveryLaneInsideNestedShells) {
     Mesh shells;
     for (float radius : {1.0f, 1.5f, 2.5f}) {
@@ -137,9 +136,9 @@ TEST(BvhPacketOcclusion, PacketsBlockedInEveryLaneInsideNestedShells) {
     for (size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(got[i], i % 3 == 2 ? 0 : 1) << "ray " << i;
 }
 
-// Coherent packets where the coordinates are large (the box margins and the nearest-first
-// order's entry distances rounded coarsely): the grid and mesh moved 1000 along x and 500
-// along z; lane by lane the width-1 answer and the kd-tree's.
+// Coherent packets where the coordinates are large (the box margins rounded coarsely): the
+// grid and mesh moved 1000 along x and 500 along z; lane by lane the width-1 answer and the
+// kd-tree's.
 TEST(BvhPacketOcclusion, CoherentPacketsFarFromTheOrigin) {
     Mesh m = soup(250, 21);
     const float shift[3] = {1000.0f, 0.0f, 500.0f};
