@@ -50,8 +50,9 @@ PATINA_INLINE BoxLanes<K> box_lanes(const Bvh& bvh, const RayPacket<K>& r) {
     BoxLanes<K> b;
     for (int a = 0; a < 3; ++a) {
         const F d = r.dir[a];
-        // components below kTiny in magnitude count as +-kTiny (the sign of d kept)
-        const F inv = F(1.0f) / select(abs(d) < F(kTiny), copysign(F(kTiny), d), d);
+        // components below kTiny in magnitude count as +-kTiny (the sign of d kept): 1 / d is
+        // prepare_packet's inv_dir elsewhere, and 1 / +-2^-64 = +-2^64 exactly (no division)
+        const F inv = select(abs(d) < F(kTiny), copysign(F(0x1p64f), d), r.inv_dir[a]);
         const F margin = (F(bvh.extent[a]) + abs(r.org[a])) * abs(inv) * F(bvh_detail::kBoxMargin);
         const F scaled_origin = r.org[a] * inv;
         b.inv[a] = inv;

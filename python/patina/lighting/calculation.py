@@ -19,6 +19,7 @@ from patina.errors import FormatError
 from patina.lighting.classes import Check, check, road_class
 from patina.lighting.direct import PlacedSource, is_delta
 from patina.lighting.grids import RuleGrid, en12193_grids, en12464_grid
+from patina.lighting.indirect_cache import BOUND, RESOLUTION
 from patina.lighting.indoor import area_figures, ugr
 from patina.lighting.project import Project
 from patina.lighting.road import check_luminaires_for_ti, evaluate_road
@@ -61,6 +62,7 @@ class Result:
             "project": self.project.path,
             "standard": self.project.standard,
             "maintenance_factor": self.project.maintenance,
+            "interreflections": interreflections(self.project),
             "figures": self.figures,
             "checks": [c.as_json() for c in self.checks],
             "grids": [{"name": p.name, **p.grid.as_json(), "values": p.values.tolist()} for p in self.planes],
@@ -86,7 +88,14 @@ def _check_inside(project: Project, prepared: PreparedScene, grid: RuleGrid, key
 
 def _illuminance(project: Project, scene: Scene, grid: RuleGrid, progress: bool) -> np.ndarray:
     g = il.Grid(grid.x[0], grid.z[0], grid.x[-1], grid.z[-1], len(grid.x), len(grid.z), grid.y)
-    report = il.compute(scene, g, samples=project.samples, progress=progress, indirect=project.indirect)
+    report = il.compute(
+        scene,
+        g,
+        samples=project.samples,
+        progress=progress,
+        indirect=project.indirect != "none",
+        indirect_cache=project.indirect == "cache",
+    )
     return np.asarray(report.lux, np.float64) * project.maintenance
 
 
@@ -106,12 +115,21 @@ def _inputs(project: Project, scene: Scene) -> list[tuple[str, str]]:
                 else " (none given)"
             ),
         ),
-        (
-            "interreflections",
-            f"yes, {project.samples} sensor paths per sensor" if project.indirect else "no (direct only)",
-        ),
+        ("interreflections", interreflections(project)),
     ]
     return rows
+
+
+def interreflections(project: Project) -> str:
+    """How the project's interreflections were computed, with the settings (the report's inputs)."""
+    if project.indirect == "cache":
+        return (
+            f"radiance cache: cache points among the grid's points, each {RESOLUTION} x {RESOLUTION} texel paths, "
+            f"gathered by the points within error bound {BOUND:g}"
+        )
+    if project.indirect == "paths":
+        return f"sensor paths, {project.samples} per point"
+    return "no (direct only)"
 
 
 def run(project: Project, progress: bool = False) -> Result:

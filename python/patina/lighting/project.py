@@ -6,7 +6,7 @@ the key.
      "room": [x0, z0, x1, z1], "task_area": [x0, z0, x1, z1], "height": 0.75, "wall_band": true,
      "maintenance": {"LLMF": 0.9, "LSF": 1, "LMF": 0.9, "RSMF": 0.95},
      "requirements": {"Em": 500, "U0": 0.6, "UGR": 19, "Ra": 80}, "ra": 80,
-     "observer": {"eye": [x, 1.2, z], "azimuth": 90}, "indirect": true, "samples": 64}
+     "observer": {"eye": [x, 1.2, z], "azimuth": 90}, "indirect": "cache", "samples": 64}
 
     {"scene": "../scenes/road-en13201.json", "standard": "en13201", "class": "M5",
      "road": {"kerb_x": -3.5, "lanes": 2, "lane_width": 3.5, "field_start": 0, "spacing": 30, "verge": 3},
@@ -37,6 +37,10 @@ KEYS = {
 }
 COMMON = {"scene", "standard", "maintenance", "indirect", "samples"}
 MAX_SAMPLES = 1 << 16
+# "indirect": how the interreflections are computed. true means the radiance cache: a lighting
+# engineer asks for interreflections and expects them fast and accurate, and the cache gives the
+# sensor paths' error about 9 to 10 times sooner (docs/lighting.md); "paths" keeps the sensor paths.
+INDIRECT = {False: "none", True: "cache", "none": "none", "cache": "cache", "paths": "paths"}
 
 
 @dataclass
@@ -46,7 +50,7 @@ class Project:
     standard: str
     maintenance: float = 1.0
     maintenance_parts: dict[str, float] = field(default_factory=dict)
-    indirect: bool = False
+    indirect: str = "none"  # a value of INDIRECT
     samples: int = 64
     # en12464-1 / en12193
     room: tuple[float, float, float, float] | None = None
@@ -98,6 +102,13 @@ def _object(path: str, key: str, value: Any, allowed: set[str], required: set[st
     return value
 
 
+def _indirect(path: str, value: Any) -> str:
+    if not isinstance(value, bool | str) or value not in INDIRECT:
+        expected = 'expected true (the radiance cache), false, "cache" or "paths"'
+        raise FormatError(path, "indirect", f"{expected}, got {json.dumps(value)[:40]}")
+    return INDIRECT[value]
+
+
 def read_project(path: str, standard: str | None = None) -> Project:
     """Reads and checks a project file; `standard` (the --standard option) must agree with it."""
     try:
@@ -126,9 +137,7 @@ def read_project(path: str, standard: str | None = None) -> Project:
     parts = _object(path, "maintenance", doc.get("maintenance", {}), {"LLMF", "LSF", "LMF", "RSMF"})
     p = Project(path, scene, std, maintenance_factor(parts, path), dict(parts))
     if "indirect" in doc:
-        if not isinstance(doc["indirect"], bool):
-            raise FormatError(path, "indirect", "expected true or false")
-        p.indirect = doc["indirect"]
+        p.indirect = _indirect(path, doc["indirect"])
     if "samples" in doc:
         p.samples = int(_number(path, "samples", doc["samples"], 1, MAX_SAMPLES))
     if std == "en12464-1":

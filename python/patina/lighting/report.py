@@ -15,6 +15,7 @@ import jinja2
 
 from patina.atomic import write_text
 from patina.lighting.calculation import Result
+from patina.lighting.indirect_cache import BOUND, RESOLUTION
 from patina.lighting.plan import write_plan
 from patina.lighting.scene_luminaires import plan_luminaires
 from patina.lighting.ugr_table import REFLECTANCES
@@ -79,6 +80,10 @@ def write_report(result: Result, out_dir: str, pdf: bool = True) -> list[str]:
         inputs=result.inputs,
         plans=plans,
         standard=std,
+        indirect=result.project.indirect,
+        samples=result.project.samples,
+        resolution=RESOLUTION,
+        bound=f"{BOUND:g}",
         reflectances=[f"{c:g}/{w:g}/{f:g}" for c, w, f in REFLECTANCES],
         ugr_tables=[
             {

@@ -47,6 +47,15 @@ def test_the_office_report_exits_1_when_a_requirement_fails(tmp_path):
     assert table["source"].endswith("downlight.ies") and len(table["rows"]) == 190
     page = (out / "index.html").read_text()
     assert "UGR tables of the luminaires" in page and "12H x 8H" in page and "0.3/0.3/0.2" in page
+    assert "No interreflections: direct light only." in page
+
+
+def test_the_office_report_says_its_interreflections_came_from_the_radiance_cache(tmp_path):
+    out = tmp_path / "office"
+    assert main(["lighting", "report", OFFICE, "--standard", "en12464-1", "--out", str(out), "--no-pdf"]) == 0
+    page = " ".join((out / "index.html").read_text().split())  # the template's line breaks as spaces
+    assert "every luminaire's included) from the radiance cache" in page
+    assert "16 \N{MULTIPLICATION SIGN} 16 path-traced texels" in page and "\N{LESS-THAN OR EQUAL TO} 0.5" in page
 
 
 def _project(tmp_path, base: str, **changes) -> str:

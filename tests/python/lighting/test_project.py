@@ -45,6 +45,9 @@ def write(tmp_path, doc: dict) -> str:
         ({"maintenance": {"LLMF": 0}}, "maintenance.LLMF"),
         ({"samples": 0}, "samples"),
         ({"indirect": "yes"}, "indirect"),
+        ({"indirect": 1}, "indirect"),
+        ({"indirect": "Cache"}, "indirect"),
+        ({"indirect": None}, "indirect"),
         ({"room": [0, 0, 1, 1]}, "room"),
     ],
 )
@@ -55,6 +58,18 @@ def test_bad_values_are_refused_naming_the_key(tmp_path, change, key):
     with pytest.raises(FormatError) as e:
         read_project(write(tmp_path, doc))
     assert e.value.where == key
+
+
+@pytest.mark.parametrize(
+    ("value", "indirect"), [(True, "cache"), ("cache", "cache"), ("paths", "paths"), (False, "none"), ("none", "none")]
+)
+def test_indirect_true_means_the_radiance_cache(tmp_path, value, indirect):
+    doc = json.loads(open(OFFICE).read())
+    doc["scene"] = os.path.join(PROJECTS, doc["scene"])
+    doc["indirect"] = value
+    assert read_project(write(tmp_path, doc)).indirect == indirect
+    del doc["indirect"]
+    assert read_project(write(tmp_path, doc)).indirect == "none"
 
 
 def test_a_task_area_outside_the_room_is_refused(tmp_path):

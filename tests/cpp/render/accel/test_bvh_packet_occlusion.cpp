@@ -2,8 +2,8 @@
 // widths 4, 8 and 16, lane by lane, the same answer as width 1 and as the kd-tree's occlusion
 // query, for coherent shadow rays (a grid of points towards a light, packets that thin out as
 // lanes are blocked and go on as single rays), incoherent ones, rays through a closed mesh's
-// vertices and edges (the watertight test's ties), analytic spheres in the way and lanes with
-// an empty interval.
+// vertices and edges (the watertight test's ties), analytic spheres in the way, lanes with
+// an empty interval, and packets blocked in every lane inside nested shells.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -61,8 +61,10 @@ std::vector<float> mixed_tmax(size_t n) {
     return tmax;
 }
 
+// The kd-tree's answer at width 1, and the BVH packets' lane by lane at every width; `mixed`:
+// expect a real mix of blocked and clear rays.
 void expect_kdtree_answers(const Scene& s, const Rays& rays, const std::vector<float>& tmax, float tmin,
-                           const char* what) {
+                           const char* what, bool mixed = true) {
     const RayBatch batch{rays.o.data(), rays.d.data(), tmin, tmax.data(), 0.0f};
     std::vector<uint8_t> want(rays.size()), scalar(rays.size()), got(rays.size());
     trace_occluded(s.tree, batch, want.data(), rays.size(), 1, 1);
@@ -72,8 +74,10 @@ void expect_kdtree_answers(const Scene& s, const Rays& rays, const std::vector<f
         ASSERT_EQ(scalar[i], want[i]) << what << ", width 1, ray " << i;
         blocked += want[i];
     }
-    EXPECT_GT(blocked, rays.size() / 20) << what;  // a real mix of blocked and clear rays
-    EXPECT_LT(blocked, rays.size() - rays.size() / 20) << what;
+    if (mixed) {
+        EXPECT_GT(blocked, rays.size() / 20) << what;
+        EXPECT_LT(blocked, rays.size() - rays.size() / 20) << what;
+    }
     for (int w : {4, 8, 16}) {
         if (!width_supported(w)) continue;
         trace_occluded_packets(s.bvh, batch, got.data(), rays.size(), w, 1);
@@ -104,4 +108,44 @@ TEST(BvhPacketOcclusion, RaysThroughAClosedMeshsVerticesAndEdges) {
     const Rays rays = rays_through_edges(m, origins);
     // the rays reach the mesh at t = 1: blocked when tmax passes it (10), clear when it stops short
     expect_kdtree_answers(s, rays, mixed_tmax(rays.size()), 0.0f, "rays through edges");
+}
+
+// Three nested closed icospheres (radii 1, 1.5, 2.5) around the rays' origins: every ray with
+// an interval is blocked (the packet ends when its last lane is); every third ray has an empty
+// interval (an unlit sensor's lane) and stays clear, so some packets are fully blocked and the
+// others blocked in every active lane.
+TEST(BvhPacketOcclusion, PacketsBlockedInEveryLaneInsideNestedShells) {
+    Mesh shells;
+    for (float radius : {1.0f, 1.5f, 2.5f}) {
+        const Mesh m = icosphere(3);
+        const int32_t base = static_cast<int32_t>(shells.v.size() / 3);
+        for (float x : m.v) shells.v.push_back(radius * x);
+        for (int32_t i : m.f) shells.f.push_back(base + i);
+    }
+    const Scene s(shells, true);
+    std::vector<float> unused;
+    Rays rays = shadow_rays(unused);
+    for (float& o : rays.o) o *= 0.2f;  // the grid inside the inner shell, the light outside all three
+    std::vector<float> tmax(rays.size()), every(rays.size(), 10.0f);
+    for (size_t i = 0; i < rays.size(); ++i) tmax[i] = i % 3 == 2 ? -1.0f : 10.0f;
+    expect_kdtree_answers(s, rays, every, 1e-4f, "rays inside shells", false);
+    expect_kdtree_answers(s, rays, tmax, 1e-4f, "rays inside shells, every third empty", false);
+    const RayBatch batch{rays.o.data(), rays.d.data(), 1e-4f, tmax.data(), 0.0f};
+    std::vector<uint8_t> got(rays.size());
+    trace_occluded_packets(s.bvh, batch, got.data(), rays.size(), 1, 1);
+    for (size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(got[i], i % 3 == 2 ? 0 : 1) << "ray " << i;
+}
+
+// Coherent packets where the coordinates are large (the box margins rounded coarsely): the
+// grid and mesh moved 1000 along x and 500 along z; lane by lane the width-1 answer and the
+// kd-tree's.
+TEST(BvhPacketOcclusion, CoherentPacketsFarFromTheOrigin) {
+    Mesh m = soup(250, 21);
+    const float shift[3] = {1000.0f, 0.0f, 500.0f};
+    for (size_t i = 0; i < m.v.size(); ++i) m.v[i] += shift[i % 3];
+    const Scene s(m);
+    std::vector<float> tmax;
+    Rays rays = shadow_rays(tmax);
+    for (size_t i = 0; i < rays.o.size(); ++i) rays.o[i] += shift[i % 3];
+    expect_kdtree_answers(s, rays, tmax, 1e-4f, "shadow rays far from the origin");
 }

@@ -200,6 +200,65 @@ TEST(Spheres, EveryWidthAndBothStructuresGiveTheSameBits) {
         }
 }
 
+// Shadow rays skip a sphere their line passes at a distance (sphere_test.h, passes_near):
+// the answer must stay the quadratic's. Rays from near and far (coordinates to 10^3) aimed at
+// the spheres' silhouettes (grazing, within 10^-3 of the radius either side), their segments
+// ending a hair (2^-20) before or after the closest hit, at infinity, or empty: blocked exactly
+// where the closest hit lies within the segment, at every width and through both structures.
+TEST(Spheres, ShadowRaysEndingAtASpheresEdgeKeepTheQuadraticsAnswer) {
+    const std::vector<Ball> balls = {{{0.5, 1.0, -0.5}, 0.8}, {{300.0, -20.0, 150.0}, 3.0}, {{2.0, 0.0, 2.0}, 0.01}};
+    const Scene scene(Mesh{}, balls);
+    std::mt19937 rng(21);
+    std::normal_distribution<double> g;
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    Rays rays;
+    for (int i = 0; i < 6000; ++i) {
+        const Ball& s = balls[i % balls.size()];
+        const double reach = (i / 3) % 2 ? 1e3 : 5.0;  // origins near the sphere or far away
+        const double o[3] = {s.c[0] + reach * u(rng), s.c[1] + reach * u(rng), s.c[2] + reach * u(rng)};
+        // n: a random direction square to the sphere's centre as seen from o
+        double n[3] = {g(rng), g(rng), g(rng)}, view[3], lv = 0, along = 0, ln = 0;
+        for (int a = 0; a < 3; ++a) {
+            view[a] = s.c[a] - o[a];
+            lv += view[a] * view[a];
+        }
+        for (int a = 0; a < 3; ++a) along += n[a] * view[a] / lv;
+        for (int a = 0; a < 3; ++a) {
+            n[a] -= along * view[a];
+            ln += n[a] * n[a];
+        }
+        ln = std::sqrt(ln);
+        const double at = s.r * (1.0 + 1e-3 * u(rng));  // a point by the silhouette
+        double d[3], len = 0;
+        for (int a = 0; a < 3; ++a) {
+            d[a] = s.c[a] + at * n[a] / ln - o[a];
+            len += d[a] * d[a];
+        }
+        len = std::sqrt(len);
+        rays.add({float(o[0]), float(o[1]), float(o[2])}, {float(d[0] / len), float(d[1] / len), float(d[2] / len)});
+    }
+    const float tmin = 1e-4f;
+    const Hits closest = scene.trace(rays, 1, true, tmin);
+    std::vector<float> tmax(rays.size());
+    int hits = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const float t = closest.prim[i] >= 0 ? closest.t[i] : 1e3f;
+        hits += closest.prim[i] >= 0 ? 1 : 0;
+        const float ends[4] = {t * (1.0f - 0x1p-20f), t * (1.0f + 0x1p-20f), kInf, tmin / 2};
+        tmax[i] = ends[(i / 7) % 4];
+    }
+    EXPECT_GT(hits, 1000);
+    EXPECT_LT(hits, 5000);
+    for (bool through_bvh : {false, true})
+        for (int w : {1, 4, 8, 16}) {
+            if (!width_supported(w)) continue;
+            const std::vector<uint8_t> blocked = scene.occluded(rays, tmax, w, through_bvh, tmin);
+            for (size_t i = 0; i < rays.size(); ++i)
+                ASSERT_EQ(blocked[i] != 0, closest.prim[i] >= 0 && closest.t[i] < tmax[i])
+                    << "width " << w << (through_bvh ? " bvh" : " kd") << " ray " << i << " tmax " << tmax[i];
+        }
+}
+
 // The closest of triangles and spheres: an icosphere beside and through the analytic spheres
 // against brute force (triangles in double) and the sphere reference.
 TEST(Spheres, ClosestOfTrianglesAndSpheres) {
