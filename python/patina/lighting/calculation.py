@@ -10,6 +10,7 @@ rated for TI: refused naming the scene's light.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -99,11 +100,17 @@ def _illuminance(project: Project, scene: Scene, grid: RuleGrid, progress: bool)
     return np.asarray(report.lux, np.float64) * project.maintenance
 
 
+def shown_path(path: str, project: Project) -> str:
+    """A file as the report names it: relative to the project file's folder (as the project's
+    author wrote it; the report goes to a client, not this machine's absolute paths)."""
+    return os.path.relpath(path, os.path.dirname(os.path.abspath(project.path)))
+
+
 def _inputs(project: Project, scene: Scene) -> list[tuple[str, str]]:
-    files = sorted({light.file for light in scene.lights if isinstance(light, LuminaireLight)})
+    files = sorted({shown_path(light.file, project) for light in scene.lights if isinstance(light, LuminaireLight)})
     rows = [
-        ("project", project.path),
-        ("scene", project.scene),
+        ("project", os.path.basename(project.path)),
+        ("scene", shown_path(project.scene, project)),
         ("luminaire files", ", ".join(files) or "none (point and spot lights)"),
         ("luminaires", str(sum(is_delta(light) for light in scene.lights))),
         (
@@ -232,7 +239,10 @@ def _road(project: Project, scene: Scene, prepared: PreparedScene, result: Resul
     result.planes.append(Plane("illuminance", road.illuminance_grid(), r.illuminance))
     result.figures.update(r.figures())
     result.inputs += [
-        ("r-table", f"{project.rtable} ({table.header.get('name', 'unnamed')}, Q0 {table.q0():.4f} 1/sr)"),
+        (
+            "r-table",
+            f"{shown_path(project.rtable, project)} ({table.header.get('name', 'unnamed')}, Q0 {table.q0():.4f} 1/sr)",
+        ),
         ("grids", f"{lum.rule}; {road.illuminance_grid().rule}"),
         ("observers", "; ".join(f"({o[0]:g}, {o[1]:g}, {o[2]:g}) m" for o in road.observers())),
         ("class", project.road_class),

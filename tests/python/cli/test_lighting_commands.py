@@ -25,6 +25,9 @@ def test_the_road_report_passes_its_class_and_writes_every_part(tmp_path, capsys
     assert all(c["pass"] for c in result["checks"])
     page = (out / "index.html").read_text()
     assert "M5" in page and "plan-1.png" in page and "synthetic-road.rtab" in page
+    # the inputs as the project names them, not this machine's paths (the page goes to a client)
+    assert "<td>../luminaires/streetlight.ies</td>" in page and "<td>../scenes/road-en13201.json</td>" in page
+    assert ROOT not in page
     assert result["ugr_tables"] == [] and "UGR tables" not in page
     assert (out / "plan-1.png").read_bytes()[:4] == b"\x89PNG"
     # a second run refuses to overwrite without --force
