@@ -195,6 +195,12 @@ def _ugr_tables(scene: Scene, result: Result) -> list[UgrTable]:
     return tables
 
 
+def eye_paths(project: Project) -> int:
+    """The sensor paths of the interreflected light at the UGR observer's eye (one point: at
+    least 1024, so that the background luminance is not the noisy part of UGR)."""
+    return max(project.samples, 1024)
+
+
 def _ugr(project: Project, scene: Scene, prepared: PreparedScene, result: Result) -> float | None:
     lights = [light for light in scene.lights if is_delta(light)]
     areas = []
@@ -213,7 +219,7 @@ def _ugr(project: Project, scene: Scene, prepared: PreparedScene, result: Result
     pts = np.ascontiguousarray([eye], np.float32)
     normal = np.ascontiguousarray([[math.cos(a), 0.0, math.sin(a)]], np.float32)
     depth = il.sensor_depth(scene)
-    samples, seed, width = max(project.samples, 1024), scene.render.seed, core_width(None)
+    samples, seed, width = eye_paths(project), scene.render.seed, core_width(None)
     total = _core.sensor_illuminance(prepared.core, pts, normal, samples, seed, width, 0, depth)
     direct = _core.sensor_illuminance(prepared.core, pts, normal, samples, seed, width, 0, 0)
     e_ind = float(total[0] - direct[0]) * project.maintenance

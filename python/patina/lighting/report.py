@@ -14,7 +14,7 @@ import tempfile
 import jinja2
 
 from patina.atomic import write_text
-from patina.lighting.calculation import Result
+from patina.lighting.calculation import Result, eye_paths, shown_path
 from patina.lighting.indirect_cache import BOUND, RESOLUTION
 from patina.lighting.plan import write_plan
 from patina.lighting.scene_luminaires import plan_luminaires
@@ -82,12 +82,13 @@ def write_report(result: Result, out_dir: str, pdf: bool = True) -> list[str]:
         standard=std,
         indirect=result.project.indirect,
         samples=result.project.samples,
+        eye_paths=eye_paths(result.project),
         resolution=RESOLUTION,
         bound=f"{BOUND:g}",
         reflectances=[f"{c:g}/{w:g}/{f:g}" for c, w, f in REFLECTANCES],
         ugr_tables=[
             {
-                "source": t.source,
+                "source": shown_path(t.source, result.project),
                 "caption": t.caption(),
                 "rows": [(room, [f"{v:.1f}" for v in cross + end]) for room, cross, end in t.rows()],
             }
