@@ -13,6 +13,9 @@ struct CacheSettings {
     float guide = 0.5f;   // cache-guided: the probability of drawing the first bounce from the cache
     int block = 8;        // pixels per side of the blocks whose close points share one reconstruction
     int hit_paths = 4;    // cache: paths from a cache point's texel hit on a glossy surface (its light split)
+    // cache: light samples at each first hit, a sample each (its direct light's light-sampling
+    // half averaged over them; under an open sky that is most of the image's error)
+    int light_samples = 1;
     // cache-guided's trained guide (render/guiding/guide_training.h): its training passes
     // (0: none, the first bounce guided by the cache points alone) and their samples a pixel
     int train_passes = 1;
@@ -27,7 +30,7 @@ struct CacheSettings {
 
 // Each scene-file setting's allowed range (render.cache.<key> in a scene file, --cache-<key>
 // on the command line), declared here once (render/setting_range.h).
-extern const SettingRange<CacheSettings> kCacheSettingRanges[9];
+extern const SettingRange<CacheSettings> kCacheSettingRanges[10];
 
 // train_max_depth, a knob of the low-level binding only (no scene key): its range
 constexpr int kCacheTrainMaxDepthMin = 0, kCacheTrainMaxDepthMax = 1024;
