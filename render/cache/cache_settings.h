@@ -13,8 +13,8 @@ struct CacheSettings {
     float guide = 0.5f;   // cache-guided: the probability of drawing the first bounce from the cache
     int block = 8;        // pixels per side of the blocks whose close points share one reconstruction
     int hit_paths = 4;    // cache: paths from a cache point's texel hit on a glossy surface (its light split)
-    // cache: light samples at each first hit, a sample each (its direct light's light-sampling
-    // half averaged over them; under an open sky that is most of the image's error)
+    // cache: the light samples a camera sample takes at its first hit, each weighing 1 / their
+    // count (under an open sky the first hit's direct light is most of the image's error)
     int light_samples = 1;
     // cache-guided's trained guide (render/guiding/guide_training.h): its training passes
     // (0: none, the first bounce guided by the cache points alone) and their samples a pixel
