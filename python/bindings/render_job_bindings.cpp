@@ -64,6 +64,7 @@ void bind_options(nb::module_& m) {
         .field("guide_bounces", &C::guide_bounces, "cache-guided: the bounces of a path the cache points draw (1: the first hit's)")
         .field("block", &C::block, "pixels per side of the blocks whose close points share one reconstruction")
         .field("hit_paths", &C::hit_paths, "cache: paths from a cache point's texel hit on a glossy surface")
+        .field("light_samples", &C::light_samples, "cache: the light samples a camera sample takes at its first hit")
         .field("train_passes", &C::train_passes, "cache-guided: training passes of the trained guide (0: cache points guide)")
         .field("train_spp", &C::train_spp, "cache-guided: samples a pixel in each training pass")
         .field("train_guide", &C::train_guide, "cache-guided: the probability of drawing a bounce from the trained guide")

@@ -9,6 +9,7 @@ const SettingRange<CacheSettings> kCacheSettingRanges[10] = {
     {"guide_bounces", true, 1, 16, [](const CacheSettings& s) { return double(s.guide_bounces); }},
     {"block", true, 1, 16, [](const CacheSettings& s) { return double(s.block); }},
     {"hit_paths", true, 1, 16, [](const CacheSettings& s) { return double(s.hit_paths); }},
+    {"light_samples", true, 1, 16, [](const CacheSettings& s) { return double(s.light_samples); }},
     {"train_passes", true, 0, 8, [](const CacheSettings& s) { return double(s.train_passes); }},
     {"train_spp", true, 1, 16, [](const CacheSettings& s) { return double(s.train_spp); }},
     {"train_guide", false, 0.05, 0.95, [](const CacheSettings& s) { return double(s.train_guide); }},

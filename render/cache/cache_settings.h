@@ -14,6 +14,9 @@ struct CacheSettings {
     int guide_bounces = 1;  // ...at the first this many bounces of a path (1: the first hit's)
     int block = 8;        // pixels per side of the blocks whose close points share one reconstruction
     int hit_paths = 4;    // cache: paths from a cache point's texel hit on a glossy surface (its light split)
+    // cache: the light samples a camera sample takes at its first hit, each weighing 1 / their
+    // count (under an open sky the first hit's direct light is most of the image's error)
+    int light_samples = 1;
     // cache-guided's trained guide (render/guiding/guide_training.h): its training passes
     // (0: none, the first bounce guided by the cache points alone) and their samples a pixel
     int train_passes = 1;

@@ -26,7 +26,7 @@ inline void queue_guided_light_samples(const Wavefront& w, int depth) {
     if (!sample_and_evaluate_lights(w, depth)) return;
     PathScratch& scratch = w.scratch;
     cache::mix_light_pdfs(scratch, w.settings.cache, scratch.l_local.data(), scratch.pdf.data(), scratch.sorted.size());
-    queue_light_shadow_rays(w, depth);
+    queue_light_shadow_rays(w, depth, 1.0f);
 }
 
 // BSDF sampling where a guide serves the points: each guided point picks the guide or its

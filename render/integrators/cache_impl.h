@@ -15,6 +15,7 @@
 #include "render/cache/region_hemisphere.h"
 #include "render/integrators/bsdf_samples_impl.h"
 #include "render/integrators/emission_impl.h"
+#include "render/integrators/first_hit_light_samples_impl.h"
 #include "render/integrators/integrator.h"
 #include "render/integrators/light_samples_impl.h"
 #include "render/integrators/shading_points_impl.h"
@@ -75,7 +76,8 @@ inline void cache_bounces(const Wavefront& w) {
             CacheRayTracer tracer(w.scene, w.settings, w.scratch);
             cache::add_cached_indirect(w, tracer);
         }
-        queue_light_samples(w, depth);
+        if (depth == 0) queue_first_hit_light_samples(w);
+        else queue_light_samples(w, depth);
         sample_bsdf(w, depth);
         resolve_shadow_rays(w);
         next_bounce(w);

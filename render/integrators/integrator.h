@@ -130,6 +130,7 @@ struct PathScratch {
     // BSDF sample draws (the light or lobe pick, then the direction's u and v)
     std::vector<float> v_local, l_local, bsdf_rgb, pdf, eta, u_pick, uniform_u, uniform_v;
     std::vector<int32_t> point_keys, point_index;  // the paths' stream keys and sample indices (uint32 bits)
+    std::vector<int32_t> own_point_index;          // point_index kept while first-hit light samples draw theirs
     SamplerKind sampler = SamplerKind::Sobol;      // what the point_keys and point_index draw from
     // misses (the environment seen), and the points that sample the environment
     std::vector<int32_t> misses;

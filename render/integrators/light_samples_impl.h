@@ -46,8 +46,9 @@ PATINA_INLINE I load_path_lanes(const int32_t* p, size_t i, int lanes) {
 
 // The light samples' shadow rays, N points at a time: each lane's contribution (throughput x
 // BRDF x cosine x radiance x MIS weight / pdf), lux and ray with queue_shadow_ray's operations,
-// and the lanes that carry light written to the queue in point order (a compress-store).
-inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
+// and the lanes that carry light written to the queue in point order (a compress-store);
+// `share`: the sample's weight among the point's light samples (1: the only one).
+inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np, float share) {
     PathScratch& scratch = w.scratch;
     const float* ll = scratch.l_local.data();
     const float* fv = scratch.bsdf_rgb.data();
@@ -67,12 +68,12 @@ inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np) {
         const I path3 = load_path_lanes(scratch.point_lanes.path.data(), q0, lanes) * I(3);
         const float* thr = scratch.throughput.data();
         const F wt = select(mask_of_bits(delta_bits), F(1.0f), power_heuristic_lanes(lp, load_lanes(pdf, q0, lanes)));
-        const F c[3] = {gather(thr, path3) * FV.x * cos_l * RGB.x * wt / lp,
-                        gather(thr, path3 + I(1)) * FV.y * cos_l * RGB.y * wt / lp,
-                        gather(thr, path3 + I(2)) * FV.z * cos_l * RGB.z * wt / lp};
+        const F c[3] = {gather(thr, path3) * FV.x * cos_l * RGB.x * wt / lp * F(share),
+                        gather(thr, path3 + I(1)) * FV.y * cos_l * RGB.y * wt / lp * F(share),
+                        gather(thr, path3 + I(2)) * FV.z * cos_l * RGB.z * wt / lp * F(share)};
         const B front = z > F(0.0f);
         const F lum = F(0.2126f) * RGB.x + F(0.7152f) * RGB.y + F(0.0722f) * RGB.z;
-        const F lux = depth == 0 ? select(front, F(kLumensPerWatt) * lum * cos_l / lp, F(0.0f)) : F(0.0f);
+        const F lux = depth == 0 ? select(front, F(kLumensPerWatt) * lum * cos_l / lp * F(share), F(0.0f)) : F(0.0f);
         const F side = select(front, F(w.ray_offset), F(-w.ray_offset));
         const B none_carried = (c[0] <= F(0.0f)) & (c[1] <= F(0.0f)) & (c[2] <= F(0.0f)) & (lux <= F(0.0f));
         const B queued = (cos_l > F(0.0f)) & !none_carried;
@@ -143,17 +144,18 @@ inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
 }
 
 // The light samples' shadow rays queued, each with what it adds if unblocked: throughput x
-// BSDF x cosine x radiance x MIS weight / pdf (and, at the first hit, the illuminance AOV).
-inline void queue_light_shadow_rays(const Wavefront& w, int depth) {
+// BSDF x cosine x radiance x MIS weight / pdf x share (and, at the first hit, the illuminance AOV).
+inline void queue_light_shadow_rays(const Wavefront& w, int depth, float share) {
     PathScratch& scratch = w.scratch;
     scratch.timer.lap(Stage::ShadeLight);
-    queue_shadow_lanes(w, depth, scratch.sorted.size());
+    queue_shadow_lanes(w, depth, scratch.sorted.size(), share);
     scratch.timer.lap(Stage::ShadowQueue);
 }
 
-// Light sampling with MIS, its shadow rays queued (resolved by resolve_shadow_rays).
-inline void queue_light_samples(const Wavefront& w, int depth) {
-    if (sample_and_evaluate_lights(w, depth)) queue_light_shadow_rays(w, depth);
+// Light sampling with MIS, its shadow rays queued (resolved by resolve_shadow_rays); `share`:
+// the sample's weight when a point takes several (first_hit_light_samples_impl.h).
+inline void queue_light_samples(const Wavefront& w, int depth, float share = 1.0f) {
+    if (sample_and_evaluate_lights(w, depth)) queue_light_shadow_rays(w, depth, share);
 }
 
 // The queued shadow rays, N per packet; the unblocked ones add their light.

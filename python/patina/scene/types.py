@@ -75,6 +75,7 @@ class CacheParams:
     guide_bounces: int = 1  # cache-guided: the bounces the cache points draw (1: the first hit's), 1 to 16
     block: int = 8  # pixels per side of the blocks whose close points share one reconstruction, 1 to 16
     hit_paths: int = 4  # cache: paths from a cache point's texel hit on a glossy surface, 1 to 16
+    light_samples: int = 1  # cache: the light samples a camera sample takes at its first hit, 1 to 16
     train_passes: int = 1  # cache-guided: training passes of the trained guide, 0 (none) to 8
     train_spp: int = 1  # cache-guided: samples a pixel in each training pass, 1 to 16
     train_guide: float = 0.1  # cache-guided: probability of drawing a bounce from the trained guide, 0.05 to 0.95
