@@ -232,7 +232,13 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
         const size_t nc = m_corner_count;  // then the highlights' grids, which decide nothing
         m_corners.resize(nc);
         m_spot.assign(results + nc, results + n);
-        for (size_t q = 0; q < nc; ++q) m_corners[m_corner_order[q]] = results[q];
+        m_corner_terms.resize(nc);
+        for (size_t q = 0; q < nc; ++q) {
+            m_corners[m_corner_order[q]] = results[q];
+            FilmSum term;  // its share of each level-1 pixel around it, weighted once, not four times
+            term.add(results[q], aa::kCornerWeightLevel1);
+            m_corner_terms[m_corner_order[q]] = term;
+        }
         if (m_recalled) {
             recall_pattern();
             return;
@@ -360,6 +366,15 @@ void AdaptiveSampler::finish() {
     const bool record = m_pass == 0;
     for (size_t i = 0; i < m_pixels.size(); ++i) {
         const PixelState& p = m_pixels[i];
+        if (p.level == 1 && p.spot < 0) {
+            // the mean of its corners: the same sums as weighting them here (0.25 f's products
+            // in double, added in the same order), one add of 13 doubles each
+            FilmSum sum;
+            for (int k = 0; k < aa::kCorners; ++k) sum.add(m_corner_terms[corner_of(p, k)]);
+            m_film.add(p.pixel, sum);
+            record_pixel(p, record);
+            continue;
+        }
         // the pattern's samples of the pixel with their weights: f(s, result, weight)
         const auto each_sample = [&](const auto& f) {
             if (p.level == 1) {
@@ -396,15 +411,18 @@ void AdaptiveSampler::finish() {
             if (!in_spot(p, s) && w * spot_scale != 0) sum.add(r, w * spot_scale);
         });
         m_film.add(p.pixel, sum);  // the pixel's samples in one write
-        if (!m_recalled && !m_stats.pattern.empty())
-            m_stats.pattern[p.pixel] = aa_pattern_code(p.level, p.vertical, p.zones);
-        if (record) {
-            m_stats.level[p.pixel] = static_cast<uint8_t>(p.level);
-            const int zigzags = p.level == 1 ? 0 : zone_count(p.zones);
-            const int rays = p.level == 1 ? 1 : 1 + aa::kLevel2 + aa::kZigzag * zigzags;
-            m_stats.rays[p.pixel] = static_cast<uint8_t>(rays + (p.spot >= 0 ? kSpotRays : 0));
-        }
+        record_pixel(p, record);
     }
+}
+
+void AdaptiveSampler::record_pixel(const PixelState& p, bool stats) {
+    if (!m_recalled && !m_stats.pattern.empty())
+        m_stats.pattern[p.pixel] = aa_pattern_code(p.level, p.vertical, p.zones);
+    if (!stats) return;
+    m_stats.level[p.pixel] = static_cast<uint8_t>(p.level);
+    const int zigzags = p.level == 1 ? 0 : zone_count(p.zones);
+    const int rays = p.level == 1 ? 1 : 1 + aa::kLevel2 + aa::kZigzag * zigzags;
+    m_stats.rays[p.pixel] = static_cast<uint8_t>(rays + (p.spot >= 0 ? kSpotRays : 0));
 }
 
 }  // namespace patina

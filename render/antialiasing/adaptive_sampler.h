@@ -145,6 +145,7 @@ private:
     void classify_corners();       // round 1: each pixel's level and orientation from its corners
     void refine_level2(const PathResult* signal, size_t n);  // round 2: each level-2 pixel's zones from E-H
     void recall_pattern();         // a later pass: the decisions kept from the first
+    void record_pixel(const PixelState& p, bool stats);  // its decisions kept; stats: its level and rays too
     bool in_spot(const PixelState& p, int s) const;  // sample s of p's pattern lies in its highlight piece
 
     Film& m_film;
@@ -166,6 +167,7 @@ private:
     std::vector<int> m_corner_order;   // corner indices (cy * (w + 1) + cx) in Morton order
     std::vector<uint8_t> m_across, m_down;  // round 1: neighbouring corners that differ
     std::vector<PathResult> m_corners;
+    std::vector<FilmSum> m_corner_terms;  // each corner's result weighted for a level-1 pixel
     size_t m_corner_count = 0;          // round 1: the corners, then the highlights' grids
     std::vector<int> m_spot_pixels;     // into m_pixels
     std::vector<PathResult> m_spot;

@@ -457,3 +457,43 @@ TEST(AdaptiveSampler, ALaterPassKeepsTheFirstPassDecisionsAndTracesNoSignal) {
     for (int i = 0; i < 64; ++i) refined += kept.stats.level[i] == 3;
     EXPECT_GT(refined, 0);  // the oblique edge was refined: the kept decisions are not all level 1
 }
+
+// A level-1 pixel adds its corners' terms, each weighted once for the four pixels sharing it:
+// the same bits as weighting the four corners in the pixel, hits and misses (no depth) alike
+TEST(AdaptiveSampler, ALevelOnePixelIsItsCornersWeightedInThePixelBitForBit) {
+    for (const bool hits : {true, false}) {
+        TileRun r;
+        const HitFn hit = [&](float, float) { return hits; };
+        run_tile(r, hit, noise, [](float, float) { return 0.5f; });
+        patina::Film expected(8, 8);
+        for (int y = 1; y < 6; ++y)
+            for (int x = 1; x < 7; ++x) {
+                ASSERT_EQ(r.stats.level[y * 8 + x], 1);
+                const float cx[4] = {0, 1, 0, 1}, cy[4] = {0, 0, 1, 1};  // A, B, C, D
+                for (int k = 0; k < 4; ++k) {
+                    const patina::CameraSample c{static_cast<float>(x) + cx[k], static_cast<float>(y) + cy[k], 0, 0};
+                    patina::PathResult corner;
+                    fill(&c, 1, &corner, hit, noise);
+                    expected.add(y * 8 + x, corner, 0.25f);
+                }
+            }
+        std::vector<float> w(64), rgb(192), al(192), n(192), d(64), lux(64);
+        std::vector<float> rgb2(192), al2(192), n2(192), d2(64), lux2(64), w2(64);
+        r.film.resolve(rgb.data(), al.data(), n.data(), d.data(), lux.data(), w.data());
+        expected.resolve(rgb2.data(), al2.data(), n2.data(), d2.data(), lux2.data(), w2.data());
+        for (int y = 1; y < 6; ++y)
+            for (int x = 1; x < 7; ++x) {
+                const int i = y * 8 + x;
+                for (int k = 0; k < 3; ++k) {
+                    EXPECT_EQ(rgb[3 * i + k], rgb2[3 * i + k]);
+                    EXPECT_EQ(al[3 * i + k], al2[3 * i + k]);
+                    EXPECT_EQ(n[3 * i + k], n2[3 * i + k]);
+                }
+                if (hits)
+                    EXPECT_EQ(d[i], d2[i]);
+                else  // no depth: whatever resolve gives a pixel without one, both alike
+                    EXPECT_EQ(std::isfinite(d[i]), std::isfinite(d2[i]));
+                EXPECT_EQ(w[i], w2[i]);
+            }
+    }
+}
