@@ -76,6 +76,7 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderOptions& settings)
     if (settings.aa == RenderOptions::Aa::Adaptive) {
         m_aa_stats.level.assign(static_cast<size_t>(c.width) * c.height, 0);
         m_aa_stats.rays.assign(static_cast<size_t>(c.width) * c.height, 0);
+        m_aa_stats.pattern.assign(static_cast<size_t>(c.width) * c.height, 0);
     }
 }
 

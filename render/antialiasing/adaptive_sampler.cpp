@@ -122,6 +122,11 @@ void AdaptiveSampler::begin(const TileRect& tile, int pass) {
             m_spot_pixels.push_back(static_cast<int>(i));
         }
     }
+    // a tile's passes run in order (render_job.cpp), so a later pass finds its first pass's
+    // decisions; a job continuing another's passes (a distributed render) decides anew
+    m_recalled = !m_stats.pattern.empty() && std::all_of(m_pixels.begin(), m_pixels.end(), [&](const PixelState& p) {
+        return m_stats.pattern[static_cast<size_t>(p.pixel)] != 0;
+    });
 }
 
 inline int AdaptiveSampler::corner_of(const PixelState& p, int canonical) const {
@@ -226,85 +231,33 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
     if (m_round == 1) {
         const size_t nc = m_corner_count;  // then the highlights' grids, which decide nothing
         m_corners.resize(nc);
-        const PathResult* signal = signal_results(samples, results, nc);
-        m_corner_signal.resize(nc);
         m_spot.assign(results + nc, results + n);
+        m_corner_terms.resize(nc);
         for (size_t q = 0; q < nc; ++q) {
             m_corners[m_corner_order[q]] = results[q];
-            m_corner_signal[m_corner_order[q]] = aa_signal(signal[q]);
+            FilmSum term;  // its share of each level-1 pixel around it, weighted once, not four times
+            term.add(results[q], aa::kCornerWeightLevel1);
+            m_corner_terms[m_corner_order[q]] = term;
         }
-        const int w = m_tile.x1 - m_tile.x0, h = m_tile.y1 - m_tile.y0, row = w + 1;
-        // each pair of neighbouring corners compared once, for both pixels that share it:
-        // across[cy * w + cx] corners (cx, cy)-(cx + 1, cy), down[cy * row + cx] (cx, cy)-(cx, cy + 1)
-        m_across.resize(static_cast<size_t>(w) * (h + 1));
-        m_down.resize(static_cast<size_t>(row) * h);
-        for (int cy = 0; cy <= h; ++cy)
-            for (int cx = 0; cx < w; ++cx) {
-                const int k = cy * row + cx;
-                m_across[cy * w + cx] = aa_differs(m_corner_signal[k], m_corner_signal[k + 1], m_threshold);
-            }
-        for (int cy = 0; cy < h; ++cy)
-            for (int cx = 0; cx <= w; ++cx) {
-                const int k = cy * row + cx;
-                m_down[cy * row + cx] = aa_differs(m_corner_signal[k], m_corner_signal[k + row], m_threshold);
-            }
-        for (size_t i = 0; i < m_pixels.size(); ++i) {
-            PixelState& p = m_pixels[i];
-            const int tl = p.tile_y * row + p.tile_x;
-            const AaSignal *a = &m_corner_signal[tl], *b = &m_corner_signal[tl + 1], *c = &m_corner_signal[tl + row],
-                           *d = &m_corner_signal[tl + row + 1];
-            const bool horizontal =
-                m_across[p.tile_y * w + p.tile_x] || m_across[(p.tile_y + 1) * w + p.tile_x];  // A-B, C-D
-            const bool vertical =
-                m_down[p.tile_y * row + p.tile_x] || m_down[p.tile_y * row + p.tile_x + 1];  // A-C, B-D
-            uint8_t hint[2] = {0, 0};
-            if (m_hints != nullptr) {
-                // an edge behind what all four corners see is hidden (a surface covers the pixel)
-                const float nearest = m_hints->nearest[p.pixel];
-                const bool hidden = a->depth < 0.99f * nearest && b->depth < 0.99f * nearest &&
-                                    c->depth < 0.99f * nearest && d->depth < 0.99f * nearest;
-                if (!hidden) {
-                    hint[0] = m_hints->zones[0][p.pixel];
-                    hint[1] = m_hints->zones[1][p.pixel];
-                }
-            }
-            const bool geometric = hint[0] != 0 || hint[1] != 0;
-            p.level = horizontal || vertical || geometric ? 2 : 1;
-            if (horizontal || vertical)
-                p.vertical = vertical && !horizontal;  // ambiguous: horizontal
-            else  // an edge seen by the pre-pass alone: the gradient across it, the way it crosses fewer zones
-                p.vertical = zone_count(hint[1]) < zone_count(hint[0]);
-            p.hint = hint[p.vertical ? 1 : 0];
-            if (p.level == 2) m_level2_pixels.push_back(static_cast<int>(i));
+        if (m_recalled) {
+            recall_pattern();
+            return;
         }
+        const PathResult* signal = signal_results(samples, results, nc);
+        m_corner_signal.resize(nc);
+        for (size_t q = 0; q < nc; ++q) m_corner_signal[m_corner_order[q]] = aa_signal(signal[q]);
+        classify_corners();
         return;
     }
     if (m_round == 2) {
         m_level2.assign(results, results + n);
-        const PathResult* signal = signal_results(samples, results, n);
-        m_level2_signal.resize(n);
-        for (size_t q = 0; q < n; ++q) m_level2_signal[q] = aa_signal(signal[q]);
-        for (size_t j = 0; j < m_level2_pixels.size(); ++j) {
-            PixelState& p = m_pixels[m_level2_pixels[j]];
-            p.first = static_cast<int>(aa::kLevel2 * j);
-            const AaSignal* pts[aa::kCorners + aa::kLevel2];
-            for (int k = 0; k < aa::kCorners; ++k) pts[k] = &m_corner_signal[corner_of(p, k)];
-            for (int k = 0; k < aa::kLevel2; ++k) pts[aa::kCorners + k] = &m_level2_signal[p.first + k];
-            // three fours of comparisons, each a 4-bit mask looked up in its zone table
-            uint8_t zones = 0;
-            for (int f = 0; f < 3; ++f) {
-                int mask = 0;
-                for (int l = 0; l < 4; ++l) {
-                    const aa::Pair pr = aa::kComparisons[f][l];
-                    mask |= (aa_differs(*pts[pr.p], *pts[pr.q], m_threshold) ? 1 : 0) << l;
-                }
-                zones |= aa::kZoneTable[f][mask];
-            }
-            p.zones = zones | p.hint;
-            if (p.zones) {
-                p.level = 3;
-                m_level3_pixels.push_back(m_level2_pixels[j]);
-            }
+        for (size_t j = 0; j < m_level2_pixels.size(); ++j)
+            m_pixels[m_level2_pixels[j]].first = static_cast<int>(aa::kLevel2 * j);
+        if (!m_recalled) refine_level2(signal_results(samples, results, n), n);
+        for (const int i : m_level2_pixels) {
+            if (m_pixels[i].zones == 0) continue;
+            m_pixels[i].level = 3;
+            m_level3_pixels.push_back(i);
         }
         return;
     }
@@ -316,6 +269,86 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
             for (int z = 0; z < aa::kZones; ++z)
                 if ((m_pixels[i].zones >> z) & 1) next += aa::kZigzag;
         }
+    }
+}
+
+void AdaptiveSampler::recall_pattern() {
+    for (size_t i = 0; i < m_pixels.size(); ++i) {
+        PixelState& p = m_pixels[i];
+        const uint8_t code = m_stats.pattern[static_cast<size_t>(p.pixel)];
+        p.vertical = (code >> 5) & 1;
+        p.zones = code & ((1u << aa::kZones) - 1);
+        p.level = (code >> 6) >= 2 ? 2 : 1;  // level 3 again once its level-2 results are in
+        if (p.level == 2) m_level2_pixels.push_back(static_cast<int>(i));
+    }
+}
+
+void AdaptiveSampler::classify_corners() {
+    const int w = m_tile.x1 - m_tile.x0, h = m_tile.y1 - m_tile.y0, row = w + 1;
+    // each pair of neighbouring corners compared once, for both pixels that share it:
+    // across[cy * w + cx] corners (cx, cy)-(cx + 1, cy), down[cy * row + cx] (cx, cy)-(cx, cy + 1)
+    m_across.resize(static_cast<size_t>(w) * (h + 1));
+    m_down.resize(static_cast<size_t>(row) * h);
+    for (int cy = 0; cy <= h; ++cy)
+        for (int cx = 0; cx < w; ++cx) {
+            const int k = cy * row + cx;
+            m_across[cy * w + cx] = aa_differs(m_corner_signal[k], m_corner_signal[k + 1], m_threshold);
+        }
+    for (int cy = 0; cy < h; ++cy)
+        for (int cx = 0; cx <= w; ++cx) {
+            const int k = cy * row + cx;
+            m_down[cy * row + cx] = aa_differs(m_corner_signal[k], m_corner_signal[k + row], m_threshold);
+        }
+    for (size_t i = 0; i < m_pixels.size(); ++i) {
+        PixelState& p = m_pixels[i];
+        const int tl = p.tile_y * row + p.tile_x;
+        const AaSignal *a = &m_corner_signal[tl], *b = &m_corner_signal[tl + 1], *c = &m_corner_signal[tl + row],
+                       *d = &m_corner_signal[tl + row + 1];
+        const bool horizontal =
+            m_across[p.tile_y * w + p.tile_x] || m_across[(p.tile_y + 1) * w + p.tile_x];  // A-B, C-D
+        const bool vertical =
+            m_down[p.tile_y * row + p.tile_x] || m_down[p.tile_y * row + p.tile_x + 1];  // A-C, B-D
+        uint8_t hint[2] = {0, 0};
+        if (m_hints != nullptr) {
+            // an edge behind what all four corners see is hidden (a surface covers the pixel)
+            const float nearest = m_hints->nearest[p.pixel];
+            const bool hidden = a->depth < 0.99f * nearest && b->depth < 0.99f * nearest &&
+                                c->depth < 0.99f * nearest && d->depth < 0.99f * nearest;
+            if (!hidden) {
+                hint[0] = m_hints->zones[0][p.pixel];
+                hint[1] = m_hints->zones[1][p.pixel];
+            }
+        }
+        const bool geometric = hint[0] != 0 || hint[1] != 0;
+        p.level = horizontal || vertical || geometric ? 2 : 1;
+        if (horizontal || vertical)
+            p.vertical = vertical && !horizontal;  // ambiguous: horizontal
+        else  // an edge seen by the pre-pass alone: the gradient across it, the way it crosses fewer zones
+            p.vertical = zone_count(hint[1]) < zone_count(hint[0]);
+        p.hint = hint[p.vertical ? 1 : 0];
+        if (p.level == 2) m_level2_pixels.push_back(static_cast<int>(i));
+    }
+}
+
+void AdaptiveSampler::refine_level2(const PathResult* signal, size_t n) {
+    m_level2_signal.resize(n);
+    for (size_t q = 0; q < n; ++q) m_level2_signal[q] = aa_signal(signal[q]);
+    for (const int i : m_level2_pixels) {
+        PixelState& p = m_pixels[i];
+        const AaSignal* pts[aa::kCorners + aa::kLevel2];
+        for (int k = 0; k < aa::kCorners; ++k) pts[k] = &m_corner_signal[corner_of(p, k)];
+        for (int k = 0; k < aa::kLevel2; ++k) pts[aa::kCorners + k] = &m_level2_signal[p.first + k];
+        // three fours of comparisons, each a 4-bit mask looked up in its zone table
+        uint8_t zones = 0;
+        for (int f = 0; f < 3; ++f) {
+            int mask = 0;
+            for (int l = 0; l < 4; ++l) {
+                const aa::Pair pr = aa::kComparisons[f][l];
+                mask |= (aa_differs(*pts[pr.p], *pts[pr.q], m_threshold) ? 1 : 0) << l;
+            }
+            zones |= aa::kZoneTable[f][mask];
+        }
+        p.zones = zones | p.hint;
     }
 }
 
@@ -333,6 +366,15 @@ void AdaptiveSampler::finish() {
     const bool record = m_pass == 0;
     for (size_t i = 0; i < m_pixels.size(); ++i) {
         const PixelState& p = m_pixels[i];
+        if (p.level == 1 && p.spot < 0) {
+            // the mean of its corners: the same sums as weighting them here (0.25 f's products
+            // in double, added in the same order), one add of 13 doubles each
+            FilmSum sum;
+            for (int k = 0; k < aa::kCorners; ++k) sum.add(m_corner_terms[corner_of(p, k)]);
+            m_film.add(p.pixel, sum);
+            record_pixel(p, record);
+            continue;
+        }
         // the pattern's samples of the pixel with their weights: f(s, result, weight)
         const auto each_sample = [&](const auto& f) {
             if (p.level == 1) {
@@ -369,13 +411,18 @@ void AdaptiveSampler::finish() {
             if (!in_spot(p, s) && w * spot_scale != 0) sum.add(r, w * spot_scale);
         });
         m_film.add(p.pixel, sum);  // the pixel's samples in one write
-        if (record) {
-            m_stats.level[p.pixel] = static_cast<uint8_t>(p.level);
-            const int zigzags = p.level == 1 ? 0 : zone_count(p.zones);
-            const int rays = p.level == 1 ? 1 : 1 + aa::kLevel2 + aa::kZigzag * zigzags;
-            m_stats.rays[p.pixel] = static_cast<uint8_t>(rays + (p.spot >= 0 ? kSpotRays : 0));
-        }
+        record_pixel(p, record);
     }
+}
+
+void AdaptiveSampler::record_pixel(const PixelState& p, bool stats) {
+    if (!m_recalled && !m_stats.pattern.empty())
+        m_stats.pattern[p.pixel] = aa_pattern_code(p.level, p.vertical, p.zones);
+    if (!stats) return;
+    m_stats.level[p.pixel] = static_cast<uint8_t>(p.level);
+    const int zigzags = p.level == 1 ? 0 : zone_count(p.zones);
+    const int rays = p.level == 1 ? 1 : 1 + aa::kLevel2 + aa::kZigzag * zigzags;
+    m_stats.rays[p.pixel] = static_cast<uint8_t>(rays + (p.spot >= 0 ? kSpotRays : 0));
 }
 
 }  // namespace patina

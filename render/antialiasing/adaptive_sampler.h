@@ -24,7 +24,8 @@
 // hit's depth and shading normal, and the radiance of that one light sample through the
 // material's BRDF (highlights included). A flat region, however noisy its radiance, gives
 // equal signals and stays at level 1; the pattern is the same in every pass and for any
-// thread count or SIMD width.
+// thread count or SIMD width. So the first pass's decisions are kept (AaStats::pattern): a
+// later pass of the tile traces the same positions, without the signal or the comparisons.
 //
 // Where the integrator's own sample is already such a function of the position (direct
 // light from one delta light through a pinhole, nothing random left: aa_sample_is_signal),
@@ -96,7 +97,16 @@ bool aa_sample_is_signal(const RenderScene& scene, const IntegratorSettings& int
 struct AaStats {
     std::vector<uint8_t> level;  // 1, 2 or 3 (0: not rendered yet)
     std::vector<uint8_t> rays;   // the pixel's own rays: 1 (its share of the corners) + 4 (level 2) + 4 a zigzag
+    // The decisions of the first pass this job rendered of the pixel's tile, kept for its
+    // later passes (aa_pattern_code; 0: none yet, so decided anew). Empty: none kept.
+    std::vector<uint8_t> pattern;
 };
+
+// A pixel's decisions in one byte: its level-3 zones (bits 0-4), the rotated pattern (bit
+// 5) and its level 1-3 (bits 6-7, so a decided pixel is never 0).
+inline uint8_t aa_pattern_code(int level, bool vertical, uint8_t zones) {
+    return static_cast<uint8_t>(level << 6 | (vertical ? 1 << 5 : 0) | zones);
+}
 
 class AdaptiveSampler : public PixelSampler {
 public:
@@ -132,6 +142,10 @@ private:
     void place(const PixelState& p, int s, float& fx, float& fy) const;
     int corner_of(const PixelState& p, int canonical) const;  // index into m_corners
     void finish();
+    void classify_corners();       // round 1: each pixel's level and orientation from its corners
+    void refine_level2(const PathResult* signal, size_t n);  // round 2: each level-2 pixel's zones from E-H
+    void recall_pattern();         // a later pass: the decisions kept from the first
+    void record_pixel(const PixelState& p, bool stats);  // its decisions kept; stats: its level and rays too
     bool in_spot(const PixelState& p, int s) const;  // sample s of p's pattern lies in its highlight piece
 
     Film& m_film;
@@ -146,12 +160,14 @@ private:
 
     TileRect m_tile{};
     int m_pass = 0, m_round = 0;
+    bool m_recalled = false;  // this item's decisions are the kept ones: no signal, no comparisons
     std::vector<PixelState> m_pixels;  // Morton order
     int m_order_w = -1, m_order_h = -1;  // the tile size the orders below are for
     std::vector<int> m_pixel_order;    // the tile's pixels (ty * w + tx) in Morton order
     std::vector<int> m_corner_order;   // corner indices (cy * (w + 1) + cx) in Morton order
     std::vector<uint8_t> m_across, m_down;  // round 1: neighbouring corners that differ
     std::vector<PathResult> m_corners;
+    std::vector<FilmSum> m_corner_terms;  // each corner's result weighted for a level-1 pixel
     size_t m_corner_count = 0;          // round 1: the corners, then the highlights' grids
     std::vector<int> m_spot_pixels;     // into m_pixels
     std::vector<PathResult> m_spot;

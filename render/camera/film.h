@@ -31,6 +31,19 @@ struct FilmSum {
         }
         weight += w;
     }
+    // another sum's channels added to these: the adaptive sampler's level-1 pixels add their
+    // corners' terms, each weighted once for the four pixels that share it
+    void add(const FilmSum& s) {
+        for (int k = 0; k < 3; ++k) {
+            rgb[k] += s.rgb[k];
+            albedo[k] += s.albedo[k];
+            normal[k] += s.normal[k];
+        }
+        lux += s.lux;
+        depth += s.depth;
+        depth_weight += s.depth_weight;
+        weight += s.weight;
+    }
 };
 
 class Film {

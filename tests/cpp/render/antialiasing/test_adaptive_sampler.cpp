@@ -215,7 +215,8 @@ void fill(const patina::CameraSample* cs, size_t n, patina::PathResult* out, con
     }
 }
 
-// The sampler with a known signal instead of a traced one: `signal_rgb` at each position
+// The sampler with a known signal instead of a traced one: `signal_rgb` at each position;
+// counts the positions whose signal it was asked for
 class KnownSignal final : public patina::AdaptiveSampler {
 public:
     KnownSignal(patina::Film& film, const patina::RenderScene& scene, patina::AaStats& stats, HitFn hit,
@@ -224,9 +225,11 @@ public:
                           patina::kDefaultAaThreshold, stats, hints),
           m_hit(std::move(hit)),
           m_rgb(std::move(signal_rgb)) {}
+    size_t signal_positions = 0;
 
 protected:
     void trace_signal(const patina::CameraSample* samples, size_t n, patina::PathResult* out) override {
+        signal_positions += n;
         fill(samples, n, out, m_hit, m_rgb);
     }
 
@@ -235,15 +238,9 @@ private:
     RgbFn m_rgb;
 };
 
-// the integrator's radiance is rgb; the signal's is signal_rgb (default: the same)
-void run_tile(TileRun& r, const HitFn& hit, const RgbFn& rgb, RgbFn signal_rgb = nullptr,
-              const patina::AaEdgeHints* hints = nullptr) {
-    patina::RenderScene scene;
-    scene.camera.width = scene.camera.height = 8;
-    r.stats.level.assign(64, 0);
-    r.stats.rays.assign(64, 0);
-    KnownSignal s(r.film, scene, r.stats, hit, signal_rgb ? signal_rgb : rgb, hints);
-    s.begin(patina::TileRect{1, 1, 7, 6}, 0);
+// one pass of the tile (1, 1)-(7, 6) of an 8 x 8 image; the integrator's radiance is rgb
+void run_pass(TileRun& r, KnownSignal& s, int pass, const HitFn& hit, const RgbFn& rgb) {
+    s.begin(patina::TileRect{1, 1, 7, 6}, pass);
     std::vector<patina::CameraSample> cs;
     while (s.next_batch(cs)) {
         std::vector<patina::PathResult> out(cs.size());
@@ -251,6 +248,22 @@ void run_tile(TileRun& r, const HitFn& hit, const RgbFn& rgb, RgbFn signal_rgb =
         r.traced.insert(r.traced.end(), cs.begin(), cs.end());
         s.take_results(cs.data(), out.data(), cs.size());
     }
+}
+
+patina::RenderScene eight_by_eight() {
+    patina::RenderScene scene;
+    scene.camera.width = scene.camera.height = 8;
+    return scene;
+}
+
+// the integrator's radiance is rgb; the signal's is signal_rgb (default: the same)
+void run_tile(TileRun& r, const HitFn& hit, const RgbFn& rgb, RgbFn signal_rgb = nullptr,
+              const patina::AaEdgeHints* hints = nullptr) {
+    const patina::RenderScene scene = eight_by_eight();
+    r.stats.level.assign(64, 0);
+    r.stats.rays.assign(64, 0);
+    KnownSignal s(r.film, scene, r.stats, hit, signal_rgb ? signal_rgb : rgb, hints);
+    run_pass(r, s, 0, hit, rgb);
 }
 
 std::vector<float> image(const TileRun& r) {
@@ -402,4 +415,85 @@ TEST(AdaptiveSampler, ASubPixelHighlightIsIntegratedByItsPiecesGrid) {
     TileRun c;
     run_tile(c, hit, [](float x, float y) { return x == 3.0f && y == 2.0f ? 1e6f : 1.0f; }, nullptr, &corner);
     EXPECT_NEAR(image(c)[i], 1.0f, 1e-5);
+}
+
+// The decisions are the same in every pass, so a later pass keeps the first's: it traces
+// the same positions with the same keys as a pass that decides anew, gives the same sums,
+// and asks for no signal
+TEST(AdaptiveSampler, ALaterPassKeepsTheFirstPassDecisionsAndTracesNoSignal) {
+    const float edge = 3.3f;
+    const HitFn hit = [&](float x, float y) { return x + 0.3f * y < edge; };
+    const RgbFn rgb = [&](float x, float y) { return (x + 0.3f * y < edge ? 1.0f : 0.0f) + 0.1f * noise(x, y); };
+    const RgbFn signal = [&](float x, float y) { return x + 0.3f * y < edge ? 1.0f : 0.0f; };
+    const patina::RenderScene scene = eight_by_eight();
+    TileRun kept, anew;
+    for (TileRun* r : {&kept, &anew}) {
+        r->stats.level.assign(64, 0);
+        r->stats.rays.assign(64, 0);
+    }
+    kept.stats.pattern.assign(64, 0);  // anew: no pattern kept, every pass decides
+    KnownSignal keeps(kept.film, scene, kept.stats, hit, signal, nullptr);
+    KnownSignal decides(anew.film, scene, anew.stats, hit, signal, nullptr);
+    run_pass(kept, keeps, 0, hit, rgb);
+    run_pass(anew, decides, 0, hit, rgb);
+    const size_t first_pass_signal = keeps.signal_positions;
+    EXPECT_EQ(first_pass_signal, decides.signal_positions);
+    EXPECT_GT(first_pass_signal, 0u);
+    kept.traced.clear();
+    anew.traced.clear();
+    run_pass(kept, keeps, 1, hit, rgb);
+    run_pass(anew, decides, 1, hit, rgb);
+    EXPECT_EQ(keeps.signal_positions, first_pass_signal);  // none in pass 1
+    ASSERT_EQ(kept.traced.size(), anew.traced.size());
+    for (size_t i = 0; i < kept.traced.size(); ++i) {
+        EXPECT_EQ(kept.traced[i].film_x, anew.traced[i].film_x);
+        EXPECT_EQ(kept.traced[i].film_y, anew.traced[i].film_y);
+        EXPECT_EQ(kept.traced[i].key, anew.traced[i].key);
+        EXPECT_EQ(kept.traced[i].index, anew.traced[i].index);
+    }
+    EXPECT_EQ(image(kept), image(anew));
+    EXPECT_EQ(kept.stats.level, anew.stats.level);
+    int refined = 0;
+    for (int i = 0; i < 64; ++i) refined += kept.stats.level[i] == 3;
+    EXPECT_GT(refined, 0);  // the oblique edge was refined: the kept decisions are not all level 1
+}
+
+// A level-1 pixel adds its corners' terms, each weighted once for the four pixels sharing it:
+// the same bits as weighting the four corners in the pixel, hits and misses (no depth) alike
+TEST(AdaptiveSampler, ALevelOnePixelIsItsCornersWeightedInThePixelBitForBit) {
+    for (const bool hits : {true, false}) {
+        TileRun r;
+        const HitFn hit = [&](float, float) { return hits; };
+        run_tile(r, hit, noise, [](float, float) { return 0.5f; });
+        patina::Film expected(8, 8);
+        for (int y = 1; y < 6; ++y)
+            for (int x = 1; x < 7; ++x) {
+                ASSERT_EQ(r.stats.level[y * 8 + x], 1);
+                const float cx[4] = {0, 1, 0, 1}, cy[4] = {0, 0, 1, 1};  // A, B, C, D
+                for (int k = 0; k < 4; ++k) {
+                    const patina::CameraSample c{static_cast<float>(x) + cx[k], static_cast<float>(y) + cy[k], 0, 0};
+                    patina::PathResult corner;
+                    fill(&c, 1, &corner, hit, noise);
+                    expected.add(y * 8 + x, corner, 0.25f);
+                }
+            }
+        std::vector<float> w(64), rgb(192), al(192), n(192), d(64), lux(64);
+        std::vector<float> rgb2(192), al2(192), n2(192), d2(64), lux2(64), w2(64);
+        r.film.resolve(rgb.data(), al.data(), n.data(), d.data(), lux.data(), w.data());
+        expected.resolve(rgb2.data(), al2.data(), n2.data(), d2.data(), lux2.data(), w2.data());
+        for (int y = 1; y < 6; ++y)
+            for (int x = 1; x < 7; ++x) {
+                const int i = y * 8 + x;
+                for (int k = 0; k < 3; ++k) {
+                    EXPECT_EQ(rgb[3 * i + k], rgb2[3 * i + k]);
+                    EXPECT_EQ(al[3 * i + k], al2[3 * i + k]);
+                    EXPECT_EQ(n[3 * i + k], n2[3 * i + k]);
+                }
+                if (hits)
+                    EXPECT_EQ(d[i], d2[i]);
+                else  // no depth: whatever resolve gives a pixel without one, both alike
+                    EXPECT_EQ(std::isfinite(d[i]), std::isfinite(d2[i]));
+                EXPECT_EQ(w[i], w2[i]);
+            }
+    }
 }
