@@ -2,7 +2,7 @@
 
 namespace patina {
 
-const SettingRange<CacheSettings> kCacheSettingRanges[10] = {
+const SettingRange<CacheSettings> kCacheSettingRanges[11] = {
     {"resolution", true, 8, 128, [](const CacheSettings& s) { return double(s.resolution); }},
     {"error", false, 0.01, 4, [](const CacheSettings& s) { return double(s.error); }},
     {"guide", false, 0.05, 0.95, [](const CacheSettings& s) { return double(s.guide); }},

@@ -31,7 +31,7 @@ struct CacheSettings {
 
 // Each scene-file setting's allowed range (render.cache.<key> in a scene file, --cache-<key>
 // on the command line), declared here once (render/setting_range.h).
-extern const SettingRange<CacheSettings> kCacheSettingRanges[10];
+extern const SettingRange<CacheSettings> kCacheSettingRanges[11];
 
 // train_max_depth, a knob of the low-level binding only (no scene key): its range
 constexpr int kCacheTrainMaxDepthMin = 0, kCacheTrainMaxDepthMax = 1024;
