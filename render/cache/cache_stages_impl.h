@@ -102,6 +102,17 @@ inline bool shares_with(const ShadingPoint& rep, const ShadingPoint& sp, float f
     return shares_with(rep.p, rep.n, sp, footprint);
 }
 
+// The pixel a camera sample lies in. Adaptive antialiasing traces pixel corners, and those on
+// the image's right and bottom edges lie at x = width or y = height: they belong to the last
+// column or row, not to a pixel beyond it (x = width would name the next row's first pixel).
+struct SamplePixel {
+    int64_t x, y;
+};
+inline SamplePixel pixel_of_sample(const Camera& cam, const CameraSample& c) {
+    return {std::clamp<int64_t>(static_cast<int64_t>(std::floor(c.film_x)), 0, cam.width - 1),
+            std::clamp<int64_t>(static_cast<int64_t>(std::floor(c.film_y)), 0, cam.height - 1)};
+}
+
 // The image region (cache_regions.h) of pixel (px, py): a member only takes a hemisphere its
 // own pixel's region reconstructed, so which regions an item holds (its tile's size and
 // place) does not change the image.
@@ -233,9 +244,7 @@ inline size_t collect_queries(const W& w, CacheState& cache, Accept accept, bool
         const size_t first = scratch.material_start[k], last = scratch.material_start[k + 1];
         for (size_t q = first; q < last; ++q) {
             const ShadingPoint& sp = scratch.sorted[q];
-            const CameraSample& c = w.camera_samples[sp.path];
-            const int64_t px = static_cast<int64_t>(std::floor(c.film_x)),
-                          py = static_cast<int64_t>(std::floor(c.film_y));
+            const auto [px, py] = pixel_of_sample(cam, w.camera_samples[sp.path]);
             const int64_t pixel = py * cam.width + px;
             const float footprint = w.results[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
             // the sample's own key (the stream key is the pixel's, shared by its samples)
@@ -566,9 +575,7 @@ inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoin
         const size_t T = static_cast<size_t>(cfg.resolution) * cfg.resolution;
         auto keep = [&](size_t qi, const float* radiance) {
             const ShadingPoint& sp = scratch.sorted[table.query_point[qi]];
-            const CameraSample& c = w.camera_samples[sp.path];
-            const int64_t px = static_cast<int64_t>(std::floor(c.film_x)),
-                          py = static_cast<int64_t>(std::floor(c.film_y));
+            const auto [px, py] = pixel_of_sample(cam, w.camera_samples[sp.path]);
             RegionHemisphere h;
             h.block = block_of_pixel(cam, cfg.block, px, py);
             h.region = region_of_pixel(cam, px, py);
@@ -581,9 +588,7 @@ inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoin
         const CacheCounts c = reconstruct_hemispheres(cfg, w.ray_offset, true, cache, trace, keep);
         // (consumed in order: hemisphere u is query u) each pre-pass pixel's
         for (size_t m = 0; m < table.member_point.size(); ++m) {
-            const CameraSample& cm = w.camera_samples[scratch.sorted[table.member_point[m]].path];
-            const int64_t px = static_cast<int64_t>(std::floor(cm.film_x)),
-                          py = static_cast<int64_t>(std::floor(cm.film_y));
+            const auto [px, py] = pixel_of_sample(cam, w.camera_samples[scratch.sorted[table.member_point[m]].path]);
             hemispheres[table.member_query[m]].pixels.push_back(py * cam.width + px);
         }
         scratch.cache_texels_reprojected += c.reprojected + c.from_misses;
