@@ -49,7 +49,8 @@ def test_the_office_report_exits_1_when_a_requirement_fails(tmp_path):
     (table,) = result["ugr_tables"]
     assert table["source"].endswith("downlight.ies") and len(table["rows"]) == 190
     page = (out / "index.html").read_text()
-    assert "UGR tables of the luminaires" in page and "12H x 8H" in page and "0.3<br>0.3<br>0.2" in page  # ceiling, walls, floor stacked
+    # the reflectances of ceiling, walls and floor stacked in the header
+    assert "UGR tables of the luminaires" in page and "12H x 8H" in page and "0.3<br>0.3<br>0.2" in page
     assert "No interreflections: direct light only." in page
 
 
