@@ -118,4 +118,20 @@ inline RenderOptions box_job_settings(IntegratorMode mode, int threads, int spp,
     return st;
 }
 
+// A job's RGB image (its other outputs dropped).
+inline std::vector<float> resolved_rgb(const RenderScene& scene, const RenderJob& job) {
+    const size_t n = static_cast<size_t>(scene.camera.width) * scene.camera.height;
+    std::vector<float> rgb(3 * n), albedo(3 * n), normal(3 * n), depth(n), lux(n), samples(n);
+    job.resolve(rgb.data(), albedo.data(), normal.data(), depth.data(), lux.data(), samples.data());
+    return rgb;
+}
+
+// A render job run to its end, its RGB image.
+inline std::vector<float> rendered_rgb(const RenderScene& scene, const RenderOptions& settings) {
+    RenderJob job(scene, settings);
+    job.start();
+    job.wait();
+    return resolved_rgb(scene, job);
+}
+
 }  // namespace patina::test

@@ -40,13 +40,7 @@ std::vector<float> render_job(const BoxScene& b, IntegratorMode mode, int thread
     st.cache.train_passes = 0;
     st.cache.guide_bounces = kEveryBounce;
     st.cache.guide = guide;
-    RenderJob job(b.scene, st);
-    job.start();
-    job.wait();
-    const size_t n = static_cast<size_t>(b.scene.camera.width) * b.scene.camera.height;
-    std::vector<float> rgb(3 * n), albedo(3 * n), normal(3 * n), depth(n), lux(n), samples(n);
-    job.resolve(rgb.data(), albedo.data(), normal.data(), depth.data(), lux.data(), samples.data());
-    return rgb;
+    return rendered_rgb(b.scene, st);
 }
 
 // |mean of a - b| over its standard error, over the images' pixels and channels.

@@ -31,16 +31,6 @@ RenderOptions trained(IntegratorMode mode, int threads, int spp, int width = 0) 
     return st;
 }
 
-std::vector<float> image(const RenderScene& scene, const RenderOptions& st) {
-    RenderJob job(scene, st);
-    job.start();
-    job.wait();
-    const size_t n = static_cast<size_t>(scene.camera.width) * scene.camera.height;
-    std::vector<float> rgb(3 * n), albedo(3 * n), normal(3 * n), depth(n), lux(n), samples(n);
-    job.resolve(rgb.data(), albedo.data(), normal.data(), depth.data(), lux.data(), samples.data());
-    return rgb;
-}
-
 }  // namespace
 
 TEST(TrainedGuide, TrainingRecordsTheVerticesAndBuildsAField) {
@@ -62,26 +52,24 @@ TEST(TrainedGuide, TrainingRecordsTheVerticesAndBuildsAField) {
 
 TEST(TrainedGuide, TheImageIsTheSameForThreadsWidthsAndTileOrder) {
     const BoxScene b(24, 16);
-    const std::vector<float> one = image(b.scene, trained(IntegratorMode::CacheGuided, 1, 4, 1));
-    const std::vector<float> two = image(b.scene, trained(IntegratorMode::CacheGuided, 2, 4, 1));
+    const std::vector<float> one = rendered_rgb(b.scene, trained(IntegratorMode::CacheGuided, 1, 4, 1));
+    const std::vector<float> two = rendered_rgb(b.scene, trained(IntegratorMode::CacheGuided, 2, 4, 1));
     for (size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], two[i]) << i;
     for (int width : {8, 16}) {
         if (!width_supported(width)) continue;
-        const std::vector<float> wide = image(b.scene, trained(IntegratorMode::CacheGuided, 2, 4, width));
+        const std::vector<float> wide = rendered_rgb(b.scene, trained(IntegratorMode::CacheGuided, 2, 4, width));
         for (size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], wide[i]) << "width " << width << ", " << i;
     }
     RenderJob job(b.scene, trained(IntegratorMode::CacheGuided, 1, 4, 1));
     for (int tile = job.tile_count() - 1; tile >= 0; --tile) job.render_tiles({tile}, 0, job.pass_count());
-    const size_t n = one.size() / 3;
-    std::vector<float> rgb(3 * n), albedo(3 * n), normal(3 * n), depth(n), lux(n), samples(n);
-    job.resolve(rgb.data(), albedo.data(), normal.data(), depth.data(), lux.data(), samples.data());
+    const std::vector<float> rgb = resolved_rgb(b.scene, job);
     for (size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], rgb[i]) << i;
 }
 
 TEST(TrainedGuide, DrawsFromTheGuideAndKeepsThePathTracersMean) {
     const BoxScene b(16, 16);
-    const std::vector<float> path = image(b.scene, trained(IntegratorMode::Path, 2, 32));
-    const std::vector<float> guided = image(b.scene, trained(IntegratorMode::CacheGuided, 2, 32));
+    const std::vector<float> path = rendered_rgb(b.scene, trained(IntegratorMode::Path, 2, 32));
+    const std::vector<float> guided = rendered_rgb(b.scene, trained(IntegratorMode::CacheGuided, 2, 32));
     size_t differ = 0;
     double sum = 0, sum2 = 0;
     for (size_t i = 0; i < path.size(); ++i) {
@@ -109,8 +97,8 @@ TEST(TrainedGuide, ACutRenderSamplesTheGuideTrainedOnFullPaths) {
     cut.cache.train_max_depth = full.max_depth;
     RenderOptions untrained = cut;
     untrained.cache.train_max_depth = 0;  // trained on the cut paths: no indirect records, no guide
-    const std::vector<float> first = image(b.scene, cut), whole = image(b.scene, full);
-    const std::vector<float> direct = image(b.scene, untrained);
+    const std::vector<float> first = rendered_rgb(b.scene, cut), whole = rendered_rgb(b.scene, full);
+    const std::vector<float> direct = rendered_rgb(b.scene, untrained);
     size_t differ = 0;
     for (size_t i = 0; i < first.size(); ++i) {
         ASSERT_LE(first[i], whole[i] + 1e-5f * whole[i]) << i;

@@ -50,20 +50,13 @@ RenderOptions job_settings(IntegratorMode mode, int threads, int spp, int width 
     return st;
 }
 
-std::vector<float> resolved(const BoxScene& b, const RenderJob& job) {
-    const size_t n = static_cast<size_t>(b.scene.camera.width) * b.scene.camera.height;
-    std::vector<float> rgb(3 * n), albedo(3 * n), normal(3 * n), depth(n), lux(n), samples(n);
-    job.resolve(rgb.data(), albedo.data(), normal.data(), depth.data(), lux.data(), samples.data());
-    return rgb;
-}
-
 std::vector<float> render_job(const BoxScene& b, IntegratorMode mode, int threads, int spp, int width = 0,
                               size_t* cache_points = nullptr) {
     RenderJob job(b.scene, job_settings(mode, threads, spp, width));
     job.start();
     job.wait();
     if (cache_points) *cache_points = job.progress().cache_points;
-    return resolved(b, job);
+    return resolved_rgb(b.scene, job);
 }
 
 }  // namespace
@@ -116,7 +109,7 @@ TEST(CacheIntegrators, SharedRegionsKeepTheImageIndependentOfWidthAndTileOrder) 
         RenderJob job(b.scene, job_settings(mode, 1, 3, 1));
         size_t built = 0;
         for (int tile = job.tile_count() - 1; tile >= 0; --tile) built += job.render_tiles({tile}, 0, job.pass_count()).cache_points;
-        const std::vector<float> reversed = resolved(b, job);
+        const std::vector<float> reversed = resolved_rgb(b.scene, job);
         for (size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], reversed[i]) << i;
         EXPECT_EQ(built, points);
         // each of the 15 tiles' 3 passes would place cache points of its own
@@ -138,7 +131,7 @@ TEST(CacheIntegrators, PassesShareTheRegionsReconstructions) {
         job.wait();
         if (traced) *traced = job.progress().cache_texels_traced;
         double sum = 0;
-        for (float v : resolved(b, job)) sum += v;
+        for (float v : resolved_rgb(b.scene, job)) sum += v;
         return sum;
     };
     size_t one = 0, eight = 0;

@@ -54,13 +54,7 @@ double squared_error(const std::vector<double>& image, const std::vector<double>
 std::vector<float> render_image(const BoxScene& b, int threads) {
     RenderOptions st = box_job_settings(IntegratorMode::Cache, threads, 2);
     st.cache.light_samples = 4;
-    RenderJob job(b.scene, st);
-    job.start();
-    job.wait();
-    const size_t n = static_cast<size_t>(b.scene.camera.width) * b.scene.camera.height;
-    std::vector<float> rgb(3 * n), albedo(3 * n), normal(3 * n), depth(n), lux(n), samples(n);
-    job.resolve(rgb.data(), albedo.data(), normal.data(), depth.data(), lux.data(), samples.data());
-    return rgb;
+    return rendered_rgb(b.scene, st);
 }
 
 }  // namespace
