@@ -6,6 +6,7 @@ from __future__ import annotations
 import os
 import shutil
 import sys
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import pytest
@@ -49,12 +50,28 @@ def finished(finished_once, tmp_path) -> Finished:
     return Finished(str(library), str(out), finished_once.summary, finished_once.lines)
 
 
-@pytest.fixture(scope="session")
-def client():
+@contextmanager
+def _local_client():
     """A Dask client of a LocalCluster of 2 worker processes, one thread each (skipped without Dask)."""
     distributed = pytest.importorskip("distributed")
     with (
         distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster,
         distributed.Client(cluster) as c,
     ):
+        yield c
+
+
+@pytest.fixture(scope="session")
+def client():
+    """The LocalCluster the Dask tests share; no test kills its workers (see client_to_kill)."""
+    with _local_client() as c:
+        yield c
+
+
+@pytest.fixture
+def client_to_kill():
+    """A LocalCluster of its own for a test that kills a worker. On the shared one, the next
+    tests had to wait for the nanny to restart the killed worker, which under the loaded suite
+    once took more than a minute; a fresh cluster costs a few seconds."""
+    with _local_client() as c:
         yield c

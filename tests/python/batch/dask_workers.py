@@ -22,14 +22,15 @@ def kill_a_busy_worker(client, killed: list[str], stop: threading.Event) -> None
 
 
 def wait_for_live_workers(client, n: int = 2, timeout: float = 60.0) -> None:
-    """Until the scheduler lists `n` workers and every one of them answers. After a kill the
-    scheduler may list the dead worker for a while beside its nanny's replacement, so
+    """Until the scheduler lists at least `n` workers and every one of them answers. After a
+    kill the scheduler may list the dead worker for a while beside its nanny's replacement, so
     wait_for_workers(n) can return while a scatter would still go to the dead one."""
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
-        if len(client.scheduler_info()["workers"]) == n:
+        listed = len(client.scheduler_info()["workers"])
+        if listed >= n:
             try:
-                if len(client.run(os.getpid)) == n:
+                if len(client.run(os.getpid)) == listed:
                     return
             except Exception:  # a listed worker that is gone: wait for the scheduler to drop it
                 pass

@@ -40,7 +40,8 @@ def test_the_cluster_gives_the_in_process_results_and_a_rerun_skips(finished_onc
     assert again["counts"]["tasks_run"] == 0
 
 
-def test_a_worker_killed_mid_task_loses_nothing(library, tmp_path, client):
+def test_a_worker_killed_mid_task_loses_nothing(library, tmp_path, client_to_kill):
+    client = client_to_kill
     out = str(tmp_path / "out")
     killed: list[str] = []
     stop = threading.Event()
@@ -61,7 +62,7 @@ def test_a_worker_killed_mid_task_loses_nothing(library, tmp_path, client):
         folder = os.path.join(out, "materials", name)
         assert not [n for n in os.listdir(folder) if ".tmp" in n]
         assert checksum(os.path.join(folder, "preview.png"))
-    wait_for_live_workers(client)  # the nanny restarted it
+    wait_for_live_workers(client, 1)  # the dead one dropped (its nanny may have restarted it)
     assert on_dask(library, out, client)["counts"]["tasks_run"] == 0  # and every task was complete
 
 

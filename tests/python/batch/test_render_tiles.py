@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 import pytest
-from dask_workers import kill_a_busy_worker, wait_for_live_workers
+from dask_workers import kill_a_busy_worker
 
 from patina.batch import render_tiles
 from patina.bundled import materials_path
@@ -144,30 +144,24 @@ def test_write_tile_checks_what_it_is_given():
 # ---------------------------------------------------------------- on a LocalCluster of 2 worker processes
 
 
-@pytest.fixture
-def cluster(client):
-    wait_for_live_workers(client)  # another test may have killed one; its nanny restarts it
-    return client
-
-
 @pytest.mark.parametrize("aa", ["uniform", "adaptive"])
-def test_the_distributed_render_is_the_local_one_bit_for_bit(cluster, aa):
+def test_the_distributed_render_is_the_local_one_bit_for_bit(client, aa):
     scene = _scene(aa=aa, spp=4)  # 4 passes: a group's tasks, the first pass then the other three
-    there = render_tiles.render_on_dask(scene, cluster, prepared=_prepared())
+    there = render_tiles.render_on_dask(scene, client, prepared=_prepared())
     here = _local(scene)
     assert there.complete and not there.interrupted and there.threads == 2
     assert_same_image(there, here)
 
 
 @pytest.mark.parametrize("integrator, train_passes", [("cache", 0), ("cache-guided", 0), ("cache-guided", 2)])
-def test_the_radiance_cache_renders_on_the_cluster_as_here_bit_for_bit(cluster, integrator, train_passes):
+def test_the_radiance_cache_renders_on_the_cluster_as_here_bit_for_bit(client, integrator, train_passes):
     # a work item's cache starts from its image regions' points, which depend on the region
     # alone (render/cache/cache_regions.h), so a tile is the same in any process; each
     # process builds the regions its tiles want, so the cluster may build more cache points.
     # cache-guided's trained guide (train_passes > 0) is trained by each process for the whole
     # image, the same guide as here, and no cache points are built
     scene = with_overrides(_scene(integrator=integrator, spp=2), cache_train_passes=train_passes)
-    there = render_tiles.render_on_dask(scene, cluster, prepared=_prepared(), groups=4)
+    there = render_tiles.render_on_dask(scene, client, prepared=_prepared(), groups=4)
     here = _local(scene)
     assert there.complete
     assert_same_image(there, here, same_rays=False)  # the regions' rays, traced in each process
@@ -183,23 +177,24 @@ def test_the_radiance_cache_renders_on_the_cluster_as_here_bit_for_bit(cluster, 
         assert there.cache_points >= here.cache_points > 0
 
 
-def test_each_worker_prepares_the_scene_once(cluster):
+def test_each_worker_prepares_the_scene_once(client):
     scene = _scene(spp=2, seed=7)
     checksum = render_tiles.bundle_scene(scene, job_settings(scene)).scene_checksum
     for seed in (7, 8):  # another seed: another job, the same prepared scene
-        render_tiles.render_on_dask(with_overrides(scene, seed=seed), cluster, prepared=_prepared(), groups=8)
-    prepared = cluster.run(lambda: render_tiles.prepared_here.count(checksum))
+        render_tiles.render_on_dask(with_overrides(scene, seed=seed), client, prepared=_prepared(), groups=8)
+    prepared = client.run(lambda: render_tiles.prepared_here.count(checksum))
     assert 1 <= sum(prepared.values()) and all(n <= 1 for n in prepared.values()), prepared
 
 
-def test_a_worker_killed_mid_render_loses_nothing(cluster):
+def test_a_worker_killed_mid_render_loses_nothing(client_to_kill):
+    client = client_to_kill
     scene = _scene(spp=32)
     killed: list[str] = []
     stop = threading.Event()
-    killer = threading.Thread(target=kill_a_busy_worker, args=(cluster, killed, stop), daemon=True)
+    killer = threading.Thread(target=kill_a_busy_worker, args=(client, killed, stop), daemon=True)
     killer.start()
     try:
-        there = render_tiles.render_on_dask(scene, cluster, prepared=_prepared())
+        there = render_tiles.render_on_dask(scene, client, prepared=_prepared())
     finally:
         stop.set()
         killer.join()
@@ -222,10 +217,10 @@ def _interrupt_at(monkeypatch, calls: set[int]) -> None:
     monkeypatch.setattr(render_tiles, "_wait", interrupted)
 
 
-def test_ctrl_c_keeps_the_finished_passes_of_every_tile(cluster, monkeypatch):
+def test_ctrl_c_keeps_the_finished_passes_of_every_tile(client, monkeypatch):
     scene = _scene(spp=16)  # 8 passes of 2 samples
     _interrupt_at(monkeypatch, {1})  # right after the tasks are submitted
-    result = render_tiles.render_on_dask(scene, cluster, prepared=_prepared())
+    result = render_tiles.render_on_dask(scene, client, prepared=_prepared())
     assert result.interrupted and not result.complete
     # every pixel got whole passes (2 samples each); with the uniform sampler a pixel's first n
     # samples are those of the render at n spp, added in the same order: bit for bit
@@ -237,20 +232,20 @@ def test_ctrl_c_keeps_the_finished_passes_of_every_tile(cluster, monkeypatch):
         assert np.array_equal(result.rgb[where], local.rgb[where]), n
 
 
-def test_a_second_ctrl_c_aborts(cluster, monkeypatch):
+def test_a_second_ctrl_c_aborts(client, monkeypatch):
     _interrupt_at(monkeypatch, {1, 2})
     with pytest.raises(RenderAborted):
-        render_tiles.render_on_dask(_scene(spp=16), cluster, prepared=_prepared())
+        render_tiles.render_on_dask(_scene(spp=16), client, prepared=_prepared())
 
 
-def test_the_command_on_a_running_scheduler_writes_the_local_render(cluster, tmp_path, capsys):
+def test_the_command_on_a_running_scheduler_writes_the_local_render(client, tmp_path, capsys):
     scene = materials_path("scenes", "preview-ball.json")
     common = ["render", scene, "--width", "32", "--spp", "2", "--png", "none", "--quiet"]
     there, here = str(tmp_path / "there.exr"), str(tmp_path / "here.exr")
-    assert main([*common, "--out", there, "--scheduler", cluster.scheduler.address]) == 0
+    assert main([*common, "--out", there, "--scheduler", client.scheduler.address]) == 0
     assert main([*common, "--out", here]) == 0
     assert np.array_equal(read_image(there), read_image(here))
-    assert main([*common, "--out", here, "--force", "--scheduler", cluster.scheduler.address, "--threads", "2"]) == 2
+    assert main([*common, "--out", here, "--force", "--scheduler", client.scheduler.address, "--threads", "2"]) == 2
     err = capsys.readouterr().err
     assert "--threads" in err and len(err.strip().splitlines()) == 1
 
