@@ -26,10 +26,12 @@ Patina tables are reflection.
 from __future__ import annotations
 
 import math
+from typing import NoReturn
 
 import numpy as np
 
 from patina.errors import FormatError
+from patina.table.formats.measurement_noise import checked_measurement
 from patina.table.formats.resample import CannotResample, resample
 from patina.table.formats.tabledata import TableData
 from patina.table.formats.whole_file import read_whole_file
@@ -113,12 +115,14 @@ def _header(src: _Lines) -> tuple[dict[str, str], dict[str, np.ndarray]]:
     return words, lists
 
 
-def _blocks(src: _Lines, lists: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+def _blocks(src: _Lines, lists: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarray], list[str]]:
+    """The data blocks by channel, and the notes of the measurement noise set to 0 in them."""
     n_rot, n_aoi = lists["samplerotation"].size, lists["angleofincidence"].size
     n_az, n_rad = lists["scatterazimuth"].size, lists["scatterradial"].size
     if n_rot * n_aoi * n_az * n_rad > MAX_POINTS:
         raise src.fail(f"{n_rot * n_aoi * n_az * n_rad} measured directions: more than {MAX_POINTS}")
     blocks: dict[str, np.ndarray] = {}
+    notes: list[str] = []
     while src.at < len(src.lines):
         number, label = src.next("a data label")
         channel = LABELS.get(label.lower())
@@ -128,21 +132,29 @@ def _blocks(src: _Lines, lists: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         if line.lower() != "databegin":
             raise src.fail(f"expected DataBegin, found '{line[:40]}'", number)
         data = np.empty((n_rot, n_aoi, n_az, n_rad))
+        tis_lines = np.empty((n_rot, n_aoi), dtype=int)
         for r in range(n_rot):
             for a in range(n_aoi):
                 number, line = src.next("TIS")
+                tis_lines[r, a] = number
                 if not line.lower().startswith("tis"):
                     raise src.fail(f"expected 'TIS value' before each angle of incidence, found '{line[:40]}'", number)
                 data[r, a] = src.numbers(n_az * n_rad, f"{label} data").reshape(n_az, n_rad)
         number, line = src.next("DataEnd")
         if line.lower() != "dataend":
             raise src.fail(f"expected DataEnd, found '{line[:40]}'", number)
-        if np.any(data < 0):
-            raise src.fail(f"negative values in the {label} block", number)
-        blocks[channel] = data
+
+        def refuse(first: int, problem: str, data=data, tis_lines=tis_lines, label=label) -> NoReturn:
+            row, value = divmod(first, n_az * n_rad)
+            shown = f"{label} value {value + 1} after this TIS line: {data.flat[first]:g}: {problem}"
+            raise src.fail(shown, int(tis_lines.flat[row]))
+
+        blocks[channel], noise = checked_measurement(data, refuse)
+        if noise:
+            notes.append(f"{label}: {noise}")
     if not blocks:
         raise FormatError(src.path, "end of file", "no data block (a label, DataBegin ... DataEnd)")
-    return blocks
+    return blocks, notes
 
 
 def _channels(path: str, blocks: dict[str, np.ndarray]) -> tuple[np.ndarray, str]:
@@ -180,7 +192,7 @@ def read_zemax(path: str) -> TableData:
     symmetry = words.get("symmetry", "planesymmetrical")
     if symmetry not in ("planesymmetrical", "asymmetrical", "asymmetrical4d"):
         raise FormatError(path, "Symmetry", f"'{symmetry}': expected PlaneSymmetrical, Asymmetrical or Asymmetrical4D")
-    blocks = _blocks(src, lists)
+    blocks, noise = _blocks(src, lists)
     channels, kind = _channels(path, blocks)
     rot, aoi, az, rad = (np.radians(lists[k]) for k in LISTS)
     if np.any(aoi < 0) or np.any(aoi >= math.pi / 2) or np.any(rad < 0) or np.any(rad > math.pi):
@@ -216,5 +228,5 @@ def read_zemax(path: str) -> TableData:
         axes=axes,
         values=grid.astype(np.float32),
         channel_kind=kind,
-        provenance=f"Zemax tabular BSDF ({symmetry}, {kind}, BRDF); {error.describe()}",
+        provenance="; ".join([f"Zemax tabular BSDF ({symmetry}, {kind}, BRDF)", *noise, error.describe()]),
     )

@@ -73,3 +73,24 @@ FUZZ = settings(max_examples=30, deadline=None, suppress_health_check=[HealthChe
 @given(at=st.integers(min_value=0, max_value=len(SMALL) - 1), value=st.integers(0, 255), cut=st.booleans())
 def test_damaged_files_raise_one_format_error(at, value, cut):
     load_damaged(SMALL, at, value, cut, "f.bsdf", patina.load_brdf)
+
+
+def _with_last_value(value: str) -> str:
+    """SMALL with its last value (line 24's third: the second TIS line is line 21) replaced."""
+    return SMALL.decode().replace("2.027127e-01  0.000000e+00", f"2.027127e-01  {value}")
+
+
+def test_noise_just_below_zero_is_set_to_zero_and_noted(tmp_path):
+    brdf = patina.load_brdf(_write(tmp_path, _with_last_value("-1.0e-04")))
+    assert (
+        "Monochrome: 1 values slightly below 0 set to 0 (measurement noise: down to -0.0001"
+        in (brdf.info()["provenance"])
+    )
+    assert float(np.min(brdf.values)) >= 0
+
+
+def test_negative_value_beyond_the_noise_named(tmp_path):
+    with pytest.raises(FormatError) as e:
+        patina.load_brdf(_write(tmp_path, _with_last_value("-0.05")))
+    assert e.value.where == "line 21" and e.value.problem.startswith("Monochrome value 9 after this TIS line: -0.05")
+    assert "negative beyond measurement noise" in e.value.problem
