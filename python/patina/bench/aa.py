@@ -87,7 +87,7 @@ def reference_dir() -> str:
     return os.path.join(root, "aa-reference")
 
 
-def _reference(scene: Scene) -> np.ndarray:
+def reference(scene: Scene) -> np.ndarray:
     """The 1024-sample reference, from the disk cache when its key matches."""
     w, h = scene.camera.width, scene.camera.height
     # what the renderer makes of this scene: a small uniform render, so a changed renderer
@@ -137,7 +137,7 @@ def bench_aa(repeat: int, quick: bool) -> list[Record]:
             width=max(8, round(scene.camera.width * factor)),
             height=max(8, round(scene.camera.height * factor)),
         )
-        ref = _reference(scene)
+        ref = reference(scene)
         prep = PreparedScene(scene)
         scene25 = with_overrides(scene, spp=25)
         runs = [functools.partial(render, scene, aa="adaptive", prepared=prep)]

@@ -34,7 +34,7 @@ def test_quick_group_records(tmp_path, monkeypatch):
 def test_the_reference_is_kept_and_found_again(tmp_path, monkeypatch):
     monkeypatch.setenv("PATINA_BENCH_CACHE", str(tmp_path))
     scene = with_overrides(load_scene(os.path.join(materials_path("scenes"), "aa-wires.json")), width=16, height=12)
-    first = aa._reference(scene)
+    first = aa.reference(scene)
     assert first.shape == (12, 16, 3)
     assert len(os.listdir(aa.reference_dir())) == 1
 
@@ -42,11 +42,11 @@ def test_the_reference_is_kept_and_found_again(tmp_path, monkeypatch):
         raise AssertionError("the kept reference was rendered again")
 
     monkeypatch.setattr(aa, "_stratified", no_render)
-    assert np.array_equal(aa._reference(scene), first)
+    assert np.array_equal(aa.reference(scene), first)
     # another size is another reference
     monkeypatch.undo()
     monkeypatch.setenv("PATINA_BENCH_CACHE", str(tmp_path))
-    aa._reference(with_overrides(scene, width=8, height=8))
+    aa.reference(with_overrides(scene, width=8, height=8))
     assert len(os.listdir(aa.reference_dir())) == 2
 
 
