@@ -16,20 +16,46 @@ namespace render_detail {
 namespace grid2_w {
 using namespace kernel_width;
 
-// The cell and the fraction within it along one axis, clamped to the axis.
+// The cell and the fraction within it along one axis, clamped to the axis; `shared`: every lane
+// in one cell. The knots are read by lookup_cells: a broadcast when the lanes share a cell (a
+// packet of neighbouring sensors towards one luminaire nearly always does), a pick from
+// registers when their cells are near, a gather only otherwise -- the same knots either way, so
+// the same bits. The lighting bench's candela and responses without shadows (10^5 sensors x 20
+// luminaires, width 8, one thread): 0.035 s with gathers, 0.029 s so (least of 9, docs/bench.md).
 template <int W>
-PATINA_INLINE void locate(const float* knots, int n, vfloat<W> x, vint<W>& cell, vfloat<W>& t) {
+PATINA_INLINE void locate(const float* knots, int n, vfloat<W> x, vint<W>& cell, vfloat<W>& t, bool& shared) {
     using FW = vfloat<W>;
-    using IW = vint<W>;
     if (n == 1) {
-        cell = IW(0);
+        cell = vint<W>(0);
         t = FW(0.0f);
+        shared = true;
         return;
     }
     const FW xc = clamp(x, FW(knots[0]), FW(knots[n - 1]));
-    cell = coherent_search<W>(knots, n, xc, FW(0.0f) == FW(0.0f));
-    const FW k0 = gather(knots, cell), k1 = gather(knots, cell + IW(1));
+    const vbool<W> every = FW(0.0f) == FW(0.0f);
+    const Cells<W> c = coherent_search_cells<W>(knots, n, xc, every);
+    cell = c.cell;
+    shared = c.hi - c.lo == 1;
+    // knots[cell] and knots[cell + 1]: the cells index the knots from 0 and from 1
+    const FW k0 = lookup_cells<W>(knots, n - 1, c, every), k1 = lookup_cells<W>(knots + 1, n - 1, c, every);
     t = clamp((xc - k0) / (k1 - k0), FW(0.0f), FW(1.0f));
+}
+
+// The four corners' values of the lanes' cells: broadcasts when every lane lies in one cell.
+template <int W>
+PATINA_INLINE void corners(const Grid2View& g, vint<W> ix, vint<W> iy, bool shared, vfloat<W>* v) {
+    using IW = vint<W>;
+    const int step_x = g.nx > 1 ? g.ny : 0, step_y = g.ny > 1 ? 1 : 0;
+    if (shared) {
+        const float* at = g.values + lane(ix, 0) * g.ny + lane(iy, 0);
+        for (int k = 0; k < 4; ++k) v[k] = vfloat<W>(at[(k >> 1) * step_x + (k & 1) * step_y]);
+        return;
+    }
+    const IW row0 = ix * IW(g.ny), row1 = row0 + IW(step_x), iy1 = iy + IW(step_y);
+    v[0] = gather(g.values, row0 + iy);
+    v[1] = gather(g.values, row0 + iy1);
+    v[2] = gather(g.values, row1 + iy);
+    v[3] = gather(g.values, row1 + iy1);
 }
 
 template <int W>
@@ -38,16 +64,15 @@ PATINA_INLINE vfloat<W> eval(const Grid2View& g, vfloat<W> x, vfloat<W> y) {
     using IW = vint<W>;
     IW ix, iy;
     FW tx, ty;
-    locate<W>(g.x, g.nx, x, ix, tx);
-    locate<W>(g.y, g.ny, y, iy, ty);
-    const IW ix1 = g.nx > 1 ? ix + IW(1) : ix, iy1 = g.ny > 1 ? iy + IW(1) : iy;
-    const IW row0 = ix * IW(g.ny), row1 = ix1 * IW(g.ny);
-    const FW v00 = gather(g.values, row0 + iy), v01 = gather(g.values, row0 + iy1);
-    const FW v10 = gather(g.values, row1 + iy), v11 = gather(g.values, row1 + iy1);
+    bool shared_x, shared_y;
+    locate<W>(g.x, g.nx, x, ix, tx, shared_x);
+    locate<W>(g.y, g.ny, y, iy, ty, shared_y);
+    FW v[4];  // v00, v01, v10, v11
+    corners<W>(g, ix, iy, shared_x && shared_y, v);
     // (1 - t) a + t b, not a + t (b - a): exact at both ends of a cell, so the table's own
     // values come back at every knot, the last included
     const FW sy = FW(1.0f) - ty, sx = FW(1.0f) - tx;
-    const FW a = madd(ty, v01, sy * v00), b = madd(ty, v11, sy * v10);
+    const FW a = madd(ty, v[1], sy * v[0]), b = madd(ty, v[3], sy * v[2]);
     return madd(tx, b, sx * a);
 }
 

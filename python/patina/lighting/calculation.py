@@ -20,10 +20,10 @@ from patina.errors import FormatError
 from patina.lighting.classes import Check, check, road_class
 from patina.lighting.direct import PlacedSource, is_delta
 from patina.lighting.grids import RuleGrid, en12193_grids, en12464_grid
-from patina.lighting.indirect_cache import BOUND, RESOLUTION
+from patina.lighting.indirect_cache import BOUND, RESOLUTION, CacheSettings, cached_indirect
 from patina.lighting.indoor import area_figures, ugr
 from patina.lighting.project import Project
-from patina.lighting.road import check_luminaires_for_ti, evaluate_road
+from patina.lighting.road import Interreflected, check_luminaires_for_ti, evaluate_road
 from patina.lighting.rtable import read_rtable
 from patina.lighting.ugr_table import UgrTable, luminous_area, ugr_table
 from patina.native import _core
@@ -128,15 +128,20 @@ def _inputs(project: Project, scene: Scene) -> list[tuple[str, str]]:
 
 
 def interreflections(project: Project) -> str:
-    """How the project's interreflections were computed, with the settings (the report's inputs)."""
+    """How the project's interreflections were computed, with the settings (the report's inputs);
+    a road's say that they reach its illuminance grids, not its luminance."""
     if project.indirect == "cache":
-        return (
+        how = (
             f"radiance cache: cache points among the grid's points, each {RESOLUTION} x {RESOLUTION} texel paths, "
             f"gathered by the points within error bound {BOUND:g}"
         )
-    if project.indirect == "paths":
-        return f"sensor paths, {project.samples} per point"
-    return "no (direct only)"
+    elif project.indirect == "paths":
+        how = f"sensor paths, {project.samples} per point"
+    else:
+        return "no (direct only)"
+    if project.standard == "en13201":
+        how += "; in the illuminance grids only: the luminance from the r-table is direct (EN 13201-3's method)"
+    return how
 
 
 def run(project: Project, progress: bool = False) -> Result:
@@ -239,7 +244,8 @@ def _road(project: Project, scene: Scene, prepared: PreparedScene, result: Resul
     sources = [PlacedSource.of(scene.lights[i]) for i in indices]
     check_luminaires_for_ti(scene.path, sources, indices)
     _check_inside(project, prepared, road.illuminance_grid(), "road")
-    r = evaluate_road(sources, road, table, project.maintenance, project.verge, prepared.accel, il.ray_offset(prepared))
+    offset, interreflected = il.ray_offset(prepared), _road_interreflections(project, scene, prepared)
+    r = evaluate_road(sources, road, table, project.maintenance, project.verge, prepared.accel, offset, interreflected)
     lum = road.luminance_grid()
     result.planes.append(Plane("luminance, observer in lane 1", lum, r.luminance[0], "luminance (cd/m²)"))
     result.planes.append(Plane("illuminance", road.illuminance_grid(), r.illuminance))
@@ -256,6 +262,23 @@ def _road(project: Project, scene: Scene, prepared: PreparedScene, result: Resul
     if r.eir is None:
         result.notes.append("EIR: no verge width given (road.verge): not computed")
     result.checks = check(road_class(project.road_class), result.figures)
+
+
+def _road_interreflections(project: Project, scene: Scene, prepared: PreparedScene) -> Interreflected | None:
+    """The interreflected lux at a road's horizontal sensor points by the project's method (the
+    indoor grids' settings: patina.render.illuminance.compute), or None for direct light only."""
+    if project.indirect == "none":
+        return None
+    depth, seed, width = il.sensor_depth(scene), scene.render.seed, core_width(None)
+
+    def lux(points: np.ndarray) -> np.ndarray:
+        pts = np.ascontiguousarray(points, np.float32)
+        up = np.ascontiguousarray(np.broadcast_to([0.0, 1.0, 0.0], pts.shape), np.float32)
+        if project.indirect == "cache":
+            return cached_indirect(prepared.core, points, up, CacheSettings(depth, seed, width=width)).lux
+        return il.path_interreflections(prepared, pts, up, project.samples, seed, width, 0, depth)
+
+    return lux
 
 
 def _sport(project: Project, scene: Scene, prepared: PreparedScene, result: Result, progress: bool) -> None:

@@ -19,11 +19,17 @@ where the field's first luminaire meets the screening plane, the largest TI repo
 (R_EI): the mean horizontal illuminance on a strip just outside each edge over that on the
 strip just inside, strips as wide as the least of 5 m, half the carriageway and the verge
 given, the worse side reported.
+
+The illuminance figures (E_av, E_min, U0_E of the C and P classes, EIR) take the
+interreflections when the caller gives a way to compute them (`interreflected`: the project's
+"indirect", patina.lighting.calculation); the luminance stays the r-table's direct sum, the
+standard's method (the r-table is the road's reflection of light arriving from the luminaires).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -39,6 +45,9 @@ SCREENING_DEG = 20.0  # the car roof's cut-off above the line of sight
 TI_REACH = 500.0  # m ahead
 VEILING_K = 9.86  # EN 13201-3's constant for an observer aged 23
 EIR_MAX_STRIP = 5.0  # m
+
+# horizontal sensor points (n, 3) -> their interreflected lux (n,), unmaintained
+Interreflected = Callable[[np.ndarray], np.ndarray]
 
 
 @dataclass
@@ -120,6 +129,15 @@ def threshold_increment(l_v: float, l_av: float) -> float:
     return 65 * l_v / l_av**0.8 if l_av <= 5 else 95 * l_v / l_av**1.05
 
 
+def horizontal_illuminance(
+    sources: list[PlacedSource], points: np.ndarray, occluder, offset: float, interreflected: Interreflected | None
+) -> np.ndarray:
+    """Lux on horizontal sensors at `points`: the exact direct sum, plus the interreflections
+    when `interreflected` is given; unmaintained (MF = 1)."""
+    e = direct_illuminance(sources, Sensors.horizontal(points), occluder, offset)
+    return e if interreflected is None else e + interreflected(points)
+
+
 def check_luminaires_for_ti(scene_path: str, sources: list[PlacedSource], indices: list[int]) -> None:
     for src, i in zip(sources, indices):
         if src.position[1] <= OBSERVER_EYE:
@@ -139,8 +157,10 @@ def evaluate_road(
     verge: float = 0.0,
     occluder=None,
     offset: float = 1e-4,
+    interreflected: Interreflected | None = None,
 ) -> RoadResult:
-    """Every EN 13201-3 figure of the field (see the module docstring)."""
+    """Every EN 13201-3 figure of the field (see the module docstring); the illuminance with
+    `interreflected`'s interreflections when given."""
     lum_grid = road.luminance_grid()
     pts = lum_grid.points()
     nz, nx = lum_grid.shape
@@ -165,8 +185,8 @@ def evaluate_road(
             at = np.array([eye[0], OBSERVER_EYE, start + k * road.spacing / steps])
             ti = max(ti, threshold_increment(veiling_luminance(sources, at, occluder, offset), l_av_new))
     e_grid = road.illuminance_grid()
-    e = direct_illuminance(sources, Sensors.horizontal(e_grid.points()), occluder, offset).reshape(e_grid.shape)
-    eir = edge_illuminance_ratio(sources, road, verge, occluder, offset) if verge > 0 else None
+    e = horizontal_illuminance(sources, e_grid.points(), occluder, offset, interreflected).reshape(e_grid.shape)
+    eir = edge_illuminance_ratio(sources, road, verge, occluder, offset, interreflected) if verge > 0 else None
     e = e * maintenance
     return RoadResult(
         luminance=lum * maintenance,
@@ -182,7 +202,9 @@ def evaluate_road(
     )
 
 
-def edge_illuminance_ratio(sources, road: Road, verge: float, occluder=None, offset: float = 1e-4) -> float:
+def edge_illuminance_ratio(
+    sources, road: Road, verge: float, occluder=None, offset: float = 1e-4, interreflected: Interreflected | None = None
+) -> float:
     """R_EI: outside strip over inside strip, the worse of the two edges."""
     strip = min(EIR_MAX_STRIP, road.width / 2, verge)
     z = road.along()
@@ -193,7 +215,7 @@ def edge_illuminance_ratio(sources, road: Road, verge: float, occluder=None, off
             x = centres(min(lo, hi), max(lo, hi), 3)
             zz, xx = np.meshgrid(z, x, indexing="ij")
             pts = np.stack([xx.ravel(), np.zeros(xx.size), zz.ravel()], axis=1)
-            means.append(direct_illuminance(sources, Sensors.horizontal(pts), occluder, offset).mean())
+            means.append(horizontal_illuminance(sources, pts, occluder, offset, interreflected).mean())
         outside, inside = means
         ratios.append(outside / inside if inside > 0 else 0.0)
     return float(min(ratios))

@@ -183,17 +183,23 @@ def compute(
             if rest is not None:
                 lux[begin:end] += _core.sensor_illuminance(rest.core, *part, 0)
             if paths:
-                # the interreflections alone: the kernel adds them to its direct estimate, whose
-                # random streams are the same with or without them (render/integrators/sensors_impl.h), so the
-                # difference is the indirect part of every light, the delta lights' included
-                total = np.asarray(_core.sensor_illuminance(prepared.core, *part, depth), np.float64)
-                lux[begin:end] += total - _core.sensor_illuminance(prepared.core, *part, 0)
+                lux[begin:end] += path_interreflections(prepared, *part, depth)
             bar.update(end)
     if indirect_cache:
         settings = CacheSettings(depth, seed, width=simd, threads=threads)
         lux += cached_indirect(prepared.core, np.asarray(pts), normals, settings).lux
     name = kind[0] + (f":{kind[1]:g}" if kind[1] is not None else "")
     return IlluminanceReport(grid, lux.reshape(grid.nz, grid.nx), samples, indirect, len(exact), name)
+
+
+def path_interreflections(prepared: PreparedScene, points, normals, samples, seed, width, threads, depth):
+    """The interreflections alone at planar sensors (lux, float64), by `samples` sensor paths of
+    at most `depth` vertices: the kernel adds them to its direct estimate, whose random streams
+    are the same with or without them (render/integrators/sensors_impl.h), so the difference is
+    the indirect part of every light, the delta lights' included."""
+    part = points, normals, samples, seed, width, threads
+    total = np.asarray(_core.sensor_illuminance(prepared.core, *part, depth), np.float64)
+    return total - _core.sensor_illuminance(prepared.core, *part, 0)
 
 
 def ray_offset(prepared: PreparedScene) -> float:

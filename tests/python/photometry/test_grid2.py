@@ -54,6 +54,22 @@ def test_widths_are_bit_identical():
         assert np.array_equal(g.eval(qx, qy, width=w), ref)
 
 
+@pytest.mark.parametrize("single_knot", [False, True])
+def test_widths_are_bit_identical_where_the_lanes_share_cells(single_knot):
+    # a packet's lanes in one cell (the corners broadcast), in neighbouring cells (the knots
+    # picked from registers) and spread (gathered): sorted queries, slowly varying, with jumps
+    x, y, v = table(4)
+    if single_knot:
+        x, v = x[:1], v[:1]
+    g = _core.Grid2(x, y, v)
+    rng = np.random.default_rng(5)
+    qx = np.sort(rng.uniform(-20, 380, 4001)).astype(np.float32)
+    qy = np.concatenate([np.full(1000, 3.0), np.linspace(0, 180, 2001), rng.uniform(-5, 185, 1000)]).astype(np.float32)
+    ref = g.eval(qx, qy, width=1)
+    for w in WIDTHS:
+        assert np.array_equal(g.eval(qx, qy, width=w), ref)
+
+
 @pytest.mark.parametrize(
     ("x", "y", "values", "problem"),
     [
