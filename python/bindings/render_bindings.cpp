@@ -175,6 +175,15 @@ Fields kind_fields(const nb::dict& d, const std::string& where, const char* what
     f.fail("unknown " + std::string(what) + " kind '" + name + "'");
 }
 
+// A material or light appended to the scene's list once every key of its dictionary was read
+// (else the error naming the unread one); its index in the list.
+template <class Item>
+int append_read(const Fields& f, std::vector<Item>& list, const Item& item) {
+    f.finish();
+    list.push_back(item);
+    return static_cast<int>(list.size()) - 1;
+}
+
 // GGX roughness: 0 (smooth) is taken as 1e-3, a very narrow lobe the same code samples.
 float roughness(Fields& f, const char* key) {
     constexpr float kSmooth = 1e-3f;
@@ -277,9 +286,7 @@ int add_material(SceneHandle& h, const nb::dict& d) {
     patina::Material m;
     if (kind == Kind::Emitter) {
         m.model = patina::Emitter{f.integer("light")};
-        f.finish();  // the light index is checked against the lights by check_materials
-        h.scene.materials.push_back(m);
-        return static_cast<int>(h.scene.materials.size()) - 1;
+        return append_read(f, h.scene.materials, m);  // the light index: checked against the lights by check_materials
     }
     f.vec3("albedo", m.albedo);
     switch (kind) {
@@ -306,9 +313,7 @@ int add_material(SceneHandle& h, const nb::dict& d) {
             m.coat = coat;
         }
     }
-    f.finish();
-    h.scene.materials.push_back(m);
-    return static_cast<int>(h.scene.materials.size()) - 1;
+    return append_read(f, h.scene.materials, m);
 }
 
 using FloatVector = nb::ndarray<const float, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
@@ -435,9 +440,7 @@ int add_light(SceneHandle& h, const nb::dict& d) {
         case Kind::Triangles: l.model = with_area(f, read_triangles(f, power, h)); break;
         case Kind::Goniometric: l.model = read_goniometric(f, power, h); break;
     }
-    f.finish();
-    h.scene.lights.push_back(l);
-    return static_cast<int>(h.scene.lights.size()) - 1;
+    return append_read(f, h.scene.lights, l);
 }
 
 void set_environment(SceneHandle& h, nb::object rgb, const std::vector<float>& constant, float intensity,
