@@ -37,9 +37,15 @@ struct RenderOptions {
     CacheSettings cache;
 };
 
-// The options with a range, declared here once (render/setting_range.h): the scene reader's
-// render.spp, render.max_depth, render.aa_threshold and the command line's --threads read it.
-extern const SettingRange<RenderOptions> kRenderOptionRanges[4];
+// The options with a range, defined here once (render/setting_range.h) and sized by its
+// entries: the scene reader's render.spp, render.max_depth, render.aa_threshold and the
+// command line's --threads read it.
+inline constexpr SettingRange<RenderOptions> kRenderOptionRanges[] = {
+    {"spp", true, 1, 1 << 20, [](const RenderOptions& o) { return double(o.spp); }},
+    {"max_depth", true, 1, 1024, [](const RenderOptions& o) { return double(o.max_depth); }},
+    {"aa_threshold", false, 0, 1, [](const RenderOptions& o) { return double(o.aa_threshold); }},
+    {"threads", true, 0, 1024, [](const RenderOptions& o) { return double(o.threads); }},
+};
 
 // Throws std::invalid_argument naming the option (spp, cache.error, ...) and its range.
 void check_render_options(const RenderOptions& options);

@@ -175,6 +175,15 @@ Fields kind_fields(const nb::dict& d, const std::string& where, const char* what
     f.fail("unknown " + std::string(what) + " kind '" + name + "'");
 }
 
+// A material or light appended to the scene's list once every key of its dictionary was read
+// (else the error naming the unread one); its index in the list.
+template <class Item>
+int append_read(const Fields& f, std::vector<Item>& list, const Item& item) {
+    f.finish();
+    list.push_back(item);
+    return static_cast<int>(list.size()) - 1;
+}
+
 // GGX roughness: 0 (smooth) is taken as 1e-3, a very narrow lobe the same code samples.
 float roughness(Fields& f, const char* key) {
     constexpr float kSmooth = 1e-3f;
@@ -277,9 +286,7 @@ int add_material(SceneHandle& h, const nb::dict& d) {
     patina::Material m;
     if (kind == Kind::Emitter) {
         m.model = patina::Emitter{f.integer("light")};
-        f.finish();  // the light index is checked against the lights by check_materials
-        h.scene.materials.push_back(m);
-        return static_cast<int>(h.scene.materials.size()) - 1;
+        return append_read(f, h.scene.materials, m);  // the light index: checked against the lights by check_materials
     }
     f.vec3("albedo", m.albedo);
     switch (kind) {
@@ -306,9 +313,7 @@ int add_material(SceneHandle& h, const nb::dict& d) {
             m.coat = coat;
         }
     }
-    f.finish();
-    h.scene.materials.push_back(m);
-    return static_cast<int>(h.scene.materials.size()) - 1;
+    return append_read(f, h.scene.materials, m);
 }
 
 using FloatVector = nb::ndarray<const float, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
@@ -435,9 +440,7 @@ int add_light(SceneHandle& h, const nb::dict& d) {
         case Kind::Triangles: l.model = with_area(f, read_triangles(f, power, h)); break;
         case Kind::Goniometric: l.model = read_goniometric(f, power, h); break;
     }
-    f.finish();
-    h.scene.lights.push_back(l);
-    return static_cast<int>(h.scene.lights.size()) - 1;
+    return append_read(f, h.scene.lights, l);
 }
 
 void set_environment(SceneHandle& h, nb::object rgb, const std::vector<float>& constant, float intensity,
@@ -579,34 +582,58 @@ nb::object grid2_eval(const Grid2Handle& g, FloatVector x, FloatVector y, int wi
     return nb::cast(result);
 }
 
+// A sensor entry point's scene and points, after the check both entry points make (as many
+// normals as points).
+struct Sensors {
+    SceneHandle& handle;
+    const float* points;   // (count, 3)
+    const float* normals;  // (count, 3), unit
+    size_t count;
+};
+
+Sensors sensors_of(nb::object scene_obj, const Rows3& points, const Rows3& normals) {
+    SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
+    const size_t n = points.shape(0);
+    if (normals.shape(0) != n) throw std::invalid_argument("points and normals have different lengths");
+    return {h, points.data(), normals.data(), n};
+}
+
+// The scene prepared, then per_block(kernels, begin, end, scratch) over the sensors in blocks
+// of `block` points on `threads` threads, each block with its own scratch buffers, the GIL
+// released.
+template <class PerBlock>
+void for_sensor_blocks(const Sensors& sensors, size_t block, int width, int threads, PerBlock per_block) {
+    prepare_for_render(sensors.handle);
+    const patina::RenderKernels& k = patina::render_kernels_for(width);
+    nb::gil_scoped_release release;
+    patina::parallel_for(sensors.count, block, threads, [&](size_t b, size_t e) {
+        patina::PathScratch scratch;
+        per_block(k, b, e, scratch);
+    });
+}
+
 // Illuminance (lux) on sensors: points and unit normals (n, 3); split over threads. Direct
 // light; with max_depth > 0 also the light reflected by the scene, by sensor paths of the
 // vertices a camera path of that max_depth has (the scene file's convention, path_vertices).
 nb::object sensor_illuminance(nb::object scene_obj, Rows3 points, Rows3 normals, int samples, uint64_t seed,
                               int width, int threads, int max_depth) {
-    SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
-    const size_t n = points.shape(0);
-    if (normals.shape(0) != n) throw std::invalid_argument("points and normals have different lengths");
+    const Sensors sensors = sensors_of(scene_obj, points, normals);
     if (samples < 1) throw std::invalid_argument("samples must be at least 1");
     if (max_depth < 0) throw std::invalid_argument("max_depth must be at least 0 (0: direct light only)");
-    prepare_for_render(h);
     float* out;
-    auto result = new_array<float, 1>({n}, &out);
-    const patina::RenderKernels& k = patina::render_kernels_for(width);
-    {
-        nb::gil_scoped_release release;
-        patina::parallel_for(n, 256, threads, [&](size_t b, size_t e) {
-            patina::PathScratch scratch;
-            k.sensor_illuminance(h.scene, points.data(), normals.data(), b, e, samples, patina::stream_seed(seed), out,
-                                  scratch);
-            if (max_depth > 0) {
-                patina::IntegratorSettings settings;
-                settings.max_depth = patina::path_vertices(max_depth);
-                k.sensor_illuminance_indirect(h.scene, settings, points.data(), normals.data(), b, e, samples,
-                                              patina::stream_seed(seed), out, scratch);
-            }
-        });
-    }
+    auto result = new_array<float, 1>({sensors.count}, &out);
+    const patina::RenderScene& scene = sensors.handle.scene;
+    for_sensor_blocks(sensors, 256, width, threads, [&](const patina::RenderKernels& k, size_t b, size_t e,
+                                                        patina::PathScratch& scratch) {
+        k.sensor_illuminance(scene, sensors.points, sensors.normals, b, e, samples, patina::stream_seed(seed), out,
+                             scratch);
+        if (max_depth > 0) {
+            patina::IntegratorSettings settings;
+            settings.max_depth = patina::path_vertices(max_depth);
+            k.sensor_illuminance_indirect(scene, settings, sensors.points, sensors.normals, b, e, samples,
+                                          patina::stream_seed(seed), out, scratch);
+        }
+    });
     return nb::cast(result);
 }
 
@@ -614,27 +641,30 @@ nb::object sensor_illuminance(nb::object scene_obj, Rows3 points, Rows3 normals,
 // mean hit distance) of an R x R hemisphere at each point, paths of the scene file's max_depth.
 nb::object sensor_cache_points(nb::object scene_obj, Rows3 points, Rows3 normals, int resolution, uint64_t seed,
                                int width, int threads, int max_depth) {
-    SceneHandle& h = nb::cast<SceneHandle&>(scene_obj);
-    const size_t n = points.shape(0);
-    if (normals.shape(0) != n) throw std::invalid_argument("points and normals have different lengths");
+    const Sensors sensors = sensors_of(scene_obj, points, normals);
     if (resolution < 1 || resolution > 64) throw std::invalid_argument("resolution must lie in [1, 64]");
     if (max_depth < 1) throw std::invalid_argument("max_depth must be at least 1");
-    prepare_for_render(h);
     float *lux, *distance;
-    auto lux_array = new_array<float, 1>({n}, &lux);
-    auto distance_array = new_array<float, 1>({n}, &distance);
-    const patina::RenderKernels& k = patina::render_kernels_for(width);
+    auto lux_array = new_array<float, 1>({sensors.count}, &lux);
+    auto distance_array = new_array<float, 1>({sensors.count}, &distance);
     patina::IntegratorSettings settings;
     settings.max_depth = patina::path_vertices(max_depth);
-    {
-        nb::gil_scoped_release release;
-        patina::parallel_for(n, 16, threads, [&](size_t b, size_t e) {
-            patina::PathScratch scratch;
-            k.sensor_cache_points(h.scene, settings, points.data(), normals.data(), b, e, resolution,
-                                  patina::stream_seed(seed), lux, distance, scratch);
-        });
-    }
+    const patina::RenderScene& scene = sensors.handle.scene;
+    for_sensor_blocks(sensors, 16, width, threads, [&](const patina::RenderKernels& k, size_t b, size_t e,
+                                                       patina::PathScratch& scratch) {
+        k.sensor_cache_points(scene, settings, sensors.points, sensors.normals, b, e, resolution,
+                              patina::stream_seed(seed), lux, distance, scratch);
+    });
     return nb::make_tuple(lux_array, distance_array);
+}
+
+// A sensor entry point bound with the keywords both take: scene, points, normals, then its
+// own count (samples or resolution), seed, width, threads and max_depth.
+template <class Function>
+void def_sensor_entry(nb::module_& m, const char* name, Function function, nb::arg_v count, int max_depth,
+                      const char* doc) {
+    m.def(name, function, nb::arg("scene"), nb::arg("points"), nb::arg("normals"), count, nb::arg("seed") = 0,
+          nb::arg("width") = 0, nb::arg("threads") = 0, nb::arg("max_depth") = max_depth, doc);
 }
 
 }  // namespace
@@ -673,18 +703,16 @@ void bind_render(nb::module_& m) {
           nb::arg("first") = 0, nb::arg("scramble") = true,
           "The sampler's numbers of one stream: samples [first, first + n) x dimensions [0, dims).");
     m.def("aa_pattern", &aa_pattern, "The adaptive antialiasing's positions, comparisons, zone tables, weights.");
-    m.def("sensor_illuminance", &sensor_illuminance, nb::arg("scene"), nb::arg("points"), nb::arg("normals"),
-          nb::arg("samples") = 64, nb::arg("seed") = 0, nb::arg("width") = 0, nb::arg("threads") = 0,
-          nb::arg("max_depth") = 0,
-          "Illuminance in lux on sensors at points facing normals: direct by shadowed light sampling, and with "
-          "max_depth > 0 the light the scene reflects, by cosine-weighted sensor paths as long as a camera path of "
-          "that max_depth (the scene file's render.max_depth).");
-    m.def("sensor_cache_points", &sensor_cache_points, nb::arg("scene"), nb::arg("points"), nb::arg("normals"),
-          nb::arg("resolution") = 16, nb::arg("seed") = 0, nb::arg("width") = 0, nb::arg("threads") = 0,
-          nb::arg("max_depth") = 5,
-          "Radiance-cache points at sensors: (lux, harmonic mean hit distance), the indirect illuminance of a "
-          "resolution x resolution hemisphere of jittered texel rays at each point (paths as sensor_illuminance's "
-          "with that max_depth) and its texels' harmonic mean first-hit distance (inf when none hit).");
+    def_sensor_entry(
+        m, "sensor_illuminance", &sensor_illuminance, nb::arg("samples") = 64, 0,
+        "Illuminance in lux on sensors at points facing normals: direct by shadowed light sampling, and with "
+        "max_depth > 0 the light the scene reflects, by cosine-weighted sensor paths as long as a camera path of "
+        "that max_depth (the scene file's render.max_depth).");
+    def_sensor_entry(
+        m, "sensor_cache_points", &sensor_cache_points, nb::arg("resolution") = 16, 5,
+        "Radiance-cache points at sensors: (lux, harmonic mean hit distance), the indirect illuminance of a "
+        "resolution x resolution hemisphere of jittered texel rays at each point (paths as sensor_illuminance's "
+        "with that max_depth) and its texels' harmonic mean first-hit distance (inf when none hit).");
 }
 
 }  // namespace patina_py

@@ -30,8 +30,21 @@ struct CacheSettings {
 };
 
 // Each scene-file setting's allowed range (render.cache.<key> in a scene file, --cache-<key>
-// on the command line), declared here once (render/setting_range.h).
-extern const SettingRange<CacheSettings> kCacheSettingRanges[11];
+// on the command line), defined here once (render/setting_range.h) and sized by its entries, so
+// a setting added cannot leave a hand-kept count behind.
+inline constexpr SettingRange<CacheSettings> kCacheSettingRanges[] = {
+    {"resolution", true, 8, 128, [](const CacheSettings& s) { return double(s.resolution); }},
+    {"error", false, 0.01, 4, [](const CacheSettings& s) { return double(s.error); }},
+    {"guide", false, 0.05, 0.95, [](const CacheSettings& s) { return double(s.guide); }},
+    {"guide_bounces", true, 1, 16, [](const CacheSettings& s) { return double(s.guide_bounces); }},
+    {"block", true, 1, 16, [](const CacheSettings& s) { return double(s.block); }},
+    {"hit_paths", true, 1, 16, [](const CacheSettings& s) { return double(s.hit_paths); }},
+    {"light_samples", true, 1, 16, [](const CacheSettings& s) { return double(s.light_samples); }},
+    {"train_passes", true, 0, 8, [](const CacheSettings& s) { return double(s.train_passes); }},
+    {"train_spp", true, 1, 16, [](const CacheSettings& s) { return double(s.train_spp); }},
+    {"train_guide", false, 0.05, 0.95, [](const CacheSettings& s) { return double(s.train_guide); }},
+    {"train_bounces", true, 1, 16, [](const CacheSettings& s) { return double(s.train_bounces); }},
+};
 
 // train_max_depth, a knob of the low-level binding only (no scene key): its range
 constexpr int kCacheTrainMaxDepthMin = 0, kCacheTrainMaxDepthMax = 1024;

@@ -118,18 +118,14 @@ inline void draw_bsdf_numbers(const Wavefront& w, int depth, bool all_picks) {
 // its density and the BSDF's value there.
 inline void sample_materials(const Wavefront& w) {
     PathScratch& scratch = w.scratch;
-    const size_t np = scratch.sorted.size();
-    const float* vl = scratch.v_local.data();
-    const float* eta = scratch.eta.data();
-    float* ll = grow(scratch.l_local, 3 * np);
-    float* fv = grow(scratch.bsdf_rgb, 3 * np);
-    float* pdf = grow(scratch.pdf, np);
+    const MaterialBuffers buffers = material_buffers(scratch);
     const float* upick = scratch.u_pick.data();
     const float* u1 = scratch.uniform_u.data();
     const float* u2 = scratch.uniform_v.data();
     for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
-        material_sample(m, vl + 3 * a, eta + a, upick + a, u1 + a, u2 + a, ll + 3 * a, pdf + a, count);
-        material_eval(m, ll + 3 * a, vl + 3 * a, eta + a, fv + 3 * a, count);
+        const MaterialBuffers group = buffers.from(a);
+        material_sample(m, group.view_local, group.eta, upick + a, u1 + a, u2 + a, group.light_local, group.pdf, count);
+        material_eval(m, group.light_local, group.view_local, group.eta, group.bsdf_rgb, count);
     });
 }
 

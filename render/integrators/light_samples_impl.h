@@ -119,17 +119,13 @@ inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
     clear_shadow_rays(scratch);
     if (!w.can_sample_lights) return false;
     const size_t np = scratch.sorted.size();
-    const float* vl = scratch.v_local.data();
-    const float* eta = scratch.eta.data();
-    float* ll = grow(scratch.l_local, 3 * np);
-    float* fv = grow(scratch.bsdf_rgb, 3 * np);
-    float* pdf = grow(scratch.pdf, np);
+    const MaterialBuffers buffers = material_buffers(scratch);
     sample_lights(w.scene, scratch, depth, np);
     for (size_t q = 0; q < np; ++q) {
         const ShadingPoint& sp = scratch.sorted[q];
         const Vec3f ldir = load_vec3(scratch.light_samples.dir.data() + 3 * q);
         const Vec3f l = scratch.light_samples.usable[q] ? to_local(sp, ldir) : Vec3f{0, 0, 0};
-        store_vec3(l, ll + 3 * q);
+        store_vec3(l, buffers.light_local + 3 * q);
         // the light must be on the side the local direction says (shading normals bend)
         const float side = dot(ldir, sp.ng);
         const bool transmissive = transmits(w.scene.materials[sp.material]);
@@ -137,8 +133,9 @@ inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
     }
     scratch.timer.lap(Stage::LightToLocal);
     for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
-        material_eval(m, ll + 3 * a, vl + 3 * a, eta + a, fv + 3 * a, count);
-        material_pdf(m, ll + 3 * a, vl + 3 * a, eta + a, pdf + a, count);
+        const MaterialBuffers group = buffers.from(a);
+        material_eval(m, group.light_local, group.view_local, group.eta, group.bsdf_rgb, count);
+        material_pdf(m, group.light_local, group.view_local, group.eta, group.pdf, count);
     });
     return true;
 }

@@ -277,6 +277,29 @@ inline void for_material_groups(const Wavefront& w, Kernel kernel) {
     }
 }
 
+// The sorted points' buffers a material group's sample, eval and pdf kernels read (the view
+// direction in the point's frame, the index it sees) and write (a direction in the frame, the
+// BSDF's RGB value there, its density): the BSDF and the light samples both shade through
+// them, the written ones grown to the points.
+struct MaterialBuffers {
+    const float* view_local;  // 3 a point
+    const float* eta;
+    float* light_local;  // 3 a point: the sampled direction, or the light sample's
+    float* bsdf_rgb;     // 3 a point
+    float* pdf;
+
+    // the same buffers from sorted point `first` on (a material group's first point)
+    MaterialBuffers from(size_t first) const {
+        return {view_local + 3 * first, eta + first, light_local + 3 * first, bsdf_rgb + 3 * first, pdf + first};
+    }
+};
+
+inline MaterialBuffers material_buffers(PathScratch& scratch) {
+    const size_t np = scratch.sorted.size();
+    return {scratch.v_local.data(), scratch.eta.data(), grow(scratch.l_local, 3 * np), grow(scratch.bsdf_rgb, 3 * np),
+            grow(scratch.pdf, np)};
+}
+
 // The bounce's surface hits made shading points, grouped by material (group_by_material,
 // then fill_shading_points).
 inline void make_shading_points(const Wavefront& w, const HitBatch& hits, int depth) {

@@ -10,6 +10,7 @@ import numpy as np
 
 from patina.bench.records import Record, median_times, simd_widths
 from patina.fitting import fit, table_samples
+from patina.kernel_arrays import as_float32
 from patina.native import _core
 from patina.synthetic.analytic import merl_table
 from patina.table.brdf import Brdf
@@ -22,8 +23,7 @@ def bench_fit(repeat: int, quick: bool) -> list[Record]:
     params = [0.3, 0.5, 0.2, 0.15, 0.04, 0.06, 0.08]
 
     def model(wi: np.ndarray, wo: np.ndarray) -> np.ndarray:
-        as32 = functools.partial(np.ascontiguousarray, dtype=np.float32)
-        return _core.mixture_eval("ggx", params, as32(wi), as32(wo)).astype(np.float64)
+        return _core.mixture_eval("ggx", params, as_float32(wi), as_float32(wo)).astype(np.float64)
 
     brdf = Brdf(table_from_data(merl_table(model)), "MERL-sized GGX + Lambert", "bench")
     samples = table_samples(brdf)

@@ -14,6 +14,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from patina.kernel_arrays import as_float32
 from patina.native import _core
 
 RGB = tuple[float, float, float]
@@ -71,13 +72,12 @@ class AnalyticMaterial:
     def eval(self, wi: np.ndarray, wo: np.ndarray) -> np.ndarray:
         """(n, 3) local-frame direction pairs -> (n, 3) RGB BRDF values in 1/sr (no cosine)."""
         kind, params = self.kernel_params()
-        as32 = lambda a: np.ascontiguousarray(a, dtype=np.float32)  # noqa: E731
-        out = np.asarray(_core.mixture_eval(kind, params, as32(wi), as32(wo)), np.float64)
+        out = np.asarray(_core.mixture_eval(kind, params, as_float32(wi), as_float32(wo)), np.float64)
         if self.two_sided:  # the back side mirrors the front: evaluate with both directions flipped to +z
             back = (wi[:, 2] < 0) & (wo[:, 2] < 0)
             if back.any():
                 flip = np.array([1.0, 1.0, -1.0])
-                out[back] = _core.mixture_eval(kind, params, as32(wi[back] * flip), as32(wo[back] * flip))
+                out[back] = _core.mixture_eval(kind, params, as_float32(wi[back] * flip), as_float32(wo[back] * flip))
         return out
 
     def as_json(self) -> dict:

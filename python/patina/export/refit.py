@@ -24,6 +24,7 @@ from patina.export.material import AnalyticMaterial, Coat, Lobe
 from patina.export.source import Source, sample_pairs
 from patina.fitting.metrics import colour_differences, relative_errors
 from patina.fitting.samples import sample_measure, subset, table_samples
+from patina.kernel_arrays import as_float32
 from patina.native import _core
 from patina.progress import Progress
 
@@ -113,8 +114,7 @@ def refit(source: Source, name: str, reference: Reference, progress: bool = Fals
     target = np.log1p(np.maximum(values, 0.0) * weight)
     if not np.all(np.isfinite(target)):
         raise RefitError("the source evaluates to non-finite values")
-    as32 = lambda a: np.ascontiguousarray(a, dtype=np.float32)  # noqa: E731
-    wi32, wo32 = as32(wi), as32(wo)
+    wi32, wo32 = as_float32(wi), as_float32(wo)
     kind = "ggx+coat" if coat_eta else "ggx"
     log_alpha = (math.log10(ALPHA_RANGE[0]), math.log10(ALPHA_RANGE[1]))
     lower = [0.0] * 3 + [log_alpha[0]] + [0.0] * 3 + ([log_alpha[0]] if coat_eta else [])

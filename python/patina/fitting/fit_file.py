@@ -11,6 +11,7 @@ from patina.atomic import write_text
 from patina.errors import FormatError
 from patina.fitting.models import ALIASES, MODELS, ParameterSpace
 from patina.fitting.search import FitResult
+from patina.kernel_arrays import as_float32
 from patina.native import _core
 
 
@@ -46,8 +47,9 @@ class FittedModel:
             raise ValueError("parameters must be finite numbers")
 
     def eval(self, wi: np.ndarray, wo: np.ndarray) -> np.ndarray:
-        as32 = lambda a: np.ascontiguousarray(a, dtype=np.float32)  # noqa: E731
-        return _core.mixture_eval(self.space.kernel_name, self.values, as32(wi), as32(wo), 0, self.space.per_channel)
+        return _core.mixture_eval(
+            self.space.kernel_name, self.values, as_float32(wi), as_float32(wo), 0, self.space.per_channel
+        )
 
 
 MAX_FIT_BYTES = 1 << 20  # a fit.json is a few hundred bytes; more is not one

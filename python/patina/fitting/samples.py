@@ -16,6 +16,7 @@ import math
 
 import numpy as np
 
+from patina.kernel_arrays import as_float32
 from patina.table.angles import angles_to_directions, halfdiff_to_directions
 from patina.table.brdf import Brdf
 from patina.table.spectral import as_linear_srgb
@@ -67,8 +68,7 @@ def table_samples(brdf: Brdf, max_theta_deg: float = 80.0) -> tuple[np.ndarray, 
     values = brdf.values.reshape(-1, 3).astype(np.float64)
     keep &= np.isfinite(values).all(axis=1)
     weight = wi[keep, 2] * wo[keep, 2]
-    as32 = lambda a: np.ascontiguousarray(a, dtype=np.float32)  # noqa: E731
-    return as32(wi[keep]), as32(wo[keep]), as32(values[keep]), as32(weight)
+    return as_float32(wi[keep]), as_float32(wo[keep]), as_float32(values[keep]), as_float32(weight)
 
 
 def sample_measure(brdf: Brdf, max_theta_deg: float = 80.0) -> np.ndarray:
