@@ -29,6 +29,7 @@ struct CachePointBuild {
     RayQueue rays;                // the rays of a building chunk, of the holes of a chunk, of a split
     std::vector<PathResult> results;  // what the path tracer returned for them
     std::vector<float> textures;      // a chunk's reconstructed hemispheres: kChunk x R^2 x 3
+    std::vector<float> luminances;    // bound_isolated_texels: one hemisphere's texels' luminance
 };
 
 }  // namespace cache

@@ -33,6 +33,7 @@
 #include "render/cache/hemisphere.h"
 #include "render/cache/reprojection_impl.h"
 #include "render/cache/surfels.h"
+#include "render/cache/texel_outliers.h"
 #include "render/integrators/integrator.h"
 #include "render/integrators/stage_timer.h"
 #include "render/samplers/rng.h"
@@ -170,7 +171,8 @@ inline void build_cache_points(const CacheSettings& cfg, float eps, const Query*
             store_vec3(m, a.hit_normal.data() + 3 * t);
         }
         split_glossy_hits(cache, trace, [&](int32_t w) { return chunk[w / T].radiance.data() + 3 * (w % T); });
-        cache.lap(Stage::CacheBuild);  // the glossy hits' paths: building too
+        for (size_t k = k0; k < k1; ++k) bound_isolated_texels(chunk[k - k0].radiance.data(), R, build.luminances);
+        cache.lap(Stage::CacheBuild);  // the glossy hits' paths and the bound: building too
     }
     for (size_t k = 0; k < build.pending.size(); ++k) {
         CachePoint& a = build.points[first + k];
@@ -453,6 +455,9 @@ inline CacheCounts reconstruct_hemispheres(const CacheSettings& cfg, float eps, 
             for (size_t r = 0; r < build.rays.size(); ++r)
                 std::copy(build.results[r].rgb, build.results[r].rgb + 3,
                           tex + 3 * static_cast<size_t>(build.rays.where[r]));
+            // a traced hole is one path sample too, shared by every member of the query
+            for (size_t q = c0; q < c1; ++q)
+                if (!build.own[q]) bound_isolated_texels(tex + (q - c0) * 3 * T, R, build.luminances);
         }
         cache.lap(Stage::CacheHoles);
         for (size_t q = c0; q < c1; ++q) consume(q, tex + (q - c0) * 3 * T);
