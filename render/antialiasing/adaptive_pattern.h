@@ -172,8 +172,33 @@ constexpr bool in_strip(int s, int j) {
     return u >= lo - 1e-9 && u <= hi + 1e-9;
 }
 
+// Do `zones` form one run of neighbouring zones (and at least one)?
+constexpr bool one_run(int zones) {
+    if (zones == 0) return false;
+    const int low = zones & -zones;  // the lowest zone's bit
+    return ((zones + low) & zones) == 0;
+}
+
+// Without level 2 (a pixel whose edges the geometric pre-pass placed in one run of
+// neighbouring zones, render/antialiasing/edge_hints.h: it skips E..H and traces only the
+// run's zigzags, the pre-pass having said where the edges cross, which is what level 2 is
+// for), the strips are shared thus: a refined strip by its zigzag (and the corners on its
+// sides, for the outer strips), a strip left of the run by the corners A, C and one right of
+// it by B, D (every edge lies in the run, so those strips are on the corners' side).
+constexpr bool in_direct_strip(int s, int zones, int j) {
+    if (s >= kCorners && s < kCorners + kLevel2) return false;  // no level 2
+    if (s >= kCorners + kLevel2) return in_pattern(s, zones) && in_strip(s, j);
+    if ((zones >> j) & 1) return in_strip(s, j);  // a refined strip: the corners on its sides
+    const bool left = (zones >> j) != 0;          // a refined zone lies right of strip j
+    return left ? s % 2 == 0 : s % 2 == 1;        // A, C or B, D
+}
+
+// The sample's share of strip j: its Voronoi cell among the strip's samples (`Direct`: the
+// pattern without level 2), clipped to the strip.
+template <bool Direct>
 constexpr double strip_weight(int s, int zones, int j) {
-    if (!in_pattern(s, zones) || !in_strip(s, j)) return 0;
+    const auto member = [&](int o) { return Direct ? in_direct_strip(o, zones, j) : in_pattern(o, zones) && in_strip(o, j); };
+    if (!member(s)) return 0;
     Polygon cell;
     cell.p[0] = {j * kZoneWidth, 0};
     cell.p[1] = {(j + 1) * kZoneWidth, 0};
@@ -181,35 +206,38 @@ constexpr double strip_weight(int s, int zones, int j) {
     cell.p[3] = {j * kZoneWidth, 1};
     cell.n = 4;
     for (int o = 0; o < kMaxSamples; ++o)
-        if (o != s && in_pattern(o, zones) && in_strip(o, j))
-            cell = clip_nearer(cell, sample_point(s), sample_point(o));
+        if (o != s && member(o)) cell = clip_nearer(cell, sample_point(s), sample_point(o));
     return area(cell);
 }
 
-constexpr double pattern_weight(int s, int zones) {
-    double w = 0;
-    for (int j = 0; j < kZones; ++j) w += strip_weight(s, zones, j);
-    return w;
-}
-
-template <int Zones>
+template <int Zones, bool Direct>
 constexpr std::array<float, kMaxSamples> pattern_weights() {
     std::array<float, kMaxSamples> w{};
-    for (int s = 0; s < kMaxSamples; ++s) w[s] = static_cast<float>(pattern_weight(s, Zones));
+    if (Direct && !one_run(Zones)) return w;  // never used: such a pixel traces level 2
+    for (int s = 0; s < kMaxSamples; ++s) {
+        double sum = 0;
+        for (int j = 0; j < kZones; ++j) sum += strip_weight<Direct>(s, Zones, j);
+        w[s] = static_cast<float>(sum);
+    }
     return w;
 }
 
 // Each pattern's weights are a constant expression of their own (one evaluation per
 // pattern keeps every evaluation well inside the compilers' constexpr step limits).
-template <int... Z>
+template <bool Direct, int... Z>
 constexpr std::array<std::array<float, kMaxSamples>, kPatterns> make_weights(std::integer_sequence<int, Z...>) {
-    return {pattern_weights<Z>()...};
+    return {pattern_weights<Z, Direct>()...};
 }
 
 // kWeights[zones][s]: the weight of sample s when level 2 was traced and `zones` refined
 // (zones = 0: level 2 found nothing to refine; its eight samples share the pixel).
 inline constexpr std::array<std::array<float, kMaxSamples>, kPatterns> kWeights =
-    make_weights(std::make_integer_sequence<int, kPatterns>{});
+    make_weights<false>(std::make_integer_sequence<int, kPatterns>{});
+
+// kDirectWeights[zones][s]: the same when level 2 was skipped and the run `zones` refined
+// (E..H weigh 0; all zero where `zones` is not one run). Each pattern's weights sum to 1.
+inline constexpr std::array<std::array<float, kMaxSamples>, kPatterns> kDirectWeights =
+    make_weights<true>(std::make_integer_sequence<int, kPatterns>{});
 
 inline constexpr float kCornerWeightLevel1 = 0.25f;  // no discontinuity: the mean of the corners
 

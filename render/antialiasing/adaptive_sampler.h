@@ -9,7 +9,9 @@
 //      feature edge of the geometric pre-pass crosses (render/antialiasing/edge_hints.h) is refined even
 //      when its corners agree;
 //   2. E, F, G, H of every discontinuous pixel (one packet of four), then the three fours
-//      of comparisons give a 4-bit mask each, and the zone table the zones to refine;
+//      of comparisons give a 4-bit mask each, and the zone table the zones to refine; a
+//      pixel whose edges the pre-pass placed in one run of up to three zones skips this
+//      round: those zones are refined at once (weights: aa::kDirectWeights);
 //   3. one zigzag of four through each flagged zone (at most five a pixel), the zones the
 //      pre-pass's edges cross included.
 // Every position's integrator sample is added with its precomputed weight. A pixel that a
@@ -99,13 +101,13 @@ struct AaStats {
     std::vector<uint8_t> rays;   // the pixel's own rays: 1 (its share of the corners) + 4 (level 2) + 4 a zigzag
     // The decisions of the first pass this job rendered of the pixel's tile, kept for its
     // later passes (aa_pattern_code; 0: none yet, so decided anew). Empty: none kept.
-    std::vector<uint8_t> pattern;
+    std::vector<uint16_t> pattern;
 };
 
-// A pixel's decisions in one byte: its level-3 zones (bits 0-4), the rotated pattern (bit
-// 5) and its level 1-3 (bits 6-7, so a decided pixel is never 0).
-inline uint8_t aa_pattern_code(int level, bool vertical, uint8_t zones) {
-    return static_cast<uint8_t>(level << 6 | (vertical ? 1 << 5 : 0) | zones);
+// A pixel's decisions: its level-3 zones (bits 0-4), the rotated pattern (bit 5), its level
+// 1-3 (bits 6-7, so a decided pixel is never 0) and whether it skipped level 2 (bit 8).
+inline uint16_t aa_pattern_code(int level, bool vertical, uint8_t zones, bool direct) {
+    return static_cast<uint16_t>((direct ? 1 << 8 : 0) | level << 6 | (vertical ? 1 << 5 : 0) | zones);
 }
 
 class AdaptiveSampler : public PixelSampler {
@@ -131,6 +133,7 @@ private:
         bool vertical = false;  // the pattern is rotated
         uint8_t zones = 0;      // level-3 zones
         uint8_t hint = 0;       // the zones a visible feature edge crosses (the geometric pre-pass)
+        bool direct = false;    // level 2 skipped: the hint's one run of zones refined at once
         int level = 1;
         int first = -1;         // index of its level-2 (then level-3) results in m_refined
         int spot = -1;          // its highlight piece in m_hints->spots (render/antialiasing/highlights.h), -1 none
@@ -143,6 +146,7 @@ private:
     int corner_of(const PixelState& p, int canonical) const;  // index into m_corners
     void finish();
     void classify_corners();       // round 1: each pixel's level and orientation from its corners
+    void queue_refinement(int i);  // a refined pixel into round 2, or round 3 at once (level 2 skipped)
     void refine_level2(const PathResult* signal, size_t n);  // round 2: each level-2 pixel's zones from E-H
     void recall_pattern();         // a later pass: the decisions kept from the first
     void record_pixel(const PixelState& p, bool stats);  // its decisions kept; stats: its level and rays too

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "render/antialiasing/adaptive_pattern.h"
 #include "render/antialiasing/adaptive_sampler.h"
@@ -88,6 +89,29 @@ TEST(AdaptivePattern, ComparisonsPairALevelTwoPointWithItsNeighbourOrACornerOnIt
         }
 }
 
+// Each sample's share of the pixel by a brute-force count on a 400 x 400 grid: each point
+// goes to the nearest sample among the members of its strip, member(s, strip)
+template <class Member>
+std::vector<double> nearest_sample_areas(const Member& member) {
+    constexpr int n = 400;
+    std::vector<double> count(aa::kMaxSamples, 0.0);
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            const double u = (i + 0.5) / n, v = (j + 0.5) / n;
+            const int strip = static_cast<int>(u / aa::kZoneWidth);
+            int best = -1;
+            double bd = 1e9;
+            for (int s = 0; s < aa::kMaxSamples; ++s) {
+                if (!member(s, strip)) continue;
+                const aa::Point2 p = aa::sample_point(s);
+                const double d = (p.u - u) * (p.u - u) + (p.v - v) * (p.v - v);
+                if (d < bd) bd = d, best = s;
+            }
+            count[best] += 1.0 / (n * n);
+        }
+    return count;
+}
+
 TEST(AdaptivePattern, WeightsAreVoronoiAreasWithinTheStripsSummingToOnePerPattern) {
     for (int z = 0; z < aa::kPatterns; ++z) {
         double sum = 0;
@@ -102,24 +126,44 @@ TEST(AdaptivePattern, WeightsAreVoronoiAreasWithinTheStripsSummingToOnePerPatter
     // against a brute-force count on a fine grid, for a few patterns: each point of the
     // pixel goes to the nearest sample among those of its strip
     for (const int z : {0, 1, 4, 21, 31}) {
-        constexpr int n = 400;
-        double count[aa::kMaxSamples] = {};
-        for (int i = 0; i < n; ++i)
-            for (int j = 0; j < n; ++j) {
-                const double u = (i + 0.5) / n, v = (j + 0.5) / n;
-                const int strip = static_cast<int>(u / aa::kZoneWidth);
-                int best = -1;
-                double bd = 1e9;
-                for (int s = 0; s < aa::kMaxSamples; ++s) {
-                    if (!aa::in_pattern(s, z) || !aa::in_strip(s, strip)) continue;
-                    const aa::Point2 p = aa::sample_point(s);
-                    const double d = (p.u - u) * (p.u - u) + (p.v - v) * (p.v - v);
-                    if (d < bd) bd = d, best = s;
-                }
-                count[best] += 1.0 / (n * n);
-            }
+        const std::vector<double> count =
+            nearest_sample_areas([&](int s, int strip) { return aa::in_pattern(s, z) && aa::in_strip(s, strip); });
         for (int s = 0; s < aa::kMaxSamples; ++s) EXPECT_NEAR(aa::kWeights[z][s], count[s], 3e-3) << z << " " << s;
     }
+}
+
+TEST(AdaptivePattern, DirectWeightsAreVoronoiAreasWithinTheStripsWithoutLevelTwo) {
+    for (int z = 0; z < aa::kPatterns; ++z) {
+        if (!aa::one_run(z)) {
+            for (int s = 0; s < aa::kMaxSamples; ++s) EXPECT_EQ(aa::kDirectWeights[z][s], 0.0f) << z;
+            continue;
+        }
+        double sum = 0;
+        for (int s = 0; s < aa::kMaxSamples; ++s) {
+            const float w = aa::kDirectWeights[z][s];
+            const bool level2 = s >= aa::kCorners && s < aa::kCorners + aa::kLevel2;
+            EXPECT_EQ(w > 0, aa::in_pattern(s, z) && !level2) << z << " " << s;
+            sum += w;
+        }
+        EXPECT_NEAR(sum, 1.0, 1e-6) << z;
+    }
+    for (const int z : {1, 2, 6, 14, 24, 31}) {
+        const std::vector<double> count = nearest_sample_areas([&](int s, int strip) {
+            const bool refined = (z >> strip) & 1, left = (z >> strip) != 0;
+            const aa::Point2 p = aa::sample_point(s);
+            if (s < aa::kCorners) return refined ? aa::in_strip(s, strip) : left ? p.u == 0 : p.u == 1;
+            const bool zigzag = s >= aa::kCorners + aa::kLevel2;
+            return refined && zigzag && aa::in_pattern(s, z) && aa::in_strip(s, strip);
+        });
+        for (int s = 0; s < aa::kMaxSamples; ++s)
+            EXPECT_NEAR(aa::kDirectWeights[z][s], count[s], 3e-3) << z << " " << s;
+    }
+}
+
+TEST(AdaptivePattern, OneRunIsNeighbouringZones) {
+    EXPECT_FALSE(aa::one_run(0));
+    for (const int z : {1, 2, 4, 8, 16, 3, 6, 12, 24, 7, 14, 28, 15, 30, 31}) EXPECT_TRUE(aa::one_run(z)) << z;
+    for (const int z : {5, 9, 17, 10, 11, 13, 19, 21, 27, 29}) EXPECT_FALSE(aa::one_run(z)) << z;
 }
 
 TEST(AdaptivePattern, MirrorSymmetricLevelTwoWeights) {
@@ -355,9 +399,11 @@ TEST(AdaptiveSampler, AThinLineBetweenTheRaysIsFoundThroughTheGeometricPrePass) 
         EXPECT_EQ(blind.stats.level[i], 1);
         EXPECT_EQ(a[i], 0.0f);
         EXPECT_EQ(seen.stats.level[i], 3);
-        EXPECT_EQ(seen.stats.rays[i], 9);  // one zigzag: both sides of the line are in zone 2
+        // one zigzag, level 2 skipped: both sides of the line are in zone 2, which the
+        // pre-pass says
+        EXPECT_EQ(seen.stats.rays[i], 5);
         // the line's share is the weights of the zigzag's rays on it (u = 0.48 and 0.52)
-        const auto& w = aa::kWeights[1 << 2];
+        const auto& w = aa::kDirectWeights[1 << 2];
         const int first = aa::kCorners + aa::kLevel2 + 2 * aa::kZigzag;
         EXPECT_NEAR(b[i], w[first + 1] + w[first + 2], 1e-6);
         EXPECT_NEAR(b[i], 0.1f, 0.1f);  // coverage 0.1, to the zigzag's resolution
@@ -417,10 +463,11 @@ TEST(AdaptiveSampler, ASubPixelHighlightIsIntegratedByItsPiecesGrid) {
     EXPECT_NEAR(image(c)[i], 1.0f, 1e-5);
 }
 
-// The decisions are the same in every pass, so a later pass keeps the first's: it traces
-// the same positions with the same keys as a pass that decides anew, gives the same sums,
-// and asks for no signal
-TEST(AdaptiveSampler, ALaterPassKeepsTheFirstPassDecisionsAndTracesNoSignal) {
+namespace {
+
+// the oblique edge x + 0.3 y = 3.3 rendered in two passes that keep the first pass's
+// decisions and in two that decide anew: the same positions, keys and sums
+void check_later_pass(const patina::AaEdgeHints* hints) {
     const float edge = 3.3f;
     const HitFn hit = [&](float x, float y) { return x + 0.3f * y < edge; };
     const RgbFn rgb = [&](float x, float y) { return (x + 0.3f * y < edge ? 1.0f : 0.0f) + 0.1f * noise(x, y); };
@@ -432,8 +479,8 @@ TEST(AdaptiveSampler, ALaterPassKeepsTheFirstPassDecisionsAndTracesNoSignal) {
         r->stats.rays.assign(64, 0);
     }
     kept.stats.pattern.assign(64, 0);  // anew: no pattern kept, every pass decides
-    KnownSignal keeps(kept.film, scene, kept.stats, hit, signal, nullptr);
-    KnownSignal decides(anew.film, scene, anew.stats, hit, signal, nullptr);
+    KnownSignal keeps(kept.film, scene, kept.stats, hit, signal, hints);
+    KnownSignal decides(anew.film, scene, anew.stats, hit, signal, hints);
     run_pass(kept, keeps, 0, hit, rgb);
     run_pass(anew, decides, 0, hit, rgb);
     const size_t first_pass_signal = keeps.signal_positions;
@@ -456,6 +503,60 @@ TEST(AdaptiveSampler, ALaterPassKeepsTheFirstPassDecisionsAndTracesNoSignal) {
     int refined = 0;
     for (int i = 0; i < 64; ++i) refined += kept.stats.level[i] == 3;
     EXPECT_GT(refined, 0);  // the oblique edge was refined: the kept decisions are not all level 1
+}
+
+}  // namespace
+
+// An edge that the corners see and the pre-pass places (x = 3.3: zone 1 of column 3) is
+// refined without level 2: the zigzag of zone 1 alone, no ray on the middle row, and its
+// coverage estimated as with level 2
+TEST(AdaptiveSampler, AnEdgeThePrePassPlacesSkipsLevelTwo) {
+    const float edge = 3.3f;
+    const HitFn hit = [&](float x, float) { return x < edge; };
+    const RgbFn rgb = [&](float x, float) { return x < edge ? 1.0f : 0.0f; };
+    patina::AaEdgeHints hints;
+    hints.resize(8, 8);
+    patina::rasterise_edge(hints, edge, 0.0f, edge, 8.0f, 2.0f, 2.0f, 0.5f, 0.5f);
+    TileRun r;
+    run_tile(r, hit, rgb, nullptr, &hints);
+    const std::vector<float> img = image(r);
+    for (int y = 1; y < 6; ++y) {
+        const int i = y * 8 + 3;
+        EXPECT_EQ(r.stats.level[i], 3);
+        EXPECT_EQ(r.stats.rays[i], 5);
+        EXPECT_NEAR(img[i], 0.3f, 0.04f);
+        EXPECT_EQ(r.stats.level[i - 1], 1);
+        EXPECT_EQ(r.stats.level[i + 1], 1);
+    }
+    for (const auto& c : r.traced) EXPECT_NE(c.film_y, std::floor(c.film_y) + 0.5f) << c.film_x;  // no E..H
+}
+
+// A pixel crossed by edges in four zones (crowded: several edges) traces level 2 as before:
+// its middle row tells the strips apart
+TEST(AdaptiveSampler, APixelCrowdedWithEdgesKeepsLevelTwo) {
+    const auto on = [](float x, float) { return std::fmod(x, 0.2f) < 0.1f ? 1.0f : 0.0f; };
+    const auto hit = [](float, float) { return true; };
+    patina::AaEdgeHints hints;
+    hints.resize(8, 8);
+    for (const float x : {3.1f, 3.3f, 3.5f, 3.7f})
+        patina::rasterise_edge(hints, x, 0.0f, x, 8.0f, 2.0f, 2.0f, 0.5f, 0.5f);
+    TileRun r;
+    run_tile(r, hit, on, nullptr, &hints);
+    for (int y = 1; y < 6; ++y) {
+        EXPECT_EQ(r.stats.level[y * 8 + 3], 3);
+        EXPECT_GE(r.stats.rays[y * 8 + 3], 1 + aa::kLevel2 + 4 * aa::kZigzag);
+    }
+}
+
+// The decisions are the same in every pass, so a later pass keeps the first's: it traces
+// the same positions with the same keys as a pass that decides anew, gives the same sums,
+// and asks for no signal; with the pre-pass's hints (level 2 skipped) too
+TEST(AdaptiveSampler, ALaterPassKeepsTheFirstPassDecisionsAndTracesNoSignal) {
+    patina::AaEdgeHints hints;
+    hints.resize(8, 8);
+    patina::rasterise_edge(hints, 3.3f, 0.0f, 3.3f - 0.3f * 8, 8.0f, 2.0f, 2.0f, 0.5f, 0.5f);
+    check_later_pass(nullptr);
+    check_later_pass(&hints);
 }
 
 // A level-1 pixel adds its corners' terms, each weighted once for the four pixels sharing it:
