@@ -4,10 +4,9 @@
 // cache's own rays.
 //   cache         add_cached_indirect: a hemisphere reconstructed (holes traced) per block
 //                 of close first-hit points, integrated by each pixel against its BRDF N
-//                 texels at a time -- or, for a lobe too narrow for the texels, by
-//                 kLookupSamples BRDF samples looked up in the texture; the path then only
-//                 looks for emission at its next hit (the direct light's BRDF-sampling half).
-//                 Glass, clear coats and near-mirrors are left to the path tracer.
+//                 texels at a time; the path then only looks for emission at its next hit
+//                 (the direct light's BRDF-sampling half). Glass, clear coats and every lobe
+//                 narrower than two texels are left to the path tracer.
 //   cache-guided  render/cache/guided_stages_impl.h: the cache points only, no reconstruction
 #pragma once
 
@@ -33,38 +32,49 @@ PATINA_BEGIN_TARGET
 namespace cache {
 using namespace kernel_width;
 
-constexpr int kLookupSamples = 32;
+// A texel's width in radians, about sqrt(2 pi) / R for an R x R hemisphere.
+inline float texel_width(int resolution) { return 2.5066283f / static_cast<float>(resolution); }
 
-// Whether the material's lobes are wide enough to be integrated over the texels (each about
-// sqrt(2 pi) / R radians across): at least two texels wide, and no clear coat.
+// Whether the material's lobes are wide enough to be integrated over the texels: at least
+// two texels wide, and no clear coat.
 inline bool texel_resolvable(const Material& m, int resolution) {
     if (m.coat) return false;
-    const float texel = 2.5066283f / static_cast<float>(resolution);
+    const float texel = texel_width(resolution);
     const std::optional<float> alpha = reflection_alpha(m);
     return alpha && *alpha >= 2 * texel;
 }
 
 // Whether `cache` leaves a material's indirect light to the path tracer (the path goes on
-// from the first hit as in `path`): glass, a clear coat and lobes narrower than half a
-// texel (a near-mirror). Looked up in the texture such a lobe would see one texel -- one
-// path sample, shared by the pixel's samples and its neighbours -- where `path` averages
-// one sample per camera sample: the lookup's error would be many times path's (on the
-// studio's car-paint ball 16x at 16 spp).
+// from the first hit as in `path`): glass, a clear coat and every lobe the texels cannot
+// resolve (narrower than two texels). Looked up in the texture such a lobe sees a few
+// texels -- a few path samples, shared by the pixel's samples and its neighbours -- where
+// `path` averages one sample per camera sample: the lookup's error was many times path's
+// (on the studio's car-paint ball 16x at 16 spp; on the room's glossy floor, a lobe of one
+// to two texels, 1.8x path's at 16 spp, 32 BRDF samples looked up per pixel:
+// docs/radiance-cache.md, "The room and the car").
 inline bool left_to_path(const Material& m, int resolution) {
     if (transmits(m) || m.coat) return true;
-    const float half_texel = 0.5f * 2.5066283f / static_cast<float>(resolution);
+    const float texel = texel_width(resolution);
     const std::optional<float> alpha = reflection_alpha(m);
-    return alpha && *alpha < half_texel;
+    return alpha && *alpha < 2 * texel;
 }
 
 // Of the materials left to the path tracer, those whose first bounce the cache splits into
-// kSplitPaths paths of their own BRDF sampling (all but glass): the error of these pixels
-// is the indirect light path's one sample per camera sample finds, while the cache makes
-// the rest of the image cheap; splitting spends the samples where the error is. (4 and 8
-// measured alike on the studio and the IES interior, 16 slower: docs/radiance-cache.md.)
-constexpr int kSplitPaths = 4;
+// paths of their own BRDF sampling (all but glass): the error of these pixels is the
+// indirect light path's one sample per camera sample finds, while the cache makes the rest
+// of the image cheap; splitting spends the samples where the error is. A clear coat or a
+// near-mirror (narrower than half a texel) takes kSplitPaths (4 and 8 measured alike on the
+// studio and the IES interior, 16 slower); a lobe between half a texel and two texels
+// kBroadSplitPaths: on the room's floor, 30 % of its pixels, 1 / 2 / 4 paths gave
+// biased_vs_path 2.65 / 2.55 / 2.14, the paths of a wider lobe reaching the whole room
+// (docs/radiance-cache.md, "The room and the car").
+constexpr int kSplitPaths = 4, kBroadSplitPaths = 1;
 inline bool split_by_paths(const Material& m, int resolution) {
     return !transmits(m) && left_to_path(m, resolution);
+}
+inline size_t split_paths(const Material& m, int resolution) {
+    const std::optional<float> alpha = reflection_alpha(m);
+    return !m.coat && alpha && *alpha >= 0.5f * texel_width(resolution) ? kBroadSplitPaths : kSplitPaths;
 }
 
 // Whether the integrator's first-hit points of material m take their light from the cache's
@@ -72,15 +82,6 @@ inline bool split_by_paths(const Material& m, int resolution) {
 // guide the texels resolve.
 inline bool served_by_cache(IntegratorMode mode, const Material& m, int resolution) {
     return mode == IntegratorMode::Cache ? !left_to_path(m, resolution) : texel_resolvable(m, resolution);
-}
-
-// The texel of local direction l (z > 0) in an R x R hemisphere.
-inline int32_t texel_of(float x, float y, float z, int R) {
-    float u, v;
-    hemisphere_to_square(x, y, z, u, v);
-    const int i = std::min(std::max(static_cast<int>(u * R), 0), R - 1);
-    const int j = std::min(std::max(static_cast<int>(v * R), 0), R - 1);
-    return j * R + i;
 }
 
 // Points share work at two levels when they have the same material, normals within
@@ -358,7 +359,7 @@ inline CacheState& start_cache_stage(const W& w) {
 }
 
 // cache: the first-hit points of split_by_paths materials, each its indirect light from
-// kSplitPaths paths along its BRDF's own samples (traced by the path tracer as the cache's
+// split_paths paths along its BRDF's own samples (traced by the path tracer as the cache's
 // rays are: the emission they see directly is the direct light's, left to the outer path's
 // next hit with its MIS weight). An unbiased estimate: path's with its first bounce split.
 template <class W, class Tracer>
@@ -368,20 +369,20 @@ inline void split_narrow_lobes(const W& w, Tracer& trace) {
     HemisphereIntegration& integration = cache.integration;
     CachePointBuild& build = cache.build;
     const int R = w.settings.cache.resolution;
-    const size_t K = kSplitPaths;
     build.rays.clear();
     integration.split_weights.clear();
-    float* vv = grow(integration.views, 3 * K);
-    float* ee = grow(integration.etas, K);
-    float* u0 = grow(integration.u_pick, K);
-    float* u1 = grow(integration.uniform_u, K);
-    float* u2 = grow(integration.uniform_v, K);
-    float* l = grow(integration.lobe_directions, 3 * K);
-    float* pdf = grow(integration.pdfs, K);
     const size_t rays_before = cache.inner.rays_traced;
     for (size_t k = 0; k < w.scene.materials.size(); ++k) {
         const Material& m = w.scene.materials[k];
         if (!split_by_paths(m, R)) continue;
+        const size_t K = split_paths(m, R);
+        float* vv = grow(integration.views, 3 * K);
+        float* ee = grow(integration.etas, K);
+        float* u0 = grow(integration.u_pick, K);
+        float* u1 = grow(integration.uniform_u, K);
+        float* u2 = grow(integration.uniform_v, K);
+        float* l = grow(integration.lobe_directions, 3 * K);
+        float* pdf = grow(integration.pdfs, K);
         const size_t first = scratch.material_start[k], last = scratch.material_start[k + 1];
         for (size_t q = first; q < last; ++q) {
             const ShadingPoint& sp = scratch.sorted[q];
@@ -438,7 +439,7 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
     const size_t rays_before = cache.inner.rays_traced;
     // one member's indirect light from its query's radiance; the texels with light (count of
     // them in integration.lit_directions and lit_radiance) listed once for all the query's members
-    auto integrate = [&](int32_t member, const float* radiance, size_t count) {
+    auto integrate = [&](int32_t member, size_t count) {
         const size_t q = table.member_point[member];
         const ShadingPoint& sp = scratch.sorted[q];
         const Material& m = w.scene.materials[sp.material];
@@ -457,37 +458,7 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
                         sum[c] += static_cast<double>(f[3 * k + c]) * rgb[3 * k + c] * l[3 * k + 2];
             }
             for (double& s : sum) s *= texel;
-        } else {
-            // a narrow lobe: its own importance sampling, the radiance looked up in the texture
-            const size_t K = kLookupSamples;
-            float* vv = grow(integration.views, 3 * K);
-            float* ee = grow(integration.etas, K);
-            float* u0 = grow(integration.u_pick, K);
-            float* u1 = grow(integration.uniform_u, K);
-            float* u2 = grow(integration.uniform_v, K);
-            const uint32_t key = hash_u32(sample_key(static_cast<uint32_t>(scratch.point_keys[q]),
-                                                     static_cast<uint32_t>(scratch.point_index[q])) ^
-                                          0x2545f491u);
-            for (size_t k = 0; k < K; ++k) {
-                std::copy(v, v + 3, vv + 3 * k);
-                ee[k] = scratch.eta[q];
-                u0[k] = uniform(key, 3 * static_cast<uint32_t>(k));
-                u1[k] = uniform(key, 3 * static_cast<uint32_t>(k) + 1);
-                u2[k] = uniform(key, 3 * static_cast<uint32_t>(k) + 2);
-            }
-            float* l = grow(integration.lobe_directions, 3 * K);
-            float* pdf = grow(integration.pdfs, K);
-            render_detail::material_sample(m, vv, ee, u0, u1, u2, l, pdf, K);
-            render_detail::material_eval(m, l, vv, ee, grow(integration.bsdf_values, 3 * K), K);
-            for (size_t k = 0; k < K; ++k) {
-                const float* d = l + 3 * k;
-                if (!(pdf[k] > 0) || !(d[2] > 0)) continue;
-                const float* L = radiance + 3 * texel_of(d[0], d[1], d[2], R);
-                const float* f = integration.bsdf_values.data() + 3 * k;
-                for (int c = 0; c < 3; ++c) sum[c] += static_cast<double>(f[c]) * d[2] / pdf[k] * L[c];
-            }
-            for (double& s : sum) s /= static_cast<double>(K);
-        }
+        }  // else an emitter: it reflects nothing (the lobes the texels cannot resolve are left_to_path)
         for (int c = 0; c < 3; ++c) integration.member_light[3 * member + c] = static_cast<float>(sum[c]);
     };
     const TexelDirections& directions = cache.texel_directions;
@@ -514,7 +485,7 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
                 std::copy(from, from + 3, integration.member_light.begin() + 3 * member);
                 continue;
             }
-            integrate(member, radiance, count);
+            integrate(member, count);
             if (plain) lambert = member;
         }
     };

@@ -16,28 +16,12 @@ import numpy as np
 from patina.bench.cache import FULL
 from patina.bench.convergence import DISCARD_FRACTION, pixel_relmse, reference, relmse, sized
 from patina.bundled import materials_path
-from patina.render.run import PreparedScene, job_settings, new_job, render
+from patina.render.run import render
 from patina.scene.reading import load_scene, with_overrides
 
+from configuration_runs import cpu_seconds, overrides
+
 FLOOR_ALBEDO = 0.8  # cache-car.json's floor: its pixels are those of this albedo
-
-
-def number(text: str) -> int | float | str:
-    for kind in (int, float):
-        try:
-            return kind(text)
-        except ValueError:
-            pass
-    return text
-
-
-def cpu_seconds(scene) -> float:
-    options = job_settings(scene, FULL.candidate_spp, None, None, None)
-    options.stage_clock = "cpu"
-    job = new_job(PreparedScene(scene), options, threads=1)
-    job.start()
-    job.wait()
-    return job.stage_times().item_seconds
 
 
 def measure(scene, ref) -> tuple[float, float, float, float]:
@@ -55,7 +39,6 @@ scene_file = materials_path("scenes", f"{name}.json")
 base = sized(load_scene(scene_file), FULL.width)
 ref = reference(scene_file, base, FULL.reference_spp, 2)
 for config in sys.argv[1:]:
-    kw = {k: number(v) for k, v in (pair.split("=") for pair in config.split(","))}
-    runs = [measure(with_overrides(base, seed=seed, **kw), ref) for seed in (1, 2, 3)]
+    runs = [measure(with_overrides(base, seed=seed, **overrides(config)), ref) for seed in (1, 2, 3)]
     total, floor, car, cpu = (statistics.median(r[k] for r in runs) for k in range(4))
     print(f"{name} {config}: relMSE {total:.4g} (floor {floor:.4g}, car {car:.4g}), CPU {cpu:.3f} s", flush=True)
