@@ -152,15 +152,6 @@ PATINA_INLINE vbool<K> single_rays(const Bvh& bvh, const RayPacket<K>& r, const 
     return blocked;
 }
 
-// What a packet does at a split by default: the open lanes go on one ray at a time.
-template <int K>
-struct SplitIntoSingleRays {
-    PATINA_INLINE vbool<K> operator()(const Bvh& bvh, const RayPacket<K>& r, const BoxLanes<K>& box, uint32_t node,
-                                      const int* entered, vbool<K> open) const {
-        return single_rays<K>(bvh, r, box, node, entered, open);
-    }
-};
-
 template <int K>
 struct StackEntry {
     uint32_t child;
@@ -169,22 +160,19 @@ struct StackEntry {
 
 }  // namespace bvh_packet_detail
 
-// Lanes of `open` whose ray hits a triangle in (tmin, tmax) under `start` (a node whose box
-// they enter, or the root; lanes with tmax < tmin enter nothing and come back clear). Where too
-// few lanes are left to share a node, `split(bvh, r, box, node, entered, open)` answers for
-// them below that node (SplitIntoSingleRays; the shadow-ray stream, bvh_occlusion_stream.h,
-// has them wait for rays of other packets instead). r as prepare_packet leaves it.
-template <int K, class Split>
-inline vbool<K> bvh_occluded_triangles_from(const Bvh& bvh, const RayPacket<K>& r, uint32_t start, vbool<K> open,
-                                            const Split& split) {
+// Lanes whose ray hits a triangle in (tmin, tmax), of the lanes not in `done` (lanes with
+// tmax < tmin enter nothing and come back clear). r as prepare_packet leaves it.
+template <int K>
+inline vbool<K> bvh_occluded_triangles_packet(const Bvh& bvh, const RayPacket<K>& r, vbool<K> done) {
     using namespace bvh_packet_detail;
     using B = vbool<K>;
     B blocked(false);
-    if (start == kBvhEmpty) return blocked;
+    if (bvh.root == kBvhEmpty) return blocked;
     const BoxLanes<K> box = box_lanes<K>(bvh, r);
     StackEntry<K> stack[bvh_detail::kStackSize];
     int top = 0;
-    uint32_t cur = start;
+    uint32_t cur = bvh.root;
+    B open = andnot(done, B(true));
     for (;;) {
         while (!bvh_is_leaf(cur)) {
             const BvhNode& node = bvh.nodes[cur];
@@ -198,7 +186,7 @@ inline vbool<K> bvh_occluded_triangles_from(const Bvh& bvh, const RayPacket<K>& 
                 if (traverse_detail::active_count<K>(open) <= kSingleRayLanes<K>) {
                     int entered[kBvhWidth] = {};
                     for (int c = 0; c < children; ++c) entered[c] = movemask(enter[c]);
-                    blocked = blocked | split(bvh, r, box, cur, entered, open);
+                    blocked = blocked | single_rays<K>(bvh, r, box, cur, entered, open);
                     break;
                 }
             }
@@ -229,13 +217,6 @@ inline vbool<K> bvh_occluded_triangles_from(const Bvh& bvh, const RayPacket<K>& 
             }
         }
     }
-}
-
-// Lanes whose ray hits a triangle in (tmin, tmax), of the lanes not in `done`.
-template <int K>
-PATINA_INLINE vbool<K> bvh_occluded_triangles_packet(const Bvh& bvh, const RayPacket<K>& r, vbool<K> done) {
-    return bvh_occluded_triangles_from<K>(bvh, r, bvh.root, andnot(done, vbool<K>(true)),
-                                          bvh_packet_detail::SplitIntoSingleRays<K>{});
 }
 
 // Lanes whose ray hits anything in (tmin, tmax), the analytic spheres (bvh.spheres) included.
