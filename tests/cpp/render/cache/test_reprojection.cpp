@@ -377,8 +377,9 @@ TEST(CacheReprojection, AReprojectionIntoARegionAgreesWithTheWholeOneInside) {
 
 // One bright texel of A (one path's catch) among dim ones, on a far plane, reprojected into
 // points B shifted by fractions of a texel: B's texels take the bright texel's light in
-// proportion to their overlap with it, never doubled or dropped whole (the nearest texel did
-// either as the shift varied: cache-room's light patch beside its corner, seed 1).
+// proportion to their overlap with it, never doubled or dropped whole (cache-room's light patch
+// beside its corner, seed 1; with the nearest texel this test fails: at a shift of 0.098 the
+// bright texel was dropped, none of its light in B).
 TEST(CacheReprojection, ABrightTexelKeepsItsWeightWhateverTheShift) {
     const int R = 32;
     const float dim = 1.0f, bright = 100.0f;
@@ -400,13 +401,16 @@ TEST(CacheReprojection, ABrightTexelKeepsItsWeightWhateverTheShift) {
 
 // A next to a wall sees it at grazing angles, a long strip per texel; B farther from the wall
 // sees those strips head on, each over many of its texels. B traces the texels where one of
-// A's would spread over more than kMaxMagnification of them, and takes A's light elsewhere.
+// A's would spread over more than kMaxMagnification of them (without the bound it took 52 such
+// texels from A). The unknown masks are off: in this bare scene the wall's silhouettes at A's
+// grazing angles (neighbouring hits more than 25 % apart) already send most of them to be
+// traced, which in the room's corner they did not.
 TEST(CacheReprojection, TexelsAMagnifiesAreTracedFromB) {
     const int R = 32;
-    const std::vector<Rect> scene{Rect{0, -0.03f, {-6, 0}, {6, 6}, {1, 1, 1}}};  // the wall x = -0.03
+    const std::vector<Rect> scene{Rect{0, -0.03f, {-6, -6}, {6, 6}, {1, 1, 1}}};  // the wall x = -0.03
     const Vec3f n{0, 0, 1};
     const CachePoint a = build(scene, {0, 0, 0}, n, R);
-    const Result r = reproject_into(a, {0.27f, 0, 0}, n);
+    const Result r = reproject_into(a, {0.27f, 0, 0}, n, false);
     int taken_magnified = 0, traced_magnified = 0;
     for (int t = 0; t < R * R; ++t) {
         const Vec3f d = texel_direction(r, t);
@@ -416,7 +420,7 @@ TEST(CacheReprojection, TexelsAMagnifiesAreTracedFromB) {
         const float dist_a = std::sqrt(dot(from_a, from_a));
         const float cos_a = std::fabs(from_a.x) / dist_a, cos_b = std::fabs(d.x);
         const float magnification = dist_a * dist_a / (h.t * h.t) * cos_b / cos_a;
-        if (magnification < 1.2f * kMaxMagnification) continue;  // margin: A's texel, not its centre
+        if (magnification < 1.01f * kMaxMagnification) continue;  // the lookup's test, rounding aside
         const bool traced = r.rep.to_trace.test(t % R, t / R);
         const bool taken = r.rep.filled.test(t % R, t / R) && !traced;
         traced_magnified += traced;
