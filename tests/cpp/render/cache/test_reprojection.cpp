@@ -2,7 +2,9 @@
 // (the integrator test checks that whole renders are bit-identical at widths 4 and 8): the
 // hemisphere map, the masks' rows, rasterization, and reprojection of cache points built by
 // an analytic ray caster -- a plane in front of the point, a box corner, and an occluder
-// whose unseen side would leak the wall behind it without the unknown masks.
+// whose unseen side would leak the wall behind it without the unknown masks -- and the two
+// ways a reprojection spread one texel of A's noise: a bright texel doubled or dropped by the
+// nearest-texel lookup, and a wall A saw at grazing angles magnified.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -371,4 +373,59 @@ TEST(CacheReprojection, AReprojectionIntoARegionAgreesWithTheWholeOneInside) {
             for (int k = 0; k < 3; ++k) EXPECT_EQ(part.radiance[3 * (y * R + x) + k], whole.radiance[3 * (y * R + x) + k]);
         }
     EXPECT_GT(taken, R * R / 14);  // most of the wanted texels were reprojected
+}
+
+// One bright texel of A (one path's catch) among dim ones, on a far plane, reprojected into
+// points B shifted by fractions of a texel: B's texels take the bright texel's light in
+// proportion to their overlap with it, never doubled or dropped whole (cache-room's light patch
+// beside its corner, seed 1; with the nearest texel this test fails: at a shift of 0.098 the
+// bright texel was dropped, none of its light in B).
+TEST(CacheReprojection, ABrightTexelKeepsItsWeightWhateverTheShift) {
+    const int R = 32;
+    const float dim = 1.0f, bright = 100.0f;
+    const std::vector<Rect> scene{Rect{2, 3.0f, {-20, -20}, {20, 20}, {dim, dim, dim}}};
+    CachePoint a = build(scene, {0, 0, 0}, {0, 0, 1}, R);
+    const int spike = 17 * R + 18;  // inside a 4 x 4 surfel of the plane, away from its edges
+    for (int k = 0; k < 3; ++k) a.radiance[3 * spike + k] = bright;
+    const float texel_on_plane = 3.0f * 2.5066283f / R;
+    for (int step = 0; step < 12; ++step) {
+        const float shift = texel_on_plane * step / 12.0f;
+        const Result r = reproject_into(a, {shift, 0.37f * shift, 0.0f}, {0, 0, 1});
+        double excess = 0;  // the bright texel's light in B, in texels of A's (equal solid angles)
+        for (int t = 0; t < R * R; ++t)
+            if (r.rep.filled.test(t % R, t / R) && !r.rep.to_trace.test(t % R, t / R))
+                excess += (r.radiance[3 * t] - dim) / (bright - dim);
+        EXPECT_NEAR(excess, 1.0, 0.25) << "shift " << shift;
+    }
+}
+
+// A next to a wall sees it at grazing angles, a long strip per texel; B farther from the wall
+// sees those strips head on, each over many of its texels. B traces the texels where one of
+// A's would spread over more than kMaxMagnification of them (without the bound it took 52 such
+// texels from A). The unknown masks are off: in this bare scene the wall's silhouettes at A's
+// grazing angles (neighbouring hits more than 25 % apart) already send most of them to be
+// traced, which in the room's corner they did not.
+TEST(CacheReprojection, TexelsAMagnifiesAreTracedFromB) {
+    const int R = 32;
+    const std::vector<Rect> scene{Rect{0, -0.03f, {-6, -6}, {6, 6}, {1, 1, 1}}};  // the wall x = -0.03
+    const Vec3f n{0, 0, 1};
+    const CachePoint a = build(scene, {0, 0, 0}, n, R);
+    const Result r = reproject_into(a, {0.27f, 0, 0}, n, false);
+    int taken_magnified = 0, traced_magnified = 0;
+    for (int t = 0; t < R * R; ++t) {
+        const Vec3f d = texel_direction(r, t);
+        const Hit h = cast(scene, r.b.p, d);
+        if (h.rect < 0) continue;
+        const Vec3f from_a = h.p - a.p;
+        const float dist_a = std::sqrt(dot(from_a, from_a));
+        const float cos_a = std::fabs(from_a.x) / dist_a, cos_b = std::fabs(d.x);
+        const float magnification = dist_a * dist_a / (h.t * h.t) * cos_b / cos_a;
+        if (magnification < 1.01f * kMaxMagnification) continue;  // the lookup's test, rounding aside
+        const bool traced = r.rep.to_trace.test(t % R, t / R);
+        const bool taken = r.rep.filled.test(t % R, t / R) && !traced;
+        traced_magnified += traced;
+        taken_magnified += taken;
+    }
+    EXPECT_GT(traced_magnified, R);
+    EXPECT_EQ(taken_magnified, 0);
 }
