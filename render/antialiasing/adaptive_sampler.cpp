@@ -217,7 +217,7 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
             return true;
         }
     }
-    if (m_round < 4) finish();
+    if (m_round < 4) finish(nullptr);  // no level 3 (with one, take_results finished the item)
     m_round = 4;
     return false;
 }
@@ -280,13 +280,14 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
         return;
     }
     if (m_round == 3) {
-        m_level3.assign(results, results + n);
         int next = 0;
         for (const int i : m_level3_pixels) {
             m_level3_first[i] = next;
             for (int z = 0; z < aa::kZones; ++z)
                 if ((m_pixels[i].zones >> z) & 1) next += aa::kZigzag;
         }
+        finish(results);  // the zigzags' results read where they are, not copied first
+        m_round = 4;
     }
 }
 
@@ -397,7 +398,7 @@ inline bool AdaptiveSampler::in_spot(const PixelState& p, int s) const {
     return fx >= q.x0 && fx <= q.x1 && fy >= q.y0 && fy <= q.y1;
 }
 
-void AdaptiveSampler::finish() {
+void AdaptiveSampler::finish(const PathResult* level3) {
     const bool record = m_pass == 0;
     // in the image's row order, not the rounds' Morton order: the film's rows are read and
     // written front to back, which the hardware prefetches (each pixel's sum is its own, so
@@ -429,7 +430,7 @@ void AdaptiveSampler::finish() {
                 if (!((p.zones >> z) & 1)) continue;
                 for (int k = 0; k < aa::kZigzag; ++k) {
                     const int s = aa::kCorners + aa::kLevel2 + z * aa::kZigzag + k;
-                    f(s, m_level3[next++], w[s]);
+                    f(s, level3[next++], w[s]);
                 }
             }
         };

@@ -146,7 +146,7 @@ private:
     void place(const PixelState& p, int s, float& fx, float& fy) const;
     int corner_of(const PixelState& p, int canonical) const;  // index into m_corners
     AaSignal corner_signal(int corner) const;                   // gathered from m_corner_lanes
-    void finish();
+    void finish(const PathResult* level3);  // level3: round 3's results (nullptr: none traced)
     void classify_corners();       // round 1: each pixel's level and orientation from its corners
     void queue_refinement(int i);  // a refined pixel into round 2, or round 3 at once (level 2 skipped)
     void refine_level2(const PathResult* signal, size_t n);  // round 2: each level-2 pixel's zones from E-H
@@ -180,7 +180,7 @@ private:
     std::vector<PathResult> m_spot;
     AaSignalLanes m_corner_lanes;  // round 1: the corners' signals, channel by channel
     std::vector<int> m_level2_pixels, m_level3_pixels;  // into m_pixels
-    std::vector<PathResult> m_level2, m_level3;
+    std::vector<PathResult> m_level2;
     std::vector<AaSignal> m_level2_signal;
     std::vector<int> m_level3_first;  // per m_pixels entry: its first level-3 result, -1 none
     std::vector<CameraSample> m_signal_cs;  // a round's positions with the signal's key
