@@ -6,8 +6,9 @@ drawings cannot drift from the code.
 
 Writes aa-levels.png (the three levels and the zones), aa-comparisons.png (the three fours
 of comparisons), aa-rotation.png (a vertical discontinuity: the pattern turned 90 degrees
-counter-clockwise) and aa-weights.png (the Voronoi cells within each strip that are the
-weights).
+counter-clockwise), aa-weights.png (the Voronoi cells within each strip that are the
+weights) and aa-direct-weights.png (the same without level 2: a pixel whose edges the
+geometric pre-pass placed in one run of zones).
 """
 
 from __future__ import annotations
@@ -123,24 +124,45 @@ def draw(out: str) -> None:
     _save(fig, os.path.join(out, "aa-rotation.png"))
     plt.close(fig)
 
+    _draw_weights(plt, pos, weights, (0, 0b00110, 0b11111), False, os.path.join(out, "aa-weights.png"))
+    direct = np.asarray(pat["direct_weights"])
+    _draw_weights(plt, pos, direct, (0b00010, 0b00110, 0b01110), True, os.path.join(out, "aa-direct-weights.png"))
+
+
+def _strip_members(members: np.ndarray, pos: np.ndarray, zones: int, direct: bool, strip: int) -> np.ndarray:
+    """Which of `members` share strip `strip` (adaptive_pattern.h: in_strip, in_direct_strip): those
+    on it or its sides; without level 2 a strip outside the run is the corners' on its side."""
+    u = pos[members, 0]
+    on_strip = (u >= 0.2 * strip - 1e-9) & (u <= 0.2 * (strip + 1) + 1e-9)
+    if not direct or zones >> strip & 1:
+        return on_strip
+    left = (zones >> strip) != 0  # the run lies right of this strip: A, C
+    return (members < 4) & (members % 2 == (0 if left else 1))
+
+
+def _draw_weights(plt, pos: np.ndarray, weights: np.ndarray, patterns: tuple, direct: bool, path: str) -> None:
+    """Each pattern's weights as the cells they are: every point of the pixel coloured by the
+    weight of the sample nearest to it among those that share its strip."""
     fig, axes = plt.subplots(1, 3, figsize=(9, 3.3))
     n = 240
     uu, vv = np.meshgrid((np.arange(n) + 0.5) / n, (np.arange(n) + 0.5) / n)
-    for ax, zones in zip(axes, (0, 0b00110, 0b11111)):
+    strip = np.minimum((uu / 0.2).astype(int), ZONES - 1)
+    for ax, zones in zip(axes, patterns):
         members = np.asarray([s for s in range(28) if weights[zones, s] > 0])
         d = (uu[..., None] - pos[members, 0]) ** 2 + (vv[..., None] - pos[members, 1]) ** 2
-        # each point of the pixel goes to the nearest sample among those on its strip or its sides
-        strip = np.minimum((uu / 0.2).astype(int), ZONES - 1)[..., None]
-        u = pos[members, 0]
-        d[(u < 0.2 * strip - 1e-9) | (u > 0.2 * (strip + 1) + 1e-9)] = np.inf
+        for j in range(ZONES):
+            d[strip == j] = np.where(_strip_members(members, pos, zones, direct, j), d[strip == j], np.inf)
         cell = members[np.argmin(d, axis=-1)]
-        ax.imshow(weights[zones][cell], extent=(0, 1, 1, 0), cmap="viridis", vmin=0, vmax=0.2)
+        # one scale for the figure (without level 2 a far corner weighs up to 0.3: 1.5 strips)
+        vmax = max(0.2, float(weights[list(patterns)].max()))
+        ax.imshow(weights[zones][cell], extent=(0, 1, 1, 0), cmap="viridis", vmin=0, vmax=vmax)
         for z in range(1, ZONES):  # the strips' boundaries: no cell crosses one
             ax.plot([z / ZONES] * 2, [0, 1], color="white", lw=0.6)
-        shown = [z for z in range(ZONES) if zones >> z & 1]
-        _frame(ax, "refined zones: " + (", ".join(f"z{z}" for z in shown) or "none (level 2 only)"))
+        shown = ", ".join(f"z{z}" for z in range(ZONES) if zones >> z & 1)
+        title = f"level 2 skipped, zones: {shown}" if direct else "refined zones: " + (shown or "none (level 2 only)")
+        _frame(ax, title)
         _points(ax, pos, members, labels=False)
-    _save(fig, os.path.join(out, "aa-weights.png"))
+    _save(fig, path)
     plt.close(fig)
 
 

@@ -524,7 +524,7 @@ nb::ndarray<nb::numpy, float, nb::ndim<2>> sample_points(const std::string& samp
 
 nb::dict aa_pattern() {
     namespace aa = patina::aa;
-    float *pos, *weights;
+    float *pos, *weights, *direct_weights;
     int32_t *pairs, *zones;
     const size_t sp[2] = {aa::kMaxSamples, 2}, sc[3] = {3, 4, 2}, sz[2] = {3, 16},
                  sw[2] = {aa::kPatterns, aa::kMaxSamples};
@@ -532,6 +532,7 @@ nb::dict aa_pattern() {
     auto a_pairs = new_array<int32_t, 3>(sc, &pairs);
     auto a_zones = new_array<int32_t, 2>(sz, &zones);
     auto a_weights = new_array<float, 2>(sw, &weights);
+    auto a_direct_weights = new_array<float, 2>(sw, &direct_weights);
     for (int s = 0; s < aa::kMaxSamples; ++s) {
         pos[2 * s] = static_cast<float>(aa::sample_point(s).u);
         pos[2 * s + 1] = static_cast<float>(aa::sample_point(s).v);
@@ -544,12 +545,16 @@ nb::dict aa_pattern() {
     for (int f = 0; f < 3; ++f)
         for (int m = 0; m < 16; ++m) zones[16 * f + m] = aa::kZoneTable[f][m];
     for (int z = 0; z < aa::kPatterns; ++z)
-        for (int s = 0; s < aa::kMaxSamples; ++s) weights[aa::kMaxSamples * z + s] = aa::kWeights[z][s];
+        for (int s = 0; s < aa::kMaxSamples; ++s) {
+            weights[aa::kMaxSamples * z + s] = aa::kWeights[z][s];
+            direct_weights[aa::kMaxSamples * z + s] = aa::kDirectWeights[z][s];
+        }
     nb::dict d;
     d["positions"] = a_pos;
     d["comparisons"] = a_pairs;
     d["zone_table"] = a_zones;
     d["weights"] = a_weights;
+    d["direct_weights"] = a_direct_weights;  // level 2 skipped: zero where the zones are not one run
     d["default_threshold"] = patina::kDefaultAaThreshold;
     return d;
 }
@@ -702,7 +707,7 @@ void bind_render(nb::module_& m) {
     m.def("sample_points", &sample_points, nb::arg("sampler"), nb::arg("n"), nb::arg("dims"), nb::arg("seed") = 0,
           nb::arg("first") = 0, nb::arg("scramble") = true,
           "The sampler's numbers of one stream: samples [first, first + n) x dimensions [0, dims).");
-    m.def("aa_pattern", &aa_pattern, "The adaptive antialiasing's positions, comparisons, zone tables, weights.");
+    m.def("aa_pattern", &aa_pattern, "The adaptive antialiasing's positions, comparisons, zone tables, weights (with and without level 2).");
     def_sensor_entry(
         m, "sensor_illuminance", &sensor_illuminance, nb::arg("samples") = 64, 0,
         "Illuminance in lux on sensors at points facing normals: direct by shadowed light sampling, and with "

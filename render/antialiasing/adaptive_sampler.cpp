@@ -102,6 +102,8 @@ void AdaptiveSampler::begin(const TileRect& tile, int pass) {
         std::sort(order.begin(), order.end());
         m_corner_order.clear();
         for (const auto& [code, c] : order) m_corner_order.push_back(c);
+        m_row_order.resize(m_pixel_order.size());
+        for (size_t i = 0; i < m_pixel_order.size(); ++i) m_row_order[static_cast<size_t>(m_pixel_order[i])] = static_cast<int>(i);
     }
     m_pixels.clear();
     for (const int t : m_pixel_order) {
@@ -142,6 +144,13 @@ inline int AdaptiveSampler::corner_of(const PixelState& p, int canonical) const 
         y = 1 - u;
     }
     return (p.tile_y + y) * (m_tile.x1 - m_tile.x0 + 1) + p.tile_x + x;
+}
+
+inline AaSignal AdaptiveSampler::corner_signal(int corner) const {
+    const AaSignalLanes& l = m_corner_lanes;
+    const size_t c = static_cast<size_t>(corner);
+    return AaSignal{{l.colour[0][c], l.colour[1][c], l.colour[2][c]}, {l.normal[0][c], l.normal[1][c], l.normal[2][c]},
+                    l.depth[c]};
 }
 
 inline void AdaptiveSampler::place(const PixelState& p, int s, float& fx, float& fy) const {
@@ -208,7 +217,7 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
             return true;
         }
     }
-    if (m_round < 4) finish();
+    if (m_round < 4) finish(nullptr);  // no level 3 (with one, take_results finished the item)
     m_round = 4;
     return false;
 }
@@ -253,8 +262,8 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
             return;
         }
         const PathResult* signal = signal_results(samples, results, nc);
-        m_corner_signal.resize(nc);
-        for (size_t q = 0; q < nc; ++q) m_corner_signal[m_corner_order[q]] = aa_signal(signal[q]);
+        m_corner_lanes.resize(nc);
+        for (size_t q = 0; q < nc; ++q) m_corner_lanes.set(static_cast<size_t>(m_corner_order[q]), signal[q]);
         classify_corners();
         return;
     }
@@ -271,13 +280,14 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
         return;
     }
     if (m_round == 3) {
-        m_level3.assign(results, results + n);
         int next = 0;
         for (const int i : m_level3_pixels) {
             m_level3_first[i] = next;
             for (int z = 0; z < aa::kZones; ++z)
                 if ((m_pixels[i].zones >> z) & 1) next += aa::kZigzag;
         }
+        finish(results);  // the zigzags' results read where they are, not copied first
+        m_round = 4;
     }
 }
 
@@ -300,23 +310,17 @@ void AdaptiveSampler::classify_corners() {
     const int w = m_tile.x1 - m_tile.x0, h = m_tile.y1 - m_tile.y0, row = w + 1;
     // each pair of neighbouring corners compared once, for both pixels that share it:
     // across[cy * w + cx] corners (cx, cy)-(cx + 1, cy), down[cy * row + cx] (cx, cy)-(cx, cy + 1)
+    // (a row of the tile at a time, in SIMD lanes: render/antialiasing/signal_lanes.h)
     m_across.resize(static_cast<size_t>(w) * (h + 1));
     m_down.resize(static_cast<size_t>(row) * h);
     for (int cy = 0; cy <= h; ++cy)
-        for (int cx = 0; cx < w; ++cx) {
-            const int k = cy * row + cx;
-            m_across[cy * w + cx] = aa_differs(m_corner_signal[k], m_corner_signal[k + 1], m_threshold);
-        }
+        aa_differs_lanes(m_corner_lanes, cy * row, cy * row + 1, w, m_threshold, &m_across[cy * w]);
     for (int cy = 0; cy < h; ++cy)
-        for (int cx = 0; cx <= w; ++cx) {
-            const int k = cy * row + cx;
-            m_down[cy * row + cx] = aa_differs(m_corner_signal[k], m_corner_signal[k + row], m_threshold);
-        }
+        aa_differs_lanes(m_corner_lanes, cy * row, (cy + 1) * row, row, m_threshold, &m_down[cy * row]);
+    const float* depth = m_corner_lanes.depth.data();
     for (size_t i = 0; i < m_pixels.size(); ++i) {
         PixelState& p = m_pixels[i];
         const int tl = p.tile_y * row + p.tile_x;
-        const AaSignal *a = &m_corner_signal[tl], *b = &m_corner_signal[tl + 1], *c = &m_corner_signal[tl + row],
-                       *d = &m_corner_signal[tl + row + 1];
         const bool horizontal =
             m_across[p.tile_y * w + p.tile_x] || m_across[(p.tile_y + 1) * w + p.tile_x];  // A-B, C-D
         const bool vertical =
@@ -325,8 +329,8 @@ void AdaptiveSampler::classify_corners() {
         if (m_hints != nullptr) {
             // an edge behind what all four corners see is hidden (a surface covers the pixel)
             const float nearest = m_hints->nearest[p.pixel];
-            const bool hidden = a->depth < 0.99f * nearest && b->depth < 0.99f * nearest &&
-                                c->depth < 0.99f * nearest && d->depth < 0.99f * nearest;
+            const bool hidden = depth[tl] < 0.99f * nearest && depth[tl + 1] < 0.99f * nearest &&
+                                depth[tl + row] < 0.99f * nearest && depth[tl + row + 1] < 0.99f * nearest;
             if (!hidden) {
                 hint[0] = m_hints->zones[0][p.pixel];
                 hint[1] = m_hints->zones[1][p.pixel];
@@ -364,7 +368,11 @@ void AdaptiveSampler::refine_level2(const PathResult* signal, size_t n) {
     for (const int i : m_level2_pixels) {
         PixelState& p = m_pixels[i];
         const AaSignal* pts[aa::kCorners + aa::kLevel2];
-        for (int k = 0; k < aa::kCorners; ++k) pts[k] = &m_corner_signal[corner_of(p, k)];
+        AaSignal corners[aa::kCorners];
+        for (int k = 0; k < aa::kCorners; ++k) {
+            corners[k] = corner_signal(corner_of(p, k));
+            pts[k] = &corners[k];
+        }
         for (int k = 0; k < aa::kLevel2; ++k) pts[aa::kCorners + k] = &m_level2_signal[p.first + k];
         // three fours of comparisons, each a 4-bit mask looked up in its zone table
         uint8_t zones = 0;
@@ -390,9 +398,13 @@ inline bool AdaptiveSampler::in_spot(const PixelState& p, int s) const {
     return fx >= q.x0 && fx <= q.x1 && fy >= q.y0 && fy <= q.y1;
 }
 
-void AdaptiveSampler::finish() {
+void AdaptiveSampler::finish(const PathResult* level3) {
     const bool record = m_pass == 0;
-    for (size_t i = 0; i < m_pixels.size(); ++i) {
+    // in the image's row order, not the rounds' Morton order: the film's rows are read and
+    // written front to back, which the hardware prefetches (each pixel's sum is its own, so
+    // the order changes no bit)
+    for (const int order : m_row_order) {
+        const size_t i = static_cast<size_t>(order);
         const PixelState& p = m_pixels[i];
         if (p.level == 1 && p.spot < 0) {
             // the mean of its corners: the same sums as weighting them here (0.25 f's products
@@ -418,7 +430,7 @@ void AdaptiveSampler::finish() {
                 if (!((p.zones >> z) & 1)) continue;
                 for (int k = 0; k < aa::kZigzag; ++k) {
                     const int s = aa::kCorners + aa::kLevel2 + z * aa::kZigzag + k;
-                    f(s, m_level3[next++], w[s]);
+                    f(s, level3[next++], w[s]);
                 }
             }
         };

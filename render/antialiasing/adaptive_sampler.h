@@ -42,6 +42,7 @@
 
 #include "render/antialiasing/adaptive_pattern.h"
 #include "render/antialiasing/edge_hints.h"
+#include "render/antialiasing/signal_lanes.h"
 #include "render/camera/film.h"
 #include "render/camera/pixel_sampler.h"
 #include "render/integrators/integrator.h"
@@ -144,7 +145,8 @@ private:
     const PathResult* signal_results(const CameraSample* samples, const PathResult* results, size_t n);
     void place(const PixelState& p, int s, float& fx, float& fy) const;
     int corner_of(const PixelState& p, int canonical) const;  // index into m_corners
-    void finish();
+    AaSignal corner_signal(int corner) const;                   // gathered from m_corner_lanes
+    void finish(const PathResult* level3);  // level3: round 3's results (nullptr: none traced)
     void classify_corners();       // round 1: each pixel's level and orientation from its corners
     void queue_refinement(int i);  // a refined pixel into round 2, or round 3 at once (level 2 skipped)
     void refine_level2(const PathResult* signal, size_t n);  // round 2: each level-2 pixel's zones from E-H
@@ -169,15 +171,16 @@ private:
     int m_order_w = -1, m_order_h = -1;  // the tile size the orders below are for
     std::vector<int> m_pixel_order;    // the tile's pixels (ty * w + tx) in Morton order
     std::vector<int> m_corner_order;   // corner indices (cy * (w + 1) + cx) in Morton order
+    std::vector<int> m_row_order;      // m_pixels' indices in the tile's row order (ty * w + tx)
     std::vector<uint8_t> m_across, m_down;  // round 1: neighbouring corners that differ
     std::vector<PathResult> m_corners;
     std::vector<FilmSum> m_corner_terms;  // each corner's result weighted for a level-1 pixel
     size_t m_corner_count = 0;          // round 1: the corners, then the highlights' grids
     std::vector<int> m_spot_pixels;     // into m_pixels
     std::vector<PathResult> m_spot;
-    std::vector<AaSignal> m_corner_signal;
+    AaSignalLanes m_corner_lanes;  // round 1: the corners' signals, channel by channel
     std::vector<int> m_level2_pixels, m_level3_pixels;  // into m_pixels
-    std::vector<PathResult> m_level2, m_level3;
+    std::vector<PathResult> m_level2;
     std::vector<AaSignal> m_level2_signal;
     std::vector<int> m_level3_first;  // per m_pixels entry: its first level-3 result, -1 none
     std::vector<CameraSample> m_signal_cs;  // a round's positions with the signal's key

@@ -72,6 +72,12 @@ def test_the_pattern_data_is_what_the_docs_say():
     assert np.allclose(pos[:4], [[0, 0], [1, 0], [0, 1], [1, 1]])
     assert np.allclose(pos[4:8], [[0.2, 0.5], [0.4, 0.5], [0.6, 0.5], [0.8, 0.5]])
     assert np.allclose(np.asarray(p["weights"]).sum(axis=1), 1.0, atol=1e-6)
+    # without level 2: E..H weigh nothing, a run of zones' weights sum to 1, other subsets are unused (0)
+    direct = np.asarray(p["direct_weights"])
+    runs = [z for z in range(32) if z and ((z + (z & -z)) & z) == 0]
+    assert np.all(direct[:, 4:8] == 0)
+    assert np.allclose(direct[runs].sum(axis=1), 1.0, atol=1e-6)
+    assert np.all(np.delete(direct, runs, axis=0) == 0)
     assert p["default_threshold"] == pytest.approx(0.15)
 
 
