@@ -12,14 +12,13 @@ import statistics
 import sys
 
 import numpy as np
+from configuration_runs import cpu_seconds, overrides
 
 from patina.bench.cache import FULL
 from patina.bench.convergence import DISCARD_FRACTION, pixel_relmse, reference, relmse, sized
 from patina.bundled import materials_path
 from patina.render.run import render
 from patina.scene.reading import load_scene, with_overrides
-
-from configuration_runs import cpu_seconds, overrides
 
 FLOOR_ALBEDO = 0.8  # cache-car.json's floor: its pixels are those of this albedo
 

@@ -12,13 +12,13 @@ import os
 import statistics
 import sys
 
+from configuration_runs import cpu_seconds, overrides
+
 from patina.bench.cache import FULL
 from patina.bench.convergence import ErrorCurve, median_relmse, reference, sized
 from patina.bundled import materials_path
 from patina.render.run import PreparedScene, render
 from patina.scene.reading import load_scene, with_overrides
-
-from configuration_runs import cpu_seconds, overrides
 
 SEEDS = (0, 1, 2, 3)
 REPEAT = int(os.environ.get("REPEAT", "3"))
