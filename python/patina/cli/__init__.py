@@ -27,6 +27,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import os
+import signal
 import sys
 
 from patina.cli.batch import add_batch_command
@@ -83,6 +84,19 @@ def main(argv: list[str] | None = None) -> int:
             sys.stdout.flush()
     except BrokenPipeError:
         return _closed_pipe()
+
+
+def command() -> int:
+    """The `patina` program (and `python -m patina.cli`): main() with this process's arguments,
+    then Ctrl-C and SIGTERM ignored while the interpreter exits. The command has decided its
+    status by then; Python hands SIGINT back to the system's default action as it finalises
+    (a few hundred ms after a Dask render), so a second Ctrl-C that came then -- after the
+    first one's partial image was written -- killed the process by the signal instead of letting
+    it exit with its status (130). Not in main(): the tests call main() in their own process."""
+    status = main()
+    for s in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(s, signal.SIG_IGN)
+    return status
 
 
 def _run(argv: list[str] | None) -> int:

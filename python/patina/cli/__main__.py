@@ -2,6 +2,6 @@
 
 import sys
 
-from patina.cli import main
+from patina.cli import command
 
-sys.exit(main())
+sys.exit(command())

@@ -4,6 +4,7 @@ at once. (Mirrors patina.batch.render_tiles with patina.signals; one cluster sta
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -97,3 +98,21 @@ def test_ctrl_c_while_the_cluster_starts_stops_the_command(tmp_path):
     assert proc.returncode == 130, out + err
     assert "rendered" not in out and err.strip().splitlines()[-1] == "patina: interrupted", err
     assert not os.path.exists(tmp_path / "ball.exr")
+
+
+def test_a_ctrl_c_as_the_command_exits_keeps_its_status(tmp_path):
+    """Before: killed by the signal (status -2) when it came while the interpreter finalised,
+    after the first Ctrl-C's partial image was written (Python hands SIGINT back to the default
+    action then); a fast machine finished the first pass before the test's second Ctrl-C."""
+    proc = start_group(tmp_path / "ball.exr")
+    time.sleep(1)
+    os.killpg(proc.pid, signal.SIGINT)
+    assert proc.stdout is not None
+    for line in proc.stdout:  # the command's stdout is flushed as it returns: "wrote" comes then
+        if line.startswith("wrote "):
+            with contextlib.suppress(ProcessLookupError):  # gone already
+                os.killpg(proc.pid, signal.SIGINT)
+            break
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130 and "Traceback" not in err, err
+    assert read_exr_layers(tmp_path / "ball.exr")[1]["patina:complete"] == 0
