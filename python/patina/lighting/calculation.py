@@ -26,7 +26,6 @@ from patina.lighting.project import Project
 from patina.lighting.road import Interreflected, check_luminaires_for_ti, evaluate_road
 from patina.lighting.rtable import read_rtable
 from patina.lighting.ugr_table import UgrTable, luminous_area, ugr_table
-from patina.native import _core
 from patina.photometry.luminaire import load_luminaire
 from patina.render import illuminance as il
 from patina.render.prepare import PreparedScene
@@ -219,15 +218,14 @@ def _ugr(project: Project, scene: Scene, prepared: PreparedScene, result: Result
         return None
     eye = np.asarray(project.eye, np.float64)
     # L_b = E_ind / pi: the indirect vertical illuminance at the eye, facing the line of sight,
-    # as the sensor kernel's interreflections (total minus its direct estimate, the same streams)
+    # as the sensor kernel's interreflections
     a = math.radians(project.azimuth)
     pts = np.ascontiguousarray([eye], np.float32)
     normal = np.ascontiguousarray([[math.cos(a), 0.0, math.sin(a)]], np.float32)
     depth = il.sensor_depth(scene)
     samples, seed, width = eye_paths(project), scene.render.seed, core_width(None)
-    total = _core.sensor_illuminance(prepared.core, pts, normal, samples, seed, width, 0, depth)
-    direct = _core.sensor_illuminance(prepared.core, pts, normal, samples, seed, width, 0, 0)
-    e_ind = float(total[0] - direct[0]) * project.maintenance
+    interreflected = il.path_interreflections(prepared, pts, normal, samples, seed, width, 0, depth)
+    e_ind = float(interreflected[0]) * project.maintenance
     result.figures["E_ind at the eye"] = e_ind
     if e_ind <= 0:
         result.notes.append("UGR: no interreflected light reaches the eye (background luminance 0): not computed")
