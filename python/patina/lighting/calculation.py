@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from patina.errors import FormatError
+from patina.kernel_arrays import as_float32
 from patina.lighting.classes import Check, check, road_class
 from patina.lighting.direct import PlacedSource, is_delta
 from patina.lighting.grids import RuleGrid, en12193_grids, en12464_grid
@@ -25,6 +26,7 @@ from patina.lighting.indoor import area_figures, ugr
 from patina.lighting.project import Project
 from patina.lighting.road import Interreflected, check_luminaires_for_ti, evaluate_road
 from patina.lighting.rtable import read_rtable
+from patina.lighting.sensors import Sensors
 from patina.lighting.ugr_table import UgrTable, luminous_area, ugr_table
 from patina.photometry.luminaire import load_luminaire
 from patina.render import illuminance as il
@@ -270,10 +272,11 @@ def _road_interreflections(project: Project, scene: Scene, prepared: PreparedSce
     depth, seed, width = il.sensor_depth(scene), scene.render.seed, core_width(None)
 
     def lux(points: np.ndarray) -> np.ndarray:
-        pts = np.ascontiguousarray(points, np.float32)
-        up = np.ascontiguousarray(np.broadcast_to([0.0, 1.0, 0.0], pts.shape), np.float32)
+        sensors = Sensors.horizontal(points)
         if project.indirect == "cache":
-            return cached_indirect(prepared.core, points, up, CacheSettings(depth, seed, width=width)).lux
+            settings = CacheSettings(depth, seed, width=width)
+            return cached_indirect(prepared.core, sensors.points, sensors.normals, settings).lux
+        pts, up = as_float32(sensors.points), as_float32(sensors.normals)
         return il.path_interreflections(prepared, pts, up, project.samples, seed, width, 0, depth)
 
     return lux
