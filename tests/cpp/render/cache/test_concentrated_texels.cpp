@@ -16,16 +16,16 @@ using namespace patina::cache;
 namespace {
 
 constexpr int kR = 24;  // the cache's default resolution
-// a bright texel: one path 1000 times the rest, well above kConcentration times its neighbours
-// and the hemisphere's mean
-constexpr float kSource = 1000.0f;
+// a bright texel: one path 120 times its neighbours, above kConcentration times them and the
+// hemisphere's mean, below the fireflies' bound (kOutlierBound times its brightest neighbour)
+constexpr float kSource = 120.0f;
 
-// A cache point at the origin facing +z whose every texel saw radiance 1 (grey), one path each.
-CachePoint flat_point() {
+// A cache point at the origin facing +z whose every texel saw radiance `level` (grey), one path each.
+CachePoint flat_point(float level = 1.0f) {
     CachePoint a;
     a.p = Vec3f{0, 0, 0}, a.ng = a.n = Vec3f{0, 0, 1}, a.t = Vec3f{1, 0, 0}, a.b = Vec3f{0, 1, 0};
     a.resolution = kR;
-    a.radiance.assign(3 * kR * kR, 1.0f);
+    a.radiance.assign(3 * kR * kR, level);
     a.kind.assign(kR * kR, kTexelHit);
     return a;
 }
@@ -117,14 +117,31 @@ TEST(ConcentratedTexels, LightSpreadOverNeighbouringTexelsIsLeftAlone) {
 }
 
 TEST(ConcentratedTexels, AtMostTheBrightestFewAPointAreRefined) {
-    CachePoint a = flat_point();
-    for (int k = 0; k < kMaxConcentrated + 2; ++k) set_texel(a, 2 + 2 * k, 2 + (k % 2) * 8, kSource + k);
+    // a dark hemisphere with lit patches of 3 x 3 texels, a lucky path in the middle of each (so
+    // the hemisphere's mean stays below their level over kConcentration)
+    CachePoint a = flat_point(0.0f);
+    const int planted = kMaxConcentrated + 2;
+    for (int k = 0; k < planted; ++k) {
+        const int x = 2 + 3 * k, y = 2 + (k % 2) * 8;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) set_texel(a, x + dx, y + dy, 1.0f);
+        set_texel(a, x, y, kSource + k);
+    }
     TruthTracer tracer;
-    refine(a, tracer);
+    EXPECT_EQ(refine(a, tracer), static_cast<size_t>(kMaxConcentrated * 9 * kStrata));
     // the two dimmest planted texels keep their one path; the others are averaged
     EXPECT_FLOAT_EQ(texel_value(a, 2, 2), kSource);
-    EXPECT_FLOAT_EQ(texel_value(a, 4, 10), kSource + 1);
-    EXPECT_LT(texel_value(a, 6, 2), kSource / 2);
+    EXPECT_FLOAT_EQ(texel_value(a, 5, 10), kSource + 1);
+    EXPECT_LT(texel_value(a, 8, 2), kSource / 2);
+}
+
+TEST(ConcentratedTexels, AFireflyAboveTheBoundIsLeftToTheBound) {
+    // averaged here, a lucky path would lose more of its light than the bound takes from it
+    CachePoint a = flat_point();
+    set_texel(a, 9, 9, 2 * kOutlierBound);
+    TruthTracer tracer;
+    EXPECT_EQ(refine(a, tracer), 0u);
+    EXPECT_FLOAT_EQ(texel_value(a, 9, 9), 2 * kOutlierBound);
 }
 
 TEST(ConcentratedTexels, OnlyTheCacheIntegratorRefines) {
