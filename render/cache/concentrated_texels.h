@@ -4,10 +4,10 @@
 // either a small real source (the sun through a window, a lamp's spot) or one lucky path, and
 // either way every point that reprojects the cache point shares it: the IES interior's bright
 // scatter on the floor, the room's corner patch (one point whose five texels held 62 % of its
-// light). So after a point's first texture the texels far above their neighbourhood, and their
-// eight neighbours, take kStrata more paths each, stratified within the texel, and hold the
-// mean of all their paths: a real source is confirmed (the neighbours' paths find it too), a
-// lucky path averaged down. Which texels, and in what order: plain scalar code in texel order,
+// light). So after a point's first texture the texels far above their neighbourhood but under
+// the fireflies' bound, and their eight neighbours, take kStrata more paths each, stratified
+// within the texel, and hold the mean of all their paths: a real source is confirmed (the
+// neighbours' paths find it too), a lucky path averaged down. Which texels, and in what order: plain scalar code in texel order,
 // so the same choice at every SIMD width and thread count.
 #pragma once
 
