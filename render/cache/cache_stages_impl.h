@@ -331,9 +331,11 @@ inline void add_counts(const W& w, const CacheCounts& c, const CacheState& cache
 
 // `cache`: the materials whose texel hits take cache.hit_paths paths (split_glossy_hits): those
 // whose lobes the texels do not resolve (glass, coats, narrow lobes: what sends a cache point
-// the sun in a glossy reflection). None for cache-guided, whose guides need the light's shape.
+// the sun in a glossy reflection). None for cache-guided, whose guides need the light's shape,
+// and for the same reason only `cache` refines a point's concentrated texels.
 inline void mark_split_materials(const std::vector<Material>& materials, const IntegratorSettings& settings,
                                  CacheState& cache) {
+    cache.texel_refinement.enabled = settings.mode == IntegratorMode::Cache;
     GlossyHitSplit& split = cache.glossy_split;
     split.split_material.clear();
     split.hit_paths = settings.cache.hit_paths;

@@ -10,6 +10,7 @@
 
 #include "core/simd/kernel_width.h"
 #include "render/cache/cache_point_build.h"
+#include "render/cache/concentrated_texels.h"
 #include "render/cache/glossy_hit_split.h"
 #include "render/cache/guided_bounces_impl.h"
 #include "render/cache/hemisphere_integration.h"
@@ -32,6 +33,7 @@ struct CacheState {
     TexelDirections texel_directions;  // of the cache's resolution: every stage's texel directions
     QueryReprojection reprojection;   // reconstruct_hemispheres: one query's reprojections
     GlossyHitSplit glossy_split;      // split_glossy_hits: the glossy texel hits' further paths
+    TexelRefinement texel_refinement;  // refine_concentrated_texels: the concentrated texels' further paths
     HemisphereIntegration integration;  // add_cached_indirect, split_narrow_lobes: the BRDF buffers
     GuidePool guides;                 // cache-guided: the batch's cache points as guides
     GuideChoices guide_choices;       // cache-guided: which points draw from their guide

@@ -29,6 +29,7 @@
 #include "render/cache/cache_point.h"
 #include "render/cache/cache_settings.h"
 #include "render/cache/cache_state_impl.h"
+#include "render/cache/concentrated_texels.h"
 #include "render/cache/error_criterion.h"
 #include "render/cache/hemisphere.h"
 #include "render/cache/reprojection_impl.h"
@@ -114,6 +115,49 @@ inline void split_glossy_hits(CacheState& cache, Tracer& trace, Texel texel) {
     std::swap(build.rays, split.rays);
 }
 
+// The texels of a chunk's new points whose light sits in a few texels (concentrated_texels.h)
+// take kStrata further paths each, stratified within the texel, and hold the mean of all their
+// paths (their hits, for the surfels, stay the first path's). points: the chunk's `count`
+// points, of the queries pending[0 .. count).
+template <class Tracer>
+inline void refine_concentrated_texels(CacheState& cache, Tracer& trace, CachePoint* points, size_t count,
+                                       const Query* queries, const int32_t* pending, float eps) {
+    TexelRefinement& refinement = cache.texel_refinement;
+    if (!refinement.enabled || count == 0) return;
+    const int R = points[0].resolution;
+    const size_t T = static_cast<size_t>(R) * R;
+    refinement.rays.clear();
+    refinement.texels.clear();
+    for (size_t k = 0; k < count; ++k) {
+        const CachePoint& a = points[k];
+        refinement.selected.clear();
+        select_texels_to_refine(a.radiance.data(), R, refinement, refinement.selected);
+        const uint32_t key = cache_point_key(queries[pending[k]].key);
+        const Vec3f o = a.p + eps * a.ng;
+        for (const int32_t t : refinement.selected) {
+            if (a.kind[t] == kTexelBelow) continue;  // it holds no light
+            const int32_t where = static_cast<int32_t>(k * T) + t;
+            refinement.texels.push_back(where);
+            push_strata(a, t, key, o, where, refinement.rays);
+        }
+    }
+    if (refinement.rays.size() == 0) return;
+    CachePointBuild& build = cache.build;
+    std::swap(build.rays, refinement.rays);
+    trace_queue(cache, trace);
+    auto texel = [&](int32_t where) { return points[where / T].radiance.data() + 3 * (where % T); };
+    for (size_t r = 0; r < build.rays.size(); ++r) {
+        float* L = texel(build.rays.where[r]);
+        for (int c = 0; c < 3; ++c) L[c] += build.results[r].rgb[c];
+    }
+    const float share = 1.0f / static_cast<float>(1 + kStrata);  // a stratum under the surface: no light
+    for (const int32_t w : refinement.texels) {
+        float* L = texel(w);
+        for (int c = 0; c < 3; ++c) L[c] *= share;
+    }
+    std::swap(build.rays, refinement.rays);
+}
+
 // Builds cache points at the queries build.pending (appended to build.points), tracing the
 // hemispheres of kChunk of them together: the ray queue and its results stay bounded however
 // many points a region needs (at --cache-error 0.01 and --cache-block 1 a region's hundreds of
@@ -171,8 +215,9 @@ inline void build_cache_points(const CacheSettings& cfg, float eps, const Query*
             store_vec3(m, a.hit_normal.data() + 3 * t);
         }
         split_glossy_hits(cache, trace, [&](int32_t w) { return chunk[w / T].radiance.data() + 3 * (w % T); });
+        refine_concentrated_texels(cache, trace, chunk, k1 - k0, queries, build.pending.data() + k0, eps);
         for (size_t k = k0; k < k1; ++k) bound_isolated_texels(chunk[k - k0].radiance.data(), R, build.luminances);
-        cache.lap(Stage::CacheBuild);  // the glossy hits' paths and the bound: building too
+        cache.lap(Stage::CacheBuild);  // the glossy hits' and the concentrated texels' paths, the bound: building too
     }
     for (size_t k = 0; k < build.pending.size(); ++k) {
         CachePoint& a = build.points[first + k];
