@@ -247,13 +247,20 @@ std::vector<int> RenderJob::cache_regions_near(int tile) const {
                                         std::min(r.x1 + margin, cam.width), std::min(r.y1 + margin, cam.height));
 }
 
+// Each region's uses in a generation: the tiles near it times the generation's passes,
+// announced once a region and generation (a call a tile and pass would take the lock some
+// 30 million times for a 4K image at 4096 spp).
 void RenderJob::expect_cache_regions(const std::vector<int>& tiles) {
     if (!m_cache_regions) return;
-    for (const int tile : tiles) {
-        const std::vector<int> near = cache_regions_near(tile);
-        for (int pass = 0; pass < pass_count(); ++pass)
-            for (const int region : near) m_cache_regions->expect(region, 1, cache_generation(pass));
-    }
+    std::vector<int> tiles_near(m_cache_regions->count(), 0);
+    for (const int tile : tiles)
+        for (const int region : cache_regions_near(tile)) ++tiles_near[region];
+    std::vector<int> passes_in(cache_generation(pass_count() - 1) + 1, 0);
+    for (int pass = 0; pass < pass_count(); ++pass) ++passes_in[cache_generation(pass)];
+    for (int region = 0; region < m_cache_regions->count(); ++region)
+        if (tiles_near[region] > 0)
+            for (size_t g = 0; g < passes_in.size(); ++g)
+                m_cache_regions->expect(region, tiles_near[region] * passes_in[g], static_cast<int>(g));
 }
 
 // A region's cache points from its pre-pass: a camera ray through every pixel (generation 0's

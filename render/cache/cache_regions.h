@@ -15,7 +15,8 @@
 // A render's passes fall into generations (render/cache/cache_generations.h): every
 // generation builds each region again with numbers of its own, so the noise a region's
 // cache points share averages out over the generations as a pixel's own noise does over its
-// samples. A region is kept once per generation (slot generation x count() + region); the
+// samples. A region is kept once per generation (slot generation x count() + region, 40
+// bytes of bookkeeping each: 84 MB for a 4K image's 8160 regions at 4096 spp); the
 // items take the generations in order, so one generation's regions are freed before most of
 // the next one's are built.
 #pragma once
