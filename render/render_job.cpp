@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/parallel.h"
+#include "render/cache/cache_generations.h"
 #include "render/samplers/rng.h"
 
 namespace patina {
@@ -66,10 +67,14 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderOptions& settings)
     m_tile_passes = std::vector<std::atomic<int>>(tiles);
     for (auto& a : m_tile_passes) a.store(0);
     // the radiance cache's shared points (cache_regions.h), where the cache stage runs
-    // (cache-guided with a trained guide: the guide's training, and no cache points)
+    // (cache-guided with a trained guide: the guide's training, and no cache points); `cache`
+    // builds them again every generation (cache_generations.h), cache-guided's only guide
+    // unbiased paths and serve every pass
     const bool trained_guide = settings.mode == IntegratorMode::CacheGuided && settings.cache.train_passes > 0;
+    m_cache_generation_passes = settings.mode == IntegratorMode::Cache ? cache_passes_per_generation(per_pass) : passes;
+    const int generations = (passes + m_cache_generation_passes - 1) / m_cache_generation_passes;
     if (settings.mode != IntegratorMode::Path && m_integrator.max_depth > 1 && !trained_guide)
-        m_cache_regions = std::make_unique<CacheRegions>(c.width, c.height);
+        m_cache_regions = std::make_unique<CacheRegions>(c.width, c.height, kCacheRegionBudgetBytes, generations);
     const int train_depth = path_vertices(settings.cache.train_max_depth > 0 ? settings.cache.train_max_depth : settings.max_depth);
     if (trained_guide && train_depth > 1)
         m_guide_training = std::make_unique<guiding::GuideTraining>(scene, m_integrator, *m_kernels, m_seed);
@@ -93,7 +98,7 @@ void RenderJob::start() {
     const int threads = m_settings.threads > 0 ? m_settings.threads : default_thread_count();
     std::vector<int> all(m_tile_passes.size());
     for (size_t t = 0; t < all.size(); ++t) all[t] = static_cast<int>(t);
-    expect_cache_regions(all, pass_count());
+    expect_cache_regions(all);
     if (m_settings.aa != RenderOptions::Aa::Adaptive) {
         for (int i = 0; i < threads; ++i) m_threads.emplace_back([this] { worker(); });
         return;
@@ -242,21 +247,35 @@ std::vector<int> RenderJob::cache_regions_near(int tile) const {
                                         std::min(r.x1 + margin, cam.width), std::min(r.y1 + margin, cam.height));
 }
 
-void RenderJob::expect_cache_regions(const std::vector<int>& tiles, int passes) {
+// Each region's uses in a generation: the tiles near it times the generation's passes,
+// announced once a region and generation (a call a tile and pass would take the lock some
+// 30 million times for a 4K image at 4096 spp).
+void RenderJob::expect_cache_regions(const std::vector<int>& tiles) {
     if (!m_cache_regions) return;
+    std::vector<int> tiles_near(m_cache_regions->count(), 0);
     for (const int tile : tiles)
-        for (const int region : cache_regions_near(tile)) m_cache_regions->expect(region, passes);
+        for (const int region : cache_regions_near(tile)) ++tiles_near[region];
+    std::vector<int> passes_in(cache_generation(pass_count() - 1) + 1, 0);
+    for (int pass = 0; pass < pass_count(); ++pass) ++passes_in[cache_generation(pass)];
+    for (int region = 0; region < m_cache_regions->count(); ++region)
+        if (tiles_near[region] > 0)
+            for (size_t g = 0; g < passes_in.size(); ++g)
+                m_cache_regions->expect(region, tiles_near[region] * passes_in[g], static_cast<int>(g));
 }
 
-// A region's cache points from its pre-pass: a camera ray through every pixel's centre, its
-// stream keyed by the seed and the pixel (salted), traced on the calling thread's scratch.
-void RenderJob::build_cache_region(int x0, int y0, int x1, int y1, CacheRegion& out, PathScratch& scratch) const {
+// A region's cache points from its pre-pass: a camera ray through every pixel (generation 0's
+// through its centre: cache_prepass_offset), its stream keyed by the generation's seed and
+// the pixel (salted), traced on the calling thread's scratch.
+void RenderJob::build_cache_region(int generation, int x0, int y0, int x1, int y1, CacheRegion& out,
+                                   PathScratch& scratch) const {
     std::vector<CameraSample> prepass;
-    const uint32_t seed = m_seed ^ kCacheRegionSalt;
+    const uint32_t seed = cache_generation_seed(m_seed ^ kCacheRegionSalt, generation);
     for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) {
             const uint32_t pixel = static_cast<uint32_t>(y) * static_cast<uint32_t>(m_scene.camera.width) + x;
-            prepass.push_back({static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f, stream_key(seed, pixel), 0});
+            const uint32_t key = stream_key(seed, pixel);
+            prepass.push_back({static_cast<float>(x) + cache_prepass_offset(generation, key, 0),
+                               static_cast<float>(y) + cache_prepass_offset(generation, key, 1), key, 0});
         }
     m_kernels->build_cache_region(m_scene, m_integrator, prepass.data(), prepass.size(), out.points, out.hemispheres,
                                   scratch);
@@ -275,18 +294,19 @@ size_t RenderJob::run_item(const Item& item, PixelSampler& sampler, PathScratch&
             scratch.cache_shared.clear();
             scratch.cache_shared_hemispheres.clear();
             held.clear();
-            for (const int r : ids) regions->release(r);
+            for (const int r : ids) regions->release(r, generation);
         }
-    } hold{m_cache_regions.get(), {}, {}, scratch};
+        int generation;
+    } hold{m_cache_regions.get(), {}, {}, scratch, cache_generation(item.pass)};
     scratch.cache_shared.clear();
     scratch.cache_shared_hemispheres.clear();
     if (m_cache_regions) {
         const std::vector<int> under = m_cache_regions->overlapping(rect.x0, rect.y0, rect.x1, rect.y1);
         const CacheRegions::Build build = [&](int, int x0, int y0, int x1, int y1, CacheRegion& made) {
-            build_cache_region(x0, y0, x1, y1, made, scratch);
+            build_cache_region(hold.generation, x0, y0, x1, y1, made, scratch);
         };
         for (const int r : cache_regions_near(item.tile)) {
-            hold.held.push_back(m_cache_regions->acquire(r, build));
+            hold.held.push_back(m_cache_regions->acquire(r, build, hold.generation));
             hold.ids.push_back(r);
             if (std::find(under.begin(), under.end(), r) != under.end())
                 for (const CachePoint& a : hold.held.back()->points) scratch.cache_shared.push_back(&a);

@@ -95,10 +95,13 @@ private:
     // returns the camera samples it took
     size_t run_item(const Item& item, PixelSampler& sampler, PathScratch& scratch, std::vector<CameraSample>& cs,
                     std::vector<PathResult>& out);
-    // the radiance cache's regions: announce the items of `passes` passes of `tiles`; build one
-    void expect_cache_regions(const std::vector<int>& tiles, int passes);
+    // the radiance cache's regions: announce the items of every pass of `tiles`; the
+    // generation a pass's items take them from (render/cache/cache_generations.h); build one
+    void expect_cache_regions(const std::vector<int>& tiles);
+    int cache_generation(int pass) const { return pass / m_cache_generation_passes; }
     std::vector<int> cache_regions_near(int tile) const;
-    void build_cache_region(int x0, int y0, int x1, int y1, CacheRegion& out, PathScratch& scratch) const;
+    void build_cache_region(int generation, int x0, int y0, int x1, int y1, CacheRegion& out,
+                            PathScratch& scratch) const;
 
     const RenderScene& m_scene;
     RenderOptions m_settings;
@@ -107,6 +110,7 @@ private:
     const RenderKernels* m_kernels;
     int m_tiles_x = 0, m_tiles_y = 0;
     std::vector<int> m_pass_begin;  // sample index where each pass starts; back() = spp
+    int m_cache_generation_passes = 1;  // passes whose items share one build of the cache's regions
     size_t m_item_count = 0;  // passes x tiles, taken pass by pass
     std::vector<std::atomic<int>> m_tile_passes;  // passes finished per tile
     Film m_film;

@@ -56,7 +56,7 @@ def main() -> int:
             ax.set_yticks([])
     bar = fig.colorbar(shown, ax=axes[1, :].tolist(), orientation="horizontal", shrink=0.7)
     bar.set_label("luminance error (image units); grey lines: the cache's 32-pixel regions")
-    atomic_output(args.out, lambda tmp: fig.savefig(tmp, dpi=90, format="png"))
+    atomic_output(args.out, lambda tmp: fig.savefig(tmp, dpi=90, format="png", bbox_inches="tight"))
     print(f"wrote {args.out}")
     return 0
 

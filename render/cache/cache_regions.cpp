@@ -20,13 +20,13 @@ void drop_build_data(CachePoint& a) {
     std::vector<float>().swap(a.hit_normal);
 }
 
-CacheRegions::CacheRegions(int width, int height, size_t budget_bytes)
+CacheRegions::CacheRegions(int width, int height, size_t budget_bytes, int generations)
     : m_width(width),
       m_height(height),
       m_x((width + kCacheRegionPixels - 1) / kCacheRegionPixels),
       m_y((height + kCacheRegionPixels - 1) / kCacheRegionPixels),
       m_budget(budget_bytes),
-      m_slots(static_cast<size_t>(m_x) * m_y) {}
+      m_slots(static_cast<size_t>(m_x) * m_y * std::max(generations, 1)) {}
 
 std::vector<int> CacheRegions::overlapping(int x0, int y0, int x1, int y1) const {
     std::vector<int> out;
@@ -36,17 +36,17 @@ std::vector<int> CacheRegions::overlapping(int x0, int y0, int x1, int y1) const
     return out;
 }
 
-void CacheRegions::expect(int region, int uses) {
+void CacheRegions::expect(int region, int uses, int generation) {
     std::lock_guard<std::mutex> lock(m_lock);
-    m_slots[region].uses += uses;
+    slot(region, generation).uses += uses;
 }
 
-std::shared_ptr<const CacheRegion> CacheRegions::acquire(int region, const Build& build) {
+std::shared_ptr<const CacheRegion> CacheRegions::acquire(int region, const Build& build, int generation) {
     for (;;) {
         int claimed = -1;
         {
             std::unique_lock<std::mutex> lock(m_lock);
-            Slot& s = m_slots[region];
+            Slot& s = slot(region, generation);
             if (s.state == kBuilt) {
                 s.last_use = ++m_clock;
                 return s.points;
@@ -57,7 +57,7 @@ std::shared_ptr<const CacheRegion> CacheRegions::acquire(int region, const Build
             } else if (m_bytes.load() < m_budget) {
                 // another thread builds it: build the next region that items will want
                 for (int k = 1; k < count() && claimed < 0; ++k) {
-                    Slot& o = m_slots[(region + k) % count()];
+                    Slot& o = slot((region + k) % count(), generation);
                     if (o.state == kEmpty && o.uses > 0) {
                         o.state = kBuilding;
                         claimed = (region + k) % count();
@@ -69,7 +69,7 @@ std::shared_ptr<const CacheRegion> CacheRegions::acquire(int region, const Build
                 continue;
             }
         }
-        std::shared_ptr<const CacheRegion> made = build_into(claimed, build);
+        std::shared_ptr<const CacheRegion> made = build_into(claimed, generation, build);
         if (claimed == region) return made;
     }
 }
@@ -86,7 +86,7 @@ size_t CacheRegions::reserve_for_build() {
     return m_largest;
 }
 
-std::shared_ptr<const CacheRegion> CacheRegions::build_into(int region, const Build& build) {
+std::shared_ptr<const CacheRegion> CacheRegions::build_into(int region, int generation, const Build& build) {
     const size_t reserved = reserve_for_build();
     auto made = std::make_shared<CacheRegion>();
     const int k = kCacheRegionPixels;
@@ -96,7 +96,7 @@ std::shared_ptr<const CacheRegion> CacheRegions::build_into(int region, const Bu
     } catch (...) {
         std::lock_guard<std::mutex> lock(m_lock);
         m_building -= reserved;
-        m_slots[region].state = kEmpty;
+        slot(region, generation).state = kEmpty;
         m_changed.notify_all();
         throw;
     }
@@ -106,7 +106,7 @@ std::shared_ptr<const CacheRegion> CacheRegions::build_into(int region, const Bu
     std::lock_guard<std::mutex> lock(m_lock);
     m_building -= reserved;
     m_largest = std::max(m_largest, made->bytes);
-    Slot& s = m_slots[region];
+    Slot& s = slot(region, generation);
     s.points = std::move(made);
     s.state = kBuilt;
     s.last_use = ++m_clock;
@@ -118,9 +118,9 @@ std::shared_ptr<const CacheRegion> CacheRegions::build_into(int region, const Bu
     return held;
 }
 
-void CacheRegions::release(int region) {
+void CacheRegions::release(int region, int generation) {
     std::lock_guard<std::mutex> lock(m_lock);
-    Slot& s = m_slots[region];
+    Slot& s = slot(region, generation);
     if (s.uses <= 0) return;  // uses never announced (a distributed render's): kept, up to the budget
     if (--s.uses > 0 || s.state != kBuilt) return;
     m_bytes -= s.points->bytes;

@@ -11,6 +11,14 @@
 // first) to keep the regions kept and the builds in flight within a budget -- room made
 // before each build. The regions the items in flight hold are beyond any budget's reach:
 // python/patina/render/cache_memory.py states them before a render.
+//
+// A render's passes fall into generations (render/cache/cache_generations.h): every
+// generation builds each region again with numbers of its own, so the noise a region's
+// cache points share averages out over the generations as a pixel's own noise does over its
+// samples. A region is kept once per generation (slot generation x count() + region, 40
+// bytes of bookkeeping each: 84 MB for a 4K image's 8160 regions at 4096 spp); the
+// items take the generations in order, so one generation's regions are freed before most of
+// the next one's are built.
 #pragma once
 
 #include <atomic>
@@ -47,20 +55,21 @@ public:
     // build(region, x0, y0, x1, y1, out): the region's cache points, for its pixels [x0, x1) x [y0, y1)
     using Build = std::function<void(int region, int x0, int y0, int x1, int y1, CacheRegion& out)>;
 
-    CacheRegions(int width, int height, size_t budget_bytes = kCacheRegionBudgetBytes);
+    CacheRegions(int width, int height, size_t budget_bytes = kCacheRegionBudgetBytes, int generations = 1);
 
-    int count() const { return m_x * m_y; }
+    int count() const { return m_x * m_y; }  // regions of one generation
     // The regions that pixels [x0, x1) x [y0, y1) overlap, in order.
     std::vector<int> overlapping(int x0, int y0, int x1, int y1) const;
-    // Announces `uses` more items that will acquire and release the region.
-    void expect(int region, int uses);
-    // The region's points, built with `build` if they are not in memory. While another
-    // thread builds it, this one builds the next region nobody has built yet (work that
-    // later items need: no thread idles while a neighbour builds what both need).
-    std::shared_ptr<const CacheRegion> acquire(int region, const Build& build);
+    // Announces `uses` more items that will acquire and release the region of the generation.
+    void expect(int region, int uses, int generation = 0);
+    // The region's points of the generation, built with `build` (which builds that generation's)
+    // if they are not in memory. While another thread builds it, this one builds the
+    // generation's next region nobody has built yet (work that later items need: no thread
+    // idles while a neighbour builds what both need).
+    std::shared_ptr<const CacheRegion> acquire(int region, const Build& build, int generation = 0);
     // One announced use done: the last one frees the region (one never announced: kept
     // until the budget drops it).
-    void release(int region);
+    void release(int region, int generation = 0);
     size_t bytes() const { return m_bytes.load(); }
     size_t builds() const { return m_builds.load(); }
 
@@ -72,7 +81,8 @@ private:
         int uses = 0;                               // announced uses left (under m_lock)
         uint64_t last_use = 0;                      // under m_lock
     };
-    std::shared_ptr<const CacheRegion> build_into(int region, const Build& build);
+    Slot& slot(int region, int generation) { return m_slots[static_cast<size_t>(generation) * count() + region]; }
+    std::shared_ptr<const CacheRegion> build_into(int region, int generation, const Build& build);
     size_t reserve_for_build();  // what it reserved, given back when the build ends
     void evict_over_budget();  // under m_lock
 

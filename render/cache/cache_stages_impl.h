@@ -519,7 +519,7 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
 }
 
 // The cache points of an image region (render/cache/cache_regions.h) from its pre-pass's
-// first-hit points (scratch.sorted: one a pixel, at its centre): the queries a work item would
+// first-hit points (scratch.sorted: one a pixel, generation 0 at its centre): the queries a work item would
 // make of them (collect_queries: a block's close points of the materials the cache serves
 // share one) are placed in rounds as an item's are (with no shared points to start from),
 // built, and moved to `out` without their build-only data.

@@ -24,7 +24,7 @@ struct RegionHemisphere {
     Vec3f t, b;             // with n the hemisphere's frame
     float reach = 0;        // a member farther from p takes a reconstruction of its own
     std::vector<float> radiance;  // R^2 x RGB, texel j * R + i of the frame
-    // the pixels (y * width + x) whose pre-pass point (at the pixel's centre) took it: a
+    // the pixels (y * width + x) whose pre-pass point (in the pixel: render/cache/cache_generations.h) took it: a
     // sample of such a pixel on the same surface takes it whatever its distance from p
     std::vector<int64_t> pixels;
 };

@@ -109,3 +109,33 @@ TEST(CacheRegions, ABuildMakesRoomFirstSoTheKeptRegionsAndTheNewOneFitTheBudget)
     EXPECT_LE(most, budget);  // dropping after the build would have held three regions at once
     EXPECT_LE(regions.bytes(), budget);
 }
+
+// A region is kept once per generation: each generation's is built by that generation's
+// build, freed after its own announced uses, and a thread waiting for one builds only
+// regions of the same generation meanwhile (a later generation's would wait in memory).
+TEST(CacheRegions, EachGenerationBuildsAndFreesItsOwnRegions) {
+    const int k = kCacheRegionPixels;
+    CacheRegions regions(2 * k, k, 64 << 20, 2);
+    EXPECT_EQ(regions.count(), 2);  // regions of one generation
+    for (int g = 0; g < 2; ++g)
+        for (int r = 0; r < 2; ++r) regions.expect(r, 1, g);
+    std::atomic<int> builds{0};
+    const CacheRegions::Build counted = counting_build(builds);
+    auto build_of = [&](int generation) -> CacheRegions::Build {
+        return [&, generation](int region, int x0, int y0, int x1, int y1, CacheRegion& out) {
+            counted(region, x0, y0, x1, y1, out);
+            out.points[0].radiance[0] = static_cast<float>(10 * generation + region);
+        };
+    };
+    const auto first = regions.acquire(1, build_of(0), 0);
+    const auto second = regions.acquire(1, build_of(1), 1);
+    EXPECT_EQ(builds.load(), 2);  // the same region, once per generation
+    EXPECT_EQ(first->points[0].radiance[0], 1.0f);
+    EXPECT_EQ(second->points[0].radiance[0], 11.0f);
+    EXPECT_EQ(second->points[0].radiance[1], static_cast<float>(k));  // the same pixels
+    const size_t both = regions.bytes();
+    regions.release(1, 0);
+    EXPECT_EQ(regions.bytes(), both / 2);  // generation 0's freed, generation 1's kept
+    EXPECT_EQ(regions.acquire(1, build_of(1), 1)->points[0].radiance[0], 11.0f);
+    EXPECT_EQ(builds.load(), 2);
+}

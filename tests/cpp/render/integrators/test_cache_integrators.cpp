@@ -129,6 +129,39 @@ TEST(CacheIntegrators, SharedRegionsKeepTheImageIndependentOfWidthAndTileOrder) 
     }
 }
 
+// `cache` builds the regions again every generation of passes (render/cache/cache_generations.h),
+// from numbers of the generation's own: with two generations the image is still the same at
+// every SIMD width, for any thread count and in any order of the tiles, and the regions'
+// cache points are built again (more points than one generation's).
+TEST(CacheIntegrators, GenerationsKeepTheImageIndependentOfWidthThreadsAndTileOrder) {
+    const BoxScene b(40, 24);  // 2 x 1 regions of 32 pixels
+    auto settings = [](int threads, int spp, int width) {
+        RenderOptions st = job_settings(IntegratorMode::Cache, threads, spp, width);
+        st.max_pass_spp = 16;  // a generation a pass
+        return st;
+    };
+    auto run = [&](int threads, int spp, int width, size_t* points) {
+        RenderJob job(b.scene, settings(threads, spp, width));
+        job.start();
+        job.wait();
+        if (points) *points = job.progress().cache_points;
+        return resolved_rgb(b.scene, job);
+    };
+    size_t one_generation = 0, two = 0;
+    run(1, 16, 1, &one_generation);
+    const std::vector<float> image = run(1, 32, 1, &two);
+    EXPECT_GT(two, one_generation);
+    for (int width : {4, 8}) {
+        if (!width_supported(width)) continue;
+        const std::vector<float> wide = run(3, 32, width, nullptr);
+        for (size_t i = 0; i < image.size(); ++i) ASSERT_EQ(image[i], wide[i]) << "width " << width << ", " << i;
+    }
+    RenderJob job(b.scene, settings(1, 32, 1));
+    for (int tile = job.tile_count() - 1; tile >= 0; --tile) job.render_tiles({tile}, 0, job.pass_count());
+    const std::vector<float> reversed = resolved_rgb(b.scene, job);
+    for (size_t i = 0; i < image.size(); ++i) ASSERT_EQ(image[i], reversed[i]) << i;
+}
+
 // In a render of several passes the regions keep their queries' reconstructed hemispheres
 // (render/cache/region_hemisphere.h) for every pass: the texels traced for 8 passes are far
 // fewer than 8 passes reconstructing their own (what one pass traces, 8 times), and the
