@@ -52,7 +52,8 @@ RenderJob::RenderJob(const RenderScene& scene, const RenderOptions& settings)
     m_tiles_x = (c.width + m_settings.tile_size - 1) / m_settings.tile_size;
     m_tiles_y = (c.height + m_settings.tile_size - 1) / m_settings.tile_size;
     // at least `passes` passes, each of at most max_pass_spp samples; the radiance cache's
-    // integrators as few as that allows: a pass's cache points serve its samples only
+    // integrators as few as that allows: each work item reconstructs the hemispheres of its own
+    // queries, a cost a pass (the regions' cache points are built once a generation of 16 samples)
     const int min_passes = settings.mode == IntegratorMode::Path ? std::max(settings.passes, 1) : 1;
     // the adaptive sampler: one pattern a pass (its rounds are the levels)
     const int per_pass = settings.aa == RenderOptions::Aa::Adaptive

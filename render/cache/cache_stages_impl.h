@@ -523,11 +523,10 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
 // make of them (collect_queries: a block's close points of the materials the cache serves
 // share one) are placed in rounds as an item's are (with no shared points to start from),
 // built, and moved to `out` without their build-only data.
-// For `cache` rendered in more than one pass, the queries' hemispheres are reconstructed
-// too (holes traced, the second cache point's lookups: what an item does) and kept in
-// `hemispheres` (region_hemisphere.h) for the items' members that would make the same query.
-// In one pass they would serve one item's samples, as its own queries do, and cost more:
-// members whose samples miss every pre-pass query (edges, curved surfaces) make their own.
+// For `cache` the queries' hemispheres are reconstructed too (holes traced, the second cache
+// point's lookups: what an item does) and kept in `hemispheres` (region_hemisphere.h) for the
+// members of the generation's items that would make the same query; members whose samples
+// miss every pre-pass query (edges, curved surfaces) make their own.
 template <class W, class Tracer>
 inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoint>& out,
                                 std::vector<RegionHemisphere>& hemispheres) {
