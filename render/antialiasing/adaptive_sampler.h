@@ -13,7 +13,8 @@
 //      pixel whose edges the pre-pass placed in one run of up to three zones skips this
 //      round: those zones are refined at once (weights: aa::kDirectWeights);
 //   3. one zigzag of four through each flagged zone (at most five a pixel), the zones the
-//      pre-pass's edges cross included.
+//      pre-pass's edges cross included; a pixel the pre-pass finds crowded (edges in four
+//      zones or more, nearer each other than the pixel shows) traces zones 1 and 3 only.
 // Every position's integrator sample is added with its precomputed weight. A pixel that a
 // sub-pixel highlight of the pre-pass falls on (render/antialiasing/highlights.h) also traces, in round 1,
 // a grid of rays over the highlight's piece, which stands for the piece's area in place of

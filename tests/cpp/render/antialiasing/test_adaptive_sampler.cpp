@@ -531,9 +531,10 @@ TEST(AdaptiveSampler, AnEdgeThePrePassPlacesSkipsLevelTwo) {
     for (const auto& c : r.traced) EXPECT_NE(c.film_y, std::floor(c.film_y) + 0.5f) << c.film_x;  // no E..H
 }
 
-// A pixel crossed by edges in four zones (crowded: several edges) traces level 2 as before:
-// its middle row tells the strips apart
-TEST(AdaptiveSampler, APixelCrowdedWithEdgesKeepsLevelTwo) {
+// A pixel crossed by edges in four zones (crowded: several edges) traces level 2 as before
+// (its middle row tells the strips apart), then the zigzags of zones 1 and 3 only, and its
+// value is still the coverage of the stripes finer than a fifth of the pixel (half)
+TEST(AdaptiveSampler, APixelCrowdedWithEdgesTracesLevelTwoAndTwoZigzags) {
     const auto on = [](float x, float) { return std::fmod(x, 0.2f) < 0.1f ? 1.0f : 0.0f; };
     const auto hit = [](float, float) { return true; };
     patina::AaEdgeHints hints;
@@ -542,9 +543,16 @@ TEST(AdaptiveSampler, APixelCrowdedWithEdgesKeepsLevelTwo) {
         patina::rasterise_edge(hints, x, 0.0f, x, 8.0f, 2.0f, 2.0f, 0.5f, 0.5f);
     TileRun r;
     run_tile(r, hit, on, nullptr, &hints);
+    const std::vector<float> img = image(r);
     for (int y = 1; y < 6; ++y) {
         EXPECT_EQ(r.stats.level[y * 8 + 3], 3);
-        EXPECT_GE(r.stats.rays[y * 8 + 3], 1 + aa::kLevel2 + 4 * aa::kZigzag);
+        EXPECT_EQ(r.stats.rays[y * 8 + 3], 1 + aa::kLevel2 + 2 * aa::kZigzag);
+        EXPECT_NEAR(img[y * 8 + 3], 0.5f, 0.1f) << y;
+    }
+    for (const auto& c : r.traced) {
+        const float u = c.film_x - std::floor(c.film_x), v = c.film_y - std::floor(c.film_y);
+        if (c.film_x < 3 || c.film_x >= 4 || (v != 0.25f && v != 0.75f)) continue;
+        EXPECT_TRUE((u > 0.2f && u < 0.4f) || (u > 0.6f && u < 0.8f)) << u;  // zones 1 and 3
     }
 }
 
