@@ -105,25 +105,28 @@ void AdaptiveSampler::begin(const TileRect& tile, int pass) {
         for (int ty = 0; ty < h; ++ty)
             for (int tx = 0; tx < w; ++tx) order.push_back({morton(tx, ty), ty * w + tx});
         std::sort(order.begin(), order.end());
-        m_pixel_order.clear();
-        for (const auto& [code, t] : order) m_pixel_order.push_back(t);
+        m_blank_pixels.clear();
+        m_row_order.resize(order.size());
+        for (const auto& [code, t] : order) {
+            PixelState p;
+            p.tile_x = t % w;
+            p.tile_y = t / w;
+            m_row_order[static_cast<size_t>(t)] = static_cast<int>(m_blank_pixels.size());
+            m_blank_pixels.push_back(p);
+        }
         order.clear();
         for (int cy = 0; cy <= h; ++cy)
             for (int cx = 0; cx <= w; ++cx) order.push_back({morton(cx, cy), cy * (w + 1) + cx});
         std::sort(order.begin(), order.end());
         m_corner_order.clear();
-        for (const auto& [code, c] : order) m_corner_order.push_back(c);
-        m_row_order.resize(m_pixel_order.size());
-        for (size_t i = 0; i < m_pixel_order.size(); ++i) m_row_order[static_cast<size_t>(m_pixel_order[i])] = static_cast<int>(i);
+        m_corner_place.clear();
+        for (const auto& [code, c] : order) {
+            m_corner_order.push_back(c);
+            m_corner_place.push_back({c % (w + 1), c / (w + 1)});
+        }
     }
-    m_pixels.clear();
-    for (const int t : m_pixel_order) {
-        PixelState p;
-        p.tile_x = t % w;
-        p.tile_y = t / w;
-        p.pixel = (tile.y0 + p.tile_y) * m_film.width() + tile.x0 + p.tile_x;
-        m_pixels.push_back(p);
-    }
+    m_pixels = m_blank_pixels;
+    for (PixelState& p : m_pixels) p.pixel = (tile.y0 + p.tile_y) * m_film.width() + tile.x0 + p.tile_x;
     m_level2_pixels.clear();
     m_level3_pixels.clear();
     m_level3_first.assign(m_pixels.size(), -1);
@@ -183,10 +186,9 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
         samples.push_back(cs);
     };
     if (m_round == 0) {
-        const int w = m_tile.x1 - m_tile.x0;
         const uint32_t row = static_cast<uint32_t>(m_film.width()) + 1;
-        for (const int c : m_corner_order) {
-            const int cx = m_tile.x0 + c % (w + 1), cy = m_tile.y0 + c / (w + 1);
+        for (const auto& [tile_cx, tile_cy] : m_corner_place) {
+            const int cx = m_tile.x0 + tile_cx, cy = m_tile.y0 + tile_cy;
             // keyed by the corner's place in the image: the tiles on both sides of a tile
             // border trace it alike
             const uint32_t id = static_cast<uint32_t>(cy) * row + static_cast<uint32_t>(cx);
@@ -317,6 +319,23 @@ void AdaptiveSampler::recall_pattern() {
     }
 }
 
+// inline, defined before its use (as record_pixel): a call a pixel through the shared
+// library's PLT otherwise
+inline void AdaptiveSampler::queue_refinement(int i) {
+    PixelState& p = m_pixels[i];
+    if (p.level == 1) return;
+    // the pre-pass placed the edges in one run of at most kDirectMaxZones zones: their
+    // zigzags at once, without E..H (docs/antialiasing.md, "Level 2 skipped")
+    p.direct = aa::one_run(p.hint) && zone_count(p.hint) <= kDirectMaxZones;
+    if (!p.direct) {
+        m_level2_pixels.push_back(i);
+        return;
+    }
+    p.level = 3;
+    p.zones = p.hint;
+    m_level3_pixels.push_back(i);
+}
+
 void AdaptiveSampler::classify_corners() {
     const int w = m_tile.x1 - m_tile.x0, h = m_tile.y1 - m_tile.y0, row = w + 1;
     // each pair of neighbouring corners compared once, for both pixels that share it:
@@ -358,21 +377,6 @@ void AdaptiveSampler::classify_corners() {
     }
 }
 
-void AdaptiveSampler::queue_refinement(int i) {
-    PixelState& p = m_pixels[i];
-    if (p.level == 1) return;
-    // the pre-pass placed the edges in one run of at most kDirectMaxZones zones: their
-    // zigzags at once, without E..H (docs/antialiasing.md, "Level 2 skipped")
-    p.direct = aa::one_run(p.hint) && zone_count(p.hint) <= kDirectMaxZones;
-    if (!p.direct) {
-        m_level2_pixels.push_back(i);
-        return;
-    }
-    p.level = 3;
-    p.zones = p.hint;
-    m_level3_pixels.push_back(i);
-}
-
 void AdaptiveSampler::refine_level2(const PathResult* signal, size_t n) {
     m_level2_signal.resize(n);
     for (size_t q = 0; q < n; ++q) m_level2_signal[q] = aa_signal(signal[q]);
@@ -408,6 +412,16 @@ inline bool AdaptiveSampler::in_spot(const PixelState& p, int s) const {
     fx -= static_cast<float>(m_tile.x0 + p.tile_x);
     fy -= static_cast<float>(m_tile.y0 + p.tile_y);
     return fx >= q.x0 && fx <= q.x1 && fy >= q.y0 && fy <= q.y1;
+}
+
+inline void AdaptiveSampler::record_pixel(const PixelState& p, bool stats) {
+    if (!m_recalled && !m_stats.pattern.empty())
+        m_stats.pattern[p.pixel] = aa_pattern_code(p.level, p.vertical, p.zones, p.direct);
+    if (!stats) return;
+    m_stats.level[p.pixel] = static_cast<uint8_t>(p.level);
+    const int zigzags = p.level == 1 ? 0 : zone_count(p.zones);
+    const int rays = p.level == 1 ? 1 : 1 + (p.direct ? 0 : aa::kLevel2) + aa::kZigzag * zigzags;
+    m_stats.rays[p.pixel] = static_cast<uint8_t>(rays + (p.spot >= 0 ? kSpotRays : 0));
 }
 
 void AdaptiveSampler::finish(const PathResult* level3) {
@@ -466,16 +480,6 @@ void AdaptiveSampler::finish(const PathResult* level3) {
         m_film.add(p.pixel, sum);  // the pixel's samples in one write
         record_pixel(p, record);
     }
-}
-
-void AdaptiveSampler::record_pixel(const PixelState& p, bool stats) {
-    if (!m_recalled && !m_stats.pattern.empty())
-        m_stats.pattern[p.pixel] = aa_pattern_code(p.level, p.vertical, p.zones, p.direct);
-    if (!stats) return;
-    m_stats.level[p.pixel] = static_cast<uint8_t>(p.level);
-    const int zigzags = p.level == 1 ? 0 : zone_count(p.zones);
-    const int rays = p.level == 1 ? 1 : 1 + (p.direct ? 0 : aa::kLevel2) + aa::kZigzag * zigzags;
-    m_stats.rays[p.pixel] = static_cast<uint8_t>(rays + (p.spot >= 0 ? kSpotRays : 0));
 }
 
 }  // namespace patina

@@ -37,6 +37,7 @@
 
 #include <algorithm>
 #include <array>
+#include <utility>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -170,8 +171,11 @@ private:
     bool m_recalled = false;  // this item's decisions are the kept ones: no signal, no comparisons
     std::vector<PixelState> m_pixels;  // Morton order
     int m_order_w = -1, m_order_h = -1;  // the tile size the orders below are for
-    std::vector<int> m_pixel_order;    // the tile's pixels (ty * w + tx) in Morton order
+    // the tile's pixels in Morton order, their place in the tile set (the rest is each item's):
+    // copied at each item's start instead of a division and a remainder a pixel
+    std::vector<PixelState> m_blank_pixels;
     std::vector<int> m_corner_order;   // corner indices (cy * (w + 1) + cx) in Morton order
+    std::vector<std::pair<int, int>> m_corner_place;  // the same corners' (cx, cy) in the tile
     std::vector<int> m_row_order;      // m_pixels' indices in the tile's row order (ty * w + tx)
     std::vector<uint8_t> m_across, m_down;  // round 1: neighbouring corners that differ
     std::vector<PathResult> m_corners;
