@@ -179,7 +179,6 @@ private:
     std::vector<int> m_row_order;      // m_pixels' indices in the tile's row order (ty * w + tx)
     std::vector<uint8_t> m_across, m_down;  // round 1: neighbouring corners that differ
     std::vector<PathResult> m_corners;
-    std::vector<FilmSum> m_corner_terms;  // each corner's result weighted for a level-1 pixel
     size_t m_corner_count = 0;          // round 1: the corners, then the highlights' grids
     std::vector<int> m_spot_pixels;     // into m_pixels
     std::vector<PathResult> m_spot;
