@@ -389,7 +389,9 @@ TEST(AdaptiveSampler, AThinLineBetweenTheRaysIsFoundThroughTheGeometricPrePass) 
     const auto hit = [](float, float) { return true; };
     patina::AaEdgeHints hints;
     hints.resize(8, 8);
-    for (const float x : {3.45f, 3.55f}) patina::rasterise_edge(hints, x, 0.0f, x, 8.0f, 2.0f, 2.0f, 0.5f, 0.5f);
+    std::vector<double> crossings;  // rasterise_edge's scratch
+    for (const float x : {3.45f, 3.55f})
+        patina::rasterise_edge(hints, x, 0.0f, x, 8.0f, 2.0f, 2.0f, 0.5f, 0.5f, crossings);
     TileRun blind, seen;
     run_tile(blind, hit, on);
     run_tile(seen, hit, on, nullptr, &hints);
@@ -516,7 +518,8 @@ TEST(AdaptiveSampler, AnEdgeThePrePassPlacesSkipsLevelTwo) {
     const RgbFn rgb = [&](float x, float) { return x < edge ? 1.0f : 0.0f; };
     patina::AaEdgeHints hints;
     hints.resize(8, 8);
-    patina::rasterise_edge(hints, edge, 0.0f, edge, 8.0f, 2.0f, 2.0f, 0.5f, 0.5f);
+    std::vector<double> crossings;  // rasterise_edge's scratch
+    patina::rasterise_edge(hints, edge, 0.0f, edge, 8.0f, 2.0f, 2.0f, 0.5f, 0.5f, crossings);
     TileRun r;
     run_tile(r, hit, rgb, nullptr, &hints);
     const std::vector<float> img = image(r);
@@ -539,8 +542,9 @@ TEST(AdaptiveSampler, APixelCrowdedWithEdgesTracesLevelTwoAndTwoZigzags) {
     const auto hit = [](float, float) { return true; };
     patina::AaEdgeHints hints;
     hints.resize(8, 8);
+    std::vector<double> crossings;  // rasterise_edge's scratch
     for (const float x : {3.1f, 3.3f, 3.5f, 3.7f})
-        patina::rasterise_edge(hints, x, 0.0f, x, 8.0f, 2.0f, 2.0f, 0.5f, 0.5f);
+        patina::rasterise_edge(hints, x, 0.0f, x, 8.0f, 2.0f, 2.0f, 0.5f, 0.5f, crossings);
     TileRun r;
     run_tile(r, hit, on, nullptr, &hints);
     const std::vector<float> img = image(r);
@@ -562,7 +566,8 @@ TEST(AdaptiveSampler, APixelCrowdedWithEdgesTracesLevelTwoAndTwoZigzags) {
 TEST(AdaptiveSampler, ALaterPassKeepsTheFirstPassDecisionsAndTracesNoSignal) {
     patina::AaEdgeHints hints;
     hints.resize(8, 8);
-    patina::rasterise_edge(hints, 3.3f, 0.0f, 3.3f - 0.3f * 8, 8.0f, 2.0f, 2.0f, 0.5f, 0.5f);
+    std::vector<double> crossings;  // rasterise_edge's scratch
+    patina::rasterise_edge(hints, 3.3f, 0.0f, 3.3f - 0.3f * 8, 8.0f, 2.0f, 2.0f, 0.5f, 0.5f, crossings);
     check_later_pass(nullptr);
     check_later_pass(&hints);
 }
