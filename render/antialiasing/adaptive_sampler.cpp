@@ -193,7 +193,7 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
         const uint32_t row = static_cast<uint32_t>(m_film.width()) + 1;
         // written in place, field by field: a sample built and pushed back was a 16-byte load
         // of two 8-byte stores just made, which the core cannot forward (42 % of this
-        // function's time on the checkerboard)
+        // function's perf samples on the checkerboard)
         m_corner_count = m_corner_place.size();
         samples.resize(m_corner_count);
         for (size_t q = 0; q < m_corner_count; ++q) {
@@ -437,7 +437,8 @@ void AdaptiveSampler::finish(const PathResult* level3) {
     // the order changes no bit)
     const size_t count = m_row_order.size();
     for (size_t j = 0; j < count; ++j) {
-        if (j + kFilmLookahead < count) m_film.prefetch(m_pixels[static_cast<size_t>(m_row_order[j + kFilmLookahead])].pixel);
+        if (j + kFilmLookahead < count)
+            m_film.prefetch(m_pixels[static_cast<size_t>(m_row_order[j + kFilmLookahead])].pixel);
         const size_t i = static_cast<size_t>(m_row_order[j]);
         const PixelState& p = m_pixels[i];
         if (p.level == 1 && p.spot < 0) {

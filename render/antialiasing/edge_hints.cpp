@@ -422,8 +422,8 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
                 const V3 pb = load(tri + 3 * static_cast<size_t>(u.ends[0][1]));
                 if (u.count == 2 && lit_front(u.tri[0], pa) == lit_front(u.tri[1], pa)) continue;
                 const Cast a = end_cast(u.place[0], pa), b = end_cast(u.place[1], pb);
-                cast_piece(pa, pb, 0.0, a, 1.0, b, 0, receiver, film, [&](V3 x, V3 y) { project(out, x, y, crossings); },
-                           c.width, c.height);
+                const auto project_piece = [&](V3 x, V3 y) { project(out, x, y, crossings); };
+                cast_piece(pa, pb, 0.0, a, 1.0, b, 0, receiver, film, project_piece, c.width, c.height);
             }
         }
     };
