@@ -19,6 +19,21 @@ constexpr int kSpotRays = kAaSpotGrid * kAaSpotGrid;
 // 0.00335 -> 0.00311 for 0.06 and 0.03 rays a pixel more (runs of four or five zones are the
 // crowded pixels, several edges, where the middle row tells the zigzags' strips apart).
 constexpr int kDirectMaxZones = 3;
+// A pixel whose hint crosses this many zones or more is crowded: three edges or more cross
+// it, nearer each other than the pixel can show (the checkerboard's squares towards the
+// horizon, smaller than a pixel), so where its edges lie does not matter, only how much of
+// the pixel each side covers. It traces the zigzags of zones 1 and 3 only, eight rays spread
+// over the pixel with E..H and the corners, not one zigzag a flagged zone. At 512 x 384 the
+// checkerboard's pixels of 25 rays went to 13: 1.995 -> 1.812 rays a pixel, RMSE 0.00622 ->
+// 0.00771 (vs 25 random rays 2.41 -> 1.94); zones 0, 2 and 4 cost 0.06 rays a pixel more for
+// a larger error (0.00831), zone 2 alone made it 0.00949, and no zigzag 0.01169 (16
+// stratified rays' error is lower: docs/antialiasing.md, "Measured").
+constexpr int kCrowdedMinZones = 4;
+constexpr uint8_t kCrowdedZones = 0b01010;
+// finish() asks for the film's sums of the pixel this many ahead in row order: the tile's
+// rows are 32 pixels, too short for the hardware's prefetcher, and the film (20 MB at 512 x
+// 384) is far from the core
+constexpr size_t kFilmLookahead = 4;
 
 uint32_t morton(uint32_t x, uint32_t y) {
     uint32_t m = 0;
@@ -94,25 +109,28 @@ void AdaptiveSampler::begin(const TileRect& tile, int pass) {
         for (int ty = 0; ty < h; ++ty)
             for (int tx = 0; tx < w; ++tx) order.push_back({morton(tx, ty), ty * w + tx});
         std::sort(order.begin(), order.end());
-        m_pixel_order.clear();
-        for (const auto& [code, t] : order) m_pixel_order.push_back(t);
+        m_blank_pixels.clear();
+        m_row_order.resize(order.size());
+        for (const auto& [code, t] : order) {
+            PixelState p;
+            p.tile_x = t % w;
+            p.tile_y = t / w;
+            m_row_order[static_cast<size_t>(t)] = static_cast<int>(m_blank_pixels.size());
+            m_blank_pixels.push_back(p);
+        }
         order.clear();
         for (int cy = 0; cy <= h; ++cy)
             for (int cx = 0; cx <= w; ++cx) order.push_back({morton(cx, cy), cy * (w + 1) + cx});
         std::sort(order.begin(), order.end());
         m_corner_order.clear();
-        for (const auto& [code, c] : order) m_corner_order.push_back(c);
-        m_row_order.resize(m_pixel_order.size());
-        for (size_t i = 0; i < m_pixel_order.size(); ++i) m_row_order[static_cast<size_t>(m_pixel_order[i])] = static_cast<int>(i);
+        m_corner_place.clear();
+        for (const auto& [code, c] : order) {
+            m_corner_order.push_back(c);
+            m_corner_place.push_back({c % (w + 1), c / (w + 1)});
+        }
     }
-    m_pixels.clear();
-    for (const int t : m_pixel_order) {
-        PixelState p;
-        p.tile_x = t % w;
-        p.tile_y = t / w;
-        p.pixel = (tile.y0 + p.tile_y) * m_film.width() + tile.x0 + p.tile_x;
-        m_pixels.push_back(p);
-    }
+    m_pixels = m_blank_pixels;
+    for (PixelState& p : m_pixels) p.pixel = (tile.y0 + p.tile_y) * m_film.width() + tile.x0 + p.tile_x;
     m_level2_pixels.clear();
     m_level3_pixels.clear();
     m_level3_first.assign(m_pixels.size(), -1);
@@ -164,24 +182,31 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
     const uint32_t pass = static_cast<uint32_t>(m_pass);
     // a pixel's sample s at its fixed position: sample `pass` of the stream of (pixel, s),
     // so that each position's passes are one Sobol sequence
+    // (made in place, as the corners below)
     const auto add_sample = [&](int i, int s) {
-        CameraSample cs;
+        CameraSample& cs = samples.emplace_back();
         place(m_pixels[i], s, cs.film_x, cs.film_y);
         cs.key = stream_key(m_seed, static_cast<uint32_t>(m_pixels[i].pixel) * aa::kMaxSamples + s);
         cs.index = pass;
-        samples.push_back(cs);
     };
     if (m_round == 0) {
-        const int w = m_tile.x1 - m_tile.x0;
         const uint32_t row = static_cast<uint32_t>(m_film.width()) + 1;
-        for (const int c : m_corner_order) {
-            const int cx = m_tile.x0 + c % (w + 1), cy = m_tile.y0 + c / (w + 1);
+        // written in place, field by field: a sample built and pushed back was a 16-byte load
+        // of two 8-byte stores just made, which the core cannot forward (42 % of this
+        // function's perf samples on the checkerboard)
+        m_corner_count = m_corner_place.size();
+        samples.resize(m_corner_count);
+        for (size_t q = 0; q < m_corner_count; ++q) {
+            const int cx = m_tile.x0 + m_corner_place[q].first, cy = m_tile.y0 + m_corner_place[q].second;
             // keyed by the corner's place in the image: the tiles on both sides of a tile
             // border trace it alike
             const uint32_t id = static_cast<uint32_t>(cy) * row + static_cast<uint32_t>(cx);
-            samples.push_back({static_cast<float>(cx), static_cast<float>(cy), stream_key(m_seed ^ kCornerSalt, id), pass});
+            CameraSample& cs = samples[q];
+            cs.film_x = static_cast<float>(cx);
+            cs.film_y = static_cast<float>(cy);
+            cs.key = stream_key(m_seed ^ kCornerSalt, id);
+            cs.index = pass;
         }
-        m_corner_count = samples.size();
         // the highlights' grids with the corners: where they fall is known before any ray
         for (const int i : m_spot_pixels) {
             const PixelState& p = m_pixels[i];
@@ -250,13 +275,7 @@ void AdaptiveSampler::take_results(const CameraSample* samples, const PathResult
         const size_t nc = m_corner_count;  // then the highlights' grids, which decide nothing
         m_corners.resize(nc);
         m_spot.assign(results + nc, results + n);
-        m_corner_terms.resize(nc);
-        for (size_t q = 0; q < nc; ++q) {
-            m_corners[m_corner_order[q]] = results[q];
-            FilmSum term;  // its share of each level-1 pixel around it, weighted once, not four times
-            term.add(results[q], aa::kCornerWeightLevel1);
-            m_corner_terms[m_corner_order[q]] = term;
-        }
+        for (size_t q = 0; q < nc; ++q) m_corners[m_corner_order[q]] = results[q];
         if (m_recalled) {
             recall_pattern();
             return;
@@ -306,6 +325,23 @@ void AdaptiveSampler::recall_pattern() {
     }
 }
 
+// inline, defined before its use (as record_pixel): a call a pixel through the shared
+// library's PLT otherwise
+inline void AdaptiveSampler::queue_refinement(int i) {
+    PixelState& p = m_pixels[i];
+    if (p.level == 1) return;
+    // the pre-pass placed the edges in one run of at most kDirectMaxZones zones: their
+    // zigzags at once, without E..H (docs/antialiasing.md, "Level 2 skipped")
+    p.direct = aa::one_run(p.hint) && zone_count(p.hint) <= kDirectMaxZones;
+    if (!p.direct) {
+        m_level2_pixels.push_back(i);
+        return;
+    }
+    p.level = 3;
+    p.zones = p.hint;
+    m_level3_pixels.push_back(i);
+}
+
 void AdaptiveSampler::classify_corners() {
     const int w = m_tile.x1 - m_tile.x0, h = m_tile.y1 - m_tile.y0, row = w + 1;
     // each pair of neighbouring corners compared once, for both pixels that share it:
@@ -347,21 +383,6 @@ void AdaptiveSampler::classify_corners() {
     }
 }
 
-void AdaptiveSampler::queue_refinement(int i) {
-    PixelState& p = m_pixels[i];
-    if (p.level == 1) return;
-    // the pre-pass placed the edges in one run of at most kDirectMaxZones zones: their
-    // zigzags at once, without E..H (docs/antialiasing.md, "Level 2 skipped")
-    p.direct = aa::one_run(p.hint) && zone_count(p.hint) <= kDirectMaxZones;
-    if (!p.direct) {
-        m_level2_pixels.push_back(i);
-        return;
-    }
-    p.level = 3;
-    p.zones = p.hint;
-    m_level3_pixels.push_back(i);
-}
-
 void AdaptiveSampler::refine_level2(const PathResult* signal, size_t n) {
     m_level2_signal.resize(n);
     for (size_t q = 0; q < n; ++q) m_level2_signal[q] = aa_signal(signal[q]);
@@ -385,6 +406,7 @@ void AdaptiveSampler::refine_level2(const PathResult* signal, size_t n) {
             zones |= aa::kZoneTable[f][mask];
         }
         p.zones = zones | p.hint;
+        if (zone_count(p.hint) >= kCrowdedMinZones) p.zones &= kCrowdedZones;  // any four zones hold 1 or 3
     }
 }
 
@@ -398,19 +420,32 @@ inline bool AdaptiveSampler::in_spot(const PixelState& p, int s) const {
     return fx >= q.x0 && fx <= q.x1 && fy >= q.y0 && fy <= q.y1;
 }
 
+inline void AdaptiveSampler::record_pixel(const PixelState& p, bool stats) {
+    if (!m_recalled && !m_stats.pattern.empty())
+        m_stats.pattern[p.pixel] = aa_pattern_code(p.level, p.vertical, p.zones, p.direct);
+    if (!stats) return;
+    m_stats.level[p.pixel] = static_cast<uint8_t>(p.level);
+    const int zigzags = p.level == 1 ? 0 : zone_count(p.zones);
+    const int rays = p.level == 1 ? 1 : 1 + (p.direct ? 0 : aa::kLevel2) + aa::kZigzag * zigzags;
+    m_stats.rays[p.pixel] = static_cast<uint8_t>(rays + (p.spot >= 0 ? kSpotRays : 0));
+}
+
 void AdaptiveSampler::finish(const PathResult* level3) {
     const bool record = m_pass == 0;
     // in the image's row order, not the rounds' Morton order: the film's rows are read and
     // written front to back, which the hardware prefetches (each pixel's sum is its own, so
     // the order changes no bit)
-    for (const int order : m_row_order) {
-        const size_t i = static_cast<size_t>(order);
+    const size_t count = m_row_order.size();
+    for (size_t j = 0; j < count; ++j) {
+        if (j + kFilmLookahead < count)
+            m_film.prefetch(m_pixels[static_cast<size_t>(m_row_order[j + kFilmLookahead])].pixel);
+        const size_t i = static_cast<size_t>(m_row_order[j]);
         const PixelState& p = m_pixels[i];
         if (p.level == 1 && p.spot < 0) {
-            // the mean of its corners: the same sums as weighting them here (0.25 f's products
-            // in double, added in the same order), one add of 13 doubles each
+            // the mean of its corners, each weighted here: a corner's weighted copy of 13 doubles
+            // (104 bytes against its result's 48) cost more in memory than the multiplies
             FilmSum sum;
-            for (int k = 0; k < aa::kCorners; ++k) sum.add(m_corner_terms[corner_of(p, k)]);
+            for (int k = 0; k < aa::kCorners; ++k) sum.add(m_corners[corner_of(p, k)], aa::kCornerWeightLevel1);
             m_film.add(p.pixel, sum);
             record_pixel(p, record);
             continue;
@@ -454,16 +489,6 @@ void AdaptiveSampler::finish(const PathResult* level3) {
         m_film.add(p.pixel, sum);  // the pixel's samples in one write
         record_pixel(p, record);
     }
-}
-
-void AdaptiveSampler::record_pixel(const PixelState& p, bool stats) {
-    if (!m_recalled && !m_stats.pattern.empty())
-        m_stats.pattern[p.pixel] = aa_pattern_code(p.level, p.vertical, p.zones, p.direct);
-    if (!stats) return;
-    m_stats.level[p.pixel] = static_cast<uint8_t>(p.level);
-    const int zigzags = p.level == 1 ? 0 : zone_count(p.zones);
-    const int rays = p.level == 1 ? 1 : 1 + (p.direct ? 0 : aa::kLevel2) + aa::kZigzag * zigzags;
-    m_stats.rays[p.pixel] = static_cast<uint8_t>(rays + (p.spot >= 0 ? kSpotRays : 0));
 }
 
 }  // namespace patina

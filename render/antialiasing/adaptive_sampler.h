@@ -13,7 +13,8 @@
 //      pixel whose edges the pre-pass placed in one run of up to three zones skips this
 //      round: those zones are refined at once (weights: aa::kDirectWeights);
 //   3. one zigzag of four through each flagged zone (at most five a pixel), the zones the
-//      pre-pass's edges cross included.
+//      pre-pass's edges cross included; a pixel the pre-pass finds crowded (edges in four
+//      zones or more, nearer each other than the pixel shows) traces zones 1 and 3 only.
 // Every position's integrator sample is added with its precomputed weight. A pixel that a
 // sub-pixel highlight of the pre-pass falls on (render/antialiasing/highlights.h) also traces, in round 1,
 // a grid of rays over the highlight's piece, which stands for the piece's area in place of
@@ -36,6 +37,7 @@
 
 #include <algorithm>
 #include <array>
+#include <utility>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -169,12 +171,14 @@ private:
     bool m_recalled = false;  // this item's decisions are the kept ones: no signal, no comparisons
     std::vector<PixelState> m_pixels;  // Morton order
     int m_order_w = -1, m_order_h = -1;  // the tile size the orders below are for
-    std::vector<int> m_pixel_order;    // the tile's pixels (ty * w + tx) in Morton order
+    // the tile's pixels in Morton order, their place in the tile set (the rest is each item's):
+    // copied at each item's start instead of a division and a remainder a pixel
+    std::vector<PixelState> m_blank_pixels;
     std::vector<int> m_corner_order;   // corner indices (cy * (w + 1) + cx) in Morton order
+    std::vector<std::pair<int, int>> m_corner_place;  // the same corners' (cx, cy) in the tile
     std::vector<int> m_row_order;      // m_pixels' indices in the tile's row order (ty * w + tx)
     std::vector<uint8_t> m_across, m_down;  // round 1: neighbouring corners that differ
     std::vector<PathResult> m_corners;
-    std::vector<FilmSum> m_corner_terms;  // each corner's result weighted for a level-1 pixel
     size_t m_corner_count = 0;          // round 1: the corners, then the highlights' grids
     std::vector<int> m_spot_pixels;     // into m_pixels
     std::vector<PathResult> m_spot;

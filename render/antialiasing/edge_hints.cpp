@@ -254,7 +254,7 @@ void AaEdgeHints::resize(int w, int h) {
 }
 
 void rasterise_edge(AaEdgeHints& h, float x0f, float y0f, float x1f, float y1f, float z0, float z1, float tan_x,
-                    float tan_y) {
+                    float tan_y, std::vector<double>& ts) {
     const double x0 = x0f, y0 = y0f, dx = double(x1f) - x0, dy = double(y1f) - y0;
     // Liang-Barsky: the part of the segment inside the image
     double ta = 0, tb = 1;
@@ -272,7 +272,7 @@ void rasterise_edge(AaEdgeHints& h, float x0f, float y0f, float x1f, float y1f, 
     }
     if (!(ta <= tb)) return;
     // where it crosses the pixel grid: between two consecutive crossings it is in one pixel
-    std::vector<double> ts{ta, tb};
+    ts.assign({ta, tb});
     const auto crossings = [&](double a, double d) {
         if (d == 0) return;
         const double lo = std::min(a + ta * d, a + tb * d), hi = std::max(a + ta * d, a + tb * d);
@@ -287,8 +287,13 @@ void rasterise_edge(AaEdgeHints& h, float x0f, float y0f, float x1f, float y1f, 
         const double sx = (2 * (x0 + t * dx) / h.width - 1) * tan_x, sy = (1 - 2 * (y0 + t * dy) / h.height) * tan_y;
         return z * std::sqrt(1 + sx * sx + sy * sy);
     };
+    // each crossing's distance once, for the pieces on both sides of it
+    double distance0 = distance(ts[0]);
     for (size_t k = 0; k + 1 < ts.size(); ++k) {
         const double t0 = ts[k], t1 = ts[k + 1], tm = 0.5 * (t0 + t1);
+        const double distance1 = distance(t1);
+        const double nearest = std::min(distance0, distance1);
+        distance0 = distance1;
         if (t1 - t0 < 1e-12 && ts.size() > 2) continue;
         const int px = std::clamp(static_cast<int>(std::floor(x0 + tm * dx)), 0, h.width - 1);
         const int py = std::clamp(static_cast<int>(std::floor(y0 + tm * dy)), 0, h.height - 1);
@@ -296,7 +301,7 @@ void rasterise_edge(AaEdgeHints& h, float x0f, float y0f, float x1f, float y1f, 
         const double xa = x0 + t0 * dx - px, xb = x0 + t1 * dx - px, ya = y0 + t0 * dy - py, yb = y0 + t1 * dy - py;
         h.zones[0][i] |= zones_crossed(xa, ya, xb, yb);                  // (u, v) = (x, y)
         h.zones[1][i] |= zones_crossed(1 - ya, xa, 1 - yb, xb);          // turned: (u, v) = (1 - y, x)
-        h.nearest[i] = std::min(h.nearest[i], static_cast<float>(std::min(distance(t0), distance(t1))));
+        h.nearest[i] = std::min(h.nearest[i], static_cast<float>(nearest));
     }
 }
 
@@ -323,8 +328,8 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
         return 0.5 * (1 - d) > threshold;
     };
     // a world-space segment into the hints: camera space, clipped to the near plane, then the
-    // pinhole projection
-    const auto project = [&](AaEdgeHints& out, V3 pa, V3 pb) {
+    // pinhole projection (crossings: the calling thread's scratch for rasterise_edge)
+    const auto project = [&](AaEdgeHints& out, V3 pa, V3 pb, std::vector<double>& crossings) {
         const V3 da = sub(pa, eye), db = sub(pb, eye);
         double za = dot(da, fwd), zb = dot(db, fwd), xa = dot(da, right), xb = dot(db, right), ya = dot(da, up),
                yb = dot(db, up);
@@ -341,7 +346,7 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
         const auto fx = [&](double x, double z) { return static_cast<float>((x / z / tan_x + 1) * 0.5 * c.width); };
         const auto fy = [&](double y, double z) { return static_cast<float>((1 - y / z / tan_y) * 0.5 * c.height); };
         rasterise_edge(out, fx(xa, za), fy(ya, za), fx(xb, zb), fy(yb, zb), static_cast<float>(za),
-                       static_cast<float>(zb), static_cast<float>(tan_x), static_cast<float>(tan_y));
+                       static_cast<float>(zb), static_cast<float>(tan_x), static_cast<float>(tan_y), crossings);
     };
     const auto film = [&](V3 p, double& x, double& y) {  // film position of a point in front of the camera
         const V3 d = sub(p, eye);
@@ -353,6 +358,7 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
     };
     // the edges [begin, end) into `out`: the feature edges, then the shadows
     const auto walk = [&](size_t begin, size_t end, AaEdgeHints& out) {
+        std::vector<double> crossings;
         for (size_t e = begin; e < end; ++e) {
             const EdgeUse& u = edges[e];
             const V3 pa = load(tri + 3 * static_cast<size_t>(u.ends[0][0]));
@@ -364,7 +370,7 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
                 feature = feature || front(t0, pa) != front(t1, pa);
                 feature = feature || crease(u.ends[0][0], u.ends[1][0]) || crease(u.ends[0][1], u.ends[1][1]);
             }
-            if (feature) project(out, pa, pb);
+            if (feature) project(out, pa, pb, crossings);
         }
         std::unordered_map<int32_t, Cast> casts;  // a light's casts of the merged vertices, by vertex
         // shadow edges: the edges that are silhouettes seen from a light (or boundaries), cast
@@ -416,8 +422,8 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
                 const V3 pb = load(tri + 3 * static_cast<size_t>(u.ends[0][1]));
                 if (u.count == 2 && lit_front(u.tri[0], pa) == lit_front(u.tri[1], pa)) continue;
                 const Cast a = end_cast(u.place[0], pa), b = end_cast(u.place[1], pb);
-                cast_piece(pa, pb, 0.0, a, 1.0, b, 0, receiver, film, [&](V3 x, V3 y) { project(out, x, y); },
-                           c.width, c.height);
+                const auto project_piece = [&](V3 x, V3 y) { project(out, x, y, crossings); };
+                cast_piece(pa, pb, 0.0, a, 1.0, b, 0, receiver, film, project_piece, c.width, c.height);
             }
         }
     };
@@ -435,8 +441,9 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
     walk(0, bound(1), h);
     // the analytic spheres' silhouettes, which have no triangle edges (their cast shadows are
     // left to the signal)
+    std::vector<double> crossings;
     for_each_silhouette_piece(s.tree->spheres, c.position, [&](const double* a, const double* b) {
-        project(h, V3{a[0], a[1], a[2]}, V3{b[0], b[1], b[2]});
+        project(h, V3{a[0], a[1], a[2]}, V3{b[0], b[1], b[2]}, crossings);
     });
     for (auto& w : workers) w.join();
     for (const AaEdgeHints& o : part)

@@ -47,8 +47,9 @@ AaEdgeHints project_feature_edges(const RenderScene& scene, float threshold, int
 
 // The pixel crossings of one film-space segment (pixels, x right, y down) into `hints`; z0,
 // z1: the camera-space depths (along the view axis) of its ends, tan_x, tan_y the camera's
-// half-angle tangents, for the distances. Exposed for the tests.
+// half-angle tangents, for the distances; crossings: the caller's scratch, kept from edge to
+// edge (not a vector made and freed for each edge). Exposed for the tests.
 void rasterise_edge(AaEdgeHints& hints, float x0, float y0, float x1, float y1, float z0, float z1, float tan_x,
-                    float tan_y);
+                    float tan_y, std::vector<double>& crossings);
 
 }  // namespace patina

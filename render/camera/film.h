@@ -31,19 +31,6 @@ struct FilmSum {
         }
         weight += w;
     }
-    // another sum's channels added to these: the adaptive sampler's level-1 pixels add their
-    // corners' terms, each weighted once for the four pixels that share it
-    void add(const FilmSum& s) {
-        for (int k = 0; k < 3; ++k) {
-            rgb[k] += s.rgb[k];
-            albedo[k] += s.albedo[k];
-            normal[k] += s.normal[k];
-        }
-        lux += s.lux;
-        depth += s.depth;
-        depth_weight += s.depth_weight;
-        weight += s.weight;
-    }
 };
 
 class Film {
@@ -77,6 +64,12 @@ public:
         p[kDepth] += s.depth;
         p[kDepthWeight] += s.depth_weight;
         p[kWeight] += s.weight;
+    }
+    // The pixel's sums brought towards the core ahead of an add (its first and last cache line)
+    void prefetch(int pixel) const {
+        const double* p = &m_sums[kChannels * static_cast<size_t>(pixel)];
+        __builtin_prefetch(p, 1);
+        __builtin_prefetch(p + kChannels - 1, 1);
     }
     // Each pixel the weighted mean of its samples (H x W x 3 etc.); samples: the weight sum.
     void resolve(float* rgb, float* albedo, float* normal, float* depth, float* lux, float* samples) const;

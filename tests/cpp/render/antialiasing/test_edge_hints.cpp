@@ -4,6 +4,7 @@
 // falls; any thread count gives the same hints.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -24,7 +25,8 @@ patina::AaEdgeHints empty_hints(int w, int h) {
 
 TEST(AaEdgeHints, AVerticalSegmentMarksItsColumnWithTheZoneItCrosses) {
     patina::AaEdgeHints h = empty_hints(8, 8);
-    patina::rasterise_edge(h, 3.3f, 1.0f, 3.3f, 5.0f, 2.0f, 2.0f, 0.5f, 0.5f);
+    std::vector<double> crossings;  // rasterise_edge's scratch
+    patina::rasterise_edge(h, 3.3f, 1.0f, 3.3f, 5.0f, 2.0f, 2.0f, 0.5f, 0.5f, crossings);
     for (int y = 0; y < 8; ++y)
         for (int x = 0; x < 8; ++x) {
             const size_t i = static_cast<size_t>(y) * 8 + x;
@@ -42,7 +44,8 @@ TEST(AaEdgeHints, AnObliqueSegmentMarksTheZonesOfItsPartInEachPixel) {
     patina::AaEdgeHints h = empty_hints(4, 4);
     // from (1.15, 1.0) to (1.55, 2.0): inside pixel (1, 1), u from 0.15 to 0.55, of which
     // between the zigzags' rows v = 1/4 and 3/4 u from 0.25 to 0.45: zones 1 and 2 (not 0)
-    patina::rasterise_edge(h, 1.15f, 1.0f, 1.55f, 2.0f, 1.0f, 1.0f, 0.5f, 0.5f);
+    std::vector<double> crossings;  // rasterise_edge's scratch
+    patina::rasterise_edge(h, 1.15f, 1.0f, 1.55f, 2.0f, 1.0f, 1.0f, 0.5f, 0.5f, crossings);
     EXPECT_EQ(h.zones[0][1 * 4 + 1], 0x06u);
     // turned, (u, v) = (1 - y, x): v = x in [1/4, 3/4] from y = 0.25 to 1, u from 0.75 to 0
     EXPECT_EQ(h.zones[1][1 * 4 + 1], 0x0Fu);
@@ -53,8 +56,25 @@ TEST(AaEdgeHints, AnObliqueSegmentMarksTheZonesOfItsPartInEachPixel) {
 
 TEST(AaEdgeHints, ASegmentOutsideTheImageMarksNothing) {
     patina::AaEdgeHints h = empty_hints(4, 4);
-    patina::rasterise_edge(h, -3.0f, -1.0f, 9.0f, -0.5f, 1.0f, 1.0f, 0.5f, 0.5f);
+    std::vector<double> crossings;  // rasterise_edge's scratch
+    patina::rasterise_edge(h, -3.0f, -1.0f, 9.0f, -0.5f, 1.0f, 1.0f, 0.5f, 0.5f, crossings);
     for (const uint8_t z : h.zones[0]) EXPECT_EQ(z, 0u);
+}
+
+TEST(AaEdgeHints, AScratchKeptFromEdgeToEdgeMarksWhatAFreshOneWould) {
+    // a long oblique edge, then a short one: the second must not see the first's crossings
+    patina::AaEdgeHints kept = empty_hints(8, 8), fresh = empty_hints(8, 8);
+    std::vector<double> crossings;
+    patina::rasterise_edge(kept, 0.2f, 0.3f, 7.7f, 6.1f, 1.0f, 3.0f, 0.5f, 0.5f, crossings);
+    patina::rasterise_edge(kept, 5.2f, 1.1f, 5.6f, 1.9f, 2.0f, 2.0f, 0.5f, 0.5f, crossings);
+    for (const auto& [x0, y0, x1, y1, z0, z1] : {std::array<float, 6>{0.2f, 0.3f, 7.7f, 6.1f, 1.0f, 3.0f},
+                                                 std::array<float, 6>{5.2f, 1.1f, 5.6f, 1.9f, 2.0f, 2.0f}}) {
+        std::vector<double> own;
+        patina::rasterise_edge(fresh, x0, y0, x1, y1, z0, z1, 0.5f, 0.5f, own);
+    }
+    EXPECT_EQ(kept.zones[0], fresh.zones[0]);
+    EXPECT_EQ(kept.zones[1], fresh.zones[1]);
+    EXPECT_EQ(std::memcmp(kept.nearest.data(), fresh.nearest.data(), kept.nearest.size() * sizeof(float)), 0);
 }
 
 TEST(AaEdgeHints, OfAMeshOnlyTheFeatureEdgesAreProjected) {
