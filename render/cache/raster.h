@@ -16,32 +16,46 @@ namespace cache {
 
 constexpr int kMaxHullPoints = 8;
 
+// Sorts n points by x, then y, from (px, py) into (sx, sy): each point goes to its rank, the
+// number of points before it (ties by index), counted without a branch. The hull's index sort
+// (std::sort) was a third of the reprojection's time on the room, its comparisons' branches
+// unpredictable (docs/radiance-cache.md, "The cache's own stages cheaper"). The order is a
+// sort's like any other, and points that compare equal are equal, so the hull is the same.
+PATINA_INLINE void sort_points(const float* px, const float* py, int n, float* sx, float* sy) {
+    for (int i = 0; i < n; ++i) {
+        int rank = 0;
+        for (int j = 0; j < n; ++j) {
+            const bool same_x = px[j] == px[i], same_y = py[j] == py[i];
+            rank += (px[j] < px[i]) | (same_x & ((py[j] < py[i]) | (same_y & (j < i))));
+        }
+        sx[rank] = px[i], sy[rank] = py[i];
+    }
+}
+
 // The convex hull of n <= kMaxHullPoints points, counter-clockwise (Andrew's monotone chain)
 // into hx, hy; returns its size (0 when a point is not finite).
 PATINA_INLINE int convex_hull(const float* px, const float* py, int n, float* hx, float* hy) {
-    int order[kMaxHullPoints];
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < n; ++i)
         if (!std::isfinite(px[i]) || !std::isfinite(py[i])) return 0;
-        order[i] = i;
-    }
-    std::sort(order, order + n, [&](int a, int b) { return px[a] < px[b] || (px[a] == px[b] && py[a] < py[b]); });
+    float sx[kMaxHullPoints], sy[kMaxHullPoints];
+    sort_points(px, py, n, sx, sy);
     auto turn = [&](int o, int a, int b) {
-        return (px[a] - px[o]) * (py[b] - py[o]) - (py[a] - py[o]) * (px[b] - px[o]);
+        return (sx[a] - sx[o]) * (sy[b] - sy[o]) - (sy[a] - sy[o]) * (sx[b] - sx[o]);
     };
     int h[2 * kMaxHullPoints];
     int k = 0;
     for (int i = 0; i < n; ++i) {  // lower chain
-        while (k >= 2 && turn(h[k - 2], h[k - 1], order[i]) <= 0) --k;
-        h[k++] = order[i];
+        while (k >= 2 && turn(h[k - 2], h[k - 1], i) <= 0) --k;
+        h[k++] = i;
     }
     for (int i = n - 2, t = k + 1; i >= 0; --i) {  // upper chain
-        while (k >= t && turn(h[k - 2], h[k - 1], order[i]) <= 0) --k;
-        h[k++] = order[i];
+        while (k >= t && turn(h[k - 2], h[k - 1], i) <= 0) --k;
+        h[k++] = i;
     }
     const int m = std::max(k - 1, 0);
     for (int i = 0; i < m; ++i) {
-        hx[i] = px[h[i]];
-        hy[i] = py[h[i]];
+        hx[i] = sx[h[i]];
+        hy[i] = sy[h[i]];
     }
     return m;
 }
