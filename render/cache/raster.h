@@ -18,7 +18,7 @@ constexpr int kMaxHullPoints = 8;
 
 // Sorts n points by x, then y, from (px, py) into (sx, sy): each point goes to its rank, the
 // number of points before it (ties by index), counted without a branch. The hull's index sort
-// (std::sort) was a third of the reprojection's time on the room, its comparisons' branches
+// (std::sort) was a tenth of the reprojection's time on the room, its comparisons' branches
 // unpredictable (docs/radiance-cache.md, "The cache's own stages cheaper"). The order is a
 // sort's like any other, and points that compare equal are equal, so the hull is the same.
 PATINA_INLINE void sort_points(const float* px, const float* py, int n, float* sx, float* sy) {
@@ -40,7 +40,7 @@ PATINA_INLINE int convex_hull(const float* px, const float* py, int n, float* hx
     float sx[kMaxHullPoints], sy[kMaxHullPoints];
     sort_points(px, py, n, sx, sy);
     // the chain holds the points themselves, not their indices: one dependent load less in
-    // each turn, the chain's turns a quarter of the reprojection's own time on the room
+    // each turn, the chain a fifth of the reprojection's own time on the room
     float cx[2 * kMaxHullPoints], cy[2 * kMaxHullPoints];
     auto turn = [&](int k, int i) {  // of chain points k - 2, k - 1 and sorted point i
         return (cx[k - 1] - cx[k - 2]) * (sy[i] - cy[k - 2]) - (cy[k - 1] - cy[k - 2]) * (sx[i] - cx[k - 2]);
