@@ -35,29 +35,29 @@ using namespace kernel_width;
 // A texel's width in radians, about sqrt(2 pi) / R for an R x R hemisphere.
 inline float texel_width(int resolution) { return 2.5066283f / static_cast<float>(resolution); }
 
-// Whether the material's lobes are wide enough to be integrated over the texels: at least
-// two texels wide, and no clear coat.
-inline bool texel_resolvable(const Material& m, int resolution) {
-    if (m.coat) return false;
-    const float texel = texel_width(resolution);
+// Whether a material's reflection is finer than the texels resolve: a clear coat or a lobe
+// narrower than two texels. Looked up in the texture such a lobe sees a few texels -- a few
+// path samples, shared by the pixel's samples and its neighbours -- where `path` averages one
+// sample per camera sample: the lookup's error was many times path's (on the studio's
+// car-paint ball 16x at 16 spp; on the room's glossy floor, a lobe of one to two texels, 1.8x
+// path's at 16 spp, 32 BRDF samples looked up per pixel: docs/radiance-cache.md, "The room and
+// the car"). Materials without a reflection lobe (glass, emitters) are neither fine nor
+// resolved: the two tests below read this one from either side.
+inline bool finer_than_texels(const Material& m, int resolution) {
+    if (m.coat) return true;
     const std::optional<float> alpha = reflection_alpha(m);
-    return alpha && *alpha >= 2 * texel;
+    return alpha && *alpha < 2 * texel_width(resolution);
+}
+
+// Whether the material's lobes are wide enough to be integrated over the texels: a reflection
+// lobe at least two texels wide, and no clear coat.
+inline bool texel_resolvable(const Material& m, int resolution) {
+    return reflection_alpha(m) && !finer_than_texels(m, resolution);
 }
 
 // Whether `cache` leaves a material's indirect light to the path tracer (the path goes on
-// from the first hit as in `path`): glass, a clear coat and every lobe the texels cannot
-// resolve (narrower than two texels). Looked up in the texture such a lobe sees a few
-// texels -- a few path samples, shared by the pixel's samples and its neighbours -- where
-// `path` averages one sample per camera sample: the lookup's error was many times path's
-// (on the studio's car-paint ball 16x at 16 spp; on the room's glossy floor, a lobe of one
-// to two texels, 1.8x path's at 16 spp, 32 BRDF samples looked up per pixel:
-// docs/radiance-cache.md, "The room and the car").
-inline bool left_to_path(const Material& m, int resolution) {
-    if (transmits(m) || m.coat) return true;
-    const float texel = texel_width(resolution);
-    const std::optional<float> alpha = reflection_alpha(m);
-    return alpha && *alpha < 2 * texel;
-}
+// from the first hit as in `path`): glass and every reflection finer than the texels.
+inline bool left_to_path(const Material& m, int resolution) { return transmits(m) || finer_than_texels(m, resolution); }
 
 // Of the materials left to the path tracer, those whose first bounce the cache splits into
 // paths of their own BRDF sampling (all but glass): the error of these pixels is the
@@ -360,6 +360,41 @@ inline CacheState& start_cache_stage(const W& w) {
     return cache;
 }
 
+// The stream key of the split paths of sorted first-hit point q.
+inline uint32_t split_key(const PathScratch& scratch, size_t q) {
+    return hash_u32(sample_key(static_cast<uint32_t>(scratch.point_keys[q]), static_cast<uint32_t>(scratch.point_index[q])) ^
+                    0x3c6ef372u);
+}
+
+// The K BRDF samples of each sorted first-hit point of material m in [first, last), direction
+// (lobe_directions), density (pdfs) and value (bsdf_values) of sample j of point q at
+// (q - first) K + j: the material's kernels run once over all of them. One call per point ran
+// K of N lanes, on the room's floor (K = 1) one: sampling and evaluation were 34 % of the split
+// stage's time at width 16 (docs/radiance-cache.md, "The cache's own stages cheaper").
+inline void sample_split_lobes(const PathScratch& scratch, const Material& m, size_t first, size_t last, size_t K,
+                               HemisphereIntegration& integration) {
+    const size_t n = (last - first) * K;
+    float* vv = grow(integration.views, 3 * n);
+    float* ee = grow(integration.etas, n);
+    float* u0 = grow(integration.u_pick, n);
+    float* u1 = grow(integration.uniform_u, n);
+    float* u2 = grow(integration.uniform_v, n);
+    for (size_t q = first; q < last; ++q) {
+        const uint32_t key = split_key(scratch, q);
+        for (size_t j = 0; j < K; ++j) {
+            const size_t s = (q - first) * K + j;
+            std::copy(scratch.v_local.data() + 3 * q, scratch.v_local.data() + 3 * q + 3, vv + 3 * s);
+            ee[s] = scratch.eta[q];
+            u0[s] = uniform(key, 3 * static_cast<uint32_t>(j));
+            u1[s] = uniform(key, 3 * static_cast<uint32_t>(j) + 1);
+            u2[s] = uniform(key, 3 * static_cast<uint32_t>(j) + 2);
+        }
+    }
+    float* l = grow(integration.lobe_directions, 3 * n);
+    render_detail::material_sample(m, vv, ee, u0, u1, u2, l, grow(integration.pdfs, n), n);
+    render_detail::material_eval(m, l, vv, ee, grow(integration.bsdf_values, 3 * n), n);
+}
+
 // cache: the first-hit points of split_by_paths materials, each its indirect light from
 // split_paths paths along its BRDF's own samples (traced by the path tracer as the cache's
 // rays are: the emission they see directly is the direct light's, left to the outer path's
@@ -378,37 +413,21 @@ inline void split_narrow_lobes(const W& w, Tracer& trace) {
         const Material& m = w.scene.materials[k];
         if (!split_by_paths(m, R)) continue;
         const size_t K = split_paths(m, R);
-        float* vv = grow(integration.views, 3 * K);
-        float* ee = grow(integration.etas, K);
-        float* u0 = grow(integration.u_pick, K);
-        float* u1 = grow(integration.uniform_u, K);
-        float* u2 = grow(integration.uniform_v, K);
-        float* l = grow(integration.lobe_directions, 3 * K);
-        float* pdf = grow(integration.pdfs, K);
         const size_t first = scratch.material_start[k], last = scratch.material_start[k + 1];
+        sample_split_lobes(scratch, m, first, last, K, integration);
         for (size_t q = first; q < last; ++q) {
             const ShadingPoint& sp = scratch.sorted[q];
-            const uint32_t key = hash_u32(sample_key(static_cast<uint32_t>(scratch.point_keys[q]),
-                                                     static_cast<uint32_t>(scratch.point_index[q])) ^
-                                          0x3c6ef372u);
-            for (size_t j = 0; j < K; ++j) {
-                std::copy(scratch.v_local.data() + 3 * q, scratch.v_local.data() + 3 * q + 3, vv + 3 * j);
-                ee[j] = scratch.eta[q];
-                u0[j] = uniform(key, 3 * static_cast<uint32_t>(j));
-                u1[j] = uniform(key, 3 * static_cast<uint32_t>(j) + 1);
-                u2[j] = uniform(key, 3 * static_cast<uint32_t>(j) + 2);
-            }
-            render_detail::material_sample(m, vv, ee, u0, u1, u2, l, pdf, K);
-            float* f = grow(integration.bsdf_values, 3 * K);
-            render_detail::material_eval(m, l, vv, ee, f, K);
+            const uint32_t key = split_key(scratch, q);
             const Vec3f o = sp.p + w.ray_offset * sp.ng;
             for (size_t j = 0; j < K; ++j) {
-                const float* d = l + 3 * j;
-                if (!(pdf[j] > 0) || !(d[2] > 0)) continue;
+                const size_t s = (q - first) * K + j;
+                const float* d = integration.lobe_directions.data() + 3 * s;
+                const float pdf = integration.pdfs[s];
+                if (!(pdf > 0) || !(d[2] > 0)) continue;
                 const Vec3f wd = normalize(d[0] * sp.t + d[1] * sp.b + d[2] * sp.n);
                 if (!(dot(wd, sp.ng) > 0)) continue;
-                const float s = d[2] / (pdf[j] * static_cast<float>(K));
-                for (int c = 0; c < 3; ++c) integration.split_weights.push_back(f[3 * j + c] * s);
+                const float weight = d[2] / (pdf * static_cast<float>(K));
+                for (int c = 0; c < 3; ++c) integration.split_weights.push_back(integration.bsdf_values[3 * s + c] * weight);
                 build.rays.push(o, wd, key, static_cast<uint32_t>(j), static_cast<int32_t>(q));
             }
             scratch.cached[sp.path] = 1;

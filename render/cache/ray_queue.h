@@ -21,8 +21,10 @@ struct RayQueue {
         org.clear(), dir.clear(), keys.clear(), indices.clear(), where.clear();
     }
     void push(const Vec3f& o, const Vec3f& d, uint32_t key, uint32_t index, int32_t at) {
-        org.insert(org.end(), {o.x, o.y, o.z});
-        dir.insert(dir.end(), {d.x, d.y, d.z});
+        // push_back, not insert of an initializer list: the insert called memmove for three
+        // floats, 0.5 % of the room's render (docs/radiance-cache.md, "The cache's own stages cheaper")
+        org.push_back(o.x), org.push_back(o.y), org.push_back(o.z);
+        dir.push_back(d.x), dir.push_back(d.y), dir.push_back(d.z);
         keys.push_back(key);
         indices.push_back(index);
         where.push_back(at);

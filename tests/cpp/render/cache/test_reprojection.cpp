@@ -7,6 +7,7 @@
 // nearest-texel lookup, and a wall A saw at grazing angles magnified.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -206,6 +207,56 @@ TEST(CacheRaster, AConvexRegionCoversTheTexelsWhoseCentresAreInside) {
     m.clear();
     raster_convex(qx, qy, 4, 32, [&](int y, Row128 span) { m.rows[y] |= span; });
     EXPECT_EQ(m.count(32), 2 * 32);
+}
+
+// The hull as Andrew's monotone chain gives it after any sort by (x, y): the points sorted
+// by index through std::sort, as the hull did before it sorted by rank.
+int hull_by_sorted_indices(const float* px, const float* py, int n, float* hx, float* hy) {
+    std::vector<int> order(n);
+    for (int i = 0; i < n; ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return px[a] < px[b] || (px[a] == px[b] && py[a] < py[b]); });
+    auto turn = [&](int o, int a, int b) {
+        return (px[a] - px[o]) * (py[b] - py[o]) - (py[a] - py[o]) * (px[b] - px[o]);
+    };
+    int h[2 * kMaxHullPoints];
+    int k = 0;
+    for (int i = 0; i < n; ++i) {
+        while (k >= 2 && turn(h[k - 2], h[k - 1], order[i]) <= 0) --k;
+        h[k++] = order[i];
+    }
+    for (int i = n - 2, t = k + 1; i >= 0; --i) {
+        while (k >= t && turn(h[k - 2], h[k - 1], order[i]) <= 0) --k;
+        h[k++] = order[i];
+    }
+    const int m = std::max(k - 1, 0);
+    for (int i = 0; i < m; ++i) hx[i] = px[h[i]], hy[i] = py[h[i]];
+    return m;
+}
+
+// The sort by rank gives the hull the index sort gave, bit for bit: points on a coarse grid
+// (ties in x, equal points, collinear runs) and points anywhere, 3 to 8 of them.
+TEST(CacheRaster, TheHullIsTheSameWhateverTheSort) {
+    uint32_t state = 12345u;
+    auto next = [&]() {
+        state = state * 1664525u + 1013904223u;
+        return static_cast<float>(state >> 8) / 16777216.0f;
+    };
+    for (int trial = 0; trial < 4000; ++trial) {
+        const int n = 3 + trial % 6;
+        const bool coarse = trial % 2 == 0;
+        float px[kMaxHullPoints], py[kMaxHullPoints];
+        for (int i = 0; i < n; ++i) {
+            px[i] = coarse ? std::floor(4 * next()) : 40 * next() - 4;
+            py[i] = coarse ? std::floor(4 * next()) : 40 * next() - 4;
+        }
+        float ax[kMaxHullPoints], ay[kMaxHullPoints], bx[kMaxHullPoints], by[kMaxHullPoints];
+        const int m = convex_hull(px, py, n, ax, ay);
+        ASSERT_EQ(m, hull_by_sorted_indices(px, py, n, bx, by)) << trial;
+        for (int i = 0; i < m; ++i) {
+            EXPECT_EQ(ax[i], bx[i]) << trial << " " << i;
+            EXPECT_EQ(ay[i], by[i]) << trial << " " << i;
+        }
+    }
 }
 
 // A plane facing the point, its radiance varying across it: a nearby point's hemisphere is
