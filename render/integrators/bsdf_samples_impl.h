@@ -21,12 +21,12 @@ using namespace kernel_width;
 // operations: the direction into the world (on the side the local direction says), the
 // throughput times BRDF x cosine / pdf, Russian roulette, and the next ray of the paths that
 // go on, appended to scratch.next_active in point order.
-inline void update_paths(const Wavefront& w, int depth, size_t np) {
-    PathScratch& scratch = w.scratch;
+inline void update_paths(const Wavefront& wavefront, int depth, size_t np) {
+    PathScratch& scratch = wavefront.scratch;
     const float* ll = scratch.l_local.data();
     const float* fv = scratch.bsdf_rgb.data();
     const float* pdf = scratch.pdf.data();
-    const bool roulette = depth + 1 >= w.settings.rr_depth;
+    const bool roulette = depth + 1 >= wavefront.settings.rr_depth;
     scratch.next_active.resize(np);
     float* next_org = grow(scratch.next_ray_org, 3 * np);
     float* next_dir = grow(scratch.next_ray_dir, 3 * np);
@@ -37,7 +37,7 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
         uint32_t all = 0;
         if (roulette)
             for (int k = 0; k < lanes; ++k) {
-                const CameraSample& c = w.camera_samples[scratch.point_lanes.path[q0 + k]];
+                const CameraSample& c = wavefront.camera_samples[scratch.point_lanes.path[q0 + k]];
                 key[k] = static_cast<int32_t>(c.key);
                 index[k] = static_cast<int32_t>(c.index);
                 all |= c.index;
@@ -60,13 +60,13 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
         go = go & ((T[0] > F(0.0f)) | (T[1] > F(0.0f)) | (T[2] > F(0.0f)));
         if (roulette) {
             const F survive = std_min(F(0.95f), std_max(T[0], std_max(T[1], T[2])));
-            const F u = sample_uniform_lanes(w.settings.sampler, load_n<N>(key), load_n<N>(index), bit_length(all),
-                                             depth, kDimRoulette);
+            const F u = sample_uniform_lanes(wavefront.settings.sampler, load_n<N>(key), load_n<N>(index),
+                                             bit_length(all), depth, kDimRoulette);
             const B lives = go & !(u >= survive);
             for (int c = 0; c < 3; ++c) T[c] = select(lives, T[c] / survive, T[c]);
             go = lives;
         }
-        const F side = select(L.z > F(0.0f), F(w.ray_offset), F(-w.ray_offset));
+        const F side = select(L.z > F(0.0f), F(wavefront.ray_offset), F(-wavefront.ray_offset));
         const V3 Pp = load_rows(scratch.point_lanes.position.data(), q0, lanes);
         const V3 o = Pp + side * NG;
         alignas(64) float tt[3][N], oo[3][N], dd[3][N], pp[3][N];
@@ -97,8 +97,8 @@ inline void update_paths(const Wavefront& w, int depth, size_t np) {
 
 // The numbers BSDF sampling draws at each point: two uniforms, and the lobe pick for the
 // groups whose sampling reads it (every point's with all_picks: a guide picks too).
-inline void draw_bsdf_numbers(const Wavefront& w, int depth, bool all_picks) {
-    PathScratch& scratch = w.scratch;
+inline void draw_bsdf_numbers(const Wavefront& wavefront, int depth, bool all_picks) {
+    PathScratch& scratch = wavefront.scratch;
     const size_t np = scratch.sorted.size();
     float* upick = grow(scratch.u_pick, np);
     float* u1 = grow(scratch.uniform_u, np);
@@ -106,7 +106,7 @@ inline void draw_bsdf_numbers(const Wavefront& w, int depth, bool all_picks) {
     if (all_picks)
         fill_uniforms(scratch, np, depth, kDimBsdfPick, upick);
     else
-        for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
+        for_material_groups(wavefront, [&](const Material& m, size_t a, size_t count) {
             if (sampling_picks(m)) fill_uniforms(scratch, a, count, depth, kDimBsdfPick, upick);
         });
     fill_uniforms(scratch, np, depth, kDimBsdfU, u1);
@@ -116,13 +116,13 @@ inline void draw_bsdf_numbers(const Wavefront& w, int depth, bool all_picks) {
 
 // Each point's next direction drawn by its material (N points of a material at a time), with
 // its density and the BSDF's value there.
-inline void sample_materials(const Wavefront& w) {
-    PathScratch& scratch = w.scratch;
+inline void sample_materials(const Wavefront& wavefront) {
+    PathScratch& scratch = wavefront.scratch;
     const MaterialBuffers buffers = material_buffers(scratch);
     const float* upick = scratch.u_pick.data();
     const float* u1 = scratch.uniform_u.data();
     const float* u2 = scratch.uniform_v.data();
-    for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
+    for_material_groups(wavefront, [&](const Material& m, size_t a, size_t count) {
         const MaterialBuffers group = buffers.from(a);
         material_sample(m, group.view_local, group.eta, upick + a, u1 + a, u2 + a, group.light_local, group.pdf, count);
         material_eval(m, group.light_local, group.view_local, group.eta, group.bsdf_rgb, count);
@@ -131,19 +131,19 @@ inline void sample_materials(const Wavefront& w) {
 
 // The paths after their BSDF samples: throughput, Russian roulette, and the next bounce's ray
 // for the survivors (scratch.next_active), while the path may still bounce.
-inline void continue_paths(const Wavefront& w, int depth) {
-    PathScratch& scratch = w.scratch;
+inline void continue_paths(const Wavefront& wavefront, int depth) {
+    PathScratch& scratch = wavefront.scratch;
     scratch.timer.lap(Stage::ShadeSample);
     scratch.next_active.clear();
-    if (depth + 1 <= w.settings.max_depth) update_paths(w, depth, scratch.sorted.size());
+    if (depth + 1 <= wavefront.settings.max_depth) update_paths(wavefront, depth, scratch.sorted.size());
     scratch.timer.lap(Stage::PathUpdate);
 }
 
 // BSDF sampling: each point's next direction from its material, and the paths that go on.
-inline void sample_bsdf(const Wavefront& w, int depth) {
-    draw_bsdf_numbers(w, depth, false);
-    sample_materials(w);
-    continue_paths(w, depth);
+inline void sample_bsdf(const Wavefront& wavefront, int depth) {
+    draw_bsdf_numbers(wavefront, depth, false);
+    sample_materials(wavefront);
+    continue_paths(wavefront, depth);
 }
 
 }  // namespace render_detail

@@ -22,54 +22,55 @@ using namespace kernel_width;
 
 // Light sampling with MIS against the guided BSDF sampling: the density a light sample's
 // direction has under the guide mixed into its BSDF density before the weights.
-inline void queue_guided_light_samples(const Wavefront& w, int depth) {
-    if (!sample_and_evaluate_lights(w, depth)) return;
-    PathScratch& scratch = w.scratch;
-    cache::mix_light_pdfs(scratch, w.settings.cache, scratch.l_local.data(), scratch.pdf.data(), scratch.sorted.size());
-    queue_light_shadow_rays(w, depth, 1.0f);
+inline void queue_guided_light_samples(const Wavefront& wavefront, int depth) {
+    if (!sample_and_evaluate_lights(wavefront, depth)) return;
+    PathScratch& scratch = wavefront.scratch;
+    cache::mix_light_pdfs(scratch, wavefront.settings.cache, scratch.l_local.data(), scratch.pdf.data(),
+                          scratch.sorted.size());
+    queue_light_shadow_rays(wavefront, depth, 1.0f);
 }
 
 // BSDF sampling where a guide serves the points: each guided point picks the guide or its
 // BSDF, the guide's picks drawn from its texels, their densities the mixture's.
-inline void sample_guided_bsdf(const Wavefront& w, int depth) {
-    if (!cache::guided_here(w.scratch)) return sample_bsdf(w, depth);
-    draw_bsdf_numbers(w, depth, true);  // every point's pick: the guide's choice reads it
-    cache::guided_picks(w);
-    sample_materials(w);
-    cache::guided_directions(w);
-    continue_paths(w, depth);
+inline void sample_guided_bsdf(const Wavefront& wavefront, int depth) {
+    if (!cache::guided_here(wavefront.scratch)) return sample_bsdf(wavefront, depth);
+    draw_bsdf_numbers(wavefront, depth, true);  // every point's pick: the guide's choice reads it
+    cache::guided_picks(wavefront);
+    sample_materials(wavefront);
+    cache::guided_directions(wavefront);
+    continue_paths(wavefront, depth);
 }
 
 // The bounces of `cache-guided`'s camera paths.
-inline void cache_guided_bounces(const Wavefront& w) {
-    PathScratch& scratch = w.scratch;
-    scratch.sampler = w.settings.sampler;                        // what fill_uniforms draws the points' numbers from
+inline void cache_guided_bounces(const Wavefront& wavefront) {
+    PathScratch& scratch = wavefront.scratch;
+    scratch.sampler = wavefront.settings.sampler;                // what fill_uniforms draws the points' numbers from
     const bool recording = guide_recording::recording(scratch);  // a training pass of the guide
     for (int depth = 0; !scratch.active.empty(); ++depth) {
-        const HitBatch hits = trace_bounce(w, depth);
-        add_emission_and_environment(w, hits, depth);
-        if (recording) guide_recording::note_arrivals(w);
-        make_shading_points(w, hits, depth);
-        if (depth == 0 && cache_serves(w)) {  // the guides of the first hits: nearby cache points
-            CacheRayTracer tracer(w.scene, w.settings, w.scratch);
-            cache::place_guide_points(w, tracer);
+        const HitBatch hits = trace_bounce(wavefront, depth);
+        add_emission_and_environment(wavefront, hits, depth);
+        if (recording) guide_recording::note_arrivals(wavefront);
+        make_shading_points(wavefront, hits, depth);
+        if (depth == 0 && cache_serves(wavefront)) {  // the guides of the first hits: nearby cache points
+            CacheRayTracer tracer(wavefront.scene, wavefront.settings, wavefront.scratch);
+            cache::place_guide_points(wavefront, tracer);
         }
-        cache::assign_guides(w, depth);
-        queue_guided_light_samples(w, depth);
-        sample_guided_bsdf(w, depth);
-        if (recording) guide_recording::note_vertices(w);
-        resolve_shadow_rays(w);
-        next_bounce(w);
+        cache::assign_guides(wavefront, depth);
+        queue_guided_light_samples(wavefront, depth);
+        sample_guided_bsdf(wavefront, depth);
+        if (recording) guide_recording::note_vertices(wavefront);
+        resolve_shadow_rays(wavefront);
+        next_bounce(wavefront);
     }
 }
 
 // `cache-guided` for a batch of camera samples.
-inline void trace_cache_guided(const Wavefront& w, size_t n) {
-    start_camera_paths(w, n);
-    w.scratch.timer.lap(Stage::CameraRays);
-    if (guide_recording::recording(w.scratch)) guide_recording::start_records(w.scratch);
-    cache_guided_bounces(w);
-    if (guide_recording::recording(w.scratch)) guide_recording::finish_records(w);
+inline void trace_cache_guided(const Wavefront& wavefront, size_t n) {
+    start_camera_paths(wavefront, n);
+    wavefront.scratch.timer.lap(Stage::CameraRays);
+    if (guide_recording::recording(wavefront.scratch)) guide_recording::start_records(wavefront.scratch);
+    cache_guided_bounces(wavefront);
+    if (guide_recording::recording(wavefront.scratch)) guide_recording::finish_records(wavefront);
 }
 
 }  // namespace render_detail

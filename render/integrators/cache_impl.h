@@ -47,7 +47,7 @@ inline IntegratorSettings cache_ray_settings(const IntegratorSettings& settings)
     return inner;
 }
 
-// What traces the cache's rays for the batch of `w` (its cache state's own scratch): the
+// What traces the cache's rays for the batch of `wavefront` (its cache state's own scratch): the
 // path tracer with cache_ray_settings.
 struct CacheRayTracer {
     const RenderScene& scene;
@@ -62,34 +62,34 @@ struct CacheRayTracer {
 };
 
 // Whether the cache serves the first hits: there is indirect light to serve.
-inline bool cache_serves(const Wavefront& w) { return w.settings.max_depth > 1; }
+inline bool cache_serves(const Wavefront& wavefront) { return wavefront.settings.max_depth > 1; }
 
 // The bounces of `cache`'s camera paths: path_bounces' stages, and at the first hit the
-// cache's indirect light (the served paths marked in w.scratch.cached: may_shade ends them there).
-inline void cache_bounces(const Wavefront& w) {
-    w.scratch.sampler = w.settings.sampler;  // what fill_uniforms draws the points' numbers from
-    for (int depth = 0; !w.scratch.active.empty(); ++depth) {
-        const HitBatch hits = trace_bounce(w, depth);
-        add_emission_and_environment(w, hits, depth);
-        make_shading_points(w, hits, depth);
-        if (depth == 0 && cache_serves(w)) {  // the first hits' indirect light: reprojected, holes traced
-            CacheRayTracer tracer(w.scene, w.settings, w.scratch);
-            cache::add_cached_indirect(w, tracer);
+// cache's indirect light (the served paths marked in wavefront.scratch.cached: may_shade ends them there).
+inline void cache_bounces(const Wavefront& wavefront) {
+    wavefront.scratch.sampler = wavefront.settings.sampler;  // what fill_uniforms draws the points' numbers from
+    for (int depth = 0; !wavefront.scratch.active.empty(); ++depth) {
+        const HitBatch hits = trace_bounce(wavefront, depth);
+        add_emission_and_environment(wavefront, hits, depth);
+        make_shading_points(wavefront, hits, depth);
+        if (depth == 0 && cache_serves(wavefront)) {  // the first hits' indirect light: reprojected, holes traced
+            CacheRayTracer tracer(wavefront.scene, wavefront.settings, wavefront.scratch);
+            cache::add_cached_indirect(wavefront, tracer);
         }
-        if (depth == 0) queue_first_hit_light_samples(w);
-        else queue_light_samples(w, depth);
-        sample_bsdf(w, depth);
-        resolve_shadow_rays(w);
-        next_bounce(w);
+        if (depth == 0) queue_first_hit_light_samples(wavefront);
+        else queue_light_samples(wavefront, depth);
+        sample_bsdf(wavefront, depth);
+        resolve_shadow_rays(wavefront);
+        next_bounce(wavefront);
     }
 }
 
 // `cache` for a batch of camera samples.
-inline void trace_cache(const Wavefront& w, size_t n) {
-    start_camera_paths(w, n);
-    w.scratch.cached.assign(n, 0);  // none served by the cache yet
-    w.scratch.timer.lap(Stage::CameraRays);
-    cache_bounces(w);
+inline void trace_cache(const Wavefront& wavefront, size_t n) {
+    start_camera_paths(wavefront, n);
+    wavefront.scratch.cached.assign(n, 0);  // none served by the cache yet
+    wavefront.scratch.timer.lap(Stage::CameraRays);
+    cache_bounces(wavefront);
 }
 
 // An image region's cache points (integrator.h, build_cache_region): the camera rays' first
@@ -99,18 +99,18 @@ void build_cache_region(const RenderScene& scene, const IntegratorSettings& sett
                         std::vector<RegionHemisphere>& hemispheres, PathScratch& scratch) {
     enter_kernel();
     std::vector<PathResult> out(n);
-    const Wavefront w{scene,   settings,           camera_samples,       out.data(),
+    const Wavefront wavefront{scene,   settings,           camera_samples,       out.data(),
                       scratch, lights_emit(scene), scene_has_sun(scene), scene.ray_offset};
     scratch.sensors.clear();
     scratch.timer.start();
-    start_camera_paths(w, n);
+    start_camera_paths(wavefront, n);
     if (settings.mode == IntegratorMode::Cache) scratch.cached.assign(n, 0);
     scratch.timer.lap(Stage::CameraRays);
-    const HitBatch hits = trace_bounce(w, 0);
-    make_shading_points(w, hits, 0);
+    const HitBatch hits = trace_bounce(wavefront, 0);
+    make_shading_points(wavefront, hits, 0);
     scratch.sensors.clear();
     CacheRayTracer tracer(scene, settings, scratch);
-    cache::build_region_points(w, tracer, points, hemispheres);
+    cache::build_region_points(wavefront, tracer, points, hemispheres);
     scratch.active.clear();
 }
 

@@ -22,7 +22,7 @@ void cache_probe(const RenderScene& scene, const IntegratorSettings& settings, c
     const CacheSettings& cfg = settings.cache;
     check_cache_settings(cfg);
     const int R = cfg.resolution;
-    const size_t T = static_cast<size_t>(R) * R;
+    const size_t texel_count = static_cast<size_t>(R) * R;
     PathScratch scratch;
     cache::CacheState& state = cache::cache_state(scratch);
     IntegratorSettings inner = settings;
@@ -56,8 +56,8 @@ void cache_probe(const RenderScene& scene, const IntegratorSettings& settings, c
     out.a_radiance = a.radiance;
     out.a_dist = a.dist;
     out.a_kind = a.kind;
-    out.a_layer.assign(T, -1);
-    out.a_surfel.assign(T, -1);
+    out.a_layer.assign(texel_count, -1);
+    out.a_surfel.assign(texel_count, -1);
     for (size_t k = 0; k < a.surfels.size(); ++k) {
         const Surfel& sf = a.surfels[k];
         for (int j = sf.j0; j < sf.j1; ++j)
@@ -70,18 +70,18 @@ void cache_probe(const RenderScene& scene, const IntegratorSettings& settings, c
     out.silhouettes = a.silhouettes.size();
     out.b_reference = state.build.points[1].radiance;
     // B by reprojection, its holes traced
-    out.b_reprojected.assign(3 * T, -1.0f);
+    out.b_reprojected.assign(3 * texel_count, -1.0f);
     cache::Reprojection& reprojected = state.reprojection.from_assigned;
     cache::reproject(a, cache::Receiver{q[1].p, q[1].t, q[1].b, q[1].n}, state.texel_directions,
                      out.b_reprojected.data(), reprojected, state.reprojection.scratch, unknown_masks);
-    out.filled.assign(T, 0);
-    out.unknown.assign(T, 0);
-    out.to_trace.assign(T, 0);
+    out.filled.assign(texel_count, 0);
+    out.unknown.assign(texel_count, 0);
+    out.to_trace.assign(texel_count, 0);
     out.b_radiance = out.b_reprojected;
     cache::RayQueue& rays = state.build.rays;
     rays.clear();
     const uint32_t key = cache::hole_key(q[1].key);
-    for (size_t t = 0; t < T; ++t) {
+    for (size_t t = 0; t < texel_count; ++t) {
         const int x = static_cast<int>(t % R), y = static_cast<int>(t / R);
         out.filled[t] = reprojected.filled.test(x, y);
         out.unknown[t] = reprojected.unknown.test(x, y);

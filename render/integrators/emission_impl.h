@@ -18,9 +18,9 @@ using namespace kernel_width;
 // Misses see the environment, N directions at a time: its radiance and (for MIS after a
 // BRDF sample: depth > 0) the density of light sampling; and the sun's disc, where they go
 // through it.
-inline void add_environment(const Wavefront& w, int depth) {
-    const RenderScene& scene = w.scene;
-    PathScratch& scratch = w.scratch;
+inline void add_environment(const Wavefront& wavefront, int depth) {
+    const RenderScene& scene = wavefront.scene;
+    PathScratch& scratch = wavefront.scratch;
     const size_t n = scratch.misses.size();
     if (n == 0) return;
     const float* thr = scratch.throughput.data();
@@ -32,7 +32,7 @@ inline void add_environment(const Wavefront& w, int depth) {
         std::copy(scratch.dir.data() + 3 * scratch.misses[j], scratch.dir.data() + 3 * scratch.misses[j] + 3,
                   d + 3 * j);
     // a path's first segment (prev_pdf 0: start_path) is not weighed against light sampling
-    const bool with_pdf = depth > 0 && w.can_sample_lights;
+    const bool with_pdf = depth > 0 && wavefront.can_sample_lights;
     if (scene.env.present)
         for_blocks(n, [&](size_t i, int lanes) {
             F r, g, b;
@@ -49,13 +49,13 @@ inline void add_environment(const Wavefront& w, int depth) {
     for (size_t j = 0; j < n; ++j) {
         const int32_t i = scratch.misses[j];
         const Vec3f from = load_vec3(scratch.prev_pos.data() + 3 * i);
-        const bool mis = prev_pdf[i] > 0 && w.can_sample_lights;  // after a BRDF sample (not a camera ray)
+        const bool mis = prev_pdf[i] > 0 && wavefront.can_sample_lights;  // after a BRDF sample (not a camera ray)
         if (scene.env.present) {
             const float wt =
                 mis ? power_heuristic(prev_pdf[i],
                                       (local ? selection_probability(scene, from, env_light) : env_selection) * lp[j])
                     : 1.0f;
-            for (int k = 0; k < 3; ++k) w.results[i].rgb[k] += thr[3 * i + k] * le[3 * j + k] * wt;
+            for (int k = 0; k < 3; ++k) wavefront.results[i].rgb[k] += thr[3 * i + k] * le[3 * j + k] * wt;
         }
         for (size_t li = 0; li < scene.lights.size(); ++li) {
             if (!scene.lights[li].is<SunLight>()) continue;
@@ -64,23 +64,23 @@ inline void add_environment(const Wavefront& w, int depth) {
             const float wt = mis ? power_heuristic(prev_pdf[i], selection_probability(scene, from, int(li)) /
                                                                     (2.0f * kPi * sun.one_minus_cos))
                                  : 1.0f;
-            for (int k = 0; k < 3; ++k) w.results[i].rgb[k] += thr[3 * i + k] * sun.radiance[k] * wt;
+            for (int k = 0; k < 3; ++k) wavefront.results[i].rgb[k] += thr[3 * i + k] * sun.radiance[k] * wt;
         }
     }
 }
 
 // Emission seen: an area light hit (MIS-weighted after a BRDF sample) adds its radiance; a
 // miss sees the environment and the sun.
-inline void add_emission_and_environment(const Wavefront& w, const HitBatch& hits, int depth) {
-    const RenderScene& scene = w.scene;
-    PathScratch& scratch = w.scratch;
+inline void add_emission_and_environment(const Wavefront& wavefront, const HitBatch& hits, int depth) {
+    const RenderScene& scene = wavefront.scene;
+    PathScratch& scratch = wavefront.scratch;
     scratch.misses.clear();
-    const bool emission = depth > 0 || w.first_emission;
+    const bool emission = depth > 0 || wavefront.first_emission;
     for (size_t j = 0; j < scratch.active.size(); ++j) {
         const int32_t i = scratch.active[j];
         const int32_t prim = hits.prim[j];
         if (prim < 0) {
-            if (emission && (scene.env.present || w.has_sun)) scratch.misses.push_back(i);
+            if (emission && (scene.env.present || wavefront.has_sun)) scratch.misses.push_back(i);
             continue;
         }
         const Material& mat = scene.materials[scene.tri_material[prim]];
@@ -91,16 +91,16 @@ inline void add_emission_and_environment(const Wavefront& w, const HitBatch& hit
         const float facing = -dot(load_vec3(scratch.dir.data() + 3 * i), ng);
         if (emission && (facing > 0 || (l.two_sided && facing < 0))) {
             float wt = 1.0f;
-            if (scratch.prev_pdf[i] > 0 && w.can_sample_lights)
+            if (scratch.prev_pdf[i] > 0 && wavefront.can_sample_lights)
                 wt = power_heuristic(
                     scratch.prev_pdf[i],
                     area_light_pdf(scene, load_vec3(scratch.prev_pos.data() + 3 * i), light, facing, hits.t[j]));
-            const float* T = scratch.throughput.data() + 3 * i;
-            for (int k = 0; k < 3; ++k) w.results[i].rgb[k] += T[k] * l.radiance[k] * wt;
+            const float* throughput = scratch.throughput.data() + 3 * i;
+            for (int k = 0; k < 3; ++k) wavefront.results[i].rgb[k] += throughput[k] * l.radiance[k] * wt;
         }
-        if (depth == 0) w.results[i].depth = hits.t[j];
+        if (depth == 0) wavefront.results[i].depth = hits.t[j];
     }
-    add_environment(w, depth);
+    add_environment(wavefront, depth);
     scratch.timer.lap(Stage::Emission);
 }
 

@@ -23,21 +23,21 @@ namespace render_detail {
 
 // The first hits' light samples queued (the last one left for the bounce's
 // resolve_shadow_rays, the others resolved here), the sample indices put back.
-inline void queue_first_hit_light_samples(const Wavefront& w) {
-    const int count = w.settings.cache.light_samples;
+inline void queue_first_hit_light_samples(const Wavefront& wavefront) {
+    const int count = wavefront.settings.cache.light_samples;
     if (count <= 1) {
-        queue_light_samples(w, 0);
+        queue_light_samples(wavefront, 0);
         return;
     }
-    PathScratch& scratch = w.scratch;
+    PathScratch& scratch = wavefront.scratch;
     std::vector<int32_t>& index = scratch.point_index;
     scratch.own_point_index.assign(index.begin(), index.end());
     const float share = 1.0f / static_cast<float>(count);
     for (int k = count - 1; k >= 0; --k) {
         for (size_t q = 0; q < index.size(); ++q)
             index[q] = static_cast<int32_t>(static_cast<uint32_t>(scratch.own_point_index[q]) * count + k);
-        queue_light_samples(w, 0, share);
-        if (k > 0) resolve_shadow_rays(w);
+        queue_light_samples(wavefront, 0, share);
+        if (k > 0) resolve_shadow_rays(wavefront);
     }
     index.swap(scratch.own_point_index);
 }

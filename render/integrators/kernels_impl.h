@@ -35,14 +35,14 @@ using namespace kernel_width;
 void trace_paths(const RenderScene& scene, const IntegratorSettings& settings, const CameraSample* camera_samples,
                  size_t n, PathResult* out, PathScratch& scratch) {
     enter_kernel();
-    const Wavefront w{scene,   settings,           camera_samples,       out,
+    const Wavefront wavefront{scene,   settings,           camera_samples,       out,
                       scratch, lights_emit(scene), scene_has_sun(scene), scene.ray_offset};
     scratch.sensors.clear();
     scratch.timer.start();
     switch (settings.mode) {
-        case IntegratorMode::Path: trace_path(w, n); break;
-        case IntegratorMode::Cache: trace_cache(w, n); break;
-        case IntegratorMode::CacheGuided: trace_cache_guided(w, n); break;
+        case IntegratorMode::Path: trace_path(wavefront, n); break;
+        case IntegratorMode::Cache: trace_cache(wavefront, n); break;
+        case IntegratorMode::CacheGuided: trace_cache_guided(wavefront, n); break;
     }
     add_indirect_illuminance(scene, settings, camera_samples, out, scratch);
 }
@@ -52,11 +52,11 @@ void trace_given_rays(const RenderScene& scene, const IntegratorSettings& settin
                       std::vector<CameraSample>& samples) {
     samples.resize(n);
     for (size_t i = 0; i < n; ++i) samples[i] = CameraSample{0.0f, 0.0f, keys[i], indices[i]};
-    Wavefront w{scene,   settings,           samples.data(),       out,
+    Wavefront wavefront{scene,   settings,           samples.data(),       out,
                 scratch, lights_emit(scene), scene_has_sun(scene), scene.ray_offset};
-    w.first_emission = false;
-    start_given_paths(w, org, dir, n);
-    path_bounces(w);
+    wavefront.first_emission = false;
+    start_given_paths(wavefront, org, dir, n);
+    path_bounces(wavefront);
 }
 
 // The uniform sampler's jitter (render/integrators/integrator.h, jitter_pixel_positions): pixel-x and pixel-y

@@ -48,8 +48,8 @@ PATINA_INLINE I load_path_lanes(const int32_t* p, size_t i, int lanes) {
 // BRDF x cosine x radiance x MIS weight / pdf), lux and ray with queue_shadow_ray's operations,
 // and the lanes that carry light written to the queue in point order (a compress-store);
 // `share`: the sample's weight among the point's light samples (1: the only one).
-inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np, float share) {
-    PathScratch& scratch = w.scratch;
+inline void queue_shadow_lanes(const Wavefront& wavefront, int depth, size_t np, float share) {
+    PathScratch& scratch = wavefront.scratch;
     const float* ll = scratch.l_local.data();
     const float* fv = scratch.bsdf_rgb.data();
     const float* pdf = scratch.pdf.data();
@@ -74,7 +74,7 @@ inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np, float s
         const B front = z > F(0.0f);
         const F lum = F(0.2126f) * RGB.x + F(0.7152f) * RGB.y + F(0.0722f) * RGB.z;
         const F lux = depth == 0 ? select(front, F(kLumensPerWatt) * lum * cos_l / lp * F(share), F(0.0f)) : F(0.0f);
-        const F side = select(front, F(w.ray_offset), F(-w.ray_offset));
+        const F side = select(front, F(wavefront.ray_offset), F(-wavefront.ray_offset));
         const B none_carried = (c[0] <= F(0.0f)) & (c[1] <= F(0.0f)) & (c[2] <= F(0.0f)) & (lux <= F(0.0f));
         const B queued = (cos_l > F(0.0f)) & !none_carried;
         // queue_shadow_ray: from the lifted origin, aimed at the light's point unless at infinity
@@ -114,13 +114,13 @@ inline void queue_shadow_lanes(const Wavefront& w, int depth, size_t np, float s
 // Light sampling: one light sample per shading point, in the point's frame; the BSDF
 // evaluated for it and its density under BSDF sampling (for the MIS weight), N points of a
 // material at a time. False when no light can light anything (then no shadow ray is queued).
-inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
-    PathScratch& scratch = w.scratch;
+inline bool sample_and_evaluate_lights(const Wavefront& wavefront, int depth) {
+    PathScratch& scratch = wavefront.scratch;
     clear_shadow_rays(scratch);
-    if (!w.can_sample_lights) return false;
+    if (!wavefront.can_sample_lights) return false;
     const size_t np = scratch.sorted.size();
     const MaterialBuffers buffers = material_buffers(scratch);
-    sample_lights(w.scene, scratch, depth, np);
+    sample_lights(wavefront.scene, scratch, depth, np);
     for (size_t q = 0; q < np; ++q) {
         const ShadingPoint& sp = scratch.sorted[q];
         const Vec3f ldir = load_vec3(scratch.light_samples.dir.data() + 3 * q);
@@ -128,11 +128,11 @@ inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
         store_vec3(l, buffers.light_local + 3 * q);
         // the light must be on the side the local direction says (shading normals bend)
         const float side = dot(ldir, sp.ng);
-        const bool transmissive = transmits(w.scene.materials[sp.material]);
+        const bool transmissive = transmits(wavefront.scene.materials[sp.material]);
         scratch.light_samples.usable[q] = scratch.light_samples.usable[q] && (transmissive ? side * l.z > 0 : side > 0);
     }
     scratch.timer.lap(Stage::LightToLocal);
-    for_material_groups(w, [&](const Material& m, size_t a, size_t count) {
+    for_material_groups(wavefront, [&](const Material& m, size_t a, size_t count) {
         const MaterialBuffers group = buffers.from(a);
         material_eval(m, group.light_local, group.view_local, group.eta, group.bsdf_rgb, count);
         material_pdf(m, group.light_local, group.view_local, group.eta, group.pdf, count);
@@ -142,28 +142,28 @@ inline bool sample_and_evaluate_lights(const Wavefront& w, int depth) {
 
 // The light samples' shadow rays queued, each with what it adds if unblocked: throughput x
 // BSDF x cosine x radiance x MIS weight / pdf x share (and, at the first hit, the illuminance AOV).
-inline void queue_light_shadow_rays(const Wavefront& w, int depth, float share) {
-    PathScratch& scratch = w.scratch;
+inline void queue_light_shadow_rays(const Wavefront& wavefront, int depth, float share) {
+    PathScratch& scratch = wavefront.scratch;
     scratch.timer.lap(Stage::ShadeLight);
-    queue_shadow_lanes(w, depth, scratch.sorted.size(), share);
+    queue_shadow_lanes(wavefront, depth, scratch.sorted.size(), share);
     scratch.timer.lap(Stage::ShadowQueue);
 }
 
 // Light sampling with MIS, its shadow rays queued (resolved by resolve_shadow_rays); `share`:
 // the sample's weight when a point takes several (first_hit_light_samples_impl.h).
-inline void queue_light_samples(const Wavefront& w, int depth, float share = 1.0f) {
-    if (sample_and_evaluate_lights(w, depth)) queue_light_shadow_rays(w, depth, share);
+inline void queue_light_samples(const Wavefront& wavefront, int depth, float share = 1.0f) {
+    if (sample_and_evaluate_lights(wavefront, depth)) queue_light_shadow_rays(wavefront, depth, share);
 }
 
 // The queued shadow rays, N per packet; the unblocked ones add their light.
-inline void resolve_shadow_rays(const Wavefront& w) {
-    PathScratch& scratch = w.scratch;
-    const uint8_t* blocked = trace_shadow_rays(w.scene, scratch);
+inline void resolve_shadow_rays(const Wavefront& wavefront) {
+    PathScratch& scratch = wavefront.scratch;
+    const uint8_t* blocked = trace_shadow_rays(wavefront.scene, scratch);
     scratch.timer.times.shadow_rays += scratch.shadow_rays.path.size();
     scratch.timer.lap(Stage::TraceShadow);
     for (size_t q = 0; q < scratch.shadow_rays.path.size(); ++q) {
         if (blocked[q]) continue;
-        PathResult& r = w.results[scratch.shadow_rays.path[q]];
+        PathResult& r = wavefront.results[scratch.shadow_rays.path[q]];
         for (int k = 0; k < 3; ++k) r.rgb[k] += scratch.shadow_rays.rgb[3 * q + k];
         r.illuminance += scratch.shadow_rays.lux[q];
     }

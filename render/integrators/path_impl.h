@@ -17,24 +17,24 @@ namespace render_detail {
 using namespace kernel_width;
 
 // The bounces of the batch's started paths, until every one has ended.
-inline void path_bounces(const Wavefront& w) {
-    w.scratch.sampler = w.settings.sampler;  // what fill_uniforms draws the points' numbers from
-    for (int depth = 0; !w.scratch.active.empty(); ++depth) {
-        const HitBatch hits = trace_bounce(w, depth);   // every path's ray, N per packet
-        add_emission_and_environment(w, hits, depth);   // lights hit, the environment missed: MIS-weighted
-        make_shading_points(w, hits, depth);            // surface hits, grouped by material
-        queue_light_samples(w, depth);                  // a light sample each, MIS-weighted; its shadow ray queued
-        sample_bsdf(w, depth);                          // the next direction; throughput, Russian roulette
-        resolve_shadow_rays(w);                         // shadow rays in packets: the unblocked add their light
-        next_bounce(w);                                 // the paths that go on
+inline void path_bounces(const Wavefront& wavefront) {
+    wavefront.scratch.sampler = wavefront.settings.sampler;  // what fill_uniforms draws the points' numbers from
+    for (int depth = 0; !wavefront.scratch.active.empty(); ++depth) {
+        const HitBatch hits = trace_bounce(wavefront, depth);  // every path's ray, N per packet
+        add_emission_and_environment(wavefront, hits, depth);  // lights hit, the environment missed: MIS-weighted
+        make_shading_points(wavefront, hits, depth);           // surface hits, grouped by material
+        queue_light_samples(wavefront, depth);                 // a light sample each, MIS-weighted; shadow ray queued
+        sample_bsdf(wavefront, depth);                         // the next direction; throughput, Russian roulette
+        resolve_shadow_rays(wavefront);                        // shadow rays in packets: the unblocked add their light
+        next_bounce(wavefront);                                // the paths that go on
     }
 }
 
 // `path` for a batch of camera samples.
-inline void trace_path(const Wavefront& w, size_t n) {
-    start_camera_paths(w, n);
-    w.scratch.timer.lap(Stage::CameraRays);
-    path_bounces(w);
+inline void trace_path(const Wavefront& wavefront, size_t n) {
+    start_camera_paths(wavefront, n);
+    wavefront.scratch.timer.lap(Stage::CameraRays);
+    path_bounces(wavefront);
 }
 
 }  // namespace render_detail

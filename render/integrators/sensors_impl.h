@@ -22,21 +22,21 @@ using namespace kernel_width;
 
 // Sensor paths: path i starts at sensor scratch.sensors[i] (its point, geometric normal and
 // frame) along a cosine-weighted direction about its normal, drawn from the lens dimensions
-// of w.camera_samples[i].key (a sensor has no lens). A direction below the geometric surface (a bent
+// of wavefront.camera_samples[i].key (a sensor has no lens). A direction below the geometric surface (a bent
 // shading normal) starts no path: it adds nothing, as the estimator of a sensor on that
 // surface should. Throughput 1: the radiance found, times pi, is the illuminance estimate
 // (E = integral of L cos over the hemisphere = pi x the mean of L under cosine sampling).
-inline void start_sensor_paths(const Wavefront& w, size_t n) {
-    start_paths(w, n);
+inline void start_sensor_paths(const Wavefront& wavefront, size_t n) {
+    start_paths(wavefront, n);
     for (size_t i = 0; i < n; ++i) {
-        const ShadingPoint& sp = w.scratch.sensors[i];
-        const CameraSample& c = w.camera_samples[i];
-        const float u1 = sample_uniform(w.settings.sampler, c.key, c.index, 0, kDimLensU);
-        const float u2 = sample_uniform(w.settings.sampler, c.key, c.index, 0, kDimLensV);
+        const ShadingPoint& sp = wavefront.scratch.sensors[i];
+        const CameraSample& c = wavefront.camera_samples[i];
+        const float u1 = sample_uniform(wavefront.settings.sampler, c.key, c.index, 0, kDimLensU);
+        const float u2 = sample_uniform(wavefront.settings.sampler, c.key, c.index, 0, kDimLensV);
         const float radius = std::sqrt(u1), phi = kTwoPi * u2;
         const Vec3f l{radius * std::cos(phi), radius * std::sin(phi), std::sqrt(std::max(1.0f - u1, 0.0f))};
         const Vec3f d = normalize(to_world(sp, l));
-        if (dot(d, sp.ng) > 0) start_path(w, i, sp.p + w.ray_offset * sp.ng, d);
+        if (dot(d, sp.ng) > 0) start_path(wavefront, i, sp.p + wavefront.ray_offset * sp.ng, d);
     }
 }
 
@@ -50,7 +50,7 @@ inline void trace_sensor_paths(const RenderScene& scene, const IntegratorSetting
     scratch.sensor_results.resize(n);
     IntegratorSettings inner = settings;
     inner.indirect_illuminance = false;  // the sensors are not sensors again
-    Wavefront w{scene,
+    Wavefront wavefront{scene,
                 inner,
                 scratch.sensor_samples.data(),
                 scratch.sensor_results.data(),
@@ -58,10 +58,10 @@ inline void trace_sensor_paths(const RenderScene& scene, const IntegratorSetting
                 lights_emit(scene),
                 scene_has_sun(scene),
                 scene.ray_offset};
-    w.first_emission = false;
-    start_sensor_paths(w, n);
+    wavefront.first_emission = false;
+    start_sensor_paths(wavefront, n);
     scratch.timer.lap(Stage::CameraRays);  // a path's start counts as camera rays, a sensor's too
-    path_bounces(w);
+    path_bounces(wavefront);
 }
 
 // A sensor path's stream key: the key of the sample's stream, salted, so it draws numbers

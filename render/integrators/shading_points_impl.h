@@ -17,23 +17,24 @@ using namespace kernel_width;
 
 // Whether hit j may become a shading point: a surface (not a light) while the path may
 // still bounce (make_shading_point may still end the path there).
-inline bool may_shade(const Wavefront& w, const HitBatch& hits, size_t j, int depth) {
+inline bool may_shade(const Wavefront& wavefront, const HitBatch& hits, size_t j, int depth) {
     const int32_t prim = hits.prim[j];
     // (a path whose first hit's indirect light the cache gave only looks for emission)
-    const bool cached = depth > 0 && !w.scratch.cached.empty() && w.scratch.cached[w.scratch.active[j]];
-    return prim >= 0 && !w.scene.materials[w.scene.tri_material[prim]].is<Emitter>() &&
-           depth < w.settings.max_depth && !cached;
+    const PathScratch& scratch = wavefront.scratch;
+    const bool cached = depth > 0 && !scratch.cached.empty() && scratch.cached[scratch.active[j]];
+    return prim >= 0 && !wavefront.scene.materials[wavefront.scene.tri_material[prim]].is<Emitter>() &&
+           depth < wavefront.settings.max_depth && !cached;
 }
 
 // Hit j's geometric normal (from the winding; an analytic sphere's outwards), as
 // make_shading_lanes has it before facing the viewer.
-inline Vec3f hit_normal(const Wavefront& w, const HitBatch& hits, size_t j, const float* tn) {
+inline Vec3f hit_normal(const Wavefront& wavefront, const HitBatch& hits, size_t j, const float* tn) {
     const int32_t prim = hits.prim[j];
-    const SphereSet& spheres = w.scene.tree->spheres;
+    const SphereSet& spheres = wavefront.scene.tree->spheres;
     if (!spheres.owns(prim)) return load_vec3(tn + 3 * static_cast<size_t>(prim));
-    const int32_t i = w.scratch.active[j];
-    return sphere_normal<1>(spheres, prim - spheres.prim_base, load_vec3(w.scratch.org.data() + 3 * i),
-                            load_vec3(w.scratch.dir.data() + 3 * i), hits.t[j]);
+    const int32_t i = wavefront.scratch.active[j];
+    return sphere_normal<1>(spheres, prim - spheres.prim_base, load_vec3(wavefront.scratch.org.data() + 3 * i),
+                            load_vec3(wavefront.scratch.dir.data() + 3 * i), hits.t[j]);
 }
 
 // Grouping by material before the points exist: the hits that become shading points
@@ -41,31 +42,31 @@ inline Vec3f hit_normal(const Wavefront& w, const HitBatch& hits, size_t j, cons
 //    per material (scratch.material_start: each group's first slot in scratch.sorted), so
 //    make_shading_points writes each point straight into its group, in hit order (what a
 //    stable counting sort of the points would give, without building and copying them twice).
-inline void group_by_material(const Wavefront& w, const HitBatch& hits, int depth) {
-    PathScratch& scratch = w.scratch;
-    const size_t nm = w.scene.materials.size();
+inline void group_by_material(const Wavefront& wavefront, const HitBatch& hits, int depth) {
+    PathScratch& scratch = wavefront.scratch;
+    const size_t nm = wavefront.scene.materials.size();
     scratch.material_start.assign(nm + 1, 0);
     scratch.material_eta.resize(nm);
     scratch.material_transmissive.resize(nm);
     scratch.material_two_sided.resize(nm);
     for (size_t k = 0; k < nm; ++k) {
-        const Material& m = w.scene.materials[k];
+        const Material& m = wavefront.scene.materials[k];
         const bool transmissive = transmits(m);
         scratch.material_eta[k] = transmissive ? m.as<Dielectric>().eta : 1.0f;
         scratch.material_transmissive[k] = transmissive ? 1.0f : 0.0f;
         scratch.material_two_sided[k] = m.two_sided || transmissive ? 1.0f : 0.0f;
     }
     scratch.shade_hits.clear();
-    const float* tn = w.scene.tree->normals.data();
+    const float* tn = wavefront.scene.tree->normals.data();
     for (size_t j = 0; j < scratch.active.size(); ++j) {
-        if (!may_shade(w, hits, j, depth)) continue;
-        const int32_t prim = hits.prim[j], material = w.scene.tri_material[prim];
+        if (!may_shade(wavefront, hits, j, depth)) continue;
+        const int32_t prim = hits.prim[j], material = wavefront.scene.tri_material[prim];
         // the back of a one-sided surface ends the path (make_shading_lanes' test, so its
         // groups have no gaps)
         if (!(scratch.material_two_sided[material] > 0.0f)) {
             const Vec3f wo = -load_vec3(scratch.dir.data() + 3 * scratch.active[j]);
-            if (dot(hit_normal(w, hits, j, tn), wo) < 0.0f) {
-                if (depth == 0) w.results[scratch.active[j]].depth = hits.t[j];
+            if (dot(hit_normal(wavefront, hits, j, tn), wo) < 0.0f) {
+                if (depth == 0) wavefront.results[scratch.active[j]].depth = hits.t[j];
                 continue;
             }
         }
@@ -108,9 +109,10 @@ struct PointLanes {
     int lane_mask;  // bit k: lane k is a shading point
 };
 
-inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t h0, int lanes, PointLanes& out) {
-    const RenderScene& scene = w.scene;
-    const PathScratch& scratch = w.scratch;
+inline void make_shading_lanes(const Wavefront& wavefront, const HitBatch& hits, size_t h0, int lanes,
+                               PointLanes& out) {
+    const RenderScene& scene = wavefront.scene;
+    const PathScratch& scratch = wavefront.scratch;
     // the hits' fields gathered by hit number (the last block's padding repeats its first hit)
     alignas(64) int32_t hit[N];
     if (lanes < N)
@@ -186,9 +188,9 @@ inline void make_shading_lanes(const Wavefront& w, const HitBatch& hits, size_t 
 // at scratch.material_start), each with its view direction in its frame, its relative index and
 // its path's random-number key and sample index; the first hit also fills the AOVs (and, for
 // the indirect illuminance, is kept as a sensor: scratch.sensors).
-inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int depth) {
-    const RenderScene& scene = w.scene;
-    PathScratch& scratch = w.scratch;
+inline void fill_shading_points(const Wavefront& wavefront, const HitBatch& hits, int depth) {
+    const RenderScene& scene = wavefront.scene;
+    PathScratch& scratch = wavefront.scratch;
     const size_t nm = scene.materials.size();
     const size_t most = scratch.material_start[nm];
     scratch.sorted.resize(most);
@@ -204,12 +206,12 @@ inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int de
     fill.assign(scratch.material_start.begin(), scratch.material_start.end() - 1);
     PointLanes pl;
     for_blocks(scratch.shade_hits.size(), [&](size_t h0, int lanes) {
-        make_shading_lanes(w, hits, h0, lanes, pl);
+        make_shading_lanes(wavefront, hits, h0, lanes, pl);
         for (int k = 0; k < lanes; ++k) {
             const int32_t j = scratch.shade_hits[h0 + k];
             const int32_t i = scratch.active[j];
             if (!((pl.lane_mask >> k) & 1)) {
-                if (depth == 0) w.results[i].depth = hits.t[j];
+                if (depth == 0) wavefront.results[i].depth = hits.t[j];
                 continue;  // the slot is taken by the group's next point
             }
             const int32_t material = scene.tri_material[hits.prim[j]];
@@ -225,11 +227,11 @@ inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int de
             sp.eta = pl.eta[k];
             if (depth == 0) {
                 const Material& mat = scene.materials[material];
-                std::copy(mat.albedo, mat.albedo + 3, w.results[i].albedo);
-                w.results[i].material = material;
-                store_vec3(sp.n, w.results[i].normal);
-                w.results[i].depth = hits.t[j];
-                if (w.settings.indirect_illuminance) scratch.sensors.push_back(sp);
+                std::copy(mat.albedo, mat.albedo + 3, wavefront.results[i].albedo);
+                wavefront.results[i].material = material;
+                store_vec3(sp.n, wavefront.results[i].normal);
+                wavefront.results[i].depth = hits.t[j];
+                if (wavefront.settings.indirect_illuminance) scratch.sensors.push_back(sp);
             }
             const float(*fields[5])[N] = {pl.p, pl.ng, pl.t, pl.b, pl.n};
             for (int f = 0; f < 5; ++f)
@@ -239,8 +241,8 @@ inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int de
             vl[3 * q + 1] = pl.v_local[1][k];
             vl[3 * q + 2] = pl.v_local[2][k];
             eta[q] = pl.eta[k];
-            scratch.point_keys[q] = static_cast<int32_t>(w.camera_samples[i].key);
-            scratch.point_index[q] = static_cast<int32_t>(w.camera_samples[i].index);
+            scratch.point_keys[q] = static_cast<int32_t>(wavefront.camera_samples[i].key);
+            scratch.point_index[q] = static_cast<int32_t>(wavefront.camera_samples[i].index);
         }
     });
     // paths that ended at a hit (the back of a one-sided surface) left their group short:
@@ -270,10 +272,10 @@ inline void fill_shading_points(const Wavefront& w, const HitBatch& hits, int de
 
 // Runs kernel(material, first point, count) for each material's group of sorted points.
 template <class Kernel>
-inline void for_material_groups(const Wavefront& w, Kernel kernel) {
-    for (size_t k = 0; k < w.scene.materials.size(); ++k) {
-        const size_t a = w.scratch.material_start[k], count = w.scratch.material_start[k + 1] - a;
-        if (count > 0) kernel(w.scene.materials[k], a, count);
+inline void for_material_groups(const Wavefront& wavefront, Kernel kernel) {
+    for (size_t k = 0; k < wavefront.scene.materials.size(); ++k) {
+        const size_t a = wavefront.scratch.material_start[k], count = wavefront.scratch.material_start[k + 1] - a;
+        if (count > 0) kernel(wavefront.scene.materials[k], a, count);
     }
 }
 
@@ -302,11 +304,11 @@ inline MaterialBuffers material_buffers(PathScratch& scratch) {
 
 // The bounce's surface hits made shading points, grouped by material (group_by_material,
 // then fill_shading_points).
-inline void make_shading_points(const Wavefront& w, const HitBatch& hits, int depth) {
-    PathScratch& scratch = w.scratch;
-    group_by_material(w, hits, depth);
+inline void make_shading_points(const Wavefront& wavefront, const HitBatch& hits, int depth) {
+    PathScratch& scratch = wavefront.scratch;
+    group_by_material(wavefront, hits, depth);
     scratch.timer.lap(Stage::GroupMaterial);
-    fill_shading_points(w, hits, depth);
+    fill_shading_points(wavefront, hits, depth);
     scratch.timer.times.shading_points += scratch.sorted.size();
     scratch.timer.lap(Stage::ShadingPoints);
 }

@@ -46,8 +46,8 @@ struct Wavefront {
 };
 
 // Path i starts along (o, d) with throughput 1 (its result emptied first by start_paths).
-inline void start_path(const Wavefront& w, size_t i, const Vec3f& o, const Vec3f& d) {
-    PathScratch& scratch = w.scratch;
+inline void start_path(const Wavefront& wavefront, size_t i, const Vec3f& o, const Vec3f& d) {
+    PathScratch& scratch = wavefront.scratch;
     store_vec3(o, scratch.org.data() + 3 * i);
     store_vec3(d, scratch.dir.data() + 3 * i);
     std::fill(scratch.throughput.data() + 3 * i, scratch.throughput.data() + 3 * i + 3, 1.0f);
@@ -56,8 +56,8 @@ inline void start_path(const Wavefront& w, size_t i, const Vec3f& o, const Vec3f
 }
 
 // The path arrays sized for n paths, none active yet, the n results empty.
-inline void start_paths(const Wavefront& w, size_t n) {
-    PathScratch& scratch = w.scratch;
+inline void start_paths(const Wavefront& wavefront, size_t n) {
+    PathScratch& scratch = wavefront.scratch;
     grow(scratch.org, 3 * n);
     grow(scratch.dir, 3 * n);
     grow(scratch.throughput, 3 * n);
@@ -68,7 +68,7 @@ inline void start_paths(const Wavefront& w, size_t n) {
     scratch.cached.clear();  // none served by the radiance cache (start_camera_paths says otherwise)
     if (scratch.cache) cache::cache_state(scratch).guides.clear();  // no guides until place_guide_points
     for (size_t i = 0; i < n; ++i) {
-        PathResult& r = w.results[i];
+        PathResult& r = wavefront.results[i];
         std::fill(r.rgb, r.rgb + 3, 0.0f);
         std::fill(r.albedo, r.albedo + 3, 0.0f);
         std::fill(r.normal, r.normal + 3, 0.0f);
@@ -102,12 +102,12 @@ inline void pinhole_rays(const Camera& c, const CameraSample* camera_samples, si
 }
 
 // The batch's camera rays, with throughput 1 and empty results; every path active.
-inline void start_camera_paths(const Wavefront& w, size_t n) {
-    start_paths(w, n);
-    const bool lens = w.scene.camera.aperture_radius > 0;  // a pinhole draws no lens numbers
+inline void start_camera_paths(const Wavefront& wavefront, size_t n) {
+    start_paths(wavefront, n);
+    const bool lens = wavefront.scene.camera.aperture_radius > 0;  // a pinhole draws no lens numbers
     if (!lens) {  // start_path for every path, the rays N at a time
-        PathScratch& scratch = w.scratch;
-        pinhole_rays(w.scene.camera, w.camera_samples, n, scratch.org.data(), scratch.dir.data());
+        PathScratch& scratch = wavefront.scratch;
+        pinhole_rays(wavefront.scene.camera, wavefront.camera_samples, n, scratch.org.data(), scratch.dir.data());
         std::fill(scratch.throughput.data(), scratch.throughput.data() + 3 * n, 1.0f);
         std::fill(scratch.prev_pdf.data(), scratch.prev_pdf.data() + n, 0.0f);
         scratch.active.resize(n);
@@ -115,19 +115,19 @@ inline void start_camera_paths(const Wavefront& w, size_t n) {
         return;
     }
     for (size_t i = 0; i < n; ++i) {
-        const CameraSample& c = w.camera_samples[i];
-        const float lu = lens ? sample_uniform(w.settings.sampler, c.key, c.index, 0, kDimLensU) : 0.0f;
-        const float lv = lens ? sample_uniform(w.settings.sampler, c.key, c.index, 0, kDimLensV) : 0.0f;
+        const CameraSample& c = wavefront.camera_samples[i];
+        const float lu = lens ? sample_uniform(wavefront.settings.sampler, c.key, c.index, 0, kDimLensU) : 0.0f;
+        const float lv = lens ? sample_uniform(wavefront.settings.sampler, c.key, c.index, 0, kDimLensV) : 0.0f;
         Vec3f o, d;
-        camera_ray(w.scene.camera, c.film_x, c.film_y, lu, lv, o, d);
-        start_path(w, i, o, d);
+        camera_ray(wavefront.scene.camera, c.film_x, c.film_y, lu, lv, o, d);
+        start_path(wavefront, i, o, d);
     }
 }
 
 // Paths along given rays (the radiance cache's: n origins and directions, row by row).
-inline void start_given_paths(const Wavefront& w, const float* org, const float* dir, size_t n) {
-    start_paths(w, n);
-    for (size_t i = 0; i < n; ++i) start_path(w, i, load_vec3(org + 3 * i), load_vec3(dir + 3 * i));
+inline void start_given_paths(const Wavefront& wavefront, const float* org, const float* dir, size_t n) {
+    start_paths(wavefront, n);
+    for (size_t i = 0; i < n; ++i) start_path(wavefront, i, load_vec3(org + 3 * i), load_vec3(dir + 3 * i));
 }
 
 inline bool scene_has_sun(const RenderScene& scene) {
@@ -137,8 +137,8 @@ inline bool scene_has_sun(const RenderScene& scene) {
 }
 
 // The active paths' rays, N per packet; hit j belongs to path scratch.active[j].
-inline HitBatch trace_bounce(const Wavefront& w, int depth) {
-    PathScratch& scratch = w.scratch;
+inline HitBatch trace_bounce(const Wavefront& wavefront, int depth) {
+    PathScratch& scratch = wavefront.scratch;
     const size_t m = scratch.active.size();
     float* ro = grow(scratch.ray_org, 3 * m);
     float* rd = grow(scratch.ray_dir, 3 * m);
@@ -152,8 +152,8 @@ inline HitBatch trace_bounce(const Wavefront& w, int depth) {
     scratch.timer.lap(Stage::RayGather);
     const RayBatch rays{ro, rd, 0.0f, nullptr, kInfinity};
     // camera rays are coherent: kd-tree packets; the rest one at a time through the BVH
-    if (depth > 0 && w.scene.bvh) trace_kernels().intersect_bvh(*w.scene.bvh, rays, hits, 0, m);
-    else trace_kernels().intersect(*w.scene.tree, rays, hits, 0, m);
+    if (depth > 0 && wavefront.scene.bvh) trace_kernels().intersect_bvh(*wavefront.scene.bvh, rays, hits, 0, m);
+    else trace_kernels().intersect(*wavefront.scene.tree, rays, hits, 0, m);
     scratch.rays_traced += m;
     (depth == 0 ? scratch.timer.times.camera_rays : scratch.timer.times.secondary_rays) += m;
     scratch.timer.lap(depth == 0 ? Stage::TraceCamera : Stage::TraceSecondary);
@@ -162,8 +162,8 @@ inline HitBatch trace_bounce(const Wavefront& w, int depth) {
 
 // The paths that go on become the next bounce's active paths, with their rays in that order
 // (update_paths wrote them; none if no path goes on).
-inline void next_bounce(const Wavefront& w) {
-    PathScratch& scratch = w.scratch;
+inline void next_bounce(const Wavefront& wavefront) {
+    PathScratch& scratch = wavefront.scratch;
     std::swap(scratch.active, scratch.next_active);
     std::swap(scratch.ray_org, scratch.next_ray_org);
     std::swap(scratch.ray_dir, scratch.next_ray_dir);
