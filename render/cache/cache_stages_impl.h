@@ -139,9 +139,9 @@ inline int64_t block_of_pixel(const Camera& cam, int K, int64_t px, int64_t py) 
 // mosaic measures (k = 16) went 1.28 -> 1.24 and 1.17 -> 1.10. Each attempt (below) draws
 // numbers of its own.
 template <class W>
-inline int64_t jittered_pixel(const W& w, int64_t px, int64_t py, uint32_t key, uint32_t attempt) {
-    const Camera& cam = w.scene.camera;
-    const int K = 2 * w.settings.cache.block;
+inline int64_t jittered_pixel(const W& wavefront, int64_t px, int64_t py, uint32_t key, uint32_t attempt) {
+    const Camera& cam = wavefront.scene.camera;
+    const int K = 2 * wavefront.settings.cache.block;
     key = hash_u32(key ^ 0x5be0cd19u);  // not the numbers the sample's own rays draw
     auto draw = [&](int64_t p, uint32_t dim, int64_t lo, int64_t hi) {
         const int64_t q = p + static_cast<int64_t>(std::floor((uniform(key, dim) - 0.5f) * static_cast<float>(K) + 0.5f));
@@ -165,10 +165,10 @@ constexpr uint32_t kJitterAttempts = 4;
 // pixel of that point), else the first of its block and region sharing sp's surface with sp
 // within its reach.
 template <class W>
-inline int32_t stored_hemisphere(const W& w, CacheState& cache, const ShadingPoint& sp, int64_t px, int64_t py,
+inline int32_t stored_hemisphere(const W& wavefront, CacheState& cache, const ShadingPoint& sp, int64_t px, int64_t py,
                                  float footprint, uint32_t key) {
     StoredHemispheres& stored = cache.stored;
-    const std::vector<const RegionHemisphere*>& kept = w.scratch.cache_shared_hemispheres;
+    const std::vector<const RegionHemisphere*>& kept = wavefront.scratch.cache_shared_hemispheres;
     auto take = [&](int32_t i) {
         if (stored.slot[i] < 0) {
             stored.slot[i] = static_cast<int32_t>(stored.in_use.size());
@@ -181,15 +181,16 @@ inline int32_t stored_hemisphere(const W& w, CacheState& cache, const ShadingPoi
     };
     auto within_reach = [&](const RegionHemisphere& h) { return dot(sp.p - h.p, sp.p - h.p) <= h.reach * h.reach; };
     for (uint32_t attempt = 0; attempt < kJitterAttempts; ++attempt) {
-        const auto near = stored.by_pixel.find(jittered_pixel(w, px, py, key, attempt));
+        const auto near = stored.by_pixel.find(jittered_pixel(wavefront, px, py, key, attempt));
         if (near != stored.by_pixel.end() && shares(*kept[near->second]) && within_reach(*kept[near->second]))
             return take(near->second);
     }
-    const auto own = stored.by_pixel.find(py * w.scene.camera.width + px);
+    const auto own = stored.by_pixel.find(py * wavefront.scene.camera.width + px);
     if (own != stored.by_pixel.end() && shares(*kept[own->second])) return take(own->second);
-    const auto found = stored.by_block.find(block_of_pixel(w.scene.camera, w.settings.cache.block, px, py));
+    const int block = wavefront.settings.cache.block;
+    const auto found = stored.by_block.find(block_of_pixel(wavefront.scene.camera, block, px, py));
     if (found == stored.by_block.end()) return -1;
-    const int32_t region = region_of_pixel(w.scene.camera, px, py);
+    const int32_t region = region_of_pixel(wavefront.scene.camera, px, py);
     for (const int32_t i : found->second)
         if (kept[i]->region == region && shares(*kept[i]) && within_reach(*kept[i])) return take(i);
     return -1;
@@ -210,13 +211,13 @@ inline int64_t pixel_member_key(int64_t pixel, int32_t h, size_t hemispheres) {
 // number of queries. With `stored`, a member takes the hemisphere its region reconstructed
 // where there is one (stored_hemisphere) and makes or joins a query only where there is not.
 template <class W, class Accept>
-inline size_t collect_queries(const W& w, CacheState& cache, Accept accept, bool stored) {
+inline size_t collect_queries(const W& wavefront, CacheState& cache, Accept accept, bool stored) {
     QueryTable& table = cache.table;
     StoredHemispheres& hemispheres = cache.stored;
-    const PathScratch& scratch = w.scratch;
+    const PathScratch& scratch = wavefront.scratch;
     const size_t np = scratch.sorted.size();
-    const Camera& cam = w.scene.camera;
-    const int K = w.settings.cache.block;
+    const Camera& cam = wavefront.scene.camera;
+    const int K = wavefront.settings.cache.block;
     hemispheres.by_block.clear();
     hemispheres.by_pixel.clear();
     hemispheres.in_use.clear();
@@ -233,27 +234,28 @@ inline size_t collect_queries(const W& w, CacheState& cache, Accept accept, bool
     table.member_query.clear();
     table.member_own.clear();
     table.member_of_point.assign(np, -1);
-    for (size_t k = 0; k < w.scene.materials.size(); ++k) {
-        if (!accept(w.scene.materials[k])) continue;
+    for (size_t k = 0; k < wavefront.scene.materials.size(); ++k) {
+        if (!accept(wavefront.scene.materials[k])) continue;
         table.pixel_member.clear();  // per material
         table.block_queries.clear();
         // each sample its own draw where a hemisphere's integral serves all its members (a
         // pixel's samples then average the window's blend instead of taking one draw of it),
         // one a pixel where each member integrates (a draw a sample cost the IES interior's
         // table floor 40 % more time)
-        const bool draw_each = !hemispheres.by_block.empty() && integral_ignores_view(w.scene.materials[k]);
+        const bool draw_each = !hemispheres.by_block.empty() && integral_ignores_view(wavefront.scene.materials[k]);
         const size_t first = scratch.material_start[k], last = scratch.material_start[k + 1];
         for (size_t q = first; q < last; ++q) {
             const ShadingPoint& sp = scratch.sorted[q];
-            const auto [px, py] = pixel_of_sample(cam, w.camera_samples[sp.path]);
+            const auto [px, py] = pixel_of_sample(cam, wavefront.camera_samples[sp.path]);
             const int64_t pixel = py * cam.width + px;
-            const float footprint = w.results[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
+            const float footprint =
+                wavefront.results[sp.path].depth * 2.0f * cam.tan_half_fov / static_cast<float>(cam.height);
             // the sample's own key (the stream key is the pixel's, shared by its samples)
             const uint32_t key =
                 sample_key(static_cast<uint32_t>(scratch.point_keys[q]), static_cast<uint32_t>(scratch.point_index[q]));
             // the region's hemisphere this sample draws where each sample draws its own
             // (draw_each), else the one the pixel's first member drew (below)
-            int32_t h = draw_each ? stored_hemisphere(w, cache, sp, px, py, footprint, key) : -1;
+            int32_t h = draw_each ? stored_hemisphere(wavefront, cache, sp, px, py, footprint, key) : -1;
             const int64_t member_key = pixel_member_key(pixel, h, scratch.cache_shared_hemispheres.size());
             auto found = table.pixel_member.find(member_key);
             if (found != table.pixel_member.end() &&
@@ -261,10 +263,12 @@ inline size_t collect_queries(const W& w, CacheState& cache, Accept accept, bool
                 table.member_of_point[q] = found->second;
                 continue;
             }
-            if (!draw_each && !hemispheres.by_block.empty()) h = stored_hemisphere(w, cache, sp, px, py, footprint, key);
+            if (!draw_each && !hemispheres.by_block.empty())
+                h = stored_hemisphere(wavefront, cache, sp, px, py, footprint, key);
             // a new member: of a region's hemisphere, of a query of its block, or of a new one
             std::vector<int32_t>& block = table.block_queries[block_of_pixel(cam, K, px, py)];
-            const Query own{sp.p, sp.ng, sp.t, sp.b, sp.n, key, kMinReusePixels * footprint / w.settings.cache.error};
+            const float min_radius = kMinReusePixels * footprint / wavefront.settings.cache.error;
+            const Query own{sp.p, sp.ng, sp.t, sp.b, sp.n, key, min_radius};
             int32_t query = h >= 0 ? -1 - h : -1;
             for (size_t i = 0; i < block.size() && h < 0 && query < 0; ++i)
                 if (shares_with(scratch.sorted[table.query_point[block[i]]], sp, footprint)) query = block[i];
@@ -321,12 +325,12 @@ inline void eval_at_texels(const Material& m, const float* v, float eta, CacheSt
 }
 
 template <class W>
-inline void add_counts(const W& w, const CacheCounts& c, const CacheState& cache, size_t rays_before) {
-    w.scratch.cache_points += c.points;
-    w.scratch.cache_queries += c.queries;
-    w.scratch.cache_texels_reprojected += c.reprojected + c.from_misses;
-    w.scratch.cache_texels_traced += c.traced;
-    w.scratch.rays_traced += cache.inner.rays_traced - rays_before;
+inline void add_counts(const W& wavefront, const CacheCounts& c, const CacheState& cache, size_t rays_before) {
+    wavefront.scratch.cache_points += c.points;
+    wavefront.scratch.cache_queries += c.queries;
+    wavefront.scratch.cache_texels_reprojected += c.reprojected + c.from_misses;
+    wavefront.scratch.cache_texels_traced += c.traced;
+    wavefront.scratch.rays_traced += cache.inner.rays_traced - rays_before;
 }
 
 // `cache`: the materials whose texel hits take cache.hit_paths paths (split_glossy_hits): those
@@ -348,15 +352,15 @@ inline void mark_split_materials(const std::vector<Material>& materials, const I
 // timer, holding the batch's queries and members of the materials the cache serves, the
 // shared points of the item's regions to start from, and the texel directions.
 template <class W>
-inline CacheState& start_cache_stage(const W& w) {
-    CacheState& cache = cache_state(w.scratch);
-    cache.timer = &w.scratch.timer;
-    const int R = w.settings.cache.resolution;
-    collect_queries(w, cache, [&](const Material& m) { return served_by_cache(w.settings.mode, m, R); },
-                    w.settings.mode == IntegratorMode::Cache);
-    cache.build.shared = &w.scratch.cache_shared;
+inline CacheState& start_cache_stage(const W& wavefront) {
+    CacheState& cache = cache_state(wavefront.scratch);
+    cache.timer = &wavefront.scratch.timer;
+    const int R = wavefront.settings.cache.resolution;
+    collect_queries(wavefront, cache, [&](const Material& m) { return served_by_cache(wavefront.settings.mode, m, R); },
+                    wavefront.settings.mode == IntegratorMode::Cache);
+    cache.build.shared = &wavefront.scratch.cache_shared;
     cache.texel_directions.prepare(R);
-    mark_split_materials(w.scene.materials, w.settings, cache);
+    mark_split_materials(wavefront.scene.materials, wavefront.settings, cache);
     return cache;
 }
 
@@ -400,17 +404,17 @@ inline void sample_split_lobes(const PathScratch& scratch, const Material& m, si
 // rays are: the emission they see directly is the direct light's, left to the outer path's
 // next hit with its MIS weight). An unbiased estimate: path's with its first bounce split.
 template <class W, class Tracer>
-inline void split_narrow_lobes(const W& w, Tracer& trace) {
-    PathScratch& scratch = w.scratch;
+inline void split_narrow_lobes(const W& wavefront, Tracer& trace) {
+    PathScratch& scratch = wavefront.scratch;
     CacheState& cache = cache_state(scratch);
     HemisphereIntegration& integration = cache.integration;
     CachePointBuild& build = cache.build;
-    const int R = w.settings.cache.resolution;
+    const int R = wavefront.settings.cache.resolution;
     build.rays.clear();
     integration.split_weights.clear();
     const size_t rays_before = cache.inner.rays_traced;
-    for (size_t k = 0; k < w.scene.materials.size(); ++k) {
-        const Material& m = w.scene.materials[k];
+    for (size_t k = 0; k < wavefront.scene.materials.size(); ++k) {
+        const Material& m = wavefront.scene.materials[k];
         if (!split_by_paths(m, R)) continue;
         const size_t K = split_paths(m, R);
         const size_t first = scratch.material_start[k], last = scratch.material_start[k + 1];
@@ -418,7 +422,7 @@ inline void split_narrow_lobes(const W& w, Tracer& trace) {
         for (size_t q = first; q < last; ++q) {
             const ShadingPoint& sp = scratch.sorted[q];
             const uint32_t key = split_key(scratch, q);
-            const Vec3f o = sp.p + w.ray_offset * sp.ng;
+            const Vec3f o = sp.p + wavefront.ray_offset * sp.ng;
             for (size_t j = 0; j < K; ++j) {
                 const size_t s = (q - first) * K + j;
                 const float* d = integration.lobe_directions.data() + 3 * s;
@@ -439,23 +443,23 @@ inline void split_narrow_lobes(const W& w, Tracer& trace) {
         const int32_t path = scratch.sorted[build.rays.where[r]].path;
         const float* Tp = scratch.throughput.data() + 3 * path;
         for (int c = 0; c < 3; ++c)
-            w.results[path].rgb[c] += Tp[c] * integration.split_weights[3 * r + c] * build.results[r].rgb[c];
+            wavefront.results[path].rgb[c] += Tp[c] * integration.split_weights[3 * r + c] * build.results[r].rgb[c];
     }
-    w.scratch.rays_traced += cache.inner.rays_traced - rays_before;
+    wavefront.scratch.rays_traced += cache.inner.rays_traced - rays_before;
     cache.lap(Stage::CacheSplit);
 }
 
 // cache: the indirect light of every first-hit point but those left to the path tracer
 // (left_to_path), from the cache.
 template <class W, class Tracer>
-inline void add_cached_indirect(const W& w, Tracer& trace) {
-    PathScratch& scratch = w.scratch;
-    CacheState& cache = start_cache_stage(w);
+inline void add_cached_indirect(const W& wavefront, Tracer& trace) {
+    PathScratch& scratch = wavefront.scratch;
+    CacheState& cache = start_cache_stage(wavefront);
     HemisphereIntegration& integration = cache.integration;
     QueryTable& table = cache.table;
-    const CacheSettings& cfg = w.settings.cache;
+    const CacheSettings& cfg = wavefront.settings.cache;
     const int R = cfg.resolution;
-    const size_t T = static_cast<size_t>(R) * R;
+    const size_t texel_count = static_cast<size_t>(R) * R;
     const float texel = texel_solid_angle(R);
     const size_t rays_before = cache.inner.rays_traced;
     // one member's indirect light from its query's radiance; the texels with light (count of
@@ -463,7 +467,7 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
     auto integrate = [&](int32_t member, size_t count) {
         const size_t q = table.member_point[member];
         const ShadingPoint& sp = scratch.sorted[q];
-        const Material& m = w.scene.materials[sp.material];
+        const Material& m = wavefront.scene.materials[sp.material];
         float v[3];
         view_in_query_frame(scratch, cache, member, v);
         double sum[3] = {0, 0, 0};
@@ -485,10 +489,10 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
     const TexelDirections& directions = cache.texel_directions;
     // the members [begin, end) of one hemisphere (a query's or a region's)
     auto consume_members = [&](const int32_t* begin, const int32_t* end, const float* radiance) {
-        float* l = grow(integration.lit_directions, 3 * T);
-        float* rgb = grow(integration.lit_radiance, 3 * T);
+        float* l = grow(integration.lit_directions, 3 * texel_count);
+        float* rgb = grow(integration.lit_radiance, 3 * texel_count);
         size_t count = 0;
-        for (size_t t = 0; t < T; ++t) {
+        for (size_t t = 0; t < texel_count; ++t) {
             const float* L = radiance + 3 * t;
             if (!(L[0] > 0 || L[1] > 0 || L[2] > 0)) continue;
             l[3 * count] = directions.x[t], l[3 * count + 1] = directions.y[t], l[3 * count + 2] = directions.z[t];
@@ -499,7 +503,7 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
         for (const int32_t* i = begin; i < end; ++i) {
             const int32_t member = *i;
             const ShadingPoint& sp = scratch.sorted[table.member_point[member]];
-            const Material& m = w.scene.materials[sp.material];
+            const Material& m = wavefront.scene.materials[sp.material];
             const bool plain = integral_ignores_view(m);
             if (plain && lambert >= 0 && scratch.sorted[table.member_point[lambert]].material == sp.material) {
                 const auto from = integration.member_light.begin() + 3 * lambert;
@@ -515,7 +519,7 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
         consume_members(m + table.query_first[qi], m + table.query_first[qi + 1], radiance);
     };
     integration.member_light.assign(3 * table.member_point.size(), 0.0f);
-    CacheCounts c = reconstruct_hemispheres(cfg, w.ray_offset, true, cache, trace, consume);
+    CacheCounts c = reconstruct_hemispheres(cfg, wavefront.ray_offset, true, cache, trace, consume);
     // the members of the regions' hemispheres
     const StoredHemispheres& stored = cache.stored;
     for (size_t s = 0; s < stored.in_use.size(); ++s) {
@@ -524,17 +528,17 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
     }
     c.queries += stored.in_use.size();
     cache.lap(Stage::CacheIntegrate);
-    add_counts(w, c, cache, rays_before);
+    add_counts(wavefront, c, cache, rays_before);
     // every point of a member: its indirect light
     for (size_t q = 0; q < scratch.sorted.size(); ++q) {
         if (table.member_of_point[q] < 0) continue;
         const int32_t path = scratch.sorted[q].path;
         const float* Tp = scratch.throughput.data() + 3 * path;
         const float* light = integration.member_light.data() + 3 * table.member_of_point[q];
-        for (int k = 0; k < 3; ++k) w.results[path].rgb[k] += Tp[k] * light[k];
+        for (int k = 0; k < 3; ++k) wavefront.results[path].rgb[k] += Tp[k] * light[k];
         scratch.cached[path] = 1;
     }
-    split_narrow_lobes(w, trace);
+    split_narrow_lobes(wavefront, trace);
 }
 
 // The cache points of an image region (render/cache/cache_regions.h) from its pre-pass's
@@ -547,45 +551,46 @@ inline void add_cached_indirect(const W& w, Tracer& trace) {
 // members of the generation's items that would make the same query; members whose samples
 // miss every pre-pass query (edges, curved surfaces) make their own.
 template <class W, class Tracer>
-inline void build_region_points(const W& w, Tracer& trace, std::vector<CachePoint>& out,
+inline void build_region_points(const W& wavefront, Tracer& trace, std::vector<CachePoint>& out,
                                 std::vector<RegionHemisphere>& hemispheres) {
-    PathScratch& scratch = w.scratch;
+    PathScratch& scratch = wavefront.scratch;
     CacheState& cache = cache_state(scratch);
     cache.timer = &scratch.timer;
     QueryTable& table = cache.table;
     CachePointBuild& build = cache.build;
-    const CacheSettings& cfg = w.settings.cache;
-    const auto served = [&](const Material& m) { return served_by_cache(w.settings.mode, m, cfg.resolution); };
-    collect_queries(w, cache, served, false);
+    const CacheSettings& cfg = wavefront.settings.cache;
+    const auto served = [&](const Material& m) { return served_by_cache(wavefront.settings.mode, m, cfg.resolution); };
+    collect_queries(wavefront, cache, served, false);
     build.shared = nullptr;
-    mark_split_materials(w.scene.materials, w.settings, cache);
+    mark_split_materials(wavefront.scene.materials, wavefront.settings, cache);
     const size_t rays_before = cache.inner.rays_traced;
     hemispheres.clear();
-    if (w.settings.mode == IntegratorMode::Cache) {
-        const Camera& cam = w.scene.camera;
-        const size_t T = static_cast<size_t>(cfg.resolution) * cfg.resolution;
+    if (wavefront.settings.mode == IntegratorMode::Cache) {
+        const Camera& cam = wavefront.scene.camera;
+        const size_t texel_count = static_cast<size_t>(cfg.resolution) * cfg.resolution;
         auto keep = [&](size_t qi, const float* radiance) {
             const ShadingPoint& sp = scratch.sorted[table.query_point[qi]];
-            const auto [px, py] = pixel_of_sample(cam, w.camera_samples[sp.path]);
+            const auto [px, py] = pixel_of_sample(cam, wavefront.camera_samples[sp.path]);
             RegionHemisphere h;
             h.block = block_of_pixel(cam, cfg.block, px, py);
             h.region = region_of_pixel(cam, px, py);
             h.material = static_cast<int32_t>(sp.material);
             h.p = sp.p, h.n = sp.n, h.t = sp.t, h.b = sp.b;
             h.reach = kShareError * build.pool[build.assigned[qi]]->reuse_radius;
-            h.radiance.assign(radiance, radiance + 3 * T);
+            h.radiance.assign(radiance, radiance + 3 * texel_count);
             hemispheres.push_back(std::move(h));
         };
-        const CacheCounts c = reconstruct_hemispheres(cfg, w.ray_offset, true, cache, trace, keep);
+        const CacheCounts c = reconstruct_hemispheres(cfg, wavefront.ray_offset, true, cache, trace, keep);
         // (consumed in order: hemisphere u is query u) each pre-pass pixel's
         for (size_t m = 0; m < table.member_point.size(); ++m) {
-            const auto [px, py] = pixel_of_sample(cam, w.camera_samples[scratch.sorted[table.member_point[m]].path]);
+            const int32_t path = scratch.sorted[table.member_point[m]].path;
+            const auto [px, py] = pixel_of_sample(cam, wavefront.camera_samples[path]);
             hemispheres[table.member_query[m]].pixels.push_back(py * cam.width + px);
         }
         scratch.cache_texels_reprojected += c.reprojected + c.from_misses;
         scratch.cache_texels_traced += c.traced;
     } else {
-        place_cache_points(cfg, w.ray_offset, table.queries.data(), table.queries.size(), cache, trace);
+        place_cache_points(cfg, wavefront.ray_offset, table.queries.data(), table.queries.size(), cache, trace);
     }
     out.clear();
     for (size_t a = 0; a < build.used; ++a) {

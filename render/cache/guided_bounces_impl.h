@@ -77,8 +77,8 @@ struct GuidePool {
     void prepare(const std::vector<const CachePoint*>& pool, int R) {
         points = pool;
         resolution = R;
-        const size_t T = static_cast<size_t>(R) * R;
-        cdf.assign(points.size() * T, 0.0f);
+        const size_t texel_count = static_cast<size_t>(R) * R;
+        cdf.assign(points.size() * texel_count, 0.0f);
         ready.assign(points.size(), 0);
         grid.clear();
         everywhere.clear();
@@ -130,10 +130,10 @@ struct GuidePool {
     // Point a's cdf (built at its first use), or null when its texture holds no light.
     const float* guide(int32_t a, const TexelDirections& dirs) {
         const int R = resolution;
-        const size_t T = static_cast<size_t>(R) * R;
-        float* c = cdf.data() + static_cast<size_t>(a) * T;
+        const size_t texel_count = static_cast<size_t>(R) * R;
+        float* c = cdf.data() + static_cast<size_t>(a) * texel_count;
         if (ready[a] == 0) {  // the radiance x the cosine in the point's own frame
-            cell.resize(3 * T);
+            cell.resize(3 * texel_count);
             ready[a] = guide_cdf(points[a]->radiance.data(), dirs.z.data(), R, cell.data(), c) ? 1 : 2;
         }
         return ready[a] == 1 ? c : nullptr;
@@ -164,9 +164,9 @@ inline float pool_guide_pdf(const CachePoint& a, const float* cdf, int R, const 
 // A world direction drawn from cache point a's guide: the texel by `pick`, the point in it
 // by (u1, u2).
 inline Vec3f pool_guide_sample(const CachePoint& a, const float* cdf, int R, float pick, float u1, float u2) {
-    const int T = R * R;
-    int32_t t = static_cast<int32_t>(std::upper_bound(cdf, cdf + T, pick) - cdf);
-    t = std::min(t, T - 1);
+    const int texel_count = R * R;
+    int32_t t = static_cast<int32_t>(std::upper_bound(cdf, cdf + texel_count, pick) - cdf);
+    t = std::min(t, texel_count - 1);
     while (t > 0 && !(cdf[t] > cdf[t - 1])) --t;  // never a texel of zero probability
     const float u = (static_cast<float>(t % R) + u1) / R, v = (static_cast<float>(t / R) + u2) / R;
     float x, y, z;

@@ -27,7 +27,7 @@ constexpr float kGuideFloor = 0.3f;
 // is zero or not finite everywhere.
 inline bool guide_cdf(const float* radiance, const float* cos_z, int R, float* cell, float* cdf) {
     const int c = std::min(kGuideCell, R);
-    const size_t T = static_cast<size_t>(R) * R;
+    const size_t texel_count = static_cast<size_t>(R) * R;
     // the radiance averaged over its cell (cells at the edge: what is left of them)
     for (int j0 = 0; j0 < R; j0 += c)
         for (int i0 = 0; i0 < R; i0 += c) {
@@ -42,16 +42,17 @@ inline bool guide_cdf(const float* radiance, const float* cos_z, int R, float* c
                     for (int k = 0; k < 3; ++k) cell[3 * (j * R + i) + k] = static_cast<float>(sum[k] * inv);
         }
     double acc = 0;
-    for (size_t t = 0; t < T; ++t) {
+    for (size_t t = 0; t < texel_count; ++t) {
         acc += std::max(0.0f, luminance(cell + 3 * t)) * cos_z[t];
         cdf[t] = static_cast<float>(acc);
     }
     if (!(acc > 0) || !std::isfinite(acc)) return false;
-    const double floor_value = kGuideFloor * acc / static_cast<double>(T);
-    const double total = acc + floor_value * static_cast<double>(T);
+    const double floor_value = kGuideFloor * acc / static_cast<double>(texel_count);
+    const double total = acc + floor_value * static_cast<double>(texel_count);
     const double inv = 1.0 / total;
-    for (size_t t = 0; t < T; ++t) cdf[t] = static_cast<float>((cdf[t] + floor_value * static_cast<double>(t + 1)) * inv);
-    cdf[T - 1] = 1.0f;
+    for (size_t t = 0; t < texel_count; ++t)
+        cdf[t] = static_cast<float>((cdf[t] + floor_value * static_cast<double>(t + 1)) * inv);
+    cdf[texel_count - 1] = 1.0f;
     return true;
 }
 

@@ -34,18 +34,18 @@ inline bool cache_points_guide(const PathScratch& scratch, const CacheSettings& 
 // shared points, and points of its own for the first hits (queries, as `cache` makes them)
 // that none of those serves.
 template <class W, class Tracer>
-inline void place_guide_points(const W& w, Tracer& trace) {
-    if (!cache_points_guide(w.scratch, w.settings.cache)) return;
-    CacheState& cache = start_cache_stage(w);
+inline void place_guide_points(const W& wavefront, Tracer& trace) {
+    if (!cache_points_guide(wavefront.scratch, wavefront.settings.cache)) return;
+    CacheState& cache = start_cache_stage(wavefront);
     const size_t rays_before = cache.inner.rays_traced;
     const std::vector<Query>& queries = cache.table.queries;
-    place_cache_points(w.settings.cache, w.ray_offset, queries.data(), queries.size(), cache, trace);
-    w.scratch.cache_points += cache.build.used;
-    w.scratch.cache_queries += cache.table.queries.size();
-    w.scratch.rays_traced += cache.inner.rays_traced - rays_before;
+    place_cache_points(wavefront.settings.cache, wavefront.ray_offset, queries.data(), queries.size(), cache, trace);
+    wavefront.scratch.cache_points += cache.build.used;
+    wavefront.scratch.cache_queries += cache.table.queries.size();
+    wavefront.scratch.rays_traced += cache.inner.rays_traced - rays_before;
     if (cache.build.pool.empty())  // no queries: the shared points alone
-        for (const CachePoint* a : w.scratch.cache_shared) cache.build.pool.push_back(a);
-    cache.guides.prepare(cache.build.pool, w.settings.cache.resolution);
+        for (const CachePoint* a : wavefront.scratch.cache_shared) cache.build.pool.push_back(a);
+    cache.guides.prepare(cache.build.pool, wavefront.settings.cache.resolution);
     cache.lap(Stage::CachePlace);
 }
 
@@ -72,20 +72,20 @@ inline bool field_guidable(const Material& m) {
 // bounce": a later vertex's light is less like any cache point's, whose texels hold the
 // direct light at their hits), hence the default.
 template <class W>
-inline void assign_guides(const W& w, int depth) {
-    PathScratch& scratch = w.scratch;
+inline void assign_guides(const W& wavefront, int depth) {
+    PathScratch& scratch = wavefront.scratch;
     CacheState& cache = cache_state(scratch);
     GuidePool& pool = cache.guides;
-    const int R = w.settings.cache.resolution;
+    const int R = wavefront.settings.cache.resolution;
     const size_t np = scratch.sorted.size();
     pool.cache_point_of.assign(np, -1);
     pool.field_of.assign(np, -1);
     pool.any = false;
     pool.field = scratch.guide_field;
-    if (depth < w.settings.cache.guide_bounces && !pool.points.empty() && pool.resolution == R) {
+    if (depth < wavefront.settings.cache.guide_bounces && !pool.points.empty() && pool.resolution == R) {
         cache.texel_directions.prepare(R);
-        for (size_t k = 0; k < w.scene.materials.size(); ++k) {
-            if (!texel_resolvable(w.scene.materials[k], R)) continue;
+        for (size_t k = 0; k < wavefront.scene.materials.size(); ++k) {
+            if (!texel_resolvable(wavefront.scene.materials[k], R)) continue;
             const size_t first = scratch.material_start[k], last = scratch.material_start[k + 1];
             for (size_t q = first; q < last; ++q) {
                 const ShadingPoint& sp = scratch.sorted[q];
@@ -94,9 +94,9 @@ inline void assign_guides(const W& w, int depth) {
             }
         }
     }
-    if (pool.field != nullptr && !pool.field->empty() && depth < w.settings.cache.train_bounces)
-        for (size_t k = 0; k < w.scene.materials.size(); ++k) {
-            if (!field_guidable(w.scene.materials[k])) continue;
+    if (pool.field != nullptr && !pool.field->empty() && depth < wavefront.settings.cache.train_bounces)
+        for (size_t k = 0; k < wavefront.scene.materials.size(); ++k) {
+            if (!field_guidable(wavefront.scene.materials[k])) continue;
             const size_t first = scratch.material_start[k], last = scratch.material_start[k + 1];
             for (size_t q = first; q < last; ++q) {
                 if (pool.cache_point_of[q] >= 0) continue;
@@ -132,8 +132,8 @@ inline float guide_density(const PathScratch& scratch, const GuidePool& pool, si
         const float dir[3] = {u.x, u.y, u.z};
         return pool.field->pdf(pool.field_of[q], dir);
     }
-    const size_t T = static_cast<size_t>(pool.resolution) * pool.resolution;
-    return pool_guide_pdf(*pool.points[a], pool.cdf.data() + static_cast<size_t>(a) * T, pool.resolution, d);
+    const size_t texel_count = static_cast<size_t>(pool.resolution) * pool.resolution;
+    return pool_guide_pdf(*pool.points[a], pool.cdf.data() + static_cast<size_t>(a) * texel_count, pool.resolution, d);
 }
 
 // cache-guided, light sampling: the BRDF-sampling density each light sample's MIS weight
@@ -150,15 +150,15 @@ inline void mix_light_pdfs(const PathScratch& scratch, const CacheSettings& cfg,
 // (the guide below cache.guide), the uniform rescaled to [0, 1) for the choice made with it
 // (the guide's texel, or the BRDF's own lobe).
 template <class W>
-inline void guided_picks(const W& w) {
-    PathScratch& scratch = w.scratch;
+inline void guided_picks(const W& wavefront) {
+    PathScratch& scratch = wavefront.scratch;
     CacheState& cache = cache_state(scratch);
     GuideChoices& choices = cache.guide_choices;
     const size_t np = scratch.sorted.size();
     choices.chose_guide.assign(np, 0);
     choices.guide_pick.assign(np, 0.0f);
     if (!guided_here(scratch)) return;
-    const float a = guide_probability(cache.guides, w.settings.cache);
+    const float a = guide_probability(cache.guides, wavefront.settings.cache);
     float* pick = scratch.u_pick.data();
     for (size_t q = 0; q < np; ++q) {
         if (!cache.guides.guides(q)) continue;
@@ -174,15 +174,15 @@ inline void guided_picks(const W& w) {
 // cache-guided, after BRDF sampling: the guide's directions for the points that chose it,
 // then for every guided point the BRDF value and the mixture's density.
 template <class W>
-inline void guided_directions(const W& w) {
-    PathScratch& scratch = w.scratch;
+inline void guided_directions(const W& wavefront) {
+    PathScratch& scratch = wavefront.scratch;
     CacheState& cache = cache_state(scratch);
     if (!guided_here(scratch)) return;
     const GuidePool& pool = cache.guides;
     const GuideChoices& choices = cache.guide_choices;
     const int R = pool.resolution;
-    const size_t T = static_cast<size_t>(R) * R, np = scratch.sorted.size();
-    const float a = guide_probability(pool, w.settings.cache);
+    const size_t texel_count = static_cast<size_t>(R) * R, np = scratch.sorted.size();
+    const float a = guide_probability(pool, wavefront.settings.cache);
     float* ll = scratch.l_local.data();
     bool any = false;
     for (size_t q = 0; q < np; ++q) {
@@ -192,7 +192,7 @@ inline void guided_directions(const W& w) {
         const int32_t p = pool.cache_point_of[q];
         Vec3f d;
         if (p >= 0)
-            d = pool_guide_sample(*pool.points[p], pool.cdf.data() + static_cast<size_t>(p) * T, R,
+            d = pool_guide_sample(*pool.points[p], pool.cdf.data() + static_cast<size_t>(p) * texel_count, R,
                                   choices.guide_pick[q], scratch.uniform_u[q], scratch.uniform_v[q]);
         else {
             float dir[3];
@@ -207,12 +207,12 @@ inline void guided_directions(const W& w) {
     const float* eta = scratch.eta.data();
     float* fv = scratch.bsdf_rgb.data();
     float* pdf = scratch.pdf.data();
-    for (size_t k = 0; k < w.scene.materials.size(); ++k) {
+    for (size_t k = 0; k < wavefront.scene.materials.size(); ++k) {
         const size_t b = scratch.material_start[k], count = scratch.material_start[k + 1] - b;
         bool guided = false;
         for (size_t q = b; q < b + count && !guided; ++q) guided = pool.guides(q);
         if (!guided) continue;
-        const Material& m = w.scene.materials[k];
+        const Material& m = wavefront.scene.materials[k];
         render_detail::material_eval(m, ll + 3 * b, vl + 3 * b, eta + b, fv + 3 * b, count);
         render_detail::material_pdf(m, ll + 3 * b, vl + 3 * b, eta + b, pdf + b, count);
     }

@@ -108,8 +108,8 @@ inline void split_glossy_hits(CacheState& cache, Tracer& trace, Texel texel) {
         for (int c = 0; c < 3; ++c) L[c] += build.results[r].rgb[c];
     }
     const float share = 1.0f / static_cast<float>(K);
-    for (const int32_t w : split.texels) {
-        float* L = texel(w);
+    for (const int32_t where : split.texels) {
+        float* L = texel(where);
         for (int c = 0; c < 3; ++c) L[c] *= share;
     }
     std::swap(build.rays, split.rays);
@@ -125,7 +125,7 @@ inline void refine_concentrated_texels(CacheState& cache, Tracer& trace, CachePo
     TexelRefinement& refinement = cache.texel_refinement;
     if (!refinement.enabled || count == 0) return;
     const int R = points[0].resolution;
-    const size_t T = static_cast<size_t>(R) * R;
+    const size_t texel_count = static_cast<size_t>(R) * R;
     refinement.rays.clear();
     refinement.texels.clear();
     for (size_t k = 0; k < count; ++k) {
@@ -136,7 +136,7 @@ inline void refine_concentrated_texels(CacheState& cache, Tracer& trace, CachePo
         const Vec3f o = a.p + eps * a.ng;
         for (const int32_t t : refinement.selected) {
             if (a.kind[t] == kTexelBelow) continue;  // it holds no light
-            const int32_t where = static_cast<int32_t>(k * T) + t;
+            const int32_t where = static_cast<int32_t>(k * texel_count) + t;
             refinement.texels.push_back(where);
             push_strata(a, t, key, o, where, refinement.rays);
         }
@@ -145,14 +145,14 @@ inline void refine_concentrated_texels(CacheState& cache, Tracer& trace, CachePo
     CachePointBuild& build = cache.build;
     std::swap(build.rays, refinement.rays);
     trace_queue(cache, trace);
-    auto texel = [&](int32_t where) { return points[where / T].radiance.data() + 3 * (where % T); };
+    auto texel = [&](int32_t where) { return points[where / texel_count].radiance.data() + 3 * (where % texel_count); };
     for (size_t r = 0; r < build.rays.size(); ++r) {
         float* L = texel(build.rays.where[r]);
         for (int c = 0; c < 3; ++c) L[c] += build.results[r].rgb[c];
     }
     const float share = 1.0f / static_cast<float>(1 + kStrata);  // a stratum under the surface: no light
-    for (const int32_t w : refinement.texels) {
-        float* L = texel(w);
+    for (const int32_t where : refinement.texels) {
+        float* L = texel(where);
         for (int c = 0; c < 3; ++c) L[c] *= share;
     }
     std::swap(build.rays, refinement.rays);
@@ -168,36 +168,37 @@ inline void build_cache_points(const CacheSettings& cfg, float eps, const Query*
                                Tracer& trace) {
     CachePointBuild& build = cache.build;
     const int R = cfg.resolution;
-    const size_t T = static_cast<size_t>(R) * R;
+    const size_t texel_count = static_cast<size_t>(R) * R;
     const size_t first = build.used;
     if (build.points.size() < first + build.pending.size()) build.points.resize(first + build.pending.size());
-    for (size_t k0 = 0; k0 < build.pending.size(); k0 += kChunk) {
-        const size_t k1 = std::min(build.pending.size(), k0 + kChunk);
-        CachePoint* chunk = build.points.data() + first + k0;
+    for (size_t chunk_begin = 0; chunk_begin < build.pending.size(); chunk_begin += kChunk) {
+        const size_t chunk_end = std::min(build.pending.size(), chunk_begin + kChunk);
+        CachePoint* chunk = build.points.data() + first + chunk_begin;
         build.rays.clear();
-        for (size_t k = k0; k < k1; ++k) {
+        for (size_t k = chunk_begin; k < chunk_end; ++k) {
             const Query& q = queries[build.pending[k]];
-            CachePoint& a = chunk[k - k0];
+            CachePoint& a = chunk[k - chunk_begin];
             a.p = q.p, a.ng = q.ng, a.t = q.t, a.b = q.b, a.n = q.n;
             a.resolution = R;
-            a.radiance.assign(3 * T, 0.0f);
-            a.dist.assign(T, INFINITY);
-            a.kind.assign(T, kTexelBelow);
-            a.hit_point.assign(3 * T, 0.0f);
-            a.hit_normal.assign(3 * T, 0.0f);
+            a.radiance.assign(3 * texel_count, 0.0f);
+            a.dist.assign(texel_count, INFINITY);
+            a.kind.assign(texel_count, kTexelBelow);
+            a.hit_point.assign(3 * texel_count, 0.0f);
+            a.hit_normal.assign(3 * texel_count, 0.0f);
             const uint32_t key = cache_point_key(q.key);
             const Vec3f o = q.p + eps * q.ng;
-            for (size_t t = 0; t < T; ++t) {
+            for (size_t t = 0; t < texel_count; ++t) {
                 const Vec3f d = jittered_direction(q, R, static_cast<int32_t>(t), key);
                 if (!(dot(d, q.ng) > 0)) continue;  // under the geometric surface: no light from there
-                build.rays.push(o, d, key, static_cast<uint32_t>(t), static_cast<int32_t>((k - k0) * T + t));
+                const int32_t where = static_cast<int32_t>((k - chunk_begin) * texel_count + t);
+                build.rays.push(o, d, key, static_cast<uint32_t>(t), where);
             }
         }
         cache.lap(Stage::CachePlace);
         trace_queue(cache, trace);
         cache.lap(Stage::CacheBuild);
         for (size_t r = 0; r < build.rays.size(); ++r) {
-            const size_t k = build.rays.where[r] / T, t = build.rays.where[r] % T;
+            const size_t k = build.rays.where[r] / texel_count, t = build.rays.where[r] % texel_count;
             CachePoint& a = chunk[k];
             const PathResult& res = build.results[r];
             std::copy(res.rgb, res.rgb + 3, a.radiance.data() + 3 * t);
@@ -214,9 +215,13 @@ inline void build_cache_points(const CacheSettings& cfg, float eps, const Query*
             if (!(dot(m, m) > 0.5f) || dot(m, d) > 0) m = -d;
             store_vec3(m, a.hit_normal.data() + 3 * t);
         }
-        split_glossy_hits(cache, trace, [&](int32_t w) { return chunk[w / T].radiance.data() + 3 * (w % T); });
-        refine_concentrated_texels(cache, trace, chunk, k1 - k0, queries, build.pending.data() + k0, eps);
-        for (size_t k = k0; k < k1; ++k) bound_isolated_texels(chunk[k - k0].radiance.data(), R, build.luminances);
+        split_glossy_hits(cache, trace, [&](int32_t where) {
+            return chunk[where / texel_count].radiance.data() + 3 * (where % texel_count);
+        });
+        refine_concentrated_texels(cache, trace, chunk, chunk_end - chunk_begin, queries,
+                                   build.pending.data() + chunk_begin, eps);
+        for (size_t k = chunk_begin; k < chunk_end; ++k)
+            bound_isolated_texels(chunk[k - chunk_begin].radiance.data(), R, build.luminances);
         cache.lap(Stage::CacheBuild);  // the glossy hits' and the concentrated texels' paths, the bound: building too
     }
     for (size_t k = 0; k < build.pending.size(); ++k) {
@@ -439,7 +444,7 @@ inline CacheCounts reconstruct_hemispheres(const CacheSettings& cfg, float eps, 
         return counts;
     }
     const int R = cfg.resolution;
-    const size_t T = static_cast<size_t>(R) * R;
+    const size_t texel_count = static_cast<size_t>(R) * R;
     cache.texel_directions.prepare(R);
     place_cache_points(cfg, eps, table.queries.data(), table.queries.size(), cache, trace);
     split_far_members(cache);
@@ -447,12 +452,12 @@ inline CacheCounts reconstruct_hemispheres(const CacheSettings& cfg, float eps, 
     const size_t n = table.queries.size();
     counts.queries = n;
     counts.points = build.used;
-    float* tex = grow(build.textures, kChunk * 3 * T);
+    float* tex = grow(build.textures, kChunk * 3 * texel_count);
     for (size_t c0 = 0; c0 < n; c0 += kChunk) {
         const size_t c1 = std::min(n, c0 + kChunk);
         build.rays.clear();
         for (size_t q = c0; q < c1; ++q) {
-            float* out = tex + (q - c0) * 3 * T;
+            float* out = tex + (q - c0) * 3 * texel_count;
             const CachePoint& a = *build.pool[build.assigned[q]];
             if (build.own[q]) {
                 std::copy(a.radiance.begin(), a.radiance.end(), out);
@@ -490,7 +495,8 @@ inline CacheCounts reconstruct_hemispheres(const CacheSettings& cfg, float eps, 
                     const Vec3f d = jittered_direction(b, R, t, key);
                     std::fill(out + 3 * t, out + 3 * t + 3, 0.0f);
                     if (!(dot(d, b.ng) > 0)) return;
-                    build.rays.push(o, d, key, static_cast<uint32_t>(t), static_cast<int32_t>((q - c0) * T + t));
+                    const int32_t where = static_cast<int32_t>((q - c0) * texel_count + t);
+                    build.rays.push(o, d, key, static_cast<uint32_t>(t), where);
                 });
         }
         cache.lap(Stage::CacheReproject);
@@ -502,10 +508,10 @@ inline CacheCounts reconstruct_hemispheres(const CacheSettings& cfg, float eps, 
                           tex + 3 * static_cast<size_t>(build.rays.where[r]));
             // a traced hole is one path sample too, shared by every member of the query
             for (size_t q = c0; q < c1; ++q)
-                if (!build.own[q]) bound_isolated_texels(tex + (q - c0) * 3 * T, R, build.luminances);
+                if (!build.own[q]) bound_isolated_texels(tex + (q - c0) * 3 * texel_count, R, build.luminances);
         }
         cache.lap(Stage::CacheHoles);
-        for (size_t q = c0; q < c1; ++q) consume(q, tex + (q - c0) * 3 * T);
+        for (size_t q = c0; q < c1; ++q) consume(q, tex + (q - c0) * 3 * texel_count);
         cache.lap(Stage::CacheIntegrate);
     }
     return counts;

@@ -28,13 +28,13 @@ namespace render_detail {
 // Points [begin, end): lux[i] the indirect illuminance of cache point i's hemisphere, and
 // harmonic_distance[i] its texels' harmonic mean hit distance (inf when none hit). Keys from
 // (seed, point) as sensor_illuminance's, salted as a cache point's.
-void sensor_cache_points(const RenderScene& s, const IntegratorSettings& st, const float* points, const float* normals,
-                         size_t begin, size_t end, int resolution, uint32_t seed, float* lux,
-                         float* harmonic_distance, PathScratch& sc) {
+void sensor_cache_points(const RenderScene& scene, const IntegratorSettings& settings, const float* points,
+                         const float* normals, size_t begin, size_t end, int resolution, uint32_t seed, float* lux,
+                         float* harmonic_distance, PathScratch& scratch) {
     enter_kernel();
     const size_t texels = static_cast<size_t>(resolution) * resolution;
     const float texel_lux = kLumensPerWatt * cache::texel_solid_angle(resolution);
-    IntegratorSettings inner = st;
+    IntegratorSettings inner = settings;
     inner.mode = IntegratorMode::Path;  // the hemisphere's rays are plain paths from the sensor
     inner.indirect_illuminance = false;
     cache::RayQueue rays;
@@ -51,13 +51,13 @@ void sensor_cache_points(const RenderScene& s, const IntegratorSettings& st, con
             const cache::Query q{sp.p, sp.ng, sp.t, sp.b, sp.n, cache::cache_point_key(stream_key(seed, uint32_t(i)))};
             for (size_t t = 0; t < texels; ++t) {
                 const Vec3f d = cache::jittered_direction(q, resolution, static_cast<int32_t>(t), q.key);
-                rays.push(sp.p + s.ray_offset * sp.ng, d, q.key, static_cast<uint32_t>(t), static_cast<int32_t>(i));
+                rays.push(sp.p + scene.ray_offset * sp.ng, d, q.key, static_cast<uint32_t>(t), static_cast<int32_t>(i));
                 cosines.push_back(std::max(0.0f, dot(d, sp.n)));
             }
         }
         results.resize(rays.size());
-        trace_given_rays(s, inner, rays.org.data(), rays.dir.data(), rays.keys.data(), rays.indices.data(),
-                         rays.size(), results.data(), sc, samples);
+        trace_given_rays(scene, inner, rays.org.data(), rays.dir.data(), rays.keys.data(), rays.indices.data(),
+                         rays.size(), results.data(), scratch, samples);
         for (size_t i = first; i < last; ++i) {
             double sum = 0, inverse_distances = 0;
             for (size_t t = 0; t < texels; ++t) {

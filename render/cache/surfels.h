@@ -55,20 +55,20 @@ inline int depth_layer(float d, float dmin) {
 // Fills a's surfels, layers, outlines, silhouettes and reuse radius from its texels.
 inline void build_surfels(CachePoint& a) {
     const int R = a.resolution;
-    const size_t T = static_cast<size_t>(R) * R;
+    const size_t texel_count = static_cast<size_t>(R) * R;
     a.surfels.clear();
     a.silhouettes.clear();
     float dmin = INFINITY, inv_sum = 0;
     int hits = 0;
-    for (size_t k = 0; k < T; ++k)
+    for (size_t k = 0; k < texel_count; ++k)
         if (a.kind[k] == kTexelHit) {
             dmin = std::min(dmin, a.dist[k]);
             inv_sum += 1.0f / std::max(a.dist[k], 1e-20f);
             ++hits;
         }
     a.reuse_radius = hits > 0 ? static_cast<float>(hits) / inv_sum : INFINITY;
-    std::vector<int> layer(T, -1), owner(T, -1);
-    for (size_t k = 0; k < T; ++k)
+    std::vector<int> layer(texel_count, -1), owner(texel_count, -1);
+    for (size_t k = 0; k < texel_count; ++k)
         if (a.kind[k] == kTexelHit) layer[k] = depth_layer(a.dist[k], dmin);
     auto point = [&](size_t k) { return load_vec3(a.hit_point.data() + 3 * k); };
     auto normal = [&](size_t k) { return load_vec3(a.hit_normal.data() + 3 * k); };

@@ -30,10 +30,10 @@ constexpr float kOutlierBound = 128.0f;
 
 // The luminance of each of R x R texels (RGB) into `luminances`; returns their sum.
 inline double texel_luminances(const float* radiance, int R, std::vector<float>& luminances) {
-    const size_t T = static_cast<size_t>(R) * R;
-    luminances.resize(T);
+    const size_t texel_count = static_cast<size_t>(R) * R;
+    luminances.resize(texel_count);
     double sum = 0;
-    for (size_t t = 0; t < T; ++t) {
+    for (size_t t = 0; t < texel_count; ++t) {
         luminances[t] = std::max(luminance(radiance + 3 * t), 0.0f);
         sum += luminances[t];
     }
