@@ -38,11 +38,11 @@ inline void start_records(PathScratch& scratch) {
 // After the bounce's emission and environment were added: the vertices that sent the
 // bounce's rays note what their paths hold, the next vertex's own emission included.
 template <class W>
-inline void note_arrivals(const W& w) {
-    GuideRecordSink& sink = *w.scratch.guide_sink;
+inline void note_arrivals(const W& wavefront) {
+    GuideRecordSink& sink = *wavefront.scratch.guide_sink;
     for (const int32_t v : sink.waiting) {
         PendingVertex& pv = sink.pending[v];
-        std::copy(w.results[pv.path].rgb, w.results[pv.path].rgb + 3, pv.arrived);
+        std::copy(wavefront.results[pv.path].rgb, wavefront.results[pv.path].rgb + 3, pv.arrived);
     }
     sink.waiting.clear();
 }
@@ -50,8 +50,8 @@ inline void note_arrivals(const W& w) {
 // After BRDF (or guide) sampling: each path that goes on leaves a pending vertex at its
 // shading point, with the direction, density and throughput update_paths gave it.
 template <class W>
-inline void note_vertices(const W& w) {
-    PathScratch& scratch = w.scratch;
+inline void note_vertices(const W& wavefront) {
+    PathScratch& scratch = wavefront.scratch;
     GuideRecordSink& sink = *scratch.guide_sink;
     const size_t np = scratch.sorted.size();
     if (sink.point_of_path.size() < scratch.throughput.size() / 3)
@@ -75,10 +75,10 @@ inline void note_vertices(const W& w) {
 // The batch's paths have ended: each pending vertex's record from what its path gathered
 // after it arrived (none where nothing came back: a zero adds nothing to any bin).
 template <class W>
-inline void finish_records(const W& w) {
-    GuideRecordSink& sink = *w.scratch.guide_sink;
+inline void finish_records(const W& wavefront) {
+    GuideRecordSink& sink = *wavefront.scratch.guide_sink;
     for (const PendingVertex& pv : sink.pending) {
-        const float* rgb = w.results[pv.path].rgb;
+        const float* rgb = wavefront.results[pv.path].rgb;
         float li[3];
         for (int c = 0; c < 3; ++c) {
             const float gathered = std::max(0.0f, rgb[c] - pv.arrived[c]);
