@@ -184,10 +184,10 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
     // so that each position's passes are one Sobol sequence
     // (made in place, as the corners below)
     const auto add_sample = [&](int i, int s) {
-        CameraSample& cs = samples.emplace_back();
-        place(m_pixels[i], s, cs.film_x, cs.film_y);
-        cs.key = stream_key(m_seed, static_cast<uint32_t>(m_pixels[i].pixel) * aa::kMaxSamples + s);
-        cs.index = pass;
+        CameraSample& sample = samples.emplace_back();
+        place(m_pixels[i], s, sample.film_x, sample.film_y);
+        sample.key = stream_key(m_seed, static_cast<uint32_t>(m_pixels[i].pixel) * aa::kMaxSamples + s);
+        sample.index = pass;
     };
     if (m_round == 0) {
         const uint32_t row = static_cast<uint32_t>(m_film.width()) + 1;
@@ -201,11 +201,11 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
             // keyed by the corner's place in the image: the tiles on both sides of a tile
             // border trace it alike
             const uint32_t id = static_cast<uint32_t>(cy) * row + static_cast<uint32_t>(cx);
-            CameraSample& cs = samples[q];
-            cs.film_x = static_cast<float>(cx);
-            cs.film_y = static_cast<float>(cy);
-            cs.key = stream_key(m_seed ^ kCornerSalt, id);
-            cs.index = pass;
+            CameraSample& corner = samples[q];
+            corner.film_x = static_cast<float>(cx);
+            corner.film_y = static_cast<float>(cy);
+            corner.key = stream_key(m_seed ^ kCornerSalt, id);
+            corner.index = pass;
         }
         // the highlights' grids with the corners: where they fall is known before any ray
         for (const int i : m_spot_pixels) {
@@ -223,25 +223,24 @@ bool AdaptiveSampler::next_batch(std::vector<CameraSample>& samples) {
         m_round = 1;
         return !samples.empty();
     }
-    if (m_round == 1) {
-        m_round = 2;
-        if (!m_level2_pixels.empty()) {
-            for (const int i : m_level2_pixels)
-                for (int s = aa::kCorners; s < aa::kCorners + aa::kLevel2; ++s) add_sample(i, s);
-            return true;
+    // a round of refinement: on to the next round, with a batch when some pixel refines
+    // (an empty round falls through to the next)
+    const auto refine_round = [&](const std::vector<int>& pixels, const auto& add_pixel_samples) {
+        ++m_round;
+        for (const int i : pixels) add_pixel_samples(i);
+        return !pixels.empty();
+    };
+    const auto level2_samples = [&](int i) {
+        for (int s = aa::kCorners; s < aa::kCorners + aa::kLevel2; ++s) add_sample(i, s);
+    };
+    const auto zigzag_samples = [&](int i) {  // level 3: a zigzag in each of the pixel's zones
+        for (int z = 0; z < aa::kZones; ++z) {
+            if (!((m_pixels[i].zones >> z) & 1)) continue;
+            for (int k = 0; k < aa::kZigzag; ++k) add_sample(i, aa::kCorners + aa::kLevel2 + z * aa::kZigzag + k);
         }
-    }
-    if (m_round == 2) {
-        m_round = 3;
-        if (!m_level3_pixels.empty()) {
-            for (const int i : m_level3_pixels)
-                for (int z = 0; z < aa::kZones; ++z) {
-                    if (!((m_pixels[i].zones >> z) & 1)) continue;
-                    for (int k = 0; k < aa::kZigzag; ++k) add_sample(i, aa::kCorners + aa::kLevel2 + z * aa::kZigzag + k);
-                }
-            return true;
-        }
-    }
+    };
+    if (m_round == 1 && refine_round(m_level2_pixels, level2_samples)) return true;
+    if (m_round == 2 && refine_round(m_level3_pixels, zigzag_samples)) return true;
     if (m_round < 4) finish(nullptr);  // no level 3 (with one, take_results finished the item)
     m_round = 4;
     return false;
@@ -253,14 +252,14 @@ const PathResult* AdaptiveSampler::signal_results(const CameraSample* samples, c
     // shared by every position of the image: the same light sample and BRDF sample
     // everywhere, so the radiance (highlights included) is a function of the position
     // only (the integrator's own results are noisy: the decisions never look at them)
-    m_signal_cs.assign(samples, samples + n);
+    m_signal_samples.assign(samples, samples + n);
     const uint32_t key = path_key(m_seed ^ kSignalSalt, 0, 0);
-    for (auto& c : m_signal_cs) {
+    for (auto& c : m_signal_samples) {
         c.key = key;
         c.index = 0;
     }
     m_signal_out.resize(n);
-    trace_signal(m_signal_cs.data(), n, m_signal_out.data());
+    trace_signal(m_signal_samples.data(), n, m_signal_out.data());
     return m_signal_out.data();
 }
 

@@ -187,7 +187,7 @@ private:
     std::vector<PathResult> m_level2;
     std::vector<AaSignal> m_level2_signal;
     std::vector<int> m_level3_first;  // per m_pixels entry: its first level-3 result, -1 none
-    std::vector<CameraSample> m_signal_cs;  // a round's positions with the signal's key
+    std::vector<CameraSample> m_signal_samples;  // a round's positions with the signal's key
     std::vector<PathResult> m_signal_out;
 };
 
