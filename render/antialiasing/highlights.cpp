@@ -43,24 +43,24 @@ V3 shading_normal(const Tri& t, const double b[3]) { return unit(b[0] * t.n[0] +
 
 }  // namespace
 
-std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
+std::vector<AaSpot> find_highlight_spots(const RenderScene& scene, int threads) {
     std::vector<AaSpot> pieces;
-    const bool triangles = s.tree != nullptr && s.indices != nullptr && s.triangle_count > 0 &&
-                           s.tree->triangle_count() == s.triangle_count;
-    if (!triangles && (s.tree == nullptr || s.tree->spheres.empty())) return pieces;
-    const size_t triangle_count = triangles ? s.triangle_count : 0;
-    const Camera& c = s.camera;
-    const V3 eye = load(c.position), fwd = load(c.forward), right = load(c.right), up = load(c.up);
-    const double tan_y = c.tan_half_fov, tan_x = tan_y * c.width / c.height;
-    const float* tri = s.tree->triangles.data();  // corner e of triangle t at tri + 9 t + 3 e
-    const float* ng = s.tree->normals.data();
+    const bool triangles = scene.tree != nullptr && scene.indices != nullptr && scene.triangle_count > 0 &&
+                           scene.tree->triangle_count() == scene.triangle_count;
+    if (!triangles && (scene.tree == nullptr || scene.tree->spheres.empty())) return pieces;
+    const size_t triangle_count = triangles ? scene.triangle_count : 0;
+    const Camera& camera = scene.camera;
+    const V3 eye = load(camera.position), fwd = load(camera.forward), right = load(camera.right), up = load(camera.up);
+    const double tan_y = camera.tan_half_fov, tan_x = tan_y * camera.width / camera.height;
+    const float* tri = scene.tree->triangles.data();  // corner e of triangle t at tri + 9 t + 3 e
+    const float* ng = scene.tree->normals.data();
     const TraceKernels& kernels = trace_kernels_w1();  // one width: the same hits for every SIMD width
     // the first hit along a ray from o towards d (unit) beyond tmin: its distance, inf for none
     const auto first_hit = [&](V3 o, V3 d, float tmin, float tmax) {
         const float of[3] = {float(o.x), float(o.y), float(o.z)}, df[3] = {float(d.x), float(d.y), float(d.z)};
         float t = std::numeric_limits<float>::infinity(), bu = 0, bv = 0;
         int32_t prim = -1;
-        kernels.intersect(*s.tree, RayBatch{of, df, tmin, nullptr, tmax}, HitBatch{&t, &prim, &bu, &bv}, 0, 1);
+        kernels.intersect(*scene.tree, RayBatch{of, df, tmin, nullptr, tmax}, HitBatch{&t, &prim, &bu, &bv}, 0, 1);
         return prim < 0 ? std::numeric_limits<double>::infinity() : double(t);
     };
     // the film position of a point in front of the camera, and the camera ray through a film position
@@ -68,19 +68,19 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
         const V3 d = p - eye;
         const double z = dot(d, fwd);
         if (!(z > 1e-9)) return false;
-        x = (dot(d, right) / z / tan_x + 1) * 0.5 * c.width;
-        y = (1 - dot(d, up) / z / tan_y) * 0.5 * c.height;
+        x = (dot(d, right) / z / tan_x + 1) * 0.5 * camera.width;
+        y = (1 - dot(d, up) / z / tan_y) * 0.5 * camera.height;
         return true;
     };
     const auto ray_dir = [&](double x, double y) {
-        return fwd + ((2 * x / c.width - 1) * tan_x) * right + ((1 - 2 * y / c.height) * tan_y) * up;
+        return fwd + ((2 * x / camera.width - 1) * tan_x) * right + ((1 - 2 * y / camera.height) * tan_y) * up;
     };
     struct Rect {
         double x0, y0, x1, y1;
     };
     // the spots on triangles [t_begin, t_end) into `spots`
     const auto search = [&](size_t t_begin, size_t t_end, std::vector<Rect>& spots) {
-        for (const Light& light : s.lights) {
+        for (const Light& light : scene.lights) {
             const bool local = is_delta_light(light);
             const SunLight* sun_light = std::get_if<SunLight>(&light.model);
             if (!local && !sun_light) continue;  // area lights and environments: broad highlights
@@ -100,14 +100,14 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
                 if (spot && dot(-1.0 * l, load(spot->direction)) < spot->cos_outer) return;
                 // seen: the camera's ray towards p hits nothing before it
                 const double dist = std::sqrt(dot(p - eye, p - eye));
-                const double slack = 1e-4 * dist + 10 * double(s.ray_offset);
+                const double slack = 1e-4 * dist + 10 * double(scene.ray_offset);
                 const float inf = std::numeric_limits<float>::infinity();
                 if (first_hit(eye, unit(p - eye), 0.0f, inf) < dist - slack) return;
                 // lit: nothing between p and the light
                 const double to_lp = local ? std::sqrt(dot(lp - p, lp - p)) : std::numeric_limits<double>::infinity();
-                const V3 o = p + (2 * double(s.ray_offset)) * ngp;
+                const V3 o = p + (2 * double(scene.ray_offset)) * ngp;
                 const float tmax = local ? float(to_lp * (1 - 1e-4)) : std::numeric_limits<float>::infinity();
-                if (std::isfinite(first_hit(o, l, s.ray_offset, tmax))) return;
+                if (std::isfinite(first_hit(o, l, scene.ray_offset, tmax))) return;
                 double fx, fy;
                 if (!film(p, fx, fy)) return;
                 // the spot's size: the normal's offset from the half-vector, a 2-vector in a frame
@@ -143,23 +143,25 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
                 spots.push_back({fx - hx, fy - hy, fx + hx, fy + hy});
             };
             for (size_t t = t_begin; t < t_end; ++t) {
-                const size_t mi = s.tri_material != nullptr ? static_cast<size_t>(s.tri_material[t]) : 0;
-                if (mi >= s.materials.size()) continue;  // no material: nothing to place
-                const Material& m = s.materials[mi];
-                const double alpha = double(highlight_alpha(m)) + sun_spread;
+                const size_t material_index =
+                    scene.tri_material != nullptr ? static_cast<size_t>(scene.tri_material[t]) : 0;
+                if (material_index >= scene.materials.size()) continue;  // no material: nothing to place
+                const Material& material = scene.materials[material_index];
+                const double alpha = double(highlight_alpha(material)) + sun_spread;
                 if (!(alpha < 0.5)) continue;  // no lobe, or one too broad to be sub-pixel anywhere near
-                Tri T;
+                Tri triangle;
                 for (int e = 0; e < 3; ++e) {
-                    T.p[e] = load(tri + 9 * t + 3 * e);
-                    T.n[e] = s.normals != nullptr ? load(s.normals + 3 * static_cast<size_t>(s.indices[3 * t + e]))
-                                                  : load(ng + 3 * t);
+                    triangle.p[e] = load(tri + 9 * t + 3 * e);
+                    const size_t vertex = static_cast<size_t>(scene.indices[3 * t + e]);
+                    triangle.n[e] = scene.normals != nullptr ? load(scene.normals + 3 * vertex) : load(ng + 3 * t);
                 }
-                T.ng = load(ng + 3 * t);
-                const V3 centre = (1.0 / 3) * (T.p[0] + T.p[1] + T.p[2]);
-                if (dot(T.ng, eye - centre) < 0) {  // seen from the back: only a two-sided surface shades it, flipped
-                    if (!m.two_sided) continue;
-                    T.ng = -1.0 * T.ng;
-                    for (V3& n : T.n) n = -1.0 * n;
+                triangle.ng = load(ng + 3 * t);
+                const V3 centre = (1.0 / 3) * (triangle.p[0] + triangle.p[1] + triangle.p[2]);
+                // seen from the back: only a two-sided surface shades it, flipped
+                if (dot(triangle.ng, eye - centre) < 0) {
+                    if (!material.two_sided) continue;
+                    triangle.ng = -1.0 * triangle.ng;
+                    for (V3& n : triangle.n) n = -1.0 * n;
                 }
                 // the point where the shading normal is the half-vector h: for a fixed h, the
                 // interpolated normal normalize(sum b_i n_i) is h where h = sum x_i n_i with
@@ -167,10 +169,12 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
                 // the point only through the directions to the light and the camera, so a few
                 // rounds of that solve converge
                 double b[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
-                const V3 c12 = cross(T.n[1], T.n[2]), c20 = cross(T.n[2], T.n[0]), c01 = cross(T.n[0], T.n[1]);
-                const double det = dot(T.n[0], c12);
+                const V3 c12 = cross(triangle.n[1], triangle.n[2]), c20 = cross(triangle.n[2], triangle.n[0]),
+                         c01 = cross(triangle.n[0], triangle.n[1]);
+                const double det = dot(triangle.n[0], c12);
                 const double spread =
-                    std::max({1 - dot(T.n[0], T.n[1]), 1 - dot(T.n[1], T.n[2]), 1 - dot(T.n[2], T.n[0])});
+                    std::max({1 - dot(triangle.n[0], triangle.n[1]), 1 - dot(triangle.n[1], triangle.n[2]),
+                              1 - dot(triangle.n[2], triangle.n[0])});
                 V3 p = centre;
                 bool found = false;
                 if (std::fabs(det) > 1e-12) {
@@ -185,7 +189,7 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
                             b[e] = x[e] / sum;
                         }
                         if (std::min({b[0], b[1], b[2]}) < -0.5) break;  // far outside: not this triangle's
-                        p = b[0] * T.p[0] + b[1] * T.p[1] + b[2] * T.p[2];
+                        p = b[0] * triangle.p[0] + b[1] * triangle.p[1] + b[2] * triangle.p[2];
                         if (moved < 1e-7) {
                             found = std::min({b[0], b[1], b[2]}) >= -1e-7;
                             break;
@@ -194,10 +198,10 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
                 } else if (spread < 1e-9) {
                     // flat: the mirror point, where the line from the camera's mirror image to the
                     // light meets the plane (for the sun: the camera ray whose reflection is the sun)
-                    const V3 n = unit(T.n[0]);
-                    const double he = dot(eye - T.p[0], n);
+                    const V3 n = unit(triangle.n[0]);
+                    const double he = dot(eye - triangle.p[0], n);
                     if (local) {
-                        const double hl = dot(lp - T.p[0], n);
+                        const double hl = dot(lp - triangle.p[0], n);
                         if (!(he > 0 && hl > 0)) continue;
                         p = (eye - (2 * he) * n) + (he / (he + hl)) * (lp - (eye - (2 * he) * n));
                     } else {
@@ -206,29 +210,30 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
                         if (!(he > 0 && dn < 0)) continue;
                         p = eye + (-he / dn) * d;
                     }
-                    barycentric(T, p, b);
+                    barycentric(triangle, p, b);
                     found = std::min({b[0], b[1], b[2]}) >= -1e-7;
                 }
                 if (!found) continue;
-                place(p, T.ng, alpha, [&](double x, double y, V3& q, V3& n) {
+                place(p, triangle.ng, alpha, [&](double x, double y, V3& q, V3& n) {
                     const V3 d = ray_dir(x, y);
-                    const double dn = dot(d, T.ng);
+                    const double dn = dot(d, triangle.ng);
                     if (dn == 0) return false;
-                    q = eye + (dot(T.p[0] - eye, T.ng) / dn) * d;
+                    q = eye + (dot(triangle.p[0] - eye, triangle.ng) / dn) * d;
                     double bq[3];
-                    barycentric(T, q, bq);
-                    n = shading_normal(T, bq);
+                    barycentric(triangle, q, bq);
+                    n = shading_normal(triangle, bq);
                     return true;
                 });
             }
             // the analytic spheres (render/accel/spheres.h), with the first part's triangles: the
             // point whose exact normal is the half-vector, by rounds n <- h(c + r n) (a contraction
             // of about r over the distances to the camera and the light)
-            const SphereSet& balls = s.tree->spheres;
+            const SphereSet& balls = scene.tree->spheres;
             for (size_t k = 0; t_begin == 0 && k < balls.size(); ++k) {
-                const size_t mi = static_cast<size_t>(s.tri_material[balls.prim_base + static_cast<int32_t>(k)]);
-                if (mi >= s.materials.size()) continue;
-                const double alpha = double(highlight_alpha(s.materials[mi])) + sun_spread;
+                const int32_t prim = balls.prim_base + static_cast<int32_t>(k);
+                const size_t material_index = static_cast<size_t>(scene.tri_material[prim]);
+                if (material_index >= scene.materials.size()) continue;
+                const double alpha = double(highlight_alpha(scene.materials[material_index])) + sun_spread;
                 if (!(alpha < 0.5)) continue;
                 const V3 centre{balls.centre_x[k], balls.centre_y[k], balls.centre_z[k]};
                 const double radius = balls.radius[k];
@@ -267,14 +272,14 @@ std::vector<AaSpot> find_highlight_spots(const RenderScene& s, int threads) {
     for (const Rect& q : spots) {
         const int px0 = std::max(0, static_cast<int>(std::floor(q.x0)));
         const int py0 = std::max(0, static_cast<int>(std::floor(q.y0)));
-        const int px1 = std::min(c.width - 1, static_cast<int>(std::floor(q.x1)));
-        const int py1 = std::min(c.height - 1, static_cast<int>(std::floor(q.y1)));
+        const int px1 = std::min(camera.width - 1, static_cast<int>(std::floor(q.x1)));
+        const int py1 = std::min(camera.height - 1, static_cast<int>(std::floor(q.y1)));
         for (int py = py0; py <= py1; ++py)
             for (int px = px0; px <= px1; ++px) {
                 const double x0 = std::max(q.x0, double(px)) - px, x1 = std::min(q.x1, double(px + 1)) - px;
                 const double y0 = std::max(q.y0, double(py)) - py, y1 = std::min(q.y1, double(py + 1)) - py;
                 if (!(x1 > x0 && y1 > y0)) continue;
-                pieces.push_back({py * c.width + px, float(x0), float(y0), float(x1), float(y1)});
+                pieces.push_back({py * camera.width + px, float(x0), float(y0), float(x1), float(y1)});
             }
     }
     // one piece a pixel: the bounding box of its pieces (a spot found on two triangles that
