@@ -46,26 +46,26 @@ std::shared_ptr<const CacheRegion> CacheRegions::acquire(int region, const Build
         int claimed = -1;
         {
             std::unique_lock<std::mutex> lock(m_lock);
-            Slot& s = slot(region, generation);
-            if (s.state == kBuilt) {
-                s.last_use = ++m_clock;
-                return s.points;
+            Slot& region_slot = slot(region, generation);
+            if (region_slot.state == kBuilt) {
+                region_slot.last_use = ++m_clock;
+                return region_slot.points;
             }
-            if (s.state == kEmpty) {
-                s.state = kBuilding;
+            if (region_slot.state == kEmpty) {
+                region_slot.state = kBuilding;
                 claimed = region;
             } else if (m_bytes.load() < m_budget) {
                 // another thread builds it: build the next region that items will want
                 for (int k = 1; k < count() && claimed < 0; ++k) {
-                    Slot& o = slot((region + k) % count(), generation);
-                    if (o.state == kEmpty && o.uses > 0) {
-                        o.state = kBuilding;
+                    Slot& next_slot = slot((region + k) % count(), generation);
+                    if (next_slot.state == kEmpty && next_slot.uses > 0) {
+                        next_slot.state = kBuilding;
                         claimed = (region + k) % count();
                     }
                 }
             }
             if (claimed < 0) {
-                m_changed.wait(lock, [&] { return s.state != kBuilding; });
+                m_changed.wait(lock, [&] { return region_slot.state != kBuilding; });
                 continue;
             }
         }
@@ -106,13 +106,13 @@ std::shared_ptr<const CacheRegion> CacheRegions::build_into(int region, int gene
     std::lock_guard<std::mutex> lock(m_lock);
     m_building -= reserved;
     m_largest = std::max(m_largest, made->bytes);
-    Slot& s = slot(region, generation);
-    s.points = std::move(made);
-    s.state = kBuilt;
-    s.last_use = ++m_clock;
-    m_bytes += s.points->bytes;
+    Slot& region_slot = slot(region, generation);
+    region_slot.points = std::move(made);
+    region_slot.state = kBuilt;
+    region_slot.last_use = ++m_clock;
+    m_bytes += region_slot.points->bytes;
     ++m_builds;
-    std::shared_ptr<const CacheRegion> held = s.points;  // not evicted before its item has it
+    std::shared_ptr<const CacheRegion> held = region_slot.points;  // not evicted before its item has it
     evict_over_budget();
     m_changed.notify_all();
     return held;
@@ -120,12 +120,12 @@ std::shared_ptr<const CacheRegion> CacheRegions::build_into(int region, int gene
 
 void CacheRegions::release(int region, int generation) {
     std::lock_guard<std::mutex> lock(m_lock);
-    Slot& s = slot(region, generation);
-    if (s.uses <= 0) return;  // uses never announced (a distributed render's): kept, up to the budget
-    if (--s.uses > 0 || s.state != kBuilt) return;
-    m_bytes -= s.points->bytes;
-    s.points.reset();  // the items holding it keep it until they are done
-    s.state = kEmpty;
+    Slot& region_slot = slot(region, generation);
+    if (region_slot.uses <= 0) return;  // uses never announced (a distributed render's): kept, up to the budget
+    if (--region_slot.uses > 0 || region_slot.state != kBuilt) return;
+    m_bytes -= region_slot.points->bytes;
+    region_slot.points.reset();  // the items holding it keep it until they are done
+    region_slot.state = kEmpty;
 }
 
 // Drops the least recently used regions that no item holds until the rest and the builds in
@@ -134,8 +134,10 @@ void CacheRegions::release(int region, int generation) {
 void CacheRegions::evict_over_budget() {
     while (m_bytes.load() + m_building > m_budget) {
         Slot* oldest = nullptr;
-        for (Slot& s : m_slots)
-            if (s.state == kBuilt && s.points.use_count() == 1 && (!oldest || s.last_use < oldest->last_use)) oldest = &s;
+        for (Slot& candidate : m_slots) {
+            const bool unheld = candidate.state == kBuilt && candidate.points.use_count() == 1;
+            if (unheld && (!oldest || candidate.last_use < oldest->last_use)) oldest = &candidate;
+        }
         if (!oldest) return;
         m_bytes -= oldest->points->bytes;
         oldest->points.reset();
