@@ -132,13 +132,13 @@ inline void build_surfels(CachePoint& a) {
                 const size_t kn = static_cast<size_t>(nj) * R + ni;
                 const bool jump = a.kind[kn] != kTexelHit || a.dist[kn] > a.dist[k] * (1.0f + kSilhouetteJump);
                 if (!jump) continue;
-                Silhouette s;
-                s.d0 = square_direction(a, edge[e][0] * inv_r, edge[e][1] * inv_r);
-                s.d1 = square_direction(a, edge[e][2] * inv_r, edge[e][3] * inv_r);
-                s.e0 = on_plane(a, s.d0, sf.point, sf.normal, a.dist[k], a.dist[k], a.dist[k]);
-                s.e1 = on_plane(a, s.d1, sf.point, sf.normal, a.dist[k], a.dist[k], a.dist[k]);
-                s.layer = sf.layer;
-                a.silhouettes.push_back(s);
+                Silhouette silhouette;
+                silhouette.d0 = square_direction(a, edge[e][0] * inv_r, edge[e][1] * inv_r);
+                silhouette.d1 = square_direction(a, edge[e][2] * inv_r, edge[e][3] * inv_r);
+                silhouette.e0 = on_plane(a, silhouette.d0, sf.point, sf.normal, a.dist[k], a.dist[k], a.dist[k]);
+                silhouette.e1 = on_plane(a, silhouette.d1, sf.point, sf.normal, a.dist[k], a.dist[k], a.dist[k]);
+                silhouette.layer = sf.layer;
+                a.silhouettes.push_back(silhouette);
             }
         }
 
