@@ -142,14 +142,15 @@ void RenderJob::wait_for_hints() {
 
 // The tiles by the pixels their hints flag, most first (ties in the image's order): the tiles
 // where edges are dense cost most (pixels of 13-25 rays on the checkerboard's horizon), and
-// taken last they leave one thread finishing them while the other has none left.
+// taken last they leave one thread finishing them while the other has none left. Counted on
+// zones[0] alone: an edge in a pixel always flags a zone of it (edge_hints.cpp), and this
+// count is in the render's serial part.
 std::vector<int> RenderJob::tiles_costliest_first(const AaEdgeHints& hints) const {
     std::vector<int> flagged(m_tile_passes.size(), 0);
     if (!hints.empty())
         for (int tile = 0; tile < tile_count(); ++tile)
-            for_each_pixel(tile_rect(tile), hints.width, [&](size_t, size_t i) {
-                flagged[tile] += (hints.zones[0][i] | hints.zones[1][i]) != 0;
-            });
+            for_each_pixel(tile_rect(tile), hints.width,
+                           [&](size_t, size_t i) { flagged[tile] += hints.zones[0][i] != 0; });
     std::vector<int> order(flagged.size());
     for (size_t t = 0; t < order.size(); ++t) order[t] = static_cast<int>(t);
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return flagged[a] > flagged[b]; });
