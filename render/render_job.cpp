@@ -104,23 +104,57 @@ void RenderJob::start() {
         for (int i = 0; i < threads; ++i) m_threads.emplace_back([this] { worker(); });
         return;
     }
-    // the adaptive sampler's geometric pre-pass (part of the render's time) on a thread of its
-    // own, the workers after it: start() returns at once and progress() says the pre-pass
-    // runs (the preview ball's takes 15-18 ms of CPU; it grows with the mesh's edges)
+    // the adaptive sampler's geometric pre-pass (part of the render's time) on the first
+    // worker, the others waiting for it: start() returns at once and progress() says the
+    // pre-pass runs (the preview ball's takes 15-18 ms of CPU; it grows with the mesh's edges).
+    // The workers are started once: a thread of its own that started them after the pre-pass
+    // put a thread's start in the render's serial part.
     m_preparing.store(true);
-    m_threads.emplace_back([this, threads] {
-        try {
-            m_aa_hints = project_feature_edges(m_scene, m_settings.aa_threshold, threads);
-        } catch (...) {
-            std::lock_guard<std::mutex> lock(m_error_lock);
-            if (!m_error) m_error = std::current_exception();
-            m_cancels.store(2);
-        }
+    for (int i = 0; i < threads; ++i)
+        m_threads.emplace_back([this, threads, i] {
+            if (i == 0) prepare_adaptive(threads);
+            wait_for_hints();
+            worker();
+        });
+}
+
+// The pre-pass's hints and the tiles' order from them; then the waiting workers go on.
+void RenderJob::prepare_adaptive(int threads) {
+    try {
+        m_aa_hints = project_feature_edges(m_scene, m_settings.aa_threshold, threads);
+        m_tile_order = tiles_costliest_first(m_aa_hints);
+    } catch (...) {
+        std::lock_guard<std::mutex> lock(m_error_lock);
+        if (!m_error) m_error = std::current_exception();
+        m_cancels.store(2);
+    }
+    {
+        std::lock_guard<std::mutex> lock(m_hints_lock);
         m_preparing.store(false);
-        std::vector<std::thread> workers;
-        for (int i = 0; i < threads; ++i) workers.emplace_back([this] { worker(); });
-        for (auto& t : workers) t.join();
-    });
+    }
+    m_hints_ready.notify_all();
+}
+
+void RenderJob::wait_for_hints() {
+    std::unique_lock<std::mutex> lock(m_hints_lock);
+    m_hints_ready.wait(lock, [this] { return !m_preparing.load(); });
+}
+
+// The tiles by the pixels their hints flag, most first (ties in the image's order): the tiles
+// where edges are dense cost most (pixels of 13-25 rays on the checkerboard's horizon), and
+// taken last they leave one thread finishing them while the other has none left. Counted on
+// zones[0] alone: an edge in a pixel always flags a zone of it (edge_hints.cpp), and this
+// count is in the render's serial part.
+std::vector<int> RenderJob::tiles_costliest_first(const AaEdgeHints& hints) const {
+    std::vector<int> flagged(m_tile_passes.size(), 0);
+    if (!hints.empty())
+        for (int tile = 0; tile < tile_count(); ++tile)
+            for_each_pixel(tile_rect(tile), hints.width,
+                           [&](size_t, size_t i) { flagged[tile] += hints.zones[0][i] != 0; });
+    std::vector<int> order(flagged.size());
+    for (size_t t = 0; t < order.size(); ++t) order[t] = static_cast<int>(t);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return flagged[a] > flagged[b]; });
+    return order;
 }
 
 void RenderJob::cancel() { m_cancels.fetch_add(1); }
@@ -190,7 +224,9 @@ void RenderJob::worker() {
             const size_t k = m_next.fetch_add(1);
             if (k >= m_item_count) break;
             if (k >= tiles && m_cancels.load() > 0) break;  // cancelled: items k < tiles are the first pass
-            const Item item{static_cast<int>(k % tiles), static_cast<int>(k / tiles)};
+            const size_t place = k % tiles;  // the tile's place in this pass's order
+            const Item item{m_tile_order.empty() ? static_cast<int>(place) : m_tile_order[place],
+                            static_cast<int>(k / tiles)};
             // a tile's passes are added in order: wait for the previous one (rare: only when
             // there are fewer tiles than threads)
             while (m_tile_passes[item.tile].load(std::memory_order_acquire) != item.pass) {

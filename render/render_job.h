@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <exception>
 #include <memory>
@@ -92,6 +93,9 @@ private:
     };
     struct Samplers;
     void worker();
+    void prepare_adaptive(int threads);  // the first worker: the pre-pass, then the others go on
+    void wait_for_hints();
+    std::vector<int> tiles_costliest_first(const AaEdgeHints& hints) const;
     // returns the camera samples it took
     size_t run_item(const Item& item, PixelSampler& sampler, PathScratch& scratch, std::vector<CameraSample>& cs,
                     std::vector<PathResult>& out);
@@ -121,6 +125,9 @@ private:
     // the workers before their first item
     std::unique_ptr<guiding::GuideTraining> m_guide_training;
     AaEdgeHints m_aa_hints;  // the adaptive sampler's geometric pre-pass, computed once
+    std::vector<int> m_tile_order;  // the tiles in the order each pass's items take them (empty: the image's)
+    std::mutex m_hints_lock;  // with m_hints_ready: the workers wait for start()'s pre-pass
+    std::condition_variable m_hints_ready;
     std::once_flag m_aa_hints_once;  // render_tiles: computed by the first call, whichever thread
     std::atomic<size_t> m_next{0}, m_done{0}, m_rays{0}, m_samples_done{0};
     std::atomic<size_t> m_cache_points{0}, m_cache_queries{0}, m_cache_reprojected{0}, m_cache_traced{0};

@@ -434,10 +434,12 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
     std::vector<AaEdgeHints> part(parts - 1);
     std::vector<std::thread> workers;
     const auto bound = [&](size_t k) { return edges.size() * k / parts; };
-    for (size_t k = 1; k < parts; ++k) {
-        part[k - 1].resize(c.width, c.height);
-        workers.emplace_back([&, k] { walk(bound(k), bound(k + 1), part[k - 1]); });
-    }
+    // each helper sizes its own part (1.2 MB at 512 x 384: 0.1 ms the first thread waited for)
+    for (size_t k = 1; k < parts; ++k)
+        workers.emplace_back([&, k] {
+            part[k - 1].resize(c.width, c.height);
+            walk(bound(k), bound(k + 1), part[k - 1]);
+        });
     walk(0, bound(1), h);
     // the analytic spheres' silhouettes, which have no triangle edges (their cast shadows are
     // left to the signal)
@@ -446,8 +448,12 @@ AaEdgeHints project_feature_edges(const RenderScene& s, float threshold, int thr
         project(h, V3{a[0], a[1], a[2]}, V3{b[0], b[1], b[2]}, crossings);
     });
     for (auto& w : workers) w.join();
+    // merged where a part has an edge (every piece an edge leaves in a pixel flags a zone of
+    // zones[0], and only such a piece sets its distance): the full arrays' merge took 0.3 ms
+    // of the checkerboard's serial pre-pass at 512 x 384
     for (const AaEdgeHints& o : part)
         for (size_t i = 0; i < pixels; ++i) {
+            if (o.zones[0][i] == 0) continue;
             h.zones[0][i] |= o.zones[0][i];
             h.zones[1][i] |= o.zones[1][i];
             h.nearest[i] = std::min(h.nearest[i], o.nearest[i]);
