@@ -212,7 +212,7 @@ void RenderJob::worker() {
     scratch.timer.use_cpu_time(m_settings.stage_cpu_time);
     Samplers samplers(*this);
     PixelSampler& sampler = samplers.active;
-    std::vector<CameraSample> cs;
+    std::vector<CameraSample> camera_samples;
     std::vector<PathResult> out;
     try {
         if (m_guide_training) {  // the guide first, with every worker (part of the render's time)
@@ -237,7 +237,7 @@ void RenderJob::worker() {
             const int64_t item_start = scratch.timer.now();
             const size_t points = scratch.cache_points, queries = scratch.cache_queries,
                          reprojected = scratch.cache_texels_reprojected, traced = scratch.cache_texels_traced;
-            run_item(item, sampler, scratch, cs, out);
+            run_item(item, sampler, scratch, camera_samples, out);
             scratch.timer.times.item_ns += scratch.timer.now() - item_start;
             m_rays.fetch_add(scratch.rays_traced + sampler.rays_traced() - before);
             m_cache_points.fetch_add(scratch.cache_points - points);
@@ -319,7 +319,7 @@ void RenderJob::build_cache_region(int generation, int x0, int y0, int x1, int y
 }
 
 size_t RenderJob::run_item(const Item& item, PixelSampler& sampler, PathScratch& scratch,
-                           std::vector<CameraSample>& cs, std::vector<PathResult>& out) {
+                           std::vector<CameraSample>& camera_samples, std::vector<PathResult>& out) {
     const TileRect rect = tile_rect(item.tile);
     // the cache points of the regions the tile overlaps, built if no one has, held for the item
     struct HeldRegions {
@@ -353,12 +353,13 @@ size_t RenderJob::run_item(const Item& item, PixelSampler& sampler, PathScratch&
     }
     sampler.begin(rect, item.pass);
     size_t samples = 0;
-    while (sampler.next_batch(cs)) {
-        out.resize(cs.size());
-        m_kernels->trace_paths(m_scene, m_integrator, cs.data(), cs.size(), out.data(), scratch);
-        sampler.take_results(cs.data(), out.data(), cs.size());
-        m_samples_done.fetch_add(cs.size());
-        samples += cs.size();
+    while (sampler.next_batch(camera_samples)) {
+        out.resize(camera_samples.size());
+        m_kernels->trace_paths(m_scene, m_integrator, camera_samples.data(), camera_samples.size(), out.data(),
+                               scratch);
+        sampler.take_results(camera_samples.data(), out.data(), camera_samples.size());
+        m_samples_done.fetch_add(camera_samples.size());
+        samples += camera_samples.size();
     }
     return samples;
 }
@@ -380,7 +381,7 @@ RenderJob::TileWork RenderJob::render_tiles(const std::vector<int>& tiles, int f
     // item to item: made anew each call, their megabytes are page-faulted in again each time
     // (a Dask worker's allocator returns freed memory to the system at once).
     thread_local PathScratch scratch;
-    thread_local std::vector<CameraSample> cs;
+    thread_local std::vector<CameraSample> camera_samples;
     thread_local std::vector<PathResult> out;
     Samplers samplers(*this);
     // the trained guide, by the first call (each process trains the same one for itself)
@@ -395,7 +396,7 @@ RenderJob::TileWork RenderJob::render_tiles(const std::vector<int>& tiles, int f
     TileWork work;
     for (const int tile : tiles)
         for (int pass = first; pass < end; ++pass)
-            work.samples += run_item(Item{tile, pass}, samplers.active, scratch, cs, out);
+            work.samples += run_item(Item{tile, pass}, samplers.active, scratch, camera_samples, out);
     work.rays = scratch.rays_traced - rays + samplers.active.rays_traced();
     work.cache_points = scratch.cache_points - points;
     work.cache_queries = scratch.cache_queries - queries;

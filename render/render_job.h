@@ -97,8 +97,8 @@ private:
     void wait_for_hints();
     std::vector<int> tiles_costliest_first(const AaEdgeHints& hints) const;
     // returns the camera samples it took
-    size_t run_item(const Item& item, PixelSampler& sampler, PathScratch& scratch, std::vector<CameraSample>& cs,
-                    std::vector<PathResult>& out);
+    size_t run_item(const Item& item, PixelSampler& sampler, PathScratch& scratch,
+                    std::vector<CameraSample>& camera_samples, std::vector<PathResult>& out);
     // the radiance cache's regions: announce the items of every pass of `tiles`; the
     // generation a pass's items take them from (render/cache/cache_generations.h); build one
     void expect_cache_regions(const std::vector<int>& tiles);
