@@ -37,9 +37,9 @@
 
 #include <algorithm>
 #include <array>
-#include <utility>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "render/antialiasing/adaptive_pattern.h"

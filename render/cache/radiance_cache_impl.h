@@ -77,6 +77,27 @@ inline void trace_queue(CacheState& cache, Tracer& trace) {
     }
 }
 
+// The texels `texels` (by `where`), each with its first path's radiance, take the further paths
+// `further` (traced here through build's queue and results, which keep the caller's rays) and
+// hold the mean of their `paths` paths in all. texel(where): the texel's radiance (RGB).
+template <class Tracer, class Texel>
+inline void hold_mean_of_further_paths(CacheState& cache, Tracer& trace, RayQueue& further,
+                                       const std::vector<int32_t>& texels, int paths, Texel texel) {
+    CachePointBuild& build = cache.build;
+    std::swap(build.rays, further);
+    trace_queue(cache, trace);
+    for (size_t r = 0; r < build.rays.size(); ++r) {
+        float* L = texel(build.rays.where[r]);
+        for (int c = 0; c < 3; ++c) L[c] += build.results[r].rgb[c];
+    }
+    const float share = 1.0f / static_cast<float>(paths);
+    for (const int32_t where : texels) {
+        float* L = texel(where);
+        for (int c = 0; c < 3; ++c) L[c] *= share;
+    }
+    std::swap(build.rays, further);
+}
+
 // The texels just traced (build.rays, build.results) whose first hit is on a glossy material
 // (split.split_material) take split.hit_paths paths from that hit -- the texel's ray traced again
 // with streams of their own -- and the mean of them: unbiased (every path is one sample of the
@@ -101,27 +122,16 @@ inline void split_glossy_hits(CacheState& cache, Tracer& trace, Texel texel) {
         split.texels.push_back(build.rays.where[r]);
     }
     if (split.texels.empty()) return;
-    std::swap(build.rays, split.rays);
-    trace_queue(cache, trace);
-    for (size_t r = 0; r < build.rays.size(); ++r) {
-        float* L = texel(build.rays.where[r]);
-        for (int c = 0; c < 3; ++c) L[c] += build.results[r].rgb[c];
-    }
-    const float share = 1.0f / static_cast<float>(K);
-    for (const int32_t where : split.texels) {
-        float* L = texel(where);
-        for (int c = 0; c < 3; ++c) L[c] *= share;
-    }
-    std::swap(build.rays, split.rays);
+    hold_mean_of_further_paths(cache, trace, split.rays, split.texels, K, texel);
 }
 
 // The texels of a chunk's new points whose light sits in a few texels (concentrated_texels.h)
 // take kStrata further paths each, stratified within the texel, and hold the mean of all their
 // paths (their hits, for the surfels, stay the first path's). points: the chunk's `count`
-// points, of the queries pending[0 .. count).
-template <class Tracer>
+// points, of the queries pending[0 .. count); texel(where) as split_glossy_hits's.
+template <class Tracer, class Texel>
 inline void refine_concentrated_texels(CacheState& cache, Tracer& trace, CachePoint* points, size_t count,
-                                       const Query* queries, const int32_t* pending, float eps) {
+                                       const Query* queries, const int32_t* pending, float eps, Texel texel) {
     TexelRefinement& refinement = cache.texel_refinement;
     if (!refinement.enabled || count == 0) return;
     const int R = points[0].resolution;
@@ -142,20 +152,8 @@ inline void refine_concentrated_texels(CacheState& cache, Tracer& trace, CachePo
         }
     }
     if (refinement.rays.size() == 0) return;
-    CachePointBuild& build = cache.build;
-    std::swap(build.rays, refinement.rays);
-    trace_queue(cache, trace);
-    auto texel = [&](int32_t where) { return points[where / texel_count].radiance.data() + 3 * (where % texel_count); };
-    for (size_t r = 0; r < build.rays.size(); ++r) {
-        float* L = texel(build.rays.where[r]);
-        for (int c = 0; c < 3; ++c) L[c] += build.results[r].rgb[c];
-    }
-    const float share = 1.0f / static_cast<float>(1 + kStrata);  // a stratum under the surface: no light
-    for (const int32_t where : refinement.texels) {
-        float* L = texel(where);
-        for (int c = 0; c < 3; ++c) L[c] *= share;
-    }
-    std::swap(build.rays, refinement.rays);
+    // a stratum under the surface takes no path and counts as no light
+    hold_mean_of_further_paths(cache, trace, refinement.rays, refinement.texels, 1 + kStrata, texel);
 }
 
 // Builds cache points at the queries build.pending (appended to build.points), tracing the
@@ -215,11 +213,12 @@ inline void build_cache_points(const CacheSettings& cfg, float eps, const Query*
             if (!(dot(m, m) > 0.5f) || dot(m, d) > 0) m = -d;
             store_vec3(m, a.hit_normal.data() + 3 * t);
         }
-        split_glossy_hits(cache, trace, [&](int32_t where) {
+        const auto texel = [&](int32_t where) {
             return chunk[where / texel_count].radiance.data() + 3 * (where % texel_count);
-        });
+        };
+        split_glossy_hits(cache, trace, texel);
         refine_concentrated_texels(cache, trace, chunk, chunk_end - chunk_begin, queries,
-                                   build.pending.data() + chunk_begin, eps);
+                                   build.pending.data() + chunk_begin, eps, texel);
         for (size_t k = chunk_begin; k < chunk_end; ++k)
             bound_isolated_texels(chunk[k - chunk_begin].radiance.data(), R, build.luminances);
         cache.lap(Stage::CacheBuild);  // the glossy hits' and the concentrated texels' paths, the bound: building too

@@ -65,7 +65,8 @@ size_t refine(CachePoint& a, TruthTracer& tracer, bool enabled = true) {
     Query q;
     q.p = a.p, q.ng = a.ng, q.n = a.n, q.t = a.t, q.b = a.b, q.key = 7;
     const int32_t pending = 0;
-    refine_concentrated_texels(cache, tracer, &a, 1, &q, &pending, 1e-4f);
+    const auto texel = [&](int32_t where) { return a.radiance.data() + 3 * where; };  // one point: where is the texel
+    refine_concentrated_texels(cache, tracer, &a, 1, &q, &pending, 1e-4f, texel);
     return tracer.rays;
 }
 
