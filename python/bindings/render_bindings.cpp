@@ -707,7 +707,8 @@ void bind_render(nb::module_& m) {
     m.def("sample_points", &sample_points, nb::arg("sampler"), nb::arg("n"), nb::arg("dims"), nb::arg("seed") = 0,
           nb::arg("first") = 0, nb::arg("scramble") = true,
           "The sampler's numbers of one stream: samples [first, first + n) x dimensions [0, dims).");
-    m.def("aa_pattern", &aa_pattern, "The adaptive antialiasing's positions, comparisons, zone tables, weights (with and without level 2).");
+    m.def("aa_pattern", &aa_pattern,
+          "The adaptive antialiasing's positions, comparisons, zone tables, weights (with and without level 2).");
     def_sensor_entry(
         m, "sensor_illuminance", &sensor_illuminance, nb::arg("samples") = 64, 0,
         "Illuminance in lux on sensors at points facing normals: direct by shadowed light sampling, and with "

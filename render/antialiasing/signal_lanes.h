@@ -40,8 +40,9 @@ struct AaSignalLanes {
 // out[k] = aa_differs(signal a + k, signal b + k, threshold) for k < n: the positions a + k
 // and b + k of `lanes` compared pairwise. Every test is evaluated in every lane and the
 // outcomes combined with bit operations, no branch, so the loop vectorises.
+// (`out` restrict: the compiler need not check fifteen arrays for overlap)
 inline void aa_differs_lanes(const AaSignalLanes& lanes, size_t a, size_t b, size_t n, float threshold,
-                             uint8_t* __restrict out) {  // restrict: the compiler need not check fifteen arrays for overlap
+                             uint8_t* __restrict out) {
     const int broken = 1.0f > threshold;     // what a contrast of 1 decides
     const int flat_bent = 0.0f > threshold;  // and one of 0
     const auto finite = [](float x) { return static_cast<int>(std::fabs(x) <= 3.40282347e38f); };  // 0 for inf, NaN
